@@ -1,0 +1,1 @@
+//! Packed GPU formats: the contract between the CPU core and the GPU backend.

@@ -1,0 +1,1 @@
+//! Chunk storage, the world map, neighbourhood gathers and the chunk codec.
