@@ -1,1 +1,10 @@
-//! viewer
+//! # viewer
+//!
+//! Shows voxel scenes: the built-in procedural terrain (and, in later stages, MagicaVoxel models
+//! and glTF props). Without a display it renders to a PNG file.
+//!
+//! The renderer today is [`reference_raycast`], the CPU ground truth that GPU images are tested
+//! against.
+
+pub mod reference_raycast;
+pub mod scene;

@@ -25,5 +25,10 @@ pub mod storage;
 
 pub use block::BlockId;
 pub use coords::{ChunkCoord, CoordError, LocalPos, WorldPos};
+pub use formats::{FaceDirection, FormatError};
 pub use material::{Material, MaterialClass, MaterialPalette, PaletteError};
 pub use size::{ChunkSize, UnsupportedChunkSize};
+pub use storage::{
+    DenseChunk, PaddedChunk, PaletteChunk, StorageError, VoxelStorage, WorldMap,
+    gather_neighbourhood,
+};

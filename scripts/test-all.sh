@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Runs every check and every test of the workspace, after installing what the machine lacks.
+# This is the README's test command and what CI runs.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+scripts/setup-debian.sh
+
+echo "== format"
+cargo fmt --all -- --check
+
+echo "== clippy (warnings are errors)"
+cargo clippy --workspace --all-targets --locked -- -D warnings
+
+echo "== voxel-core without std (bare-metal target)"
+cargo build -p voxel-core --no-default-features --target x86_64-unknown-none --locked
+
+echo "== tests (unit, property, integration, fuzz-corpus replay, doc)"
+cargo test --workspace --locked

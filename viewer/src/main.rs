@@ -1,0 +1,92 @@
+//! The viewer's command line: renders the built-in scene.
+//!
+//! With no display (`DISPLAY` and `WAYLAND_DISPLAY` unset), or with `--headless`, it renders one
+//! frame to a PNG file and prints where it wrote it.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use clap::Parser;
+use viewer::reference_raycast::{Lighting, encode_png, render};
+use viewer::scene::terrain_scene;
+use voxel_core::ChunkSize;
+
+/// Renders the built-in procedural terrain.
+#[derive(Parser, Debug)]
+#[command(version, about)]
+struct Args {
+    /// Render one frame to a PNG even when a display is available.
+    #[arg(long)]
+    headless: bool,
+    /// Where to write the PNG.
+    #[arg(long, default_value = "target/viewer.png")]
+    out: PathBuf,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 960, value_parser = clap::value_parser!(u32).range(1..=8192))]
+    width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 540, value_parser = clap::value_parser!(u32).range(1..=8192))]
+    height: u32,
+    /// Terrain seed.
+    #[arg(long, default_value_t = 1)]
+    seed: i32,
+    /// Terrain extent in 32^3 chunks along x and z.
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(i32).range(1..=64))]
+    chunks: i32,
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    let has_display =
+        std::env::var_os("DISPLAY").is_some() || std::env::var_os("WAYLAND_DISPLAY").is_some();
+    if has_display && !args.headless {
+        eprintln!(
+            "viewer: the interactive window needs the GPU backend, which is not built yet; rendering to a PNG instead"
+        );
+    }
+
+    let started = Instant::now();
+    let scene = terrain_scene(args.seed, ChunkSize::S32, args.chunks, 2, args.chunks);
+    let generated = started.elapsed();
+    let block_at = |p| scene.world.get_block(p);
+    let image = render(
+        &block_at,
+        &scene.palette,
+        &scene.suggested_view,
+        &Lighting::default(),
+        args.width,
+        args.height,
+        400.0,
+    );
+    let rendered = started.elapsed() - generated;
+
+    let png = match encode_png(image.width, image.height, &image.rgba) {
+        Ok(bytes) => bytes,
+        Err(e) => {
+            eprintln!("viewer: could not encode the PNG: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty())
+        && let Err(e) = std::fs::create_dir_all(dir)
+    {
+        eprintln!("viewer: could not create {}: {e}", dir.display());
+        return ExitCode::FAILURE;
+    }
+    if let Err(e) = std::fs::write(&args.out, png) {
+        eprintln!("viewer: could not write {}: {e}", args.out.display());
+        return ExitCode::FAILURE;
+    }
+    let shown = std::fs::canonicalize(&args.out).unwrap_or(args.out.clone());
+    println!(
+        "viewer: {} chunks generated in {:.0?}, {}x{} rendered (CPU reference raycast) in {:.0?}",
+        scene.world.len(),
+        generated,
+        args.width,
+        args.height,
+        rendered
+    );
+    println!("viewer: wrote {}", shown.display());
+    ExitCode::SUCCESS
+}

@@ -1,0 +1,450 @@
+//! A CPU reference renderer: one ray per pixel, marched voxel by voxel (Amanatides & Woo DDA).
+//!
+//! It is slow and simple on purpose: it is the ground truth the GPU renderer's images are
+//! compared against, and the headless viewer's renderer until a GPU is used. It never sees a
+//! large coordinate in floating point: the camera position is split into an integer voxel and a
+//! fraction, and rays step through integer voxel coordinates from there, so a scene near
+//! (2^30, 2^30, 2^30) renders exactly like the same scene at the origin.
+
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+use voxel_core::{BlockId, MaterialClass, MaterialPalette, WorldPos};
+
+/// A pinhole camera. The position is a world voxel plus a fraction inside it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// The voxel the eye is in.
+    pub voxel: WorldPos,
+    /// The eye's offset inside that voxel, each axis in `[0, 1)`.
+    pub fraction: DVec3,
+    /// Rotation about +y, radians; 0 looks along -z.
+    pub yaw: f64,
+    /// Rotation above the horizon, radians.
+    pub pitch: f64,
+    /// Vertical field of view, radians.
+    pub fov_y: f64,
+}
+
+impl Camera {
+    /// The unit view direction.
+    pub fn forward(&self) -> DVec3 {
+        let (sy, cy) = self.yaw.sin_cos();
+        let (sp, cp) = self.pitch.sin_cos();
+        DVec3::new(-sy * cp, sp, -cy * cp)
+    }
+
+    /// The direction through pixel `(px, py)` of a `width x height` image (pixel centres).
+    pub fn ray_direction(&self, px: u32, py: u32, width: u32, height: u32) -> DVec3 {
+        let forward = self.forward();
+        let right = forward.cross(DVec3::Y).normalize_or(DVec3::X);
+        let up = right.cross(forward);
+        let half_h = (self.fov_y * 0.5).tan();
+        let half_w = half_h * f64::from(width) / f64::from(height);
+        let u = (2.0 * (f64::from(px) + 0.5) / f64::from(width) - 1.0) * half_w;
+        let v = (1.0 - 2.0 * (f64::from(py) + 0.5) / f64::from(height)) * half_h;
+        (forward + right * u + up * v).normalize()
+    }
+}
+
+/// Light and sky used by the reference shading.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lighting {
+    /// Unit direction towards the sun.
+    pub sun_direction: Vec3,
+    /// Linear sun radiance.
+    pub sun_colour: Vec3,
+    /// Linear sky colour (ambient from above, and the background).
+    pub sky_colour: Vec3,
+    /// Linear ambient from below.
+    pub ground_colour: Vec3,
+}
+
+impl Default for Lighting {
+    fn default() -> Self {
+        Lighting {
+            sun_direction: Vec3::new(0.45, 0.8, 0.35).normalize(),
+            sun_colour: Vec3::new(1.0, 0.95, 0.85) * 2.2,
+            sky_colour: Vec3::new(0.45, 0.62, 0.9),
+            ground_colour: Vec3::new(0.25, 0.22, 0.2),
+        }
+    }
+}
+
+/// What one ray hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// The first opaque block on the ray.
+    pub block: BlockId,
+    /// The voxel it is in.
+    pub voxel: WorldPos,
+    /// The outward normal of the face the ray entered through.
+    pub normal: [i32; 3],
+    /// Distance from the eye, in voxels.
+    pub distance: f64,
+    /// Transparent blocks crossed before it, front to back (at most [`MAX_LAYERS`]).
+    pub transparent: [Option<BlockId>; MAX_LAYERS],
+}
+
+/// Transparent surfaces a ray blends before it stops looking further.
+pub const MAX_LAYERS: usize = 2;
+
+/// A rendered image: sRGB8 colour plus the eye distance per pixel (`f32::INFINITY` for sky).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderedImage {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Row-major RGBA8, sRGB-encoded.
+    pub rgba: Vec<u8>,
+    /// Row-major distance to the first opaque surface, in voxels.
+    pub depth: Vec<f32>,
+}
+
+/// Marches one ray from the camera through voxels given by `block_at`, up to `max_distance`
+/// voxels. Returns `None` for sky (nothing opaque within range, or the ray left the i32 world).
+pub fn cast_ray(
+    block_at: &impl Fn(WorldPos) -> BlockId,
+    palette: &MaterialPalette,
+    origin_voxel: WorldPos,
+    origin_fraction: DVec3,
+    direction: DVec3,
+    max_distance: f64,
+) -> Option<Hit> {
+    // Integer voxel coordinates in i64, so stepping past the i32 edge is detected, not wrapped.
+    let mut cell = [
+        i64::from(origin_voxel.x),
+        i64::from(origin_voxel.y),
+        i64::from(origin_voxel.z),
+    ];
+    let frac = origin_fraction.to_array();
+    let dir = direction.to_array();
+    let mut step = [0i64; 3];
+    let mut t_max = [f64::INFINITY; 3];
+    let mut t_delta = [f64::INFINITY; 3];
+    for axis in 0..3 {
+        if dir[axis] > 0.0 {
+            step[axis] = 1;
+            t_delta[axis] = 1.0 / dir[axis];
+            t_max[axis] = (1.0 - frac[axis]) * t_delta[axis];
+        } else if dir[axis] < 0.0 {
+            step[axis] = -1;
+            t_delta[axis] = -1.0 / dir[axis];
+            t_max[axis] = frac[axis] * t_delta[axis];
+        }
+    }
+    let mut transparent = [None; MAX_LAYERS];
+    let mut layers = 0;
+    let mut last_transparent = None;
+    let mut normal = [0i32; 3];
+    let mut distance = 0.0;
+    loop {
+        let voxel = WorldPos::new(
+            i32::try_from(cell[0]).ok()?,
+            i32::try_from(cell[1]).ok()?,
+            i32::try_from(cell[2]).ok()?,
+        );
+        let block = block_at(voxel);
+        if !block.is_air() {
+            match palette.class(block) {
+                Ok(MaterialClass::Transparent) => {
+                    // Water next to water shows no face: blend each run of one id once.
+                    if last_transparent != Some(block) && layers < MAX_LAYERS {
+                        transparent[layers] = Some(block);
+                        layers += 1;
+                    }
+                    last_transparent = Some(block);
+                }
+                Ok(class) if class.is_opaque() => {
+                    return Some(Hit {
+                        block,
+                        voxel,
+                        normal,
+                        distance,
+                        transparent,
+                    });
+                }
+                // Air-classed or unknown ids are drawn as nothing, like air.
+                _ => last_transparent = None,
+            }
+        } else {
+            last_transparent = None;
+        }
+        let axis = if t_max[0] < t_max[1] {
+            if t_max[0] < t_max[2] { 0 } else { 2 }
+        } else if t_max[1] < t_max[2] {
+            1
+        } else {
+            2
+        };
+        distance = t_max[axis];
+        if distance > max_distance {
+            return None;
+        }
+        cell[axis] += step[axis];
+        t_max[axis] += t_delta[axis];
+        normal = [0; 3];
+        normal[axis] = -step[axis] as i32;
+    }
+}
+
+fn srgb_to_linear(c: u8) -> f32 {
+    let c = f32::from(c) / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+fn linear_to_srgb(c: f32) -> u8 {
+    let c = c.clamp(0.0, 1.0);
+    let s = if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0 + 0.5) as u8
+}
+
+fn albedo(palette: &MaterialPalette, block: BlockId) -> (Vec3, f32, f32) {
+    match palette.get(block) {
+        Ok(m) => {
+            let [r, g, b, a] = m.colour;
+            (
+                Vec3::new(srgb_to_linear(r), srgb_to_linear(g), srgb_to_linear(b)),
+                f32::from(a) / 255.0,
+                f32::from(m.emission) / 255.0,
+            )
+        }
+        Err(_) => (Vec3::ONE, 1.0, 0.0),
+    }
+}
+
+/// Renders `width x height` pixels of the voxels given by `block_at` (rows in parallel).
+pub fn render(
+    block_at: &(impl Fn(WorldPos) -> BlockId + Sync),
+    palette: &MaterialPalette,
+    camera: &Camera,
+    lighting: &Lighting,
+    width: u32,
+    height: u32,
+    max_distance: f64,
+) -> RenderedImage {
+    let rows: Vec<(Vec<u8>, Vec<f32>)> = (0..height)
+        .into_par_iter()
+        .map(|py| {
+            let mut rgba = Vec::with_capacity(width as usize * 4);
+            let mut depth = Vec::with_capacity(width as usize);
+            for px in 0..width {
+                let dir = camera.ray_direction(px, py, width, height);
+                let hit = cast_ray(
+                    block_at,
+                    palette,
+                    camera.voxel,
+                    camera.fraction,
+                    dir,
+                    max_distance,
+                );
+                let colour = shade(block_at, palette, lighting, hit.as_ref(), max_distance);
+                rgba.extend_from_slice(&[
+                    linear_to_srgb(colour.x),
+                    linear_to_srgb(colour.y),
+                    linear_to_srgb(colour.z),
+                    255,
+                ]);
+                depth.push(hit.map_or(f32::INFINITY, |h| h.distance as f32));
+            }
+            (rgba, depth)
+        })
+        .collect();
+    let mut image = RenderedImage {
+        width,
+        height,
+        rgba: Vec::with_capacity(width as usize * height as usize * 4),
+        depth: Vec::with_capacity(width as usize * height as usize),
+    };
+    for (rgba, depth) in rows {
+        image.rgba.extend_from_slice(&rgba);
+        image.depth.extend_from_slice(&depth);
+    }
+    image
+}
+
+/// Lambert sun with a hard shadow ray, hemisphere ambient, emission, then transparent layers
+/// blended over it back to front, then distance fog towards the sky colour.
+fn shade(
+    block_at: &impl Fn(WorldPos) -> BlockId,
+    palette: &MaterialPalette,
+    lighting: &Lighting,
+    hit: Option<&Hit>,
+    max_distance: f64,
+) -> Vec3 {
+    let Some(hit) = hit else {
+        return lighting.sky_colour;
+    };
+    let normal = Vec3::new(
+        hit.normal[0] as f32,
+        hit.normal[1] as f32,
+        hit.normal[2] as f32,
+    );
+    let (base, _, emission) = albedo(palette, hit.block);
+    let n_dot_l = normal.dot(lighting.sun_direction).max(0.0);
+    // Shadow ray from the centre of the lit face, offset out of the voxel.
+    let lit = n_dot_l > 0.0 && {
+        let face_centre = DVec3::splat(0.5) + normal.as_dvec3() * 0.501;
+        let (cell_offset, fraction) = (face_centre.floor(), face_centre - face_centre.floor());
+        let start = WorldPos::new(
+            hit.voxel.x.saturating_add(cell_offset.x as i32),
+            hit.voxel.y.saturating_add(cell_offset.y as i32),
+            hit.voxel.z.saturating_add(cell_offset.z as i32),
+        );
+        cast_ray(
+            block_at,
+            palette,
+            start,
+            fraction,
+            lighting.sun_direction.as_dvec3(),
+            96.0,
+        )
+        .is_none()
+    };
+    let hemisphere = 0.5 + 0.5 * normal.y;
+    let ambient = lighting
+        .sky_colour
+        .lerp(lighting.ground_colour, 1.0 - hemisphere)
+        * 0.55;
+    let mut colour = base
+        * (ambient
+            + if lit {
+                lighting.sun_colour * n_dot_l
+            } else {
+                Vec3::ZERO
+            })
+        + base * emission * 4.0;
+    for layer in hit.transparent.iter().rev().flatten() {
+        let (tint, alpha, _) = albedo(palette, *layer);
+        let surface = tint * (lighting.sky_colour * 0.8 + lighting.sun_colour * 0.3);
+        colour = colour * (1.0 - alpha) + surface * alpha;
+    }
+    let fog = ((hit.distance / max_distance) as f32)
+        .powi(2)
+        .clamp(0.0, 1.0);
+    colour.lerp(lighting.sky_colour, fog)
+}
+
+/// Encodes an RGBA8 image as PNG bytes.
+pub fn encode_png(width: u32, height: u32, rgba: &[u8]) -> Result<Vec<u8>, png::EncodingError> {
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut bytes, width, height);
+        encoder.set_color(png::ColorType::Rgba);
+        encoder.set_depth(png::BitDepth::Eight);
+        let mut writer = encoder.write_header()?;
+        writer.write_image_data(rgba)?;
+    }
+    Ok(bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use voxel_core::Material;
+
+    fn one_block_palette() -> (MaterialPalette, BlockId) {
+        let mut p = MaterialPalette::new();
+        let id = p.push(Material::opaque(255, 0, 0)).unwrap();
+        (p, id)
+    }
+
+    #[test]
+    fn ray_hits_the_face_it_enters_at_the_right_distance() {
+        let (palette, red) = one_block_palette();
+        let at = |p: WorldPos| {
+            if p == WorldPos::new(0, 0, -5) {
+                red
+            } else {
+                BlockId::AIR
+            }
+        };
+        let hit = cast_ray(
+            &at,
+            &palette,
+            WorldPos::new(0, 0, 0),
+            DVec3::splat(0.5),
+            DVec3::NEG_Z,
+            100.0,
+        )
+        .expect("the block is straight ahead");
+        assert_eq!(hit.voxel, WorldPos::new(0, 0, -5));
+        assert_eq!(hit.normal, [0, 0, 1]);
+        assert!(
+            (hit.distance - 4.5).abs() < 1e-9,
+            "distance {}",
+            hit.distance
+        );
+        assert!(
+            cast_ray(
+                &at,
+                &palette,
+                WorldPos::new(0, 0, 0),
+                DVec3::splat(0.5),
+                DVec3::Z,
+                100.0
+            )
+            .is_none()
+        );
+    }
+
+    #[test]
+    fn a_scene_far_from_the_origin_renders_like_the_scene_at_the_origin() {
+        let (palette, red) = one_block_palette();
+        let far = 1 << 30;
+        let scene = |offset: i32| {
+            move |p: WorldPos| {
+                let (x, y, z) = (
+                    p.x.wrapping_sub(offset),
+                    p.y.wrapping_sub(offset),
+                    p.z.wrapping_sub(offset),
+                );
+                if (-3..=3).contains(&x) && (-3..=0).contains(&y) && (-12..=-6).contains(&z)
+                    || y == -4
+                {
+                    red
+                } else {
+                    BlockId::AIR
+                }
+            }
+        };
+        let camera = |offset: i32| Camera {
+            voxel: WorldPos::new(offset, offset + 2, offset),
+            fraction: DVec3::new(0.25, 0.5, 0.75),
+            yaw: 0.2,
+            pitch: -0.3,
+            fov_y: 1.0,
+        };
+        let lighting = Lighting::default();
+        let near = render(&scene(0), &palette, &camera(0), &lighting, 48, 32, 64.0);
+        let far_img = render(&scene(far), &palette, &camera(far), &lighting, 48, 32, 64.0);
+        assert_eq!(near, far_img);
+        assert!(
+            near.depth.iter().any(|d| d.is_finite()) && near.depth.iter().any(|d| d.is_infinite())
+        );
+    }
+
+    #[test]
+    fn rays_leaving_the_i32_world_are_sky_not_wrapped() {
+        let (palette, red) = one_block_palette();
+        // Solid everywhere except the start voxel: a wrapped ray would hit something.
+        let at = |p: WorldPos| if p.x == i32::MAX { BlockId::AIR } else { red };
+        let hit = cast_ray(
+            &at,
+            &palette,
+            WorldPos::new(i32::MAX, 0, 0),
+            DVec3::splat(0.5),
+            DVec3::X,
+            10.0,
+        );
+        assert!(hit.is_none());
+    }
+}
