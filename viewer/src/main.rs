@@ -9,7 +9,8 @@ use std::time::Instant;
 
 use clap::Parser;
 use viewer::reference_raycast::{Lighting, encode_png, render};
-use viewer::scene::terrain_scene;
+use viewer::scene::vox::{VoxError, load_vox_file};
+use viewer::scene::{Scene, camera_looking_at, terrain_scene};
 use voxel_core::ChunkSize;
 
 /// Renders the built-in procedural terrain.
@@ -34,6 +35,23 @@ struct Args {
     /// Terrain extent in 32^3 chunks along x and z.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(i32).range(1..=64))]
     chunks: i32,
+    /// Show this MagicaVoxel `.vox` file instead of the built-in terrain.
+    #[arg(long)]
+    vox: Option<PathBuf>,
+}
+
+/// Voxels a `.vox` scene may hold before the viewer refuses it (MagicaVoxel scenes top out
+/// far below this; the limit keeps a corrupt or hostile file from exhausting memory).
+const MAX_VOX_VOXELS: usize = 64 << 20;
+
+fn vox_scene(path: &std::path::Path) -> Result<Scene, VoxError> {
+    let vox = load_vox_file(path, ChunkSize::S32, MAX_VOX_VOXELS)?;
+    let (lo, hi) = vox.bounds.unwrap_or_default();
+    Ok(Scene {
+        world: vox.world,
+        palette: vox.palette,
+        suggested_view: camera_looking_at(lo, hi),
+    })
 }
 
 fn main() -> ExitCode {
@@ -47,7 +65,16 @@ fn main() -> ExitCode {
     }
 
     let started = Instant::now();
-    let scene = terrain_scene(args.seed, ChunkSize::S32, args.chunks, 2, args.chunks);
+    let scene = match &args.vox {
+        None => terrain_scene(args.seed, ChunkSize::S32, args.chunks, 2, args.chunks),
+        Some(path) => match vox_scene(path) {
+            Ok(scene) => scene,
+            Err(e) => {
+                eprintln!("viewer: {}: {e}", path.display());
+                return ExitCode::FAILURE;
+            }
+        },
+    };
     let generated = started.elapsed();
     let block_at = |p| scene.world.get_block(p);
     let image = render(

@@ -1,6 +1,7 @@
 //! Scenes the viewer can show. Today: the built-in procedural terrain.
 
 pub mod terrain;
+pub mod vox;
 
 use rayon::prelude::*;
 use voxel_core::storage::{DenseChunk, PaletteChunk, VoxelStorage, WorldMap};
@@ -77,5 +78,27 @@ pub fn terrain_scene(
         world,
         palette,
         suggested_view,
+    }
+}
+
+/// A camera that frames the box `lo..=hi` (world voxels) from above and to the south-east.
+pub fn camera_looking_at(
+    lo: voxel_core::WorldPos,
+    hi: voxel_core::WorldPos,
+) -> crate::reference_raycast::Camera {
+    let lo_v = glam::DVec3::new(f64::from(lo.x), f64::from(lo.y), f64::from(lo.z));
+    let hi_v = glam::DVec3::new(f64::from(hi.x), f64::from(hi.y), f64::from(hi.z)) + 1.0;
+    let centre = (lo_v + hi_v) * 0.5;
+    let radius = ((hi_v - lo_v).length() * 0.5).max(1.0);
+    let fov_y = 60f64.to_radians();
+    let direction = glam::DVec3::new(-0.55, -0.45, -0.7).normalize();
+    let eye = centre - direction * (radius / (fov_y * 0.5).sin() * 1.05);
+    let floor = eye.floor();
+    crate::reference_raycast::Camera {
+        voxel: voxel_core::WorldPos::new(floor.x as i32, floor.y as i32, floor.z as i32),
+        fraction: eye - floor,
+        yaw: (-direction.x).atan2(-direction.z),
+        pitch: direction.y.asin(),
+        fov_y,
     }
 }
