@@ -152,6 +152,36 @@ impl PaddedChunk {
         Ok(core::mem::replace(&mut self.voxels[i], id))
     }
 
+    /// Sets the whole padding layer on one side to air: padded coordinate 0 (negative
+    /// directions) or `edge + 1` (positive directions) along the face's axis, edges and corners
+    /// of that layer included.
+    ///
+    /// Meshers then treat that neighbour as empty and emit the chunk's border faces on that
+    /// side. LOD meshing uses it where a neighbour is drawn at another level of detail, so each
+    /// side of the border is closed on its own and no crack can open between them.
+    pub fn clear_padding_face(&mut self, face: crate::FaceDirection) {
+        let p = self.padded_edge();
+        let layer = if face.is_positive() { p - 1 } else { 0 };
+        match face.normal_axis() {
+            0 => {
+                let bit = !(1u64 << layer);
+                for (row, mask) in self.voxels.chunks_exact_mut(p).zip(self.columns.iter_mut()) {
+                    row[layer] = BlockId::AIR;
+                    *mask &= bit;
+                }
+            }
+            axis => {
+                for c in 0..p * p {
+                    let (py, pz) = (c % p, c / p);
+                    if (if axis == 1 { py } else { pz }) == layer {
+                        self.voxels[c * p..(c + 1) * p].fill(BlockId::AIR);
+                        self.columns[c] = 0;
+                    }
+                }
+            }
+        }
+    }
+
     /// The mask of padded row `(py, pz)`, or an error naming the padded edge.
     pub fn column(&self, py: u32, pz: u32) -> Result<u64, CoordError> {
         self.check([0, py, pz])?;
@@ -233,5 +263,35 @@ pub fn gather_neighbourhood<C: VoxelStorage>(
         row[e + 1] = east;
         mask |= u64::from(!west.is_air()) | (u64::from(!east.is_air()) << (e + 1));
         *mask_out = mask;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::FaceDirection;
+
+    #[test]
+    fn clearing_a_padding_face_empties_exactly_that_layer() {
+        for size in ChunkSize::ALL {
+            for face in FaceDirection::ALL {
+                let mut padded = PaddedChunk::from_fn(size, |_, _, _| BlockId(3));
+                padded.clear_padding_face(face);
+                let p = padded.padded_edge() as u32;
+                let layer = if face.is_positive() { p - 1 } else { 0 };
+                for pz in 0..p {
+                    for py in 0..p {
+                        let mut mask = 0u64;
+                        for px in 0..p {
+                            let on_layer = [px, py, pz][face.normal_axis()] == layer;
+                            let id = padded.get(px, py, pz).unwrap();
+                            assert_eq!(id.is_air(), on_layer, "{size:?} {face:?} ({px},{py},{pz})");
+                            mask |= u64::from(!id.is_air()) << px;
+                        }
+                        assert_eq!(padded.column(py, pz).unwrap(), mask, "{size:?} {face:?} row mask");
+                    }
+                }
+            }
+        }
     }
 }
