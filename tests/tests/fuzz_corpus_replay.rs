@@ -1,0 +1,585 @@
+//! Replays the committed fuzz corpora through the fuzz target bodies, so `cargo test` (stable, no
+//! libFuzzer) keeps every input that fuzzing found interesting, and every crash it found, fixed.
+//!
+//! For each target `T`, every file of `fuzz/corpus/T/` (which must exist and not be empty) and,
+//! when the folder exists, of `fuzz/artifacts/T/` is run through `bodies::T`, the same function
+//! the fuzz target `T` runs (`fuzz/bodies.rs` is included by both).
+//!
+//! The seed inputs (`seed-*` files: small valid encodings of every format, and malformed ones)
+//! are built by [`seeds`]. `seed_corpus_is_current` checks that the committed files match them;
+//! after a deliberate format change, rewrite them with
+//! `cargo test -p tests --test fuzz_corpus_replay -- --ignored write_seed_corpus`.
+
+#[path = "../../fuzz/bodies.rs"]
+mod bodies;
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::{Path, PathBuf};
+
+use glam::{Vec2, Vec3};
+use voxel_core::formats::{
+    BlockVertex, BlockVertexFields, ChunkDrawIndirect, ChunkDrawIndirectFields, ChunkDrawInfo,
+    ChunkDrawInfoFields, ChunkKind, ClutterUnit, ClutterUnitFields, DrawBlock, DrawBlockFields,
+    DrawBlockFlags, FaceDirection, FaceLayerRange, LayerRange, MeshedChunkInfo,
+    MeshedChunkInfoFields, PackedQuad, PackedQuadFields, UnormExtent,
+};
+use voxel_core::storage::{DenseChunk, HEADER_LEN, MAGIC, PaletteChunk, encode_chunk};
+use voxel_core::{BlockId, ChunkCoord, ChunkSize, LocalPos, VoxelStorage};
+
+/// A fuzz target: its name (the corpus folder) and its body.
+type Target = (&'static str, fn(&[u8]));
+
+/// Every fuzz target, in the order of `fuzz/Cargo.toml`.
+const TARGETS: [Target; 8] = [
+    ("chunk_codec", bodies::chunk_codec),
+    ("draw_block", bodies::draw_block),
+    ("packed_quad", bodies::packed_quad),
+    ("block_vertex", bodies::block_vertex),
+    ("clutter_unit", bodies::clutter_unit),
+    ("chunk_draw_info", bodies::chunk_draw_info),
+    ("meshed_chunk_info", bodies::meshed_chunk_info),
+    ("chunk_draw_indirect", bodies::chunk_draw_indirect),
+];
+
+fn fuzz_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz")
+}
+
+/// The files of `dir`, sorted; `None` if the folder does not exist.
+fn files_in(dir: &Path) -> Option<Vec<PathBuf>> {
+    let entries = std::fs::read_dir(dir).ok()?;
+    let mut files: Vec<PathBuf> = entries
+        .map(|e| e.expect("readable directory entry").path())
+        .filter(|p| p.is_file())
+        .collect();
+    files.sort();
+    Some(files)
+}
+
+/// Runs `body` on every file; returns how many ran and the failures (path and message).
+fn run_all(body: fn(&[u8]), files: &[PathBuf]) -> (usize, Vec<String>) {
+    let mut failures = Vec::new();
+    for path in files {
+        let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("read {}: {e}", path.display()));
+        if let Err(panic) = catch_unwind(AssertUnwindSafe(|| body(&bytes))) {
+            let message = panic
+                .downcast_ref::<String>()
+                .map(String::as_str)
+                .or_else(|| panic.downcast_ref::<&str>().copied())
+                .unwrap_or("(non-string panic)");
+            failures.push(format!("{}: {message}", path.display()));
+        }
+    }
+    (files.len(), failures)
+}
+
+/// Replays `fuzz/corpus/<target>/` (required, non-empty) and `fuzz/artifacts/<target>/` (if
+/// present).
+fn replay(target: &str) {
+    let (_, body) = TARGETS
+        .iter()
+        .find(|(name, _)| *name == target)
+        .expect("known target");
+    let corpus_dir = fuzz_dir().join("corpus").join(target);
+    let corpus = files_in(&corpus_dir)
+        .unwrap_or_else(|| panic!("missing corpus folder {}", corpus_dir.display()));
+    assert!(
+        !corpus.is_empty(),
+        "corpus folder {} is empty",
+        corpus_dir.display()
+    );
+    let (corpus_runs, mut failures) = run_all(*body, &corpus);
+    let artifacts_dir = fuzz_dir().join("artifacts").join(target);
+    let (artifact_runs, artifact_failures) = match files_in(&artifacts_dir) {
+        Some(files) => run_all(*body, &files),
+        None => (0, Vec::new()),
+    };
+    failures.extend(artifact_failures);
+    eprintln!(
+        "fuzz replay {target}: {corpus_runs} corpus inputs, {artifact_runs} artifacts, {} failed",
+        failures.len()
+    );
+    assert!(
+        failures.is_empty(),
+        "{target}: {} of {} inputs failed:\n{}",
+        failures.len(),
+        corpus_runs + artifact_runs,
+        failures.join("\n")
+    );
+}
+
+/// One test per target, named like the target.
+macro_rules! replay_tests {
+    ($($target:ident),* $(,)?) => {
+        mod replay {
+            $(
+                #[test]
+                fn $target() {
+                    super::replay(stringify!($target));
+                }
+            )*
+        }
+    };
+}
+
+replay_tests!(
+    chunk_codec,
+    draw_block,
+    packed_quad,
+    block_vertex,
+    clutter_unit,
+    chunk_draw_info,
+    meshed_chunk_info,
+    chunk_draw_indirect,
+);
+
+#[test]
+fn every_target_has_a_replay_test_and_a_fuzz_target() {
+    for (name, _) in TARGETS {
+        let target = fuzz_dir().join("fuzz_targets").join(format!("{name}.rs"));
+        assert!(target.is_file(), "missing {}", target.display());
+    }
+    let declared = std::fs::read_to_string(fuzz_dir().join("Cargo.toml")).expect("fuzz/Cargo.toml");
+    assert_eq!(
+        declared.matches("[[bin]]").count(),
+        TARGETS.len(),
+        "fuzz/Cargo.toml declares a target this test does not replay"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// seeds
+// ---------------------------------------------------------------------------------------------
+
+/// Named seed inputs: `(name, bytes)`; the file is `seed-<name>`.
+type Seeds = Vec<(&'static str, Vec<u8>)>;
+
+/// The seed inputs of every target.
+fn seeds() -> Vec<(&'static str, Seeds)> {
+    vec![
+        ("chunk_codec", chunk_codec_seeds()),
+        ("draw_block", draw_block_seeds()),
+        ("packed_quad", packed_quad_seeds()),
+        ("block_vertex", block_vertex_seeds()),
+        ("clutter_unit", clutter_unit_seeds()),
+        ("chunk_draw_info", chunk_draw_info_seeds()),
+        ("meshed_chunk_info", meshed_chunk_info_seeds()),
+        ("chunk_draw_indirect", chunk_draw_indirect_seeds()),
+    ]
+}
+
+fn seed_path(target: &str, name: &str) -> PathBuf {
+    fuzz_dir()
+        .join("corpus")
+        .join(target)
+        .join(format!("seed-{name}"))
+}
+
+/// Writes every seed to `fuzz/corpus/<target>/seed-<name>` (run after changing a format).
+#[test]
+#[ignore = "writes fuzz/corpus; run by hand to regenerate the seeds"]
+fn write_seed_corpus() {
+    for (target, list) in seeds() {
+        std::fs::create_dir_all(fuzz_dir().join("corpus").join(target)).expect("mkdir");
+        for (name, bytes) in list {
+            std::fs::write(seed_path(target, name), bytes).expect("write seed");
+        }
+    }
+}
+
+/// The committed seeds are what [`seeds`] builds today, and every seed passes its body.
+#[test]
+fn seed_corpus_is_current() {
+    let mut stale = Vec::new();
+    for (target, list) in seeds() {
+        let (_, body) = TARGETS
+            .iter()
+            .find(|(name, _)| *name == target)
+            .expect("known target");
+        for (name, bytes) in list {
+            body(&bytes);
+            let path = seed_path(target, name);
+            if std::fs::read(&path).ok().as_deref() != Some(&bytes[..]) {
+                stale.push(path.display().to_string());
+            }
+        }
+    }
+    assert!(
+        stale.is_empty(),
+        "seed files missing or out of date (regenerate with `cargo test -p tests --test \
+         fuzz_corpus_replay -- --ignored write_seed_corpus`):\n{}",
+        stale.join("\n")
+    );
+}
+
+fn bytes_of<T: bytemuck::NoUninit>(value: &T) -> Vec<u8> {
+    bytemuck::bytes_of(value).to_vec()
+}
+
+/// `bytes` with `tail` appended.
+fn with_tail(mut bytes: Vec<u8>, tail: &[f32]) -> Vec<u8> {
+    for f in tail {
+        bytes.extend_from_slice(&f.to_le_bytes());
+    }
+    bytes
+}
+
+fn chunk_codec_seeds() -> Seeds {
+    /// A chunk cycling through `ids` ids (`i * 7 % ids`), at its smallest width.
+    fn chunk_with(size: ChunkSize, ids: usize) -> PaletteChunk {
+        let dense = DenseChunk::from_fn(size, |p: LocalPos| {
+            let i = size.linearize(p.x.into(), p.y.into(), p.z.into());
+            BlockId((i * 7 % ids) as u16)
+        });
+        PaletteChunk::from_dense(&dense)
+    }
+    fn enc(chunk: &PaletteChunk) -> Vec<u8> {
+        let mut out = Vec::new();
+        encode_chunk(chunk, &mut out);
+        out
+    }
+    let mut seeds = vec![
+        (
+            "valid-uniform-air-8",
+            enc(&PaletteChunk::new(ChunkSize::S8)),
+        ),
+        (
+            "valid-uniform-stone-62",
+            enc(&PaletteChunk::filled(ChunkSize::S62, BlockId(1))),
+        ),
+        ("valid-1bit-8", enc(&chunk_with(ChunkSize::S8, 2))),
+        ("valid-2bit-8", enc(&chunk_with(ChunkSize::S8, 3))),
+        ("valid-4bit-8", enc(&chunk_with(ChunkSize::S8, 16))),
+        ("valid-8bit-8", enc(&chunk_with(ChunkSize::S8, 100))),
+        ("valid-raw16-8", enc(&chunk_with(ChunkSize::S8, 300))),
+        ("valid-4bit-16", enc(&chunk_with(ChunkSize::S16, 5))),
+        // No non-uniform 32^3 or 62^3 seed on purpose: the smallest is 4 KB / 30 KB, and under
+        // coverage instrumentation one 62^3 chunk costs ~150 ms to check, so it would take over
+        // the run. Their voxel data is covered by the proptests (`voxel-core/tests/`).
+    ];
+
+    // A palette with a free entry (id 9 written, then overwritten): the encoder keeps it.
+    let mut free = PaletteChunk::new(ChunkSize::S8);
+    let at = |x| LocalPos::new(x, 0, 0, ChunkSize::S8).expect("in range");
+    free.set(at(1), BlockId(5)).expect("in range");
+    free.set(at(2), BlockId(9)).expect("in range");
+    free.set(at(2), BlockId(5)).expect("in range");
+    assert_eq!(free.palette().len(), 3);
+    seeds.push(("valid-free-palette-entry-8", enc(&free)));
+
+    // Valid but not canonical: 1 bit per voxel, palette [5, 7], every index 0.
+    let mut one_id = MAGIC.to_vec();
+    one_id.extend_from_slice(&[1, 8, 1, 0, 2, 0, 5, 0, 7, 0]);
+    one_id.extend_from_slice(&[0; 64]);
+    seeds.push(("valid-1bit-one-id-8", one_id.clone()));
+
+    // Malformed: each breaks one rule of a valid 2-bit chunk with a 3-entry palette.
+    let two_bit = enc(&chunk_with(ChunkSize::S8, 3));
+    assert_eq!(two_bit[6..10], [2, 0, 3, 0]);
+    let edit = |at: usize, value: u8| {
+        let mut b = two_bit.clone();
+        b[at] = value;
+        b
+    };
+    seeds.push(("bad-empty", Vec::new()));
+    seeds.push(("bad-magic", edit(0, b'X')));
+    seeds.push(("bad-version", edit(4, 2)));
+    seeds.push(("bad-edge", edit(5, 9)));
+    seeds.push(("bad-bits", edit(6, 3)));
+    seeds.push(("bad-reserved", edit(7, 1)));
+    seeds.push(("bad-palette-too-large", edit(8, 5)));
+    seeds.push(("bad-truncated", two_bit[..20].to_vec()));
+    let mut trailing = two_bit.clone();
+    trailing.push(0);
+    seeds.push(("bad-trailing-byte", trailing));
+    let mut duplicate = two_bit.clone();
+    duplicate.copy_within(HEADER_LEN..HEADER_LEN + 2, HEADER_LEN + 4);
+    seeds.push(("bad-duplicate-palette-entry", duplicate));
+    let mut index = two_bit.clone();
+    index[HEADER_LEN + 6] = 0b11; // index 3 in a 3-entry palette
+    seeds.push(("bad-palette-index", index));
+    let mut empty = one_id;
+    empty[8] = 0; // no palette entry at 1 bit
+    empty.drain(HEADER_LEN..HEADER_LEN + 4);
+    seeds.push(("bad-empty-palette", empty));
+    seeds
+}
+
+fn draw_block_seeds() -> Seeds {
+    let encode = |position, flags, block| {
+        let fields = DrawBlockFields {
+            position,
+            flags,
+            block: BlockId(block),
+        };
+        bytes_of(&DrawBlock::encode(&fields).expect("valid DrawBlock"))
+    };
+    vec![
+        ("valid-zero", encode([0, 0, 0], DrawBlockFlags::EMPTY, 0)),
+        (
+            "valid-typical",
+            encode([3, 7, 12], DrawBlockFlags::TRANSPARENT, 42),
+        ),
+        (
+            "valid-max",
+            encode([15, 15, 15], DrawBlockFlags::ALL, u16::MAX),
+        ),
+        ("bad-truncated", vec![0xFF; 3]),
+    ]
+}
+
+fn packed_quad_seeds() -> Seeds {
+    const NAMES: [&str; 6] = [
+        "valid-pos-x",
+        "valid-neg-x",
+        "valid-pos-y",
+        "valid-neg-y",
+        "valid-pos-z",
+        "valid-neg-z",
+    ];
+    let mut seeds: Seeds = FaceDirection::ALL
+        .into_iter()
+        .zip(NAMES)
+        .map(|(face, name)| {
+            let i = u32::from(face.index());
+            let fields = PackedQuadFields {
+                position: [i * 10, 63 - i, 2 * i],
+                width: 1 + i * 12,
+                height: 64 - i,
+                face,
+                ao: [3, 2, 1, face.index() % 4],
+                block: BlockId(1 + 1000 * u16::from(face.index())),
+            };
+            (
+                name,
+                bytes_of(&PackedQuad::encode(&fields).expect("valid PackedQuad")),
+            )
+        })
+        .collect();
+    let valid = PackedQuad::encode(&PackedQuadFields {
+        position: [1, 2, 3],
+        width: 4,
+        height: 5,
+        face: FaceDirection::PosY,
+        ao: [3; 4],
+        block: BlockId(7),
+    })
+    .expect("valid PackedQuad");
+    let edit = |position_or: u32, face_ao_or: u32| {
+        bytes_of(&PackedQuad {
+            position_size: valid.position_size | position_or,
+            face_ao_block: valid.face_ao_block | face_ao_or,
+        })
+    };
+    seeds.push(("bad-reserved-word0", edit(1 << 30, 0)));
+    seeds.push(("bad-reserved-word1", edit(0, 1 << 27)));
+    seeds.push(("bad-face-6", edit(0, 6)));
+    seeds.push(("bad-face-7", edit(0, 7)));
+    seeds.push(("bad-truncated", edit(0, 0)[..7].to_vec()));
+    seeds
+}
+
+fn block_vertex_seeds() -> Seeds {
+    let fields = BlockVertexFields {
+        position: Vec3::new(1.5, 17.25, 33.0),
+        normal: Vec3::new(0.3, 0.9, -0.2),
+        uv: Vec2::new(0.25, 1.0),
+        block: BlockId(12),
+        extra: 0xBEEF,
+    };
+    let extent = UnormExtent::padded_chunk(ChunkSize::S32);
+    let vertex = bytes_of(&BlockVertex::encode(&fields, extent).expect("valid BlockVertex"));
+    let tiny = UnormExtent::new(f32::MIN_POSITIVE).expect("valid extent");
+    let corner = BlockVertexFields {
+        position: Vec3::new(0.0, f32::MIN_POSITIVE, f32::MIN_POSITIVE / 3.0),
+        ..fields
+    };
+    let tiny_vertex = bytes_of(&BlockVertex::encode(&corner, tiny).expect("valid BlockVertex"));
+    // Normal code (-128, -128): decodes like (-127, -127), so it re-encodes differently.
+    let mut min_normal = vertex.clone();
+    min_normal[6..8].copy_from_slice(&[0x80, 0x80]);
+    vec![
+        ("valid-default-extent", vertex.clone()),
+        (
+            "valid-extent-34-with-bound-checks",
+            with_tail(vertex.clone(), &[34.0, 12.345, 0.577, -0.577, 0.577]),
+        ),
+        (
+            "valid-tiny-extent",
+            with_tail(tiny_vertex, &[f32::MIN_POSITIVE]),
+        ),
+        (
+            "valid-huge-extent",
+            with_tail(vec![0xFF; 16], &[f32::MAX, f32::MAX, 1e-40, 0.0, -1e30]),
+        ),
+        ("valid-normal-code-min", min_normal),
+        ("bad-truncated", vertex[..15].to_vec()),
+        (
+            "bad-nan-extent",
+            with_tail(vertex.clone(), &[f32::NAN, -1.0, 0.0, 0.0, 0.0]),
+        ),
+        (
+            "bad-subnormal-extent",
+            with_tail(vertex.clone(), &[1e-40, 35.0, f32::INFINITY, 1.0, 0.0]),
+        ),
+        (
+            "bad-negative-extent",
+            with_tail(vertex, &[-8.0, f32::NAN, f32::NAN, 0.0, 0.0]),
+        ),
+    ]
+}
+
+fn clutter_unit_seeds() -> Seeds {
+    let fields = ClutterUnitFields {
+        position: Vec3::new(4.0, 9.5, 0.125),
+        normal: Vec3::Y,
+        kind: 200,
+        scale_step: 15,
+        seed: 9,
+        uv: Vec2::new(0.5, 0.75),
+        uv_size: Vec2::new(0.0625, 1.0),
+        tint: [255, 128, 0, 255],
+    };
+    let extent = UnormExtent::padded_chunk(ChunkSize::S16);
+    let unit = bytes_of(&ClutterUnit::encode(&fields, extent).expect("valid ClutterUnit"));
+    let code = |c: u32| f32::from_bits(c); // an oct32 code, carried in the f32 tail
+    vec![
+        ("valid-default-extent", unit.clone()),
+        (
+            "valid-extent-18-with-bound-checks",
+            with_tail(
+                unit.clone(),
+                &[18.0, 0.3, code(0x1234_5678), 1.0, 2.0, -3.0],
+            ),
+        ),
+        (
+            "valid-oct32-code-min",
+            with_tail(unit.clone(), &[1.0, 1.0, code(0x8000_8000), 0.0, 0.0, -1.0]),
+        ),
+        ("valid-all-ones", with_tail(vec![0xFF; 20], &[f32::MAX])),
+        ("bad-truncated", unit[..19].to_vec()),
+        (
+            "bad-extent-and-inputs",
+            with_tail(unit, &[0.0, 1.5, code(0), f32::INFINITY, 0.0, 0.0]),
+        ),
+    ]
+}
+
+fn chunk_draw_info_seeds() -> Seeds {
+    let encode = |chunk, kind, draw_count, gigabuffer_index| {
+        let fields = ChunkDrawInfoFields {
+            chunk,
+            kind,
+            draw_count,
+            gigabuffer_index,
+        };
+        bytes_of(&ChunkDrawInfo::encode(&fields).expect("valid ChunkDrawInfo"))
+    };
+    let valid = ChunkDrawInfo::encode(&ChunkDrawInfoFields {
+        chunk: ChunkCoord::new(1, -2, 3),
+        kind: ChunkKind::Mesh,
+        draw_count: Some(12),
+        gigabuffer_index: Some(4),
+    })
+    .expect("valid ChunkDrawInfo");
+    let edit = |f: fn(&mut ChunkDrawInfo)| {
+        let mut v = valid;
+        f(&mut v);
+        bytes_of(&v)
+    };
+    vec![
+        (
+            "valid-empty-unresident",
+            encode(ChunkCoord::new(0, 0, 0), ChunkKind::Empty, None, None),
+        ),
+        ("valid-mesh", bytes_of(&valid)),
+        (
+            "valid-sprite-extremes",
+            encode(
+                ChunkCoord::new(i32::MIN, i32::MAX, -1),
+                ChunkKind::Sprite,
+                Some(i32::MAX as u32),
+                Some(0),
+            ),
+        ),
+        ("bad-kind-3", edit(|v| v.kind = 3)),
+        ("bad-draw-count-minus-2", edit(|v| v.draw_count = -2)),
+        (
+            "bad-gigabuffer-index-min",
+            edit(|v| v.gigabuffer_index = i32::MIN),
+        ),
+        ("bad-truncated", bytes_of(&valid)[..23].to_vec()),
+    ]
+}
+
+fn meshed_chunk_info_seeds() -> Seeds {
+    let fields = MeshedChunkInfoFields {
+        chunk: ChunkCoord::new(-5, 0, 70),
+        lod: 2,
+        centre: Vec3::new(16.0, 8.5, 16.0),
+        extent: Vec3::new(16.0, 8.5, -0.0),
+        opaque_quads: FaceLayerRange {
+            offset: 1000,
+            counts: [1, 2, 3, 0, 5, 6],
+        },
+        transparent_quads: FaceLayerRange {
+            offset: u32::MAX - 21,
+            counts: [1, 2, 3, 4, 5, 6],
+        },
+        smooth_vertices: LayerRange {
+            offset: 7,
+            count: 300,
+        },
+        clutter_units: LayerRange {
+            offset: u32::MAX,
+            count: 0,
+        },
+    };
+    let valid = MeshedChunkInfo::encode(&fields).expect("valid MeshedChunkInfo");
+    let edit = |f: fn(&mut MeshedChunkInfo)| {
+        let mut v = valid;
+        f(&mut v);
+        bytes_of(&v)
+    };
+    vec![
+        (
+            "valid-default",
+            bytes_of(&MeshedChunkInfo::encode(&MeshedChunkInfoFields::default()).expect("valid")),
+        ),
+        ("valid-typical", bytes_of(&valid)),
+        ("bad-lod-16", edit(|v| v.lod = 16)),
+        ("bad-nan-centre", edit(|v| v.centre[1] = f32::NAN)),
+        (
+            "bad-infinite-centre",
+            edit(|v| v.centre[2] = f32::NEG_INFINITY),
+        ),
+        ("bad-negative-extent", edit(|v| v.extent[0] = -1.0)),
+        (
+            "bad-opaque-overflow",
+            edit(|v| v.opaque_quads.counts[5] = u32::MAX),
+        ),
+        (
+            "bad-transparent-overflow",
+            edit(|v| v.transparent_quads.counts[0] += 1),
+        ),
+        ("bad-clutter-overflow", edit(|v| v.clutter_units.count = 1)),
+        ("bad-truncated", bytes_of(&valid)[..111].to_vec()),
+    ]
+}
+
+fn chunk_draw_indirect_seeds() -> Seeds {
+    let typical = ChunkDrawIndirect::encode(&ChunkDrawIndirectFields {
+        index_count: 36,
+        instance_count: 1,
+        first_index: 6000,
+        base_vertex: -4,
+        first_instance: 0,
+        chunk: ChunkCoord::new(3, -1, 2),
+    });
+    vec![
+        ("valid-zero", vec![0; 32]),
+        ("valid-typical", bytes_of(&typical)),
+        ("valid-all-ones", vec![0xFF; 32]),
+        ("bad-truncated", bytes_of(&typical)[..31].to_vec()),
+    ]
+}
