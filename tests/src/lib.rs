@@ -8,12 +8,17 @@ use std::path::PathBuf;
 /// (`CI=true`) must fail, and anywhere else it may skip with one clear line: this function
 /// panics under CI, and elsewhere prints `skipped: no sample data (<path>)` and returns `None`.
 pub fn sample_data(kind: &str) -> Option<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data").join(kind);
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared/data")
+        .join(kind);
     if dir.is_dir() {
         return Some(dir);
     }
     if std::env::var("CI").is_ok_and(|v| v == "true") {
-        panic!("sample data folder {} is missing; CI must have ../shared beside the checkout", dir.display());
+        panic!(
+            "sample data folder {} is missing; CI must have ../shared beside the checkout",
+            dir.display()
+        );
     }
     eprintln!("skipped: no sample data ({})", dir.display());
     None

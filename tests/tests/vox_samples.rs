@@ -18,31 +18,62 @@ fn every_sample_model_loads_and_keeps_every_voxel() {
         // The world holds exactly as many non-air voxels as were written, unless two placed
         // models overlap (they do not in these files), and each id is a colour index 1..=255.
         let stored: usize = scene.world.iter().map(|(_, c)| c.non_air_count()).sum();
-        assert_eq!(stored, scene.voxel_count, "{}: voxels lost or overlapping", path.display());
+        assert_eq!(
+            stored,
+            scene.voxel_count,
+            "{}: voxels lost or overlapping",
+            path.display()
+        );
         let (lo, hi) = scene.bounds.unwrap();
-        let used: std::collections::HashSet<u8> = data.models.iter().flat_map(|m| m.voxels.iter().map(|v| v.i)).collect();
+        let used: std::collections::HashSet<u8> = data
+            .models
+            .iter()
+            .flat_map(|m| m.voxels.iter().map(|v| v.i))
+            .collect();
         for (coord, chunk) in scene.world.iter() {
             for (local, id) in chunk.iter() {
                 if id == BlockId::AIR {
                     continue;
                 }
                 let p = coord.world_pos(local, ChunkSize::S32).unwrap();
-                assert!(lo.x <= p.x && p.x <= hi.x && lo.y <= p.y && p.y <= hi.y && lo.z <= p.z && p.z <= hi.z);
-                assert!((1..=255).contains(&id.0) && used.contains(&((id.0 - 1) as u8)), "{}: id {}", path.display(), id.0);
+                assert!(
+                    lo.x <= p.x
+                        && p.x <= hi.x
+                        && lo.y <= p.y
+                        && p.y <= hi.y
+                        && lo.z <= p.z
+                        && p.z <= hi.z
+                );
+                assert!(
+                    (1..=255).contains(&id.0) && used.contains(&((id.0 - 1) as u8)),
+                    "{}: id {}",
+                    path.display(),
+                    id.0
+                );
             }
         }
         // A file with no scene graph shows model 0; one with a graph shows at least one model.
         if data.scenes.is_empty() {
             assert_eq!(scene.voxel_count, data.models[0].voxels.len());
         }
-        eprintln!("{}: {} voxels, bounds {:?}..{:?}", path.file_name().unwrap().to_string_lossy(), scene.voxel_count, lo, hi);
+        eprintln!(
+            "{}: {} voxels, bounds {:?}..{:?}",
+            path.file_name().unwrap().to_string_lossy(),
+            scene.voxel_count,
+            lo,
+            hi
+        );
     }
 }
 
 #[test]
 fn a_scene_over_the_voxel_limit_is_refused_with_the_limit_named() {
-    let Some(path) = sample_vox_files().into_iter().next() else { return };
-    let err = load_vox_file(&path, ChunkSize::S32, 10).err().expect("10 voxels is too few for any sample");
+    let Some(path) = sample_vox_files().into_iter().next() else {
+        return;
+    };
+    let err = load_vox_file(&path, ChunkSize::S32, 10)
+        .err()
+        .expect("10 voxels is too few for any sample");
     assert!(err.to_string().contains("10 voxels"), "{err}");
 }
 

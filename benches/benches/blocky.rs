@@ -1,0 +1,308 @@
+//! Blocky meshers side by side with the peer crates, same inputs, same run:
+//! `cargo bench -p benches --bench blocky`.
+//!
+//! One criterion group per input (see `benches::mesh_inputs`); in each, every mesher meshes the
+//! same padded chunk(s), and its bench id carries its output size in quads:
+//!
+//! | id | what is timed |
+//! | --- | --- |
+//! | `ours greedy` | `GreedyMesher::mesh` from a `PaddedChunk` (occupancy columns already there), AO on |
+//! | `ours greedy no-ao` | the same with AO off (merges on id alone, as the peers do) |
+//! | `ours greedy u16` | `GreedyMesher::mesh_u16` from the plain padded `u16` array: mask build included, AO on |
+//! | `ours greedy u16 no-ao` | the same with AO off |
+//! | `ours visible` | `GreedyMesher::visible_faces`: one quad per face, AO on |
+//! | `block-mesh visible` | `block_mesh::visible_block_faces` |
+//! | `block-mesh greedy` | `block_mesh::greedy_quads` |
+//! | `bgm fast_mesh+masks` | `binary_greedy_meshing`: `compute_opaque_mask` + `compute_transparent_mask` + `Mesher::fast_mesh` |
+//! | `block-mesh-bgm` | `block_mesh_bgm::binary_greedy_quads` |
+//! | `block-mesh-bgm ao-safe` | `block_mesh_bgm::binary_greedy_quads_ao_safe` (merge rule only, no AO values) |
+//!
+//! The peers take their own voxel arrays, converted once outside the timed loop. Times are the
+//! benchmarking thread's CPU time ([`benches::cpu_time`]) unless `BENCH_CLOCK=wall`.
+
+use std::collections::BTreeSet;
+use std::hint::black_box;
+use std::time::Duration;
+
+use benches::cpu_time::{Clock, ThreadCpuTime, clock_from_env};
+use benches::mesh_inputs::{MeshInput, as_u16, synthetic_inputs, vox_dir, vox_inputs};
+use block_mesh::ndshape::{ConstShape, ConstShape3u32, RuntimeShape, Shape};
+use block_mesh::{
+    GreedyQuadsBuffer, MergeVoxel, RIGHT_HANDED_Y_UP_CONFIG, UnitQuadBuffer, Voxel,
+    VoxelVisibility, greedy_quads, visible_block_faces,
+};
+use block_mesh_bgm::{BinaryGreedyQuadsBuffer, binary_greedy_quads, binary_greedy_quads_ao_safe};
+use criterion::measurement::Measurement;
+use criterion::{BenchmarkGroup, Criterion};
+use mesher::BlockClasses;
+use mesher::blocky::{BlockyMesh, GreedyMesher};
+use voxel_core::{ChunkSize, MaterialClass};
+
+/// `block-mesh`'s voxel: the id plus its visibility, precomputed from the palette.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct BmVoxel {
+    id: u16,
+    visibility: VoxelVisibility,
+}
+
+impl Voxel for BmVoxel {
+    #[inline]
+    fn get_visibility(&self) -> VoxelVisibility {
+        self.visibility
+    }
+}
+
+impl MergeVoxel for BmVoxel {
+    type MergeValue = u16;
+    #[inline]
+    fn merge_value(&self) -> u16 {
+        self.id
+    }
+}
+
+fn bm_voxels(ids: &[u16], classes: &BlockClasses) -> Vec<BmVoxel> {
+    ids.iter()
+        .map(|&id| BmVoxel {
+            id,
+            visibility: match classes.class(voxel_core::BlockId(id)) {
+                Some(MaterialClass::Air) => VoxelVisibility::Empty,
+                Some(MaterialClass::Transparent) => VoxelVisibility::Translucent,
+                _ => VoxelVisibility::Opaque,
+            },
+        })
+        .collect()
+}
+
+/// Everything one input needs, prepared outside the timed loops.
+struct Prepared<'a> {
+    input: &'a MeshInput,
+    classes: BlockClasses,
+    bm: Vec<Vec<BmVoxel>>,
+    transparents: BTreeSet<u16>,
+}
+
+fn prepare(input: &MeshInput) -> Prepared<'_> {
+    let classes = BlockClasses::from_palette(&input.palette);
+    let bm = input
+        .chunks
+        .iter()
+        .map(|c| bm_voxels(as_u16(c), &classes))
+        .collect();
+    let transparents = classes.transparent_ids().iter().map(|id| id.0).collect();
+    Prepared {
+        input,
+        classes,
+        bm,
+        transparents,
+    }
+}
+
+fn bench_ours<M: Measurement>(g: &mut BenchmarkGroup<'_, M>, prep: &Prepared<'_>) {
+    let chunks = &prep.input.chunks;
+    let classes = &prep.classes;
+    let mut out = BlockyMesh::new();
+    let mut with_ao = GreedyMesher::new();
+    let mut without_ao = GreedyMesher::new().with_ambient_occlusion(false);
+
+    type Run = fn(&mut GreedyMesher, &voxel_core::PaddedChunk, &BlockClasses, &mut BlockyMesh);
+    let runs: [(&str, bool, Run); 5] = [
+        ("ours greedy", true, |m, c, k, o| m.mesh(c, k, o).unwrap()),
+        ("ours greedy no-ao", false, |m, c, k, o| {
+            m.mesh(c, k, o).unwrap()
+        }),
+        ("ours greedy u16", true, |m, c, k, o| {
+            m.mesh_u16(as_u16(c), k, o).unwrap()
+        }),
+        ("ours greedy u16 no-ao", false, |m, c, k, o| {
+            m.mesh_u16(as_u16(c), k, o).unwrap()
+        }),
+        ("ours visible", true, |m, c, k, o| {
+            m.visible_faces(c, k, o).unwrap()
+        }),
+    ];
+    for (name, ao, run) in runs {
+        let mesher = if ao { &mut with_ao } else { &mut without_ao };
+        let quads: usize = chunks
+            .iter()
+            .map(|c| {
+                run(mesher, c, classes, &mut out);
+                out.len()
+            })
+            .sum();
+        g.bench_function(format!("{name} [{quads} quads]"), |b| {
+            b.iter(|| {
+                for c in chunks {
+                    run(mesher, black_box(c), classes, &mut out);
+                    black_box(&out);
+                }
+            })
+        });
+    }
+}
+
+fn bench_block_mesh<M: Measurement, S: Shape<3, Coord = u32>>(
+    g: &mut BenchmarkGroup<'_, M>,
+    prep: &Prepared<'_>,
+    shape: &S,
+    p: u32,
+) {
+    let faces = &RIGHT_HANDED_Y_UP_CONFIG.faces;
+    let max = [p - 1; 3];
+
+    let mut unit = UnitQuadBuffer::new();
+    let quads: usize = prep
+        .bm
+        .iter()
+        .map(|v| {
+            unit.reset();
+            visible_block_faces(v, shape, [0; 3], max, faces, &mut unit);
+            unit.num_quads()
+        })
+        .sum();
+    g.bench_function(format!("block-mesh visible [{quads} quads]"), |b| {
+        b.iter(|| {
+            for v in &prep.bm {
+                unit.reset();
+                visible_block_faces(black_box(v), shape, [0; 3], max, faces, &mut unit);
+                black_box(&unit);
+            }
+        })
+    });
+
+    let mut greedy = GreedyQuadsBuffer::new(prep.bm.first().map_or(0, Vec::len));
+    let quads: usize = prep
+        .bm
+        .iter()
+        .map(|v| {
+            greedy_quads(v, shape, [0; 3], max, faces, &mut greedy);
+            greedy.quads.num_quads()
+        })
+        .sum();
+    g.bench_function(format!("block-mesh greedy [{quads} quads]"), |b| {
+        b.iter(|| {
+            for v in &prep.bm {
+                greedy_quads(black_box(v), shape, [0; 3], max, faces, &mut greedy);
+                black_box(&greedy.quads);
+            }
+        })
+    });
+
+    let mut bgm = BinaryGreedyQuadsBuffer::new();
+    for (name, ao_safe) in [("block-mesh-bgm", false), ("block-mesh-bgm ao-safe", true)] {
+        let run = |v: &[BmVoxel], out: &mut BinaryGreedyQuadsBuffer| {
+            if ao_safe {
+                binary_greedy_quads_ao_safe(v, shape, [0; 3], max, faces, out);
+            } else {
+                binary_greedy_quads(v, shape, [0; 3], max, faces, out);
+            }
+        };
+        let quads: usize = prep
+            .bm
+            .iter()
+            .map(|v| {
+                run(v, &mut bgm);
+                bgm.quads.num_quads()
+            })
+            .sum();
+        g.bench_function(format!("{name} [{quads} quads]"), |b| {
+            b.iter(|| {
+                for v in &prep.bm {
+                    run(black_box(v), &mut bgm);
+                    black_box(&bgm.quads);
+                }
+            })
+        });
+    }
+}
+
+/// `binary-greedy-meshing` for chunks of 62 (its const generic): masks built in the loop, as
+/// it asks its callers to do.
+fn bench_bgm<M: Measurement>(g: &mut BenchmarkGroup<'_, M>, prep: &Prepared<'_>) {
+    type Bgm = binary_greedy_meshing::Mesher<62>;
+    let mut mesher = Bgm::new();
+    let run = |ids: &[u16], mesher: &mut Bgm| {
+        let opaque = binary_greedy_meshing::compute_opaque_mask::<62>(ids, &prep.transparents);
+        let trans = binary_greedy_meshing::compute_transparent_mask::<62>(ids, &prep.transparents);
+        mesher.clear();
+        mesher.fast_mesh(ids, &opaque, &trans);
+    };
+    let quads: usize = prep
+        .input
+        .chunks
+        .iter()
+        .map(|c| {
+            run(as_u16(c), &mut mesher);
+            mesher.quads.iter().map(Vec::len).sum::<usize>()
+        })
+        .sum();
+    g.bench_function(format!("bgm fast_mesh+masks [{quads} quads]"), |b| {
+        b.iter(|| {
+            for c in &prep.input.chunks {
+                run(black_box(as_u16(c)), &mut mesher);
+                black_box(&mesher.quads);
+            }
+        })
+    });
+}
+
+fn bench_input<M: Measurement>(c: &mut Criterion<M>, input: &MeshInput) {
+    let prep = prepare(input);
+    let mut g = c.benchmark_group(format!(
+        "blocky/{} ({} non-air)",
+        input.name,
+        input.interior_non_air()
+    ));
+    bench_ours(&mut g, &prep);
+    let size = input.chunks.first().map_or(ChunkSize::S62, |c| c.size());
+    match size {
+        ChunkSize::S62 => {
+            bench_block_mesh(&mut g, &prep, &ConstShape3u32::<64, 64, 64> {}, 64);
+            bench_bgm(&mut g, &prep);
+        }
+        other => {
+            let p = other.padded_edge() as u32;
+            bench_block_mesh(&mut g, &prep, &RuntimeShape::<u32, 3>::new([p; 3]), p);
+        }
+    }
+    g.finish();
+}
+
+fn blocky<M: Measurement>(c: &mut Criterion<M>) {
+    for input in synthetic_inputs() {
+        bench_input(c, &input);
+    }
+    match vox_dir() {
+        Some(dir) => {
+            for input in vox_inputs(&dir, ChunkSize::S62) {
+                bench_input(c, &input);
+            }
+        }
+        None => eprintln!("skipped: no sample data (../shared/data/vox)"),
+    }
+}
+
+const _: () = assert!(ConstShape3u32::<64, 64, 64>::SIZE == 64 * 64 * 64);
+
+/// 30 samples of about 2 s per bench: the whole run (10 meshers x 17 inputs) takes about 12
+/// minutes on 2 cores. Criterion's command-line options override these.
+fn config<M: Measurement>(c: Criterion<M>) -> Criterion<M> {
+    c.warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2))
+        .sample_size(30)
+        .configure_from_args()
+}
+
+fn main() {
+    match clock_from_env() {
+        Clock::ThreadCpu => {
+            let mut c = config(Criterion::default().with_measurement(ThreadCpuTime::default()));
+            blocky(&mut c);
+            c.final_summary();
+        }
+        Clock::Wall => {
+            let mut c = config(Criterion::default());
+            blocky(&mut c);
+            c.final_summary();
+        }
+    }
+}

@@ -1,0 +1,209 @@
+//! Inputs of the blocky-mesher benches (`benches/benches/blocky.rs`): padded chunks with their
+//! palettes, built once, deterministic.
+//!
+//! Every input is a [`PaddedChunk`] (what our meshers take) whose voxel buffer doubles as the
+//! plain padded `u16` array the peer crates take (`p^3` ids, x fastest; for 62^3 chunks that is
+//! the 64^3 array `binary-greedy-meshing` and `block-mesh` expect).
+//!
+//! | input | what it is |
+//! | --- | --- |
+//! | `sphere` | a solid ball of stone, radius `e / 2 - 1`, centred, air around |
+//! | `terrain` | [`inputs::chunks::TERRAIN_CENTRE`](crate::inputs::chunks::TERRAIN_CENTRE) of the viewer's terrain gathered with its 26 neighbours: hills, caves, a sea (transparent water), 7 ids |
+//! | `checkerboard` | 3-D checkerboard of stone: every face visible, nothing merges |
+//! | `random50` | each voxel air with probability 1/2, else one of 4 opaque ids |
+//! | `full` | every padded voxel stone: buried, no face |
+//! | `empty` | all air |
+//! | `vox/<model>` | a MagicaVoxel sample model from `../shared/data/vox/`, every 62^3 chunk it touches |
+
+use std::path::{Path, PathBuf};
+
+use viewer::scene::TerrainBlocks;
+use viewer::scene::vox::load_vox_file;
+use voxel_core::{
+    BlockId, ChunkSize, Material, MaterialPalette, PaddedChunk, gather_neighbourhood,
+};
+
+use crate::inputs::chunks::{TERRAIN_CENTRE, terrain_world_dense};
+use crate::rng::Rng;
+
+/// One bench input: one or more padded chunks and the palette their ids index.
+pub struct MeshInput {
+    /// Name used in the bench id, e.g. `terrain 62^3`.
+    pub name: String,
+    /// The chunks, each padded with its one-voxel border.
+    pub chunks: Vec<PaddedChunk>,
+    /// Materials of the ids.
+    pub palette: MaterialPalette,
+}
+
+impl MeshInput {
+    /// Non-air voxels in the chunks' interiors.
+    pub fn interior_non_air(&self) -> usize {
+        self.chunks
+            .iter()
+            .map(|c| {
+                let p = c.padded_edge();
+                let inner = (u64::MAX >> (64 - (p - 2))) << 1;
+                c.columns()
+                    .chunks_exact(p)
+                    .enumerate()
+                    .filter(|(z, _)| (1..p - 1).contains(z))
+                    .flat_map(|(_, slab)| &slab[1..p - 1])
+                    .map(|&col| (col & inner).count_ones() as usize)
+                    .sum::<usize>()
+            })
+            .sum()
+    }
+}
+
+/// The ids as a plain `u16` slice (the peers' input).
+pub fn as_u16(padded: &PaddedChunk) -> &[u16] {
+    bytemuck::cast_slice(padded.voxels())
+}
+
+/// A palette with 4 opaque materials (ids 1..=4) and nothing transparent.
+pub fn opaque_palette() -> MaterialPalette {
+    let mut palette = MaterialPalette::new();
+    for i in 0..4u8 {
+        palette
+            .push(Material::opaque(60 * i, 100, 200 - 40 * i))
+            .expect("a fresh palette has room");
+    }
+    palette
+}
+
+fn single(name: String, chunk: PaddedChunk, palette: MaterialPalette) -> MeshInput {
+    MeshInput {
+        name,
+        chunks: vec![chunk],
+        palette,
+    }
+}
+
+fn label(kind: &str, size: ChunkSize) -> String {
+    format!("{kind} {}^3", size.edge())
+}
+
+/// A solid stone ball of radius `e / 2 - 1` centred in the chunk.
+pub fn sphere(size: ChunkSize) -> MeshInput {
+    let e = size.edge() as f32;
+    let c = e / 2.0 + 0.5; // centre in padded coordinates (interior is 1..=e)
+    let r = e / 2.0 - 1.0;
+    let chunk = PaddedChunk::from_fn(size, |x, y, z| {
+        let d = [x, y, z].map(|a| a as f32 - c);
+        let inside = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= r * r;
+        BlockId(u16::from(inside))
+    });
+    single(label("sphere", size), chunk, opaque_palette())
+}
+
+/// The viewer's terrain chunk at [`TERRAIN_CENTRE`] with its real neighbours as the border.
+pub fn terrain(size: ChunkSize) -> MeshInput {
+    let world = terrain_world_dense(size);
+    let mut chunk = PaddedChunk::new(size);
+    gather_neighbourhood(&world, TERRAIN_CENTRE, &mut chunk);
+    single(label("terrain", size), chunk, TerrainBlocks::palette().0)
+}
+
+/// A 3-D checkerboard: voxel `(x, y, z)` is stone iff `x + y + z` is even.
+pub fn checkerboard(size: ChunkSize) -> MeshInput {
+    let chunk = PaddedChunk::from_fn(size, |x, y, z| BlockId(u16::from((x + y + z) % 2 == 0)));
+    single(label("checkerboard", size), chunk, opaque_palette())
+}
+
+/// Each voxel air with probability 1/2, else one of the 4 opaque ids, uniformly.
+pub fn random_fill(size: ChunkSize, seed: u64) -> MeshInput {
+    let mut rng = Rng::new(seed);
+    let chunk = PaddedChunk::from_fn(size, |_, _, _| {
+        if rng.below(2) == 0 {
+            BlockId::AIR
+        } else {
+            BlockId(1 + rng.below(4) as u16)
+        }
+    });
+    single(label("random50", size), chunk, opaque_palette())
+}
+
+/// Every padded voxel stone (`palette` decides whether the palette also has water).
+pub fn full(size: ChunkSize, with_water: bool) -> MeshInput {
+    let (palette, stone, name) = if with_water {
+        let (palette, blocks) = TerrainBlocks::palette();
+        (palette, blocks.stone, "full (water in palette)")
+    } else {
+        (opaque_palette(), BlockId(1), "full")
+    };
+    let chunk = PaddedChunk::from_fn(size, |_, _, _| stone);
+    single(label(name, size), chunk, palette)
+}
+
+/// All air.
+pub fn empty(size: ChunkSize) -> MeshInput {
+    single(
+        label("empty", size),
+        PaddedChunk::new(size),
+        opaque_palette(),
+    )
+}
+
+/// The synthetic inputs, in bench order.
+pub fn synthetic_inputs() -> Vec<MeshInput> {
+    let s62 = ChunkSize::S62;
+    vec![
+        terrain(s62),
+        sphere(s62),
+        sphere(ChunkSize::S32),
+        checkerboard(s62),
+        random_fill(s62, 50),
+        full(s62, false),
+        full(s62, true),
+        empty(s62),
+    ]
+}
+
+/// The folder of the MagicaVoxel samples (`../shared/data/vox` beside the checkout), if present.
+pub fn vox_dir() -> Option<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/vox");
+    dir.is_dir().then_some(dir)
+}
+
+/// The models of `dir` cut into padded chunks of `size`: every chunk the model touches, in
+/// chunk-coordinate order, each gathered with its neighbours. Models that fail to load are
+/// skipped with a message on stderr.
+pub fn vox_inputs(dir: &Path, size: ChunkSize) -> Vec<MeshInput> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map(|entries| entries.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
+    files.retain(|p| p.extension().is_some_and(|e| e == "vox"));
+    files.sort();
+    let mut out = Vec::new();
+    for path in files {
+        let name = path
+            .file_stem()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned();
+        let scene = match load_vox_file(&path, size, 1 << 26) {
+            Ok(scene) => scene,
+            Err(e) => {
+                eprintln!("{}: {e}", path.display());
+                continue;
+            }
+        };
+        let mut coords: Vec<_> = scene.world.iter().map(|(c, _)| c).collect();
+        coords.sort_by_key(|c| (c.z, c.y, c.x));
+        let chunks = coords
+            .into_iter()
+            .map(|coord| {
+                let mut padded = PaddedChunk::new(size);
+                gather_neighbourhood(&scene.world, coord, &mut padded);
+                padded
+            })
+            .collect::<Vec<_>>();
+        out.push(MeshInput {
+            name: format!("vox/{name} ({} x {}^3)", chunks.len(), size.edge()),
+            chunks,
+            palette: scene.palette,
+        });
+    }
+    out
+}

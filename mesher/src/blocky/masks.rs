@@ -1,0 +1,249 @@
+//! Opaque and transparent bit masks of a padded chunk, in the three layouts the face directions
+//! read, and the uniform-chunk early exit.
+//!
+//! # Layouts
+//!
+//! A slice is the layer of voxels at one padded coordinate `n` along a face's normal axis. Each
+//! layout stores, per slice, 64 *lines* of one `u64` each (lines at and past the padded edge `p`
+//! are zero), so the faces of a slice are `cur[l] & !front[l]` line by line, and neighbouring
+//! voxels are neighbouring bits or lines:
+//!
+//! | layout | slices | lines | bits | built from the occupancy columns by |
+//! | ------ | ------ | ----- | ---- | ----------------------------------- |
+//! | `A`    | z      | y     | x    | nothing for 62^3 chunks: it *is* the column order (`y + 64 * z`) |
+//! | `B`    | y      | z     | x    | a word transpose (`B[y][z] = A[z][y]`) |
+//! | `C`    | x      | z     | y    | a 64 x 64 bit transpose of each z-slab of `A` |
+//!
+//! # Opaque and transparent masks
+//!
+//! When the palette has no transparent material ([`BlockClasses::any_transparent`] is false),
+//! every non-air voxel is opaque (or unknown, which is an error once it shows a face), so the
+//! opaque mask in layout `A` is the [`PaddedChunk`](voxel_core::PaddedChunk)'s occupancy columns
+//! themselves: nothing is scanned.
+//!
+//! When it has some, the transparent mask is derived row by row, only for rows whose occupancy
+//! is not zero: with at most [`FEW_TRANSPARENT`] transparent ids, a row of ids is first tested
+//! for containing any of them at all (a SIMD compare-and-OR over the row, no bit packing), and
+//! only rows that do are turned into a bit mask; with more transparent ids, the class table is
+//! read for the occupied voxels only. The opaque mask is then `occupancy & !transparent`. The
+//! derivation also records whether two *different* transparent ids occur, since only then can
+//! two transparent voxels show faces to each other.
+
+use alloc::vec::Vec;
+
+use voxel_core::BlockId;
+
+use super::bits::{row_contains, row_equal, transpose64};
+use crate::BlockClasses;
+
+/// Up to this many transparent ids in the palette, rows are classified with SIMD compares.
+pub(crate) const FEW_TRANSPARENT: usize = 4;
+
+/// 64 lines of one slice.
+pub(crate) type Slice = [u64; 64];
+
+/// What the column masks say about a chunk before any face is looked at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Content {
+    /// Every padded voxel is air: no faces.
+    Empty,
+    /// Every padded voxel is opaque: no faces.
+    Buried,
+    /// Anything else: mesh it.
+    Surface,
+}
+
+/// The masks of one padded chunk in layouts `A`, `B`, `C` (see the [module docs](self)).
+/// Scratch that keeps its capacity between chunks.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Masks {
+    /// Padded edge of the chunk the masks were built for.
+    pub p: usize,
+    /// Opaque layout `A`; unused when the input columns are the opaque mask.
+    opaque_a: Vec<Slice>,
+    opaque_b: Vec<Slice>,
+    opaque_c: Vec<Slice>,
+    trans_a: Vec<Slice>,
+    trans_b: Vec<Slice>,
+    trans_c: Vec<Slice>,
+    /// The input columns, viewed as 64-line slices, are the opaque mask.
+    opaque_is_columns: bool,
+    /// Some voxel is transparent.
+    pub has_transparent: bool,
+    /// Two different transparent ids occur, so transparent voxels can face each other.
+    pub mixed_transparent: bool,
+}
+
+/// Three layouts of one mask, as the directions read them.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Layouts<'a> {
+    /// Layout A, B and C, each `p` slices.
+    pub by: [&'a [Slice]; 3],
+}
+
+/// Resizes `v` to `n` slices. Callers overwrite lines `0..n` of every slice; lines `n..64` are
+/// zeroed here (nothing to do for 62^3 chunks, where `n` is 64).
+fn slices(v: &mut Vec<Slice>, n: usize) {
+    v.resize(n, [0; 64]);
+    if n < 64 {
+        for s in v.iter_mut() {
+            s[n..].fill(0);
+        }
+    }
+}
+
+impl Masks {
+    /// Builds the masks of a padded chunk of edge `p` from its ids (x fastest) and occupancy
+    /// columns (index `y + p * z`). Returns [`Content::Empty`] or [`Content::Buried`] without
+    /// building anything when the columns already say there is no face.
+    pub fn build(
+        &mut self,
+        p: usize,
+        voxels: &[u16],
+        columns: &[u64],
+        classes: &BlockClasses,
+    ) -> Content {
+        self.p = p;
+        let full_row = u64::MAX >> (64 - p);
+        let (any, all) = columns
+            .iter()
+            .fold((0u64, u64::MAX), |(any, all), &c| (any | c, all & c));
+        if any == 0 {
+            return Content::Empty;
+        }
+
+        self.has_transparent = false;
+        self.mixed_transparent = false;
+        if classes.any_transparent() {
+            self.derive_transparent(p, voxels, columns, classes);
+        }
+        if all == full_row && !self.has_transparent {
+            return Content::Buried;
+        }
+
+        // Layout A of the opaque mask: the columns themselves when possible.
+        self.opaque_is_columns = p == 64 && !self.has_transparent;
+        if !self.opaque_is_columns {
+            slices(&mut self.opaque_a, p);
+            for (slab, out) in columns.chunks_exact(p).zip(self.opaque_a.iter_mut()) {
+                out[..p].copy_from_slice(slab);
+            }
+            if self.has_transparent {
+                for (o, t) in self.opaque_a.iter_mut().zip(&self.trans_a) {
+                    for (o, t) in o.iter_mut().zip(t) {
+                        *o &= !t;
+                    }
+                }
+            }
+        }
+        let opaque_a: &[Slice] = if self.opaque_is_columns {
+            bytemuck::cast_slice(columns)
+        } else {
+            &self.opaque_a
+        };
+        word_transpose(p, opaque_a, &mut self.opaque_b);
+        bit_transpose(p, opaque_a, &mut self.opaque_c);
+        if self.has_transparent {
+            word_transpose(p, &self.trans_a, &mut self.trans_b);
+            bit_transpose(p, &self.trans_a, &mut self.trans_c);
+        }
+        Content::Surface
+    }
+
+    /// Fills `trans_a` (layout A) and the two flags.
+    fn derive_transparent(
+        &mut self,
+        p: usize,
+        voxels: &[u16],
+        columns: &[u64],
+        classes: &BlockClasses,
+    ) {
+        let ids = classes.transparent_ids();
+        slices(&mut self.trans_a, p);
+        // Which of the transparent ids occur, one bit each (first FEW_TRANSPARENT ids), and for
+        // many ids the first one seen.
+        let mut seen = 0u32;
+        let mut first: Option<u16> = None;
+        let slabs = voxels.chunks_exact(p * p).zip(columns.chunks_exact(p));
+        for ((slab, cols), out) in slabs.zip(self.trans_a.iter_mut()) {
+            for ((row, &occ), t_out) in slab.chunks_exact(p).zip(cols).zip(out.iter_mut()) {
+                let mut t = 0;
+                if occ == 0 {
+                    // Nothing to classify.
+                } else if ids.len() <= FEW_TRANSPARENT {
+                    for (k, id) in ids.iter().enumerate() {
+                        if row_contains(row, id.0) {
+                            seen |= 1 << k;
+                            t |= row_equal(row, id.0);
+                        }
+                    }
+                } else {
+                    let mut bits = occ;
+                    while bits != 0 {
+                        let x = bits.trailing_zeros() as usize;
+                        bits &= bits - 1;
+                        let id = row.get(x).copied().unwrap_or(0);
+                        if classes.is_transparent(BlockId(id)) {
+                            t |= 1 << x;
+                            match first {
+                                None => first = Some(id),
+                                Some(f) if f != id => self.mixed_transparent = true,
+                                Some(_) => {}
+                            }
+                        }
+                    }
+                }
+                *t_out = t;
+            }
+        }
+        self.has_transparent = seen != 0 || first.is_some();
+        self.mixed_transparent |= seen.count_ones() > 1;
+    }
+
+    /// The opaque mask in all three layouts; `columns` are the input columns (layout A when the
+    /// chunk is 62^3 and has no transparent voxel).
+    pub fn opaque<'a>(&'a self, columns: &'a [u64]) -> Layouts<'a> {
+        let a: &[Slice] = if self.opaque_is_columns {
+            bytemuck::cast_slice(columns)
+        } else {
+            &self.opaque_a
+        };
+        Layouts {
+            by: [a, &self.opaque_b, &self.opaque_c],
+        }
+    }
+
+    /// The transparent mask in all three layouts, if any voxel is transparent.
+    pub fn transparent(&self) -> Option<Layouts<'_>> {
+        self.has_transparent.then_some(Layouts {
+            by: [&self.trans_a, &self.trans_b, &self.trans_c],
+        })
+    }
+}
+
+/// Layout B from layout A: `out[y][z] = a[z][y]`.
+fn word_transpose(p: usize, a: &[Slice], out: &mut Vec<Slice>) {
+    slices(out, p);
+    for (z, slab) in a.iter().enumerate() {
+        for (y, &line) in slab[..p].iter().enumerate() {
+            if let Some(slot) = out.get_mut(y) {
+                slot[z & 63] = line;
+            }
+        }
+    }
+}
+
+/// Layout C from layout A: for each z-slab, transpose the bit matrix (lines y, bits x) into
+/// lines x, bits y, stored at `out[x][z]`.
+fn bit_transpose(p: usize, a: &[Slice], out: &mut Vec<Slice>) {
+    slices(out, p);
+    for (z, slab) in a.iter().enumerate() {
+        let mut m = *slab;
+        if m.iter().any(|&line| line != 0) {
+            transpose64(&mut m);
+        }
+        for (x, slot) in out.iter_mut().enumerate() {
+            slot[z & 63] = m[x & 63];
+        }
+    }
+}

@@ -1,0 +1,213 @@
+//! The six face directions as slices of lines of bits, and the walk over them that turns face
+//! masks into quads.
+//!
+//! For a direction, slice `n` is the layer of voxels at padded coordinate `n` along the normal;
+//! its faces are `cur[l] & !front[l]`, where `front` is the slice at `n + 1` (positive faces) or
+//! `n - 1` (negative faces), restricted to the chunk's interior lines and bits `1..=e`. Which
+//! axis the lines and bits run along is the layout's (see [`super::masks`]):
+//!
+//! | faces | layout | slice `n` | line `l` | bit `b` | width axis | merge order |
+//! | ----- | ------ | --------- | -------- | ------- | ---------- | ----------- |
+//! | ±X    | C      | x         | z        | y       | lines (z)  | lines first |
+//! | ±Y    | B      | y         | z        | x       | bits (x)   | lines first |
+//! | ±Z    | A      | z         | y        | x       | bits (x)   | bits first  |
+//!
+//! The merge order is `block-mesh`'s (its `RIGHT_HANDED_Y_UP_CONFIG` grows a quad along its
+//! `u` axis first: z for ±X and ±Y faces, x for ±Z faces, and scans x fastest, then y, then
+//! z), so with AO off both produce exactly the same quads.
+
+use alloc::vec::Vec;
+
+use voxel_core::formats::PackedQuad;
+
+use super::ao::AO_TABLES;
+use super::masks::{Layouts, Slice};
+use super::merge::{Keys, Quads, SliceFaces, SliceQuads, greedy, unit_quads};
+use crate::{BlockClasses, MeshError};
+
+/// How face direction `D` (index in `FaceDirection::ALL`) maps onto slices, lines and bits.
+/// Everything but the strides is a constant, so each direction's loops are compiled with
+/// immediate shifts and offsets.
+pub(crate) struct Direction<const D: usize>;
+
+impl<const D: usize> Direction<D> {
+    /// Layout index (0 = A, 1 = B, 2 = C).
+    pub const LAYOUT: usize = [2, 1, 0][D / 2];
+    /// True for the positive faces: the front slice is `n + 1`.
+    pub const POSITIVE: bool = D.is_multiple_of(2);
+    /// The axes (0 = x, 1 = y, 2 = z) of the slice, line and bit coordinates.
+    const AXES: [u32; 3] = [[0, 2, 1], [1, 2, 0], [2, 1, 0]][D / 2];
+    /// Bit offset, in `PackedQuad` word 0, of the slice coordinate.
+    pub const SHIFT_N: u32 = 6 * Self::AXES[0];
+    /// Bit offset in word 0 of the line coordinate.
+    pub const SHIFT_L: u32 = 6 * Self::AXES[1];
+    /// Bit offset in word 0 of the bit coordinate.
+    pub const SHIFT_B: u32 = 6 * Self::AXES[2];
+    /// True when the bits run along the face's width axis (±Y, ±Z), false for ±X.
+    const BITS_ARE_WIDTH: bool = D / 2 != 0;
+    /// Bit offset in word 0 of the quad's extent along lines (18 = width, 24 = height).
+    pub const SIZE_SHIFT_L: u32 = if Self::BITS_ARE_WIDTH { 24 } else { 18 };
+    /// Bit offset in word 0 of the quad's extent along bits.
+    pub const SIZE_SHIFT_B: u32 = if Self::BITS_ARE_WIDTH { 18 } else { 24 };
+    /// Grow quads along lines first (`block-mesh`'s order for ±X and ±Y faces).
+    pub const LINES_FIRST: bool = D / 2 != 2;
+    /// AO by 3 x 3 front neighbourhood.
+    pub const AO_TABLE: &'static [u8; 512] = &AO_TABLES[D];
+
+    /// Voxel index strides of a step in slice, line and bit, for padded edge `p`.
+    #[inline(always)]
+    pub fn strides(p: usize) -> [usize; 3] {
+        Self::AXES.map(|a| p.pow(a))
+    }
+}
+
+/// Everything the walk reads.
+pub(crate) struct Input<'a> {
+    /// Padded ids, x fastest.
+    pub voxels: &'a [u16],
+    /// Padded edge.
+    pub p: usize,
+    /// Opaque masks.
+    pub opaque: Layouts<'a>,
+    /// Transparent masks, if any voxel is transparent.
+    pub transparent: Option<Layouts<'a>>,
+    /// Two different transparent ids occur.
+    pub mixed_transparent: bool,
+    /// Compute AO (else every corner is 3 and merging ignores AO).
+    pub ao: bool,
+    /// Merge faces into greedy quads (else one quad per face).
+    pub merge: bool,
+}
+
+const ZERO: Slice = [0; 64];
+
+/// Slice `n` of a layout (all zero past the end, which never happens for `n <= p - 1`).
+#[inline]
+fn slice(layout: &[Slice], n: usize) -> &Slice {
+    layout.get(n).unwrap_or(&ZERO)
+}
+
+/// Meshes direction `D`: every slice, opaque faces into `opaque`, transparent ones into
+/// `transparent`.
+pub(crate) fn mesh_direction<const D: usize>(
+    input: &Input<'_>,
+    classes: &BlockClasses,
+    keys: &mut Keys,
+    buf: &mut SliceQuads,
+    opaque: &mut Vec<PackedQuad>,
+    transparent: &mut Vec<PackedQuad>,
+) -> Result<(), MeshError> {
+    let p = input.p;
+    let e = p - 2;
+    let inner = (u64::MAX >> (64 - e)) << 1;
+    let layout = Direction::<D>::LAYOUT;
+    let o_layout = input.opaque.by[layout];
+    let t_layout = input.transparent.map(|t| t.by[layout]);
+    let [stride_n, stride_l, stride_b] = Direction::<D>::strides(p);
+    // Lines 0 and p - 1 are the padding; lines past p are zero in every layout.
+    let mut faces: Slice = [0; 64];
+    #[expect(
+        clippy::range_plus_one,
+        reason = "`Range` iterates faster than `RangeInclusive`"
+    )]
+    for n in 1..e + 1 {
+        let front_n = if Direction::<D>::POSITIVE {
+            n + 1
+        } else {
+            n - 1
+        };
+        let cur = slice(o_layout, n);
+        let front = slice(o_layout, front_n);
+        let mut any = 0;
+        for ((f, &c), &fr) in faces.iter_mut().zip(cur).zip(front) {
+            *f = c & !fr & inner;
+            any |= *f;
+        }
+        faces[0] = 0;
+        faces[(p - 1) & 63] = 0;
+        let mut slice_faces = SliceFaces::<D> {
+            voxels: input.voxels,
+            base: n * stride_n,
+            stride_l,
+            stride_b,
+            front,
+            n,
+            check: Some(classes),
+        };
+        if any != 0 {
+            emit(input, &slice_faces, &mut faces, e, keys, buf, opaque)?;
+        }
+
+        let Some(t_layout) = t_layout else { continue };
+        let t_cur = slice(t_layout, n);
+        let t_front = slice(t_layout, front_n);
+        let mut any = 0;
+        for (((f, &c), &fr), &tf) in faces.iter_mut().zip(t_cur).zip(front).zip(t_front) {
+            *f = c & !(fr | tf) & inner;
+            any |= c;
+        }
+        if any == 0 {
+            continue;
+        }
+        faces[0] = 0;
+        faces[(p - 1) & 63] = 0;
+        if input.mixed_transparent {
+            for l in 1..e + 1 {
+                let both = t_cur[l & 63] & t_front[l & 63] & inner;
+                if both != 0 {
+                    faces[l & 63] |= differing_ids(
+                        input.voxels,
+                        [n, front_n, l],
+                        [stride_n, stride_l, stride_b],
+                        both,
+                    );
+                }
+            }
+        }
+        slice_faces.check = None;
+        emit(input, &slice_faces, &mut faces, e, keys, buf, transparent)?;
+    }
+    Ok(())
+}
+
+/// The bits of `both` (transparent voxels with a transparent front voxel) whose two ids
+/// differ; `at` holds the slice, front slice and line, `strides` the voxel index strides.
+fn differing_ids(voxels: &[u16], at: [usize; 3], strides: [usize; 3], mut both: u64) -> u64 {
+    let [n, front_n, l] = at;
+    let [stride_n, stride_l, stride_b] = strides;
+    let mut out = 0;
+    while both != 0 {
+        let b = both.trailing_zeros() as usize;
+        both &= both - 1;
+        let id = |n: usize| {
+            let i = n * stride_n + l * stride_l + b * stride_b;
+            voxels.get(i).copied().unwrap_or(0)
+        };
+        if id(n) != id(front_n) {
+            out |= 1 << b;
+        }
+    }
+    out
+}
+
+/// Turns the face lines of one slice into quads, leaving `faces` all zero.
+#[inline]
+fn emit<const D: usize>(
+    input: &Input<'_>,
+    slice: &SliceFaces<'_, D>,
+    faces: &mut Slice,
+    e: usize,
+    keys: &mut Keys,
+    buf: &mut SliceQuads,
+    out: &mut Vec<PackedQuad>,
+) -> Result<(), MeshError> {
+    let mut quads = Quads { buf, len: 0 };
+    match (input.merge, input.ao) {
+        (false, true) => unit_quads::<D, true>(slice, faces, e, &mut quads)?,
+        (false, false) => unit_quads::<D, false>(slice, faces, e, &mut quads)?,
+        (true, true) => greedy::<D, true>(slice, faces, e, keys, &mut quads)?,
+        (true, false) => greedy::<D, false>(slice, faces, e, keys, &mut quads)?,
+    }
+    out.extend_from_slice(&quads.buf[..quads.len.min(4096)]);
+    Ok(())
+}

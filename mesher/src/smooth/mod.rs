@@ -1,0 +1,233 @@
+//! Smooth meshers: SurfaceNets on density grids ([`SurfaceNets`]) and on block occupancy,
+//! NoCubes-style ([`NoCubes`]).
+//!
+//! # SurfaceNets on a density grid
+//!
+//! **Samples.** A grid of `dx * dy * dz` density samples, x fastest ([`GridShape`]), of type
+//! `f32` or `i8`. **Negative is inside** (solid), zero and positive are outside, as in
+//! `fast-surface-nets`; `-0.0` is outside. An `i8` sample `q` stands for the density
+//! `q * I8_DENSITY_STEP` (`1 / 127`: `-127..=127` is `-1.0..=1.0`); [`quantize_density`] makes
+//! one from an `f32`.
+//!
+//! **Vertices.** Each cell (the cube between 8 neighbouring samples) whose corners are not all
+//! on one side gets one vertex: the average of the points where the surface crosses its edges
+//! (linear interpolation of the density along each crossing edge), and a normal, the density
+//! gradient there: on each axis the bilinear interpolation of the differences along the
+//! cell's 4 edges of that axis (central differences at the edge midpoints). Both are the
+//! formulas of `fast-surface-nets` 0.2, which the tests compare against (positions within
+//! 1e-5, same count, same order).
+//!
+//! **Quads.** Each grid edge whose ends lie on different sides gives one quad joining the
+//! vertices of the 4 cells around it, counter-clockwise seen from outside, split along its
+//! shorter diagonal (see [`SmoothMesh`]).
+//!
+//! # Seamless chunks: the padding contract
+//!
+//! A chunk of `N^3` samples is meshed from the padded grid of `(N + 2)^3` samples
+//! ([`GridShape::padded_chunk`]): its own samples at padded `1..=N` on each axis and one sample
+//! of each neighbour on each side (the layout of `voxel_core::PaddedChunk`). Along one axis,
+//! for the chunk at world sample `o` and the next one at `o + N`:
+//!
+//! ```text
+//! world sample        o-1   o    o+1        o+N-1  o+N   o+N+1
+//!                      |    |    |     ...    |     |     |
+//! chunk A padded       0    1    2            N    N+1             (own: 1..=N)
+//! chunk A cells         [ 0 ][ 1 ]   ...  [N-1][ N ]               (N + 1 cells)
+//! chunk A edges             |----|   ...  |----|----|              (lower sample own)
+//! chunk B padded                              0     1     2  ...   (own: 1..=N)
+//! chunk B cells                                [ 0 ][ 1 ]  ...
+//! chunk B edges                                     |----| ...
+//! ```
+//!
+//! - **Vertices.** A grid makes a vertex in every surface cell (`0..=N` on each axis) that an
+//!   owned crossing edge touches. A's cell `N` and B's cell `0` read the same 8 samples, so
+//!   they get the same vertex (the same position up to the translation by `N`).
+//! - **Quads.** A grid makes the quad of an edge only when the edge's lower sample is one of its
+//!   own samples on all three axes. Every edge of the world has exactly one lower sample, owned
+//!   by exactly one chunk: no edge is meshed twice and none is missed. The 4 cells around an
+//!   owned edge lie in `0..=N` on each axis, so every quad's vertices exist in the grid.
+//!
+//! So the union of the chunk meshes, each translated by its origin, is the mesh of the whole
+//! grid: no gaps and no double faces (tested in `tests/tests/smooth_seams.rs` by meshing
+//! neighbouring chunks and the region they cover). Unlike `fast-surface-nets`, the packed mesh
+//! has no vertices that no quad uses (surface cells on the grid's outer layers whose crossing
+//! edges all belong to a neighbour): about 6% fewer vertices on a chunk that the surface
+//! crosses often. The unquantized output ([`SmoothMeshF32`]) keeps them, in
+//! `fast-surface-nets`' order, so that the two can be compared vertex for vertex.
+//!
+//! # Output and bytes
+//!
+//! [`SmoothMesh`]: 16-byte [`BlockVertex`](voxel_core::formats::BlockVertex)es (unorm16
+//! position in sample coordinates over [`GridShape::extent`], which for a padded chunk is the
+//! `BlockVertex` convention "chunk-local position + 1"; octahedral 8+8 normal, see
+//! [`OCT16_FAST_MAX_ERROR_DEGREES`]; block id) and quads of 4 `u16` indices: 16 B per vertex +
+//! 8 B per quad, about 24 B per quad on a closed surface (about one vertex per quad). Past
+//! 65,536 vertices the quads switch to `u32` indices (16 B per quad); see [`SmoothMesh`].
+//! [`SmoothMeshF32`] is the unquantized output for tests and tools.
+//!
+//! # How it is fast
+//!
+//! - One up-front pass reads the samples 64 at a time (4 per SIMD compare) into inside bits,
+//!   checking for NaN / infinity on the way; rows of cells are then classified 64 at a time
+//!   with bit operations (which cells get a vertex, which make quads), and rows whose samples
+//!   are all on one side are skipped. Empty space costs about one bit operation per sample.
+//! - Vertices are computed 4 cells per SIMD lane group, 8 cells per batch (two independent
+//!   groups, so the division-bound dependency chains overlap), all 12 edges at once, without
+//!   branches; normals are packed in the same lanes.
+//! - Quads are made per z slice after its vertices, one pass per axis, with a table instead
+//!   of branches for the winding and diagonal. Few branches depend on the data, so few are
+//!   mispredicted (callgrind's model: about 7,000 per mesh on the 34^3 sine benchmark, where
+//!   `fast-surface-nets` has about 84,000).
+//!
+//! # NoCubes: smoothing blocky data
+//!
+//! See [`NoCubes`]: smoothable blocks become a SurfaceNets surface, the other opaque blocks stay
+//! cubes, in one closed mesh.
+
+mod cell;
+mod density;
+mod mesh;
+mod nets;
+mod nocubes;
+mod pack;
+mod shape;
+
+pub use density::{I8_DENSITY_STEP, quantize_density};
+pub use mesh::{SmoothMesh, SmoothMeshF32, SmoothQuads, U16_INDEX_LIMIT};
+pub use nets::SurfaceNets;
+pub use nocubes::{CUBE_FACE_FLAG, NoCubes, NoCubesStats};
+pub use pack::{FALLBACK_NORMAL, OCT16_FAST_MAX_ERROR_DEGREES, PositionPacker, oct16_encode_fast};
+pub use shape::GridShape;
+
+/// The corners of a cell (bit `i` = corner `i`) that are owned samples of the grid, from one
+/// axis: the cell at coordinate `c` of `cells` cells on `axis` (0 = x, 1 = y, 2 = z) has
+/// corners at samples `c` and `c + 1`, and the owned samples are `1..=cells - 1`. AND the three
+/// axes' masks for the cell's mask.
+#[inline]
+pub(crate) fn owned_corners(axis: u32, c: usize, cells: usize) -> u8 {
+    // Corners with axis bit 0 / 1, for x, y and z.
+    const LOW: [u8; 3] = [0x55, 0x33, 0x0f];
+    let low = if c >= 1 { LOW[axis as usize] } else { 0 };
+    let high = if c + 1 < cells {
+        !LOW[axis as usize]
+    } else {
+        0
+    };
+    low | high
+}
+
+/// The edges of a cell that cross the surface, one byte per axis: bit `i` of `x` is the x edge
+/// whose lower corner is corner `i` (so only corners with x bit 0 appear), likewise `y`, `z`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct EdgeLanes {
+    x: u8,
+    y: u8,
+    z: u8,
+}
+
+impl EdgeLanes {
+    /// The crossing edges of corner configuration `inside`.
+    #[inline]
+    pub(crate) fn crossing(inside: u8) -> EdgeLanes {
+        EdgeLanes {
+            x: (inside ^ (inside >> 1)) & 0x55,
+            y: (inside ^ (inside >> 2)) & 0x33,
+            z: (inside ^ (inside >> 4)) & 0x0f,
+        }
+    }
+
+    /// The edges joining a `smooth` corner and a corner that is not `opaque` (`smooth` is a
+    /// subset of `opaque`).
+    #[inline]
+    pub(crate) fn smooth_faces(opaque: u8, smooth: u8) -> EdgeLanes {
+        let along = |shift: u32, lanes: u8| {
+            ((smooth & !(opaque >> shift)) | ((smooth >> shift) & !opaque)) & lanes
+        };
+        EdgeLanes {
+            x: along(1, 0x55),
+            y: along(2, 0x33),
+            z: along(4, 0x0f),
+        }
+    }
+
+    /// The lower corners of all the edges.
+    #[inline]
+    pub(crate) fn any(self) -> u8 {
+        self.x | self.y | self.z
+    }
+
+    /// The edges from corner 0 whose corner 0 is in `owned`: bit 0 = x, 1 = y, 2 = z.
+    #[inline]
+    pub(crate) fn at_corner0(self, owned: u8) -> u8 {
+        if owned & 1 == 0 {
+            0
+        } else {
+            (self.x & 1) | (self.y & 1) << 1 | (self.z & 1) << 2
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn smooth_faces_need_a_smoothable_voxel_next_to_a_hole() {
+        // Corner 0 smoothable, corner 1 air: the x edge from corner 0.
+        assert_eq!(EdgeLanes::smooth_faces(0b0000_0001, 0b0000_0001).x, 1);
+        // Corner 0 is a cube, everything else air: no smooth face.
+        assert_eq!(EdgeLanes::smooth_faces(0b0000_0001, 0).any(), 0);
+        // Smoothable corner 0 surrounded by cubes on its 3 edges, air at corner 7: none.
+        assert_eq!(EdgeLanes::smooth_faces(0b0111_1111, 0b0000_0001).any(), 0);
+        // Air at corner 3, smoothable at corner 2: the x edge 2-3.
+        let lanes = EdgeLanes::smooth_faces(0b1111_0111, 0b0000_0100);
+        assert_eq!((lanes.x, lanes.y, lanes.z), (0b100, 0, 0));
+    }
+
+    #[test]
+    fn owned_corners_on_the_borders() {
+        assert_eq!(owned_corners(0, 0, 5), 0xaa);
+        assert_eq!(owned_corners(0, 2, 5), 0xff);
+        assert_eq!(owned_corners(0, 4, 5), 0x55);
+        assert_eq!(owned_corners(2, 0, 5), 0xf0);
+        assert_eq!(owned_corners(1, 4, 5), 0x33);
+        // One cell: no owned sample.
+        assert_eq!(owned_corners(1, 0, 1), 0);
+    }
+}
+
+/// The quad of one crossing edge: the vertices of the 4 cells around it, in the order
+/// `v1` = the cell whose minimum corner is the edge's lower sample, `v2` and `v3` one step back
+/// along the two other axes (in the order `y, z` for an x edge, `z, x` for y, `x, y` for z),
+/// `v4` both steps back.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Quad {
+    /// The lower sample is inside, so the surface faces along +axis.
+    outward: bool,
+    v: [u32; 4],
+}
+
+impl Quad {
+    #[inline]
+    pub(crate) fn new(outward: bool, v: [u32; 4]) -> Quad {
+        Quad { outward, v }
+    }
+
+    /// The corners counter-clockwise from outside, rotated so that corners 0 and 2 span the
+    /// shorter diagonal (`dist2` gives squared distances; on a tie the `v2`-`v3` diagonal).
+    #[inline]
+    pub(crate) fn corners<D: PartialOrd>(self, dist2: impl Fn(u32, u32) -> D) -> [u32; 4] {
+        // Indices into `v` (v1..v4 = 0..3), by (v1-v4 shorter, outward); a table instead of
+        // branches, since both conditions are unpredictable.
+        const ORDER: [[usize; 4]; 4] = [
+            [1, 0, 2, 3], // long, inward:   v2 v1 v3 v4
+            [1, 3, 2, 0], // long, outward:  v2 v4 v3 v1
+            [0, 2, 3, 1], // short, inward:  v1 v3 v4 v2
+            [0, 1, 3, 2], // short, outward: v1 v2 v4 v3
+        ];
+        let [v1, v2, v3, v4] = self.v;
+        let short_14 = dist2(v1, v4) < dist2(v2, v3);
+        let order = ORDER[usize::from(short_14) * 2 + usize::from(self.outward)];
+        order.map(|i| self.v[i])
+    }
+}

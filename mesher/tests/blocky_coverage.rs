@@ -1,0 +1,120 @@
+//! Every blocky mesher covers exactly the visible faces: per direction and layer, the unit
+//! faces covered by greedy quads equal those of `visible_faces`, which equal a brute-force
+//! reference; greedy quads never overlap, never cover a face between two opaque voxels, hold
+//! one id each, and carry the reference AO on every corner (AO-safe merging).
+
+mod blocky_support;
+
+use blocky_support::*;
+use mesher::BlockClasses;
+use mesher::blocky::{BlockyMesh, GreedyMesher, visible_faces};
+use proptest::prelude::*;
+
+const IDS: &[u16] = &[STONE, DIRT, WATER, GLASS, GRASS, SAND];
+
+fn check_all(size: voxel_core::ChunkSize, seed: u64, fill: Fill, transparent: bool, ao: bool) {
+    let padded = random_chunk(size, seed, fill, IDS, false);
+    let classes = BlockClasses::from_palette(&palette(transparent));
+    let mut mesher = GreedyMesher::new().with_ambient_occlusion(ao);
+    let mut mesh = BlockyMesh::new();
+
+    mesher.visible_faces(&padded, &classes, &mut mesh).unwrap();
+    assert!(mesh.opaque.iter().chain(mesh.transparent.iter()).all(|q| {
+        let f = q.decode().unwrap();
+        f.width == 1 && f.height == 1
+    }));
+    assert_matches_reference(&mesh, &padded, &classes, ao);
+
+    mesher.mesh(&padded, &classes, &mut mesh).unwrap();
+    assert_matches_reference(&mesh, &padded, &classes, ao);
+
+    let voxels: &[u16] = bytemuck::cast_slice(padded.voxels());
+    let mut plain = BlockyMesh::new();
+    mesher.mesh_u16(voxels, &classes, &mut plain).unwrap();
+    assert_eq!(
+        plain, mesh,
+        "the u16 entry point meshes like the PaddedChunk one"
+    );
+
+    if ao {
+        let mut fresh = BlockyMesh::new();
+        visible_faces(&padded, &classes, &mut fresh).unwrap();
+        let mut reused = BlockyMesh::new();
+        mesher
+            .visible_faces(&padded, &classes, &mut reused)
+            .unwrap();
+        assert_eq!(fresh, reused);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    #[test]
+    fn meshers_cover_exactly_the_visible_faces(
+        size in sizes(), seed in any::<u64>(), fill in fills(), transparent in any::<bool>()
+    ) {
+        check_all(size, seed, fill, transparent, true);
+    }
+
+    #[test]
+    fn without_ao_the_same_faces_are_covered(
+        size in sizes(), seed in any::<u64>(), fill in fills(), transparent in any::<bool>()
+    ) {
+        check_all(size, seed, fill, transparent, false);
+    }
+}
+
+#[test]
+fn every_size_and_fill_once() {
+    for size in voxel_core::ChunkSize::ALL {
+        for fill in [
+            Fill::Noise { air_percent: 50 },
+            Fill::Boxes { count: 20 },
+            Fill::Terrain,
+        ] {
+            check_all(size, 7, fill, true, true);
+        }
+    }
+}
+
+#[test]
+fn no_face_between_two_opaque_voxels_even_of_different_ids() {
+    // Two opaque ids side by side, water next to glass, water next to water.
+    let size = voxel_core::ChunkSize::S8;
+    let padded = voxel_core::PaddedChunk::from_fn(size, |x, y, z| {
+        let id = match (x, y, z) {
+            (1..=4, 1..=4, 1..=4) => STONE,
+            (5..=8, 1..=4, 1..=4) => DIRT,
+            (1..=4, 5..=8, 1..=4) => WATER,
+            (5..=6, 5..=8, 1..=4) => WATER,
+            (7..=8, 5..=8, 1..=4) => GLASS,
+            _ => 0,
+        };
+        voxel_core::BlockId(id)
+    });
+    let classes = BlockClasses::from_palette(&palette(true));
+    let mut mesh = BlockyMesh::new();
+    GreedyMesher::new()
+        .mesh(&padded, &classes, &mut mesh)
+        .unwrap();
+    assert_matches_reference(&mesh, &padded, &classes, true);
+    for f in covered(&mesh.opaque, 8) {
+        // No opaque face at x = 4 facing +x (stone against dirt).
+        assert!(!(f.pos[0] == 4 && f.face == 0 && f.pos[1] <= 4), "{f:?}");
+    }
+    let t = covered(&mesh.transparent, 8);
+    // Water faces water at x = 4 | 5 (same id): hidden; water faces glass at x = 6 | 7: shown.
+    assert!(
+        !t.iter()
+            .any(|f| f.pos[0] == 4 && f.face == 0 && f.pos[1] >= 5)
+    );
+    assert!(
+        t.iter()
+            .any(|f| f.pos[0] == 6 && f.face == 0 && f.id == WATER)
+    );
+    assert!(
+        t.iter()
+            .any(|f| f.pos[0] == 7 && f.face == 1 && f.id == GLASS)
+    );
+}

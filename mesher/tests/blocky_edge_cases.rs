@@ -1,0 +1,165 @@
+//! Degenerate inputs: empty, full, buried, unknown ids, bad shapes, reuse of buffers.
+
+mod blocky_support;
+
+use blocky_support::*;
+use mesher::blocky::{BlockyLayer, BlockyMesh, GreedyMesher, visible_faces};
+use mesher::{BlockClasses, MeshError};
+use voxel_core::{BlockId, ChunkSize, PaddedChunk};
+
+#[test]
+fn empty_and_buried_chunks_have_no_quads() {
+    for size in ChunkSize::ALL {
+        for transparent in [false, true] {
+            let classes = BlockClasses::from_palette(&palette(transparent));
+            let mut mesh = BlockyMesh::new();
+            let mut mesher = GreedyMesher::new();
+            mesher
+                .mesh(&PaddedChunk::new(size), &classes, &mut mesh)
+                .unwrap();
+            assert!(mesh.is_empty());
+            let full = PaddedChunk::from_fn(size, |_, _, _| BlockId(STONE));
+            mesher.mesh(&full, &classes, &mut mesh).unwrap();
+            assert!(mesh.is_empty());
+            assert_eq!(mesh.layers().count(), 0);
+        }
+    }
+}
+
+#[test]
+fn a_full_chunk_in_air_is_one_quad_per_side() {
+    for size in ChunkSize::ALL {
+        let e = size.edge();
+        let padded = PaddedChunk::from_fn(size, |x, y, z| {
+            BlockId(u16::from([x, y, z].iter().all(|&a| (1..=e).contains(&a))) * STONE)
+        });
+        let classes = BlockClasses::from_palette(&palette(true));
+        let mut mesh = BlockyMesh::new();
+        GreedyMesher::new()
+            .mesh(&padded, &classes, &mut mesh)
+            .unwrap();
+        assert_eq!(mesh.opaque.counts(), [1; 6], "{size:?}");
+        for q in mesh.opaque.iter() {
+            let f = q.decode().unwrap();
+            assert_eq!((f.width, f.height, f.ao), (e, e, [3; 4]));
+        }
+        let layers: Vec<_> = mesh.layers().map(|(k, _)| k).collect();
+        assert_eq!(layers, [BlockyLayer::Opaque]);
+    }
+}
+
+#[test]
+fn full_water_under_air_only_shows_its_top() {
+    let size = ChunkSize::S16;
+    let padded = PaddedChunk::from_fn(size, |_, y, _| BlockId(if y <= 16 { WATER } else { 0 }));
+    let classes = BlockClasses::from_palette(&palette(true));
+    let mut mesh = BlockyMesh::new();
+    GreedyMesher::new()
+        .mesh(&padded, &classes, &mut mesh)
+        .unwrap();
+    assert!(mesh.opaque.is_empty());
+    assert_eq!(mesh.transparent.counts(), [0, 0, 1, 0, 0, 0]);
+    let layers: Vec<_> = mesh.layers().map(|(k, _)| k).collect();
+    assert_eq!(layers, [BlockyLayer::Transparent]);
+}
+
+#[test]
+fn a_visible_unknown_id_is_an_error_naming_it_and_a_buried_one_is_not() {
+    let classes = BlockClasses::from_palette(&palette(true));
+    let size = ChunkSize::S8;
+    let visible = PaddedChunk::from_fn(size, |x, y, z| {
+        BlockId(if (x, y, z) == (3, 4, 5) { UNKNOWN } else { 0 })
+    });
+    let mut mesh = BlockyMesh::new();
+    mesh.opaque.faces[0].push(Default::default());
+    let mut mesher = GreedyMesher::new();
+    let err = mesher.mesh(&visible, &classes, &mut mesh).unwrap_err();
+    assert_eq!(
+        err,
+        MeshError::UnknownBlock {
+            id: BlockId(UNKNOWN),
+            position: [3, 4, 5]
+        }
+    );
+    assert!(mesh.is_empty(), "no partial mesh after an error");
+    assert!(visible_faces(&visible, &classes, &mut mesh).is_err());
+    let voxels: &[u16] = bytemuck::cast_slice(visible.voxels());
+    assert!(mesher.mesh_u16(voxels, &classes, &mut mesh).is_err());
+
+    // Buried in stone: no visible face, no error.
+    let buried = PaddedChunk::from_fn(size, |x, y, z| {
+        BlockId(if (x, y, z) == (3, 4, 5) {
+            UNKNOWN
+        } else {
+            STONE
+        })
+    });
+    mesher.mesh(&buried, &classes, &mut mesh).unwrap();
+    assert!(mesh.is_empty());
+    // Next to water it shows a face: an error again.
+    let wet = PaddedChunk::from_fn(size, |x, y, z| {
+        BlockId(if (x, y, z) == (3, 4, 5) {
+            UNKNOWN
+        } else if (x, y, z) == (3, 5, 5) {
+            WATER
+        } else {
+            STONE
+        })
+    });
+    assert!(mesher.mesh(&wet, &classes, &mut mesh).is_err());
+}
+
+#[test]
+fn bad_plain_array_lengths_are_errors() {
+    let classes = BlockClasses::from_palette(&palette(false));
+    let mut mesh = BlockyMesh::new();
+    for len in [0usize, 1, 63 * 63 * 63, 64 * 64 * 64 + 1, 62 * 62 * 62] {
+        let voxels = vec![1u16; len];
+        assert!(matches!(
+            GreedyMesher::new().mesh_u16(&voxels, &classes, &mut mesh),
+            Err(MeshError::BadShape { value, .. }) if value == len
+        ));
+    }
+}
+
+#[test]
+fn buffers_are_reused_across_sizes_and_results_do_not_leak_between_calls() {
+    let classes = BlockClasses::from_palette(&palette(true));
+    let mut mesher = GreedyMesher::new();
+    let mut mesh = BlockyMesh::new();
+    let mut fresh = BlockyMesh::new();
+    for (i, size) in [
+        ChunkSize::S62,
+        ChunkSize::S8,
+        ChunkSize::S32,
+        ChunkSize::S16,
+        ChunkSize::S62,
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let padded = random_chunk(size, i as u64, Fill::Terrain, &[STONE, DIRT, WATER], false);
+        mesher.mesh(&padded, &classes, &mut mesh).unwrap();
+        GreedyMesher::new()
+            .mesh(&padded, &classes, &mut fresh)
+            .unwrap();
+        assert_eq!(mesh, fresh);
+    }
+}
+
+#[test]
+fn checkerboard_has_one_quad_per_face_all_fully_occluded_corners() {
+    let size = ChunkSize::S16;
+    let e = size.edge();
+    let padded = PaddedChunk::from_fn(size, |x, y, z| {
+        BlockId(u16::from((x + y + z) % 2 == 0) * STONE)
+    });
+    let classes = BlockClasses::from_palette(&palette(false));
+    let mut mesh = BlockyMesh::new();
+    GreedyMesher::new()
+        .mesh(&padded, &classes, &mut mesh)
+        .unwrap();
+    let solid_interior = (e * e * e).div_ceil(2) as usize;
+    assert_eq!(mesh.opaque.len(), 6 * solid_interior);
+    assert!(mesh.opaque.iter().all(|q| q.decode().unwrap().ao == [0; 4]));
+}

@@ -1,0 +1,481 @@
+//! Plain brute-force references for the blocky meshers, written voxel by voxel with no bit
+//! tricks, and the random chunks the property tests feed them.
+#![allow(
+    dead_code,
+    reason = "each test file uses a different part of the support module"
+)]
+
+use std::collections::{HashMap, HashSet};
+
+use mesher::BlockClasses;
+use mesher::blocky::BlockyMesh;
+use voxel_core::formats::{PackedQuad, PackedQuadFields};
+use voxel_core::{
+    BlockId, ChunkSize, FaceDirection, Material, MaterialClass, MaterialPalette, PaddedChunk,
+};
+
+/// Block ids of the test palette.
+pub const STONE: u16 = 1;
+pub const DIRT: u16 = 2;
+pub const WATER: u16 = 3;
+pub const GLASS: u16 = 4;
+pub const GRASS: u16 = 5;
+pub const SAND: u16 = 6;
+/// Not in the palette.
+pub const UNKNOWN: u16 = 40;
+
+/// A palette with opaque, clutter-bearing and two transparent materials.
+pub fn palette(with_transparent: bool) -> MaterialPalette {
+    let mut p = MaterialPalette::new();
+    let t = |m: Material| {
+        if with_transparent {
+            m.with_class(MaterialClass::Transparent)
+        } else {
+            m
+        }
+    };
+    p.push(Material::opaque(100, 100, 100)).unwrap(); // 1 stone
+    p.push(Material::opaque(120, 80, 50)).unwrap(); // 2 dirt
+    p.push(t(Material::opaque(0, 0, 255))).unwrap(); // 3 water
+    p.push(t(Material::opaque(200, 200, 255))).unwrap(); // 4 glass
+    p.push(Material::opaque(0, 255, 0).with_class(MaterialClass::ClutterBearing))
+        .unwrap(); // 5
+    p.push(Material::opaque(250, 230, 150).with_class(MaterialClass::Smoothable))
+        .unwrap(); // 6
+    p
+}
+
+/// Tiny deterministic generator for chunk contents.
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Rng {
+        Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+    }
+    pub fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+    pub fn below(&mut self, n: u64) -> u64 {
+        self.next() % n
+    }
+}
+
+/// How a random chunk is filled.
+#[derive(Clone, Copy, Debug)]
+pub enum Fill {
+    /// Each voxel independently: air with probability `air_percent`, else one of `ids`.
+    Noise { air_percent: u64 },
+    /// Boxes of random ids dropped into air: large flat faces, so quads merge.
+    Boxes { count: u32 },
+    /// A height field of stone and dirt with water above it up to a level: terrain-like.
+    Terrain,
+}
+
+/// A random padded chunk of `size`; `air_border` leaves the one-voxel border air.
+pub fn random_chunk(
+    size: ChunkSize,
+    seed: u64,
+    fill: Fill,
+    ids: &[u16],
+    air_border: bool,
+) -> PaddedChunk {
+    let p = size.padded_edge() as u32;
+    let mut rng = Rng::new(seed);
+    let mut padded = match fill {
+        Fill::Noise { air_percent } => PaddedChunk::from_fn(size, |_, _, _| {
+            if rng.below(100) < air_percent {
+                BlockId::AIR
+            } else {
+                BlockId(ids[rng.below(ids.len() as u64) as usize])
+            }
+        }),
+        Fill::Boxes { count } => {
+            let mut padded = PaddedChunk::new(size);
+            for _ in 0..count {
+                let lo: [u32; 3] = core::array::from_fn(|_| rng.below(u64::from(p)) as u32);
+                let ext: [u32; 3] =
+                    core::array::from_fn(|_| 1 + rng.below(u64::from(p / 2)) as u32);
+                let id = BlockId(ids[rng.below(ids.len() as u64) as usize]);
+                let id = if rng.below(5) == 0 { BlockId::AIR } else { id };
+                for z in lo[2]..(lo[2] + ext[2]).min(p) {
+                    for y in lo[1]..(lo[1] + ext[1]).min(p) {
+                        for x in lo[0]..(lo[0] + ext[0]).min(p) {
+                            padded.set(x, y, z, id).unwrap();
+                        }
+                    }
+                }
+            }
+            padded
+        }
+        Fill::Terrain => {
+            let heights: Vec<u32> = (0..p * p).map(|_| rng.below(u64::from(p)) as u32).collect();
+            let level = rng.below(u64::from(p)) as u32;
+            PaddedChunk::from_fn(size, |x, y, z| {
+                // Smooth the heights a little so there are flat runs.
+                let h = heights[((x / 3) * 3 + p * ((z / 3) * 3)) as usize];
+                if y < h.saturating_sub(3) {
+                    BlockId(STONE)
+                } else if y <= h {
+                    BlockId(if ids.contains(&DIRT) { DIRT } else { ids[0] })
+                } else if y <= level && ids.contains(&WATER) {
+                    BlockId(WATER)
+                } else {
+                    BlockId::AIR
+                }
+            })
+        }
+    };
+    if air_border {
+        for z in 0..p {
+            for y in 0..p {
+                for x in 0..p {
+                    if [x, y, z].iter().any(|&a| a == 0 || a == p - 1) {
+                        padded.set(x, y, z, BlockId::AIR).unwrap();
+                    }
+                }
+            }
+        }
+    }
+    padded
+}
+
+/// One unit face, as the reference sees it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct UnitFace {
+    /// Padded position of the voxel.
+    pub pos: [u32; 3],
+    pub face: u8,
+    pub id: u16,
+    pub ao: [u8; 4],
+}
+
+/// Reads a padded voxel; out of the box is air.
+pub fn voxel(padded: &PaddedChunk, pos: [i64; 3]) -> u16 {
+    let p = padded.padded_edge() as i64;
+    if pos.iter().any(|&a| a < 0 || a >= p) {
+        return 0;
+    }
+    padded
+        .get(pos[0] as u32, pos[1] as u32, pos[2] as u32)
+        .unwrap()
+        .0
+}
+
+/// Opaque for the purpose of hiding faces and occluding corners: not air and not transparent
+/// (unknown ids count as opaque, as the meshers treat them).
+pub fn solid(classes: &BlockClasses, id: u16) -> bool {
+    id != 0 && !classes.is_transparent(BlockId(id))
+}
+
+/// The reference visibility rule.
+pub fn face_visible(classes: &BlockClasses, id: u16, neighbour: u16) -> bool {
+    if id == 0 {
+        return false;
+    }
+    if classes.is_transparent(BlockId(id)) {
+        neighbour == 0 || (classes.is_transparent(BlockId(neighbour)) && neighbour != id)
+    } else {
+        !solid(classes, neighbour)
+    }
+}
+
+fn add(a: [i64; 3], b: [i64; 3]) -> [i64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+fn unit(axis: usize, k: i64) -> [i64; 3] {
+    let mut v = [0; 3];
+    v[axis] = k;
+    v
+}
+
+/// The corner `(du, dv)` steps of `corners()` for a face (read back from voxel-core itself on a
+/// unit quad, so the reference follows the documented corner order).
+pub fn corner_steps(face: FaceDirection) -> [(i64, i64); 4] {
+    let fields = PackedQuadFields {
+        position: [0; 3],
+        width: 1,
+        height: 1,
+        face,
+        ao: [3; 4],
+        block: BlockId(1),
+    };
+    let base = {
+        let mut b = [0u32; 3];
+        if face.is_positive() {
+            b[face.normal_axis()] = 1;
+        }
+        b
+    };
+    fields.corners().map(|c| {
+        (
+            i64::from(c[face.width_axis()]) - i64::from(base[face.width_axis()]),
+            i64::from(c[face.height_axis()]) - i64::from(base[face.height_axis()]),
+        )
+    })
+}
+
+/// The reference AO of the face of voxel `pos` facing `face`.
+pub fn reference_ao(
+    padded: &PaddedChunk,
+    classes: &BlockClasses,
+    pos: [i64; 3],
+    face: FaceDirection,
+) -> [u8; 4] {
+    let n: [i64; 3] = face.normal().map(i64::from);
+    let front = add(pos, n);
+    let (wa, ha) = (face.width_axis(), face.height_axis());
+    corner_steps(face).map(|(du, dv)| {
+        let w = unit(wa, 2 * du - 1);
+        let h = unit(ha, 2 * dv - 1);
+        let s1 = solid(classes, voxel(padded, add(front, w)));
+        let s2 = solid(classes, voxel(padded, add(front, h)));
+        let c = solid(classes, voxel(padded, add(add(front, w), h)));
+        if s1 && s2 {
+            0
+        } else {
+            3 - (s1 as u8 + s2 as u8 + c as u8)
+        }
+    })
+}
+
+/// Every visible unit face of the chunk interior, split into (opaque, transparent), by brute
+/// force over every voxel and direction.
+pub fn reference_faces(
+    padded: &PaddedChunk,
+    classes: &BlockClasses,
+    ao: bool,
+) -> (Vec<UnitFace>, Vec<UnitFace>) {
+    let e = padded.size().edge() as i64;
+    let (mut opaque, mut transparent) = (Vec::new(), Vec::new());
+    for z in 1..=e {
+        for y in 1..=e {
+            for x in 1..=e {
+                let pos = [x, y, z];
+                let id = voxel(padded, pos);
+                for face in FaceDirection::ALL {
+                    let nb = voxel(padded, add(pos, face.normal().map(i64::from)));
+                    if !face_visible(classes, id, nb) {
+                        continue;
+                    }
+                    let f = UnitFace {
+                        pos: [x as u32, y as u32, z as u32],
+                        face: face.index(),
+                        id,
+                        ao: if ao {
+                            reference_ao(padded, classes, pos, face)
+                        } else {
+                            [3; 4]
+                        },
+                    };
+                    if classes.is_transparent(BlockId(id)) {
+                        transparent.push(f);
+                    } else {
+                        opaque.push(f);
+                    }
+                }
+            }
+        }
+    }
+    opaque.sort();
+    transparent.sort();
+    (opaque, transparent)
+}
+
+/// Expands quads into unit faces, reading each covered voxel's id and AO from the quad, and
+/// checks on the way that a quad sits in its own direction group and stays in the chunk.
+pub fn expand(quads: &[PackedQuad], face_index: usize, e: u32) -> Vec<UnitFace> {
+    let mut out = Vec::new();
+    for q in quads {
+        let f = q.decode().expect("every emitted quad decodes");
+        assert_eq!(
+            usize::from(f.face.index()),
+            face_index,
+            "quad in the wrong direction group"
+        );
+        for j in 0..f.height {
+            for i in 0..f.width {
+                let mut pos = f.position.map(|a| a + 1);
+                pos[f.face.width_axis()] += i;
+                pos[f.face.height_axis()] += j;
+                assert!(
+                    pos.iter().all(|&a| (1..=e).contains(&a)),
+                    "quad {f:?} leaves the chunk"
+                );
+                out.push(UnitFace {
+                    pos,
+                    face: f.face.index(),
+                    id: f.block.0,
+                    ao: f.ao,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// All unit faces covered by a layer, sorted, failing if two quads cover the same face.
+pub fn covered(layer: &mesher::QuadLayer, e: u32) -> Vec<UnitFace> {
+    let mut all = Vec::new();
+    for (d, quads) in layer.faces.iter().enumerate() {
+        all.extend(expand(quads, d, e));
+    }
+    let mut seen = HashSet::new();
+    for f in &all {
+        assert!(
+            seen.insert((f.pos, f.face)),
+            "two quads cover the face {f:?}"
+        );
+    }
+    all.sort();
+    all
+}
+
+/// Checks a mesh against the reference: same unit faces (position, direction, id, AO) per
+/// layer, no overlap, and (through `expand`) equal ids and AO within every quad, since each
+/// covered face takes the quad's id and AO and must match the reference face there.
+pub fn assert_matches_reference(
+    mesh: &BlockyMesh,
+    padded: &PaddedChunk,
+    classes: &BlockClasses,
+    ao: bool,
+) {
+    let e = padded.size().edge();
+    let (opaque, transparent) = reference_faces(padded, classes, ao);
+    let got_o = covered(&mesh.opaque, e);
+    let got_t = covered(&mesh.transparent, e);
+    assert_faces_eq(&got_o, &opaque, "opaque");
+    assert_faces_eq(&got_t, &transparent, "transparent");
+}
+
+fn assert_faces_eq(got: &[UnitFace], want: &[UnitFace], what: &str) {
+    if got == want {
+        return;
+    }
+    let g: HashSet<_> = got.iter().collect();
+    let w: HashSet<_> = want.iter().collect();
+    let extra: Vec<_> = g.difference(&w).take(5).collect();
+    let missing: Vec<_> = w.difference(&g).take(5).collect();
+    panic!(
+        "{what} layer differs from the reference: {} faces vs {}; extra {extra:?}; missing {missing:?}",
+        got.len(),
+        want.len()
+    );
+}
+
+/// Signed volume enclosed by a layer's quads: the sum of `det(a, b, c) / 6` over the two
+/// counter-clockwise triangles `(0, 1, 2)`, `(0, 2, 3)` of each quad's `corners()`
+/// (divergence theorem). Exact in integers: returns six times the volume.
+pub fn six_times_volume(layer: &mesher::QuadLayer) -> i64 {
+    let mut six_v = 0i64;
+    for q in layer.iter() {
+        let c = q.decode().unwrap().corners().map(|c| c.map(i64::from));
+        for [a, b, d] in [[c[0], c[1], c[2]], [c[0], c[2], c[3]]] {
+            six_v += a[0] * (b[1] * d[2] - b[2] * d[1]) - a[1] * (b[0] * d[2] - b[2] * d[0])
+                + a[2] * (b[0] * d[1] - b[1] * d[0]);
+        }
+    }
+    six_v
+}
+
+/// Opaque voxels of the chunk interior.
+pub fn opaque_voxels(padded: &PaddedChunk, classes: &BlockClasses) -> i64 {
+    let e = padded.size().edge() as i64;
+    let mut n = 0;
+    for z in 1..=e {
+        for y in 1..=e {
+            for x in 1..=e {
+                n += i64::from(solid(classes, voxel(padded, [x, y, z])));
+            }
+        }
+    }
+    n
+}
+
+/// `block-mesh`'s greedy algorithm, written plainly over a grid of face keys: per direction and
+/// slice, scan cells with x fastest, then y, then z; at each unvisited visible cell grow along
+/// `u` while cells are visible, unvisited and of equal key, then along `v` while whole rows
+/// are. `u` is z for ±X and ±Y faces and x for ±Z faces (its `RIGHT_HANDED_Y_UP_CONFIG`).
+/// Returns the quad count per layer (opaque, transparent).
+pub fn reference_greedy_count(
+    padded: &PaddedChunk,
+    classes: &BlockClasses,
+    ao: bool,
+) -> (usize, usize) {
+    let (opaque, transparent) = reference_faces(padded, classes, ao);
+    (
+        greedy_count(&opaque, padded),
+        greedy_count(&transparent, padded),
+    )
+}
+
+fn greedy_count(faces: &[UnitFace], padded: &PaddedChunk) -> usize {
+    let e = padded.size().edge();
+    let mut key: HashMap<([u32; 3], u8), (u16, [u8; 4])> = HashMap::new();
+    for f in faces {
+        key.insert((f.pos, f.face), (f.id, f.ao));
+    }
+    let mut count = 0;
+    for face in FaceDirection::ALL {
+        let d = face.index();
+        let n_axis = face.normal_axis();
+        let u_axis = if n_axis == 2 { 0 } else { 2 };
+        let v_axis = 3 - n_axis - u_axis;
+        let mut visited = HashSet::new();
+        for z in 1..=e {
+            for y in 1..=e {
+                for x in 1..=e {
+                    let start = [x, y, z];
+                    let Some(&k) = key.get(&(start, d)) else {
+                        continue;
+                    };
+                    if visited.contains(&start) {
+                        continue;
+                    }
+                    let at = |du: u32, dv: u32| {
+                        let mut p = start;
+                        p[u_axis] += du;
+                        p[v_axis] += dv;
+                        p
+                    };
+                    let ok = |p: [u32; 3], visited: &HashSet<[u32; 3]>| {
+                        key.get(&(p, d)) == Some(&k) && !visited.contains(&p)
+                    };
+                    let mut w = 1;
+                    while start[u_axis] + w <= e && ok(at(w, 0), &visited) {
+                        w += 1;
+                    }
+                    let mut h = 1;
+                    while start[v_axis] + h <= e && (0..w).all(|i| ok(at(i, h), &visited)) {
+                        h += 1;
+                    }
+                    for j in 0..h {
+                        for i in 0..w {
+                            visited.insert(at(i, j));
+                        }
+                    }
+                    count += 1;
+                }
+            }
+        }
+    }
+    count
+}
+
+/// Chunk sizes as a proptest strategy.
+pub fn sizes() -> impl proptest::strategy::Strategy<Value = ChunkSize> {
+    proptest::sample::select(ChunkSize::ALL.to_vec())
+}
+
+/// Fill kinds as a proptest strategy.
+pub fn fills() -> impl proptest::strategy::Strategy<Value = Fill> {
+    use proptest::prelude::*;
+    prop_oneof![
+        (0u64..=100).prop_map(|air_percent| Fill::Noise { air_percent }),
+        (1u32..40).prop_map(|count| Fill::Boxes { count }),
+        Just(Fill::Terrain),
+    ]
+}

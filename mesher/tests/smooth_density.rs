@@ -1,0 +1,349 @@
+//! SurfaceNets on density grids: input checks, empty and full grids, the i8 path against the f32
+//! path, closed meshes, the u16 / u32 index switch, and packing within the stated bounds.
+
+mod smooth_support;
+
+use glam::Vec3;
+use mesher::MeshError;
+use mesher::smooth::{
+    FALLBACK_NORMAL, GridShape, I8_DENSITY_STEP, OCT16_FAST_MAX_ERROR_DEGREES, SmoothMesh,
+    SmoothMeshF32, SmoothQuads, SurfaceNets, U16_INDEX_LIMIT,
+};
+use proptest::prelude::*;
+use smooth_support::{open_edges, sample, sine, sphere};
+use voxel_core::formats::octahedral::oct16_decode;
+use voxel_core::{BlockId, ChunkSize};
+
+fn shape(d: [u32; 3]) -> GridShape {
+    GridShape::new(d).unwrap()
+}
+
+/// Random small grid dimensions.
+fn dims() -> impl Strategy<Value = [u32; 3]> {
+    [3u32..12, 3u32..12, 3u32..12]
+}
+
+/// A grid shape with random densities in -1..=1 (some exactly 0), and the outer layer
+/// optionally forced outside (a closed surface).
+fn random_grid(closed: bool) -> impl Strategy<Value = (GridShape, Vec<f32>)> {
+    dims().prop_flat_map(move |d| {
+        let s = shape(d);
+        let n = s.sample_count();
+        proptest::collection::vec(prop_oneof![-1.0f32..1.0, Just(0.0f32)], n).prop_map(
+            move |mut v| {
+                if closed {
+                    // Outside on the grid's faces and on the first owned layer, so that every
+                    // crossing edge starts at an owned sample (see the padding contract).
+                    for (i, x) in v.iter_mut().enumerate() {
+                        let c = s.coords(i);
+                        if (0..3).any(|a| c[a] <= 1 || c[a] == d[a] - 1) {
+                            *x = x.abs() + 0.25;
+                        }
+                    }
+                }
+                (s, v)
+            },
+        )
+    })
+}
+
+#[test]
+fn bad_shapes_are_rejected() {
+    for d in [[2, 5, 5], [5, 1025, 5], [5, 5, 0]] {
+        assert!(matches!(
+            GridShape::new(d),
+            Err(MeshError::BadShape { value, .. }) if value == 2 || value == 1025 || value == 0
+        ));
+    }
+    let s = shape([4, 5, 6]);
+    let mut mesher = SurfaceNets::new();
+    let mut out = SmoothMesh::new();
+    for len in [0, 119, 121] {
+        let samples = vec![1.0f32; len];
+        assert_eq!(
+            mesher.mesh_f32(&samples, s, BlockId(1), &mut out),
+            Err(MeshError::BadShape {
+                reason: "density sample count does not match the grid shape",
+                value: len
+            })
+        );
+        let q = vec![1i8; len];
+        assert!(matches!(
+            mesher.mesh_i8(&q, s, BlockId(1), &mut out),
+            Err(MeshError::BadShape { value, .. }) if value == len
+        ));
+    }
+}
+
+#[test]
+fn empty_and_full_grids_give_empty_meshes() {
+    let s = GridShape::padded_chunk(ChunkSize::S62);
+    let mut mesher = SurfaceNets::new();
+    let mut out = SmoothMesh::new();
+    for v in [1.0f32, 0.0, -0.0, -1.0, f32::MAX, -f32::MAX] {
+        let samples = vec![v; s.sample_count()];
+        mesher.mesh_f32(&samples, s, BlockId(1), &mut out).unwrap();
+        assert!(out.is_empty(), "{v}");
+    }
+    for v in [i8::MIN, -1, 0, i8::MAX] {
+        mesher
+            .mesh_i8(&vec![v; s.sample_count()], s, BlockId(1), &mut out)
+            .unwrap();
+        assert!(out.is_empty(), "{v}");
+    }
+}
+
+#[test]
+fn a_single_inside_sample_gives_a_closed_octahedron() {
+    let s = shape([5, 5, 5]);
+    let mut samples = vec![1.0f32; s.sample_count()];
+    samples[s.index([2, 2, 2])] = -1.0;
+    let mut out = SmoothMeshF32::default();
+    SurfaceNets::new()
+        .mesh_f32_unpacked(&samples, s, &mut out)
+        .unwrap();
+    assert_eq!(out.positions.len(), 8);
+    assert_eq!(out.quads.len(), 6);
+    assert_eq!(open_edges(out.triangles(), |i| i), 0);
+    // Every face points away from the inside sample.
+    for [a, b, c] in out.triangles() {
+        let p = [a, b, c].map(|i| Vec3::from(out.positions[i as usize]));
+        let n = (p[1] - p[0]).cross(p[2] - p[0]);
+        let centre = (p[0] + p[1] + p[2]) / 3.0;
+        assert!(n.dot(centre - Vec3::splat(2.0)) > 0.0);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    #[test]
+    fn non_finite_samples_are_reported_with_their_index(
+        (s, mut samples) in random_grid(false),
+        at in any::<prop::sample::Index>(),
+        second in any::<prop::sample::Index>(),
+        bad in prop_oneof![Just(f32::NAN), Just(f32::INFINITY), Just(f32::NEG_INFINITY)],
+    ) {
+        let i = at.index(samples.len());
+        let j = second.index(samples.len());
+        samples[i] = bad;
+        samples[j] = f32::INFINITY;
+        let first = i.min(j);
+        let mut out = SmoothMesh::new();
+        let mut unpacked = SmoothMeshF32::default();
+        let mut mesher = SurfaceNets::new();
+        for result in [
+            mesher.mesh_f32(&samples, s, BlockId(1), &mut out),
+            mesher.mesh_f32_unpacked(&samples, s, &mut unpacked),
+        ] {
+            match result {
+                Err(MeshError::NonFiniteDensity { index, value }) => {
+                    prop_assert_eq!(index, first);
+                    prop_assert_eq!(value.to_bits(), samples[first].to_bits());
+                }
+                other => prop_assert!(false, "expected NonFiniteDensity, got {:?}", other),
+            }
+        }
+        prop_assert!(out.is_empty());
+        prop_assert!(unpacked.positions.is_empty());
+    }
+
+    #[test]
+    fn i8_equals_f32_on_representable_grids(
+        (s, q) in dims().prop_flat_map(|d| {
+            let s = shape(d);
+            (Just(s), proptest::collection::vec(any::<i8>(), s.sample_count()))
+        })
+    ) {
+        let f: Vec<f32> = q.iter().map(|&q| f32::from(q) * I8_DENSITY_STEP).collect();
+        let mut mesher = SurfaceNets::new();
+        let (mut a, mut b) = (SmoothMesh::new(), SmoothMesh::new());
+        mesher.mesh_i8(&q, s, BlockId(7), &mut a).unwrap();
+        mesher.mesh_f32(&f, s, BlockId(7), &mut b).unwrap();
+        prop_assert_eq!(&a, &b);
+        let (mut ua, mut ub) = (SmoothMeshF32::default(), SmoothMeshF32::default());
+        mesher.mesh_i8_unpacked(&q, s, &mut ua).unwrap();
+        mesher.mesh_f32_unpacked(&f, s, &mut ub).unwrap();
+        prop_assert_eq!(ua, ub);
+    }
+
+    #[test]
+    fn closed_surfaces_give_closed_meshes((s, samples) in random_grid(true)) {
+        let mut mesher = SurfaceNets::new();
+        let mut out = SmoothMesh::new();
+        mesher.mesh_f32(&samples, s, BlockId(1), &mut out).unwrap();
+        prop_assert_eq!(open_edges(out.triangles(), |i| i), 0);
+        // Every vertex index is in range and every quad has 4 distinct corners.
+        for q in out.quads().iter() {
+            prop_assert!(q.iter().all(|&i| (i as usize) < out.vertices().len()));
+            prop_assert!(q[0] != q[1] && q[0] != q[2] && q[0] != q[3] && q[1] != q[2]);
+        }
+    }
+
+    #[test]
+    fn packed_equals_unpacked_within_the_stated_bounds((s, samples) in random_grid(false)) {
+        let mut mesher = SurfaceNets::new();
+        let mut packed = SmoothMesh::new();
+        let mut raw = SmoothMeshF32::default();
+        mesher.mesh_f32(&samples, s, BlockId(3), &mut packed).unwrap();
+        mesher.mesh_f32_unpacked(&samples, s, &mut raw).unwrap();
+        // The packed mesh leaves out the vertices no quad uses, keeping the order.
+        let mut used = vec![false; raw.positions.len()];
+        raw.quads.iter().flatten().for_each(|&i| used[i as usize] = true);
+        let kept: Vec<usize> = (0..used.len()).filter(|&i| used[i]).collect();
+        let mut renumber = vec![u32::MAX; used.len()];
+        for (new, &old) in kept.iter().enumerate() {
+            renumber[old] = new as u32;
+        }
+        prop_assert_eq!(packed.vertices().len(), kept.len());
+        prop_assert_eq!(packed.quad_count(), raw.quads.len());
+        let extent = s.extent();
+        prop_assert_eq!(packed.extent(), extent);
+        for (v, &i) in packed.vertices().iter().zip(&kept) {
+            let d = v.decode(extent);
+            let p = Vec3::from(raw.positions[i]);
+            prop_assert!((d.position - p).abs().max_element() <= extent.max_error(),
+                "{} vs {}", d.position, p);
+            let g = Vec3::from(raw.normals[i]);
+            if g.length() > 1e-20 {
+                let angle = d.normal.angle_between(g.normalize()).to_degrees();
+                prop_assert!(angle <= OCT16_FAST_MAX_ERROR_DEGREES, "{angle} degrees");
+            } else {
+                prop_assert_eq!(v.normal, FALLBACK_NORMAL);
+            }
+            prop_assert_eq!(v.block, 3);
+            prop_assert_eq!((v.uv, v.extra), ([0, 0], 0));
+        }
+        // Same quads up to the choice of diagonal, which the packed mesh makes on the
+        // quantized positions.
+        for (q, r) in packed.quads().iter().zip(&raw.quads) {
+            let r = r.map(|i| renumber[i as usize]);
+            prop_assert!(same_cycle(q, r), "{:?} vs {:?}", q, r);
+        }
+    }
+}
+
+/// True when `a` is `b` rotated.
+fn same_cycle(a: [u32; 4], b: [u32; 4]) -> bool {
+    (0..4).any(|k| (0..4).all(|i| a[i] == b[(i + k) % 4]))
+}
+
+#[test]
+fn past_65536_vertices_quads_switch_to_u32() {
+    // A 3-D checkerboard: every cell is a surface cell, every inner one used.
+    let s = shape([48, 48, 48]);
+    let samples: Vec<f32> = (0..s.sample_count())
+        .map(|i| {
+            let [x, y, z] = s.coords(i);
+            if (x + y + z) % 2 == 0 { -1.0 } else { 1.0 }
+        })
+        .collect();
+    let mut mesher = SurfaceNets::new();
+    let mut out = SmoothMesh::new();
+    mesher.mesh_f32(&samples, s, BlockId(1), &mut out).unwrap();
+    assert!(out.vertices().len() >= 45 * 45 * 45);
+    assert!(out.vertices().len() > U16_INDEX_LIMIT);
+    let SmoothQuads::U32(quads) = out.quads() else {
+        panic!("expected u32 quads");
+    };
+    assert_eq!(out.quads().bytes().len(), 16 * quads.len());
+    let mut raw = SmoothMeshF32::default();
+    mesher.mesh_f32_unpacked(&samples, s, &mut raw).unwrap();
+    assert_eq!(quads.len(), raw.quads.len());
+    assert!(
+        quads
+            .iter()
+            .flatten()
+            .any(|&i| i as usize >= U16_INDEX_LIMIT)
+    );
+
+    // The buffer is reusable: a small mesh afterwards is u16 again.
+    let small = shape([8, 8, 8]);
+    let samples = sample(small, [0.0; 3], sphere([3.5; 3], 2.2));
+    mesher
+        .mesh_f32(&samples, small, BlockId(1), &mut out)
+        .unwrap();
+    assert!(matches!(out.quads(), SmoothQuads::U16(q) if !q.is_empty()));
+}
+
+#[test]
+fn sphere_and_sine_are_closed_and_about_24_bytes_per_quad() {
+    let s = GridShape::padded_chunk(ChunkSize::S32);
+    let mut mesher = SurfaceNets::new();
+    let mut out = SmoothMesh::new();
+    let ball = sample(s, [0.0; 3], sphere([16.7, 17.1, 16.9], 12.3));
+    mesher.mesh_f32(&ball, s, BlockId(1), &mut out).unwrap();
+    assert_eq!(open_edges(out.triangles(), |i| i), 0);
+    // Genus 0: V = F + 2, so 24 B per quad plus 32 B in all.
+    assert_eq!(out.vertices().len(), out.quad_count() + 2);
+    assert_eq!(out.byte_len(), 24 * out.quad_count() + 32);
+
+    // Sine: the surface leaves the grid on every side, and the vertices on the border are
+    // shared with the neighbours' meshes, so about 25 B per quad.
+    let wave = sample(s, [0.0; 3], sine(0.7));
+    mesher.mesh_f32(&wave, s, BlockId(1), &mut out).unwrap();
+    assert!(out.bytes_per_quad() < 25.0, "{}", out.bytes_per_quad());
+    let used: std::collections::HashSet<u32> = out.quads().iter().flatten().collect();
+    assert_eq!(used.len(), out.vertices().len(), "every vertex is used");
+}
+
+#[test]
+fn wide_grids_are_closed_and_match_narrow_ones() {
+    // Rows of more than 64 samples take the multi-word path; a sphere meshed in a 150-wide grid
+    // gives the mesh of the same sphere in a 40-wide grid, shifted.
+    let wide = shape([150, 20, 22]);
+    let narrow = shape([40, 20, 22]);
+    let f = |shift: f32| sphere([shift + 19.3, 9.6, 10.2], 7.4);
+    let mut mesher = SurfaceNets::new();
+    let (mut a, mut b) = (SmoothMeshF32::default(), SmoothMeshF32::default());
+    mesher
+        .mesh_f32_unpacked(&sample(wide, [0.0; 3], f(100.0)), wide, &mut a)
+        .unwrap();
+    mesher
+        .mesh_f32_unpacked(&sample(narrow, [0.0; 3], f(0.0)), narrow, &mut b)
+        .unwrap();
+    assert_eq!(a.quads, b.quads);
+    assert_eq!(a.positions.len(), b.positions.len());
+    for (p, q) in a.positions.iter().zip(&b.positions) {
+        // The densities differ by the rounding of `x - centre` at another x.
+        let d = [p[0] - 100.0 - q[0], p[1] - q[1], p[2] - q[2]];
+        assert!(d.iter().all(|d| d.abs() < 1e-4), "{p:?} vs {q:?}");
+    }
+    assert_eq!(open_edges(a.triangles(), |i| i), 0);
+    let mut packed = SmoothMesh::new();
+    mesher
+        .mesh_f32(
+            &sample(wide, [0.0; 3], f(100.0)),
+            wide,
+            BlockId(1),
+            &mut packed,
+        )
+        .unwrap();
+    assert_eq!(packed.quad_count(), a.quads.len());
+    assert_eq!(open_edges(packed.triangles(), |i| i), 0);
+}
+
+#[test]
+fn clear_keeps_capacity() {
+    let s = GridShape::padded_chunk(ChunkSize::S16);
+    let ball = sample(s, [0.0; 3], sphere([9.0; 3], 6.0));
+    let mut mesher = SurfaceNets::new();
+    let mut out = SmoothMesh::new();
+    mesher.mesh_f32(&ball, s, BlockId(1), &mut out).unwrap();
+    let before = out.clone();
+    let bytes = out.vertex_bytes().as_ptr();
+    out.clear();
+    assert!(out.is_empty());
+    mesher.mesh_f32(&ball, s, BlockId(1), &mut out).unwrap();
+    assert_eq!(out, before);
+    assert_eq!(out.vertex_bytes().as_ptr(), bytes, "no reallocation");
+    // Decoded normals point away from the centre.
+    for v in out.vertices() {
+        let d = v.decode(out.extent());
+        assert!(
+            d.normal.dot(d.position - Vec3::splat(9.0))
+                > 0.9 * (d.position - Vec3::splat(9.0)).length()
+        );
+        assert_eq!(oct16_decode(v.normal), d.normal);
+    }
+}

@@ -1,0 +1,83 @@
+//! Helpers shared by the smooth mesher tests (`mesher/tests/smooth_*.rs`, and the `tests`
+//! crate's `tests/smooth_*.rs`, which include this file by path): density fields, welding and
+//! the open-edge count.
+#![allow(dead_code, reason = "each test file uses a different subset")]
+
+use std::collections::HashMap;
+use std::hash::Hash;
+
+use mesher::smooth::GridShape;
+
+/// Directed edges of `triangles` (after mapping each vertex through `key`, which welds
+/// vertices with equal keys) that have no opposite edge to pair with: 0 for a closed,
+/// consistently oriented surface. Edges whose ends weld together are skipped.
+pub fn open_edges<K: Copy + Eq + Hash>(
+    triangles: impl IntoIterator<Item = [u32; 3]>,
+    key: impl Fn(u32) -> K,
+) -> usize {
+    let mut count: HashMap<(K, K), i64> = HashMap::new();
+    for [a, b, c] in triangles {
+        let [a, b, c] = [key(a), key(b), key(c)];
+        for (p, q) in [(a, b), (b, c), (c, a)] {
+            if p != q {
+                *count.entry((p, q)).or_default() += 1;
+            }
+        }
+    }
+    count
+        .iter()
+        .map(|(&(p, q), &n)| (n - count.get(&(q, p)).copied().unwrap_or(0)).max(0) as usize)
+        .sum()
+}
+
+/// Welds points closer than `tol` (on every axis), which must be much smaller than the
+/// distance between points that are meant to differ: returns a representative id per point.
+pub fn weld(points: &[[f32; 3]], tol: f32) -> Vec<usize> {
+    let cell = |p: [f32; 3]| p.map(|a| (a / (4.0 * tol)).floor() as i64);
+    let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+    let mut ids = Vec::with_capacity(points.len());
+    for (i, &p) in points.iter().enumerate() {
+        let c = cell(p);
+        let mut found = None;
+        'search: for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let k = [c[0] + dx, c[1] + dy, c[2] + dz];
+                    for &j in grid.get(&k).map_or(&[][..], |v| &v[..]) {
+                        let q = points[j];
+                        if (0..3).all(|a| (p[a] - q[a]).abs() <= tol) {
+                            found = Some(ids[j]);
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        }
+        ids.push(found.unwrap_or(i));
+        grid.entry(c).or_default().push(i);
+    }
+    ids
+}
+
+/// Samples `f` at every point of `shape`, at sample coordinates plus `origin`.
+pub fn sample(shape: GridShape, origin: [f32; 3], f: impl Fn([f32; 3]) -> f32) -> Vec<f32> {
+    (0..shape.sample_count())
+        .map(|i| {
+            let c = shape.coords(i);
+            f([0, 1, 2].map(|a| c[a] as f32 + origin[a]))
+        })
+        .collect()
+}
+
+/// Signed distance to a sphere.
+pub fn sphere(centre: [f32; 3], radius: f32) -> impl Fn([f32; 3]) -> f32 {
+    move |p| {
+        let d: f32 = (0..3).map(|a| (p[a] - centre[a]).powi(2)).sum();
+        d.sqrt() - radius
+    }
+}
+
+/// A periodic field whose zero set is a connected lattice of tubes (many handles).
+pub fn sine(frequency: f32) -> impl Fn([f32; 3]) -> f32 {
+    move |p| p.iter().map(|&a| (a * frequency).sin()).sum()
+}
