@@ -288,7 +288,11 @@ mod tests {
                             assert_eq!(id.is_air(), on_layer, "{size:?} {face:?} ({px},{py},{pz})");
                             mask |= u64::from(!id.is_air()) << px;
                         }
-                        assert_eq!(padded.column(py, pz).unwrap(), mask, "{size:?} {face:?} row mask");
+                        assert_eq!(
+                            padded.column(py, pz).unwrap(),
+                            mask,
+                            "{size:?} {face:?} row mask"
+                        );
                     }
                 }
             }

@@ -1,0 +1,498 @@
+//! Device setup: adapter choice, feature probing with recorded fallbacks, limits.
+//!
+//! [`GpuContext::new_headless`] creates an instance, picks an adapter, and requests a device
+//! with the optional features this backend can use when the adapter has them:
+//!
+//! | feature                             | used for                                 | fallback when missing or disabled          |
+//! | ----------------------------------- | ---------------------------------------- | ------------------------------------------ |
+//! | `MULTI_DRAW_INDIRECT_COUNT`         | one draw call per layer, count on GPU    | `multi_draw_indexed_indirect` over the whole command buffer, culled commands zeroed (`instance_count = 0`) |
+//! | `TIMESTAMP_QUERY` (+ `_INSIDE_ENCODERS`, `_INSIDE_PASSES`) | per-pass GPU time        | CPU wall-clock timing around submissions   |
+//! | `INDIRECT_FIRST_INSTANCE`           | per-draw data through `first_instance`   | per-draw data read by draw index elsewhere |
+//!
+//! What was chosen is recorded in [`GpuCapabilities`], which the passes read; nothing else
+//! queries the device's features. [`DeviceOptions`] can force each fallback so tests exercise
+//! both paths on one adapter (lavapipe supports them all).
+//!
+//! Limits: the WebGPU defaults, raised to the adapter's values for the buffer limits the
+//! gigabuffer depends on (`max_buffer_size`, `max_storage_buffer_binding_size`,
+//! `max_storage_buffers_per_shader_stage`).
+//!
+//! Only a headless constructor exists yet; a windowed one will pass a surface as the
+//! adapter's `compatible_surface` through the same [`GpuContext::from_instance`] path.
+
+use std::fmt;
+
+use wgpu::{
+    Adapter, Backends, Device, DeviceType, Features, Instance, InstanceDescriptor, Limits,
+    PowerPreference, Queue,
+};
+
+/// How the context is created. `Default` is the configuration for real use: Vulkan, the
+/// high-performance adapter, every optional feature the adapter has.
+#[derive(Clone, Debug)]
+pub struct DeviceOptions {
+    /// Backends searched for adapters. The crate is built with Vulkan only.
+    pub backends: Backends,
+    /// Which kind of adapter is preferred when several exist.
+    pub power_preference: PowerPreference,
+    /// Only adapters whose name contains this (case-insensitive) are considered.
+    pub adapter_name: Option<String>,
+    /// Do not enable `MULTI_DRAW_INDIRECT_COUNT` even if supported (test the fallback).
+    pub disable_indirect_count: bool,
+    /// Do not enable any timestamp query feature even if supported (test CPU timing).
+    pub disable_timestamps: bool,
+    /// Do not enable `INDIRECT_FIRST_INSTANCE` even if supported.
+    pub disable_indirect_first_instance: bool,
+}
+
+impl Default for DeviceOptions {
+    fn default() -> Self {
+        DeviceOptions {
+            backends: Backends::VULKAN,
+            power_preference: PowerPreference::HighPerformance,
+            adapter_name: None,
+            disable_indirect_count: false,
+            disable_timestamps: false,
+            disable_indirect_first_instance: false,
+        }
+    }
+}
+
+impl DeviceOptions {
+    /// Options that force every fallback path (no indirect count, no timestamps, no
+    /// indirect first instance).
+    pub fn all_fallbacks() -> Self {
+        DeviceOptions {
+            disable_indirect_count: true,
+            disable_timestamps: true,
+            disable_indirect_first_instance: true,
+            ..DeviceOptions::default()
+        }
+    }
+}
+
+/// How layers are drawn from the cull pass's commands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MultiDrawPath {
+    /// `multi_draw_indexed_indirect_count`: the GPU reads the number of commands.
+    IndirectCount,
+    /// `multi_draw_indexed_indirect` over every command slot; the cull pass writes culled
+    /// slots as zeroed commands (`instance_count = 0`).
+    ZeroedCommands,
+}
+
+/// How passes are timed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TimingPath {
+    /// GPU timestamp queries.
+    GpuTimestamps {
+        /// `write_timestamp` on command encoders is available.
+        inside_encoders: bool,
+        /// `write_timestamp` inside render and compute passes is available.
+        inside_passes: bool,
+        /// Nanoseconds per timestamp tick (`Queue::get_timestamp_period`).
+        period_ns: f32,
+    },
+    /// CPU wall-clock time around submissions (no per-pass GPU figures).
+    Cpu,
+}
+
+/// The adapter a context runs on, as text for reports.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct AdapterSummary {
+    /// Adapter name, e.g. `llvmpipe (LLVM 15.0.6, 256 bits)` or `NVIDIA H200`.
+    pub name: String,
+    /// Backend, e.g. `Vulkan`.
+    pub backend: String,
+    /// Device type, e.g. `Cpu` or `DiscreteGpu`.
+    pub device_type: String,
+    /// Driver name and version information.
+    pub driver: String,
+}
+
+impl fmt::Display for AdapterSummary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} ({}, {}, driver {})",
+            self.name, self.backend, self.device_type, self.driver
+        )
+    }
+}
+
+/// What the device can do, after feature probing and forced fallbacks. Passes read this,
+/// never the raw feature set.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GpuCapabilities {
+    /// The adapter.
+    pub adapter: AdapterSummary,
+    /// Draw path for the cull pass's commands.
+    pub multi_draw: MultiDrawPath,
+    /// Timing path.
+    pub timing: TimingPath,
+    /// `INDIRECT_FIRST_INSTANCE` is enabled: indirect commands may use a non-zero
+    /// `first_instance`.
+    pub indirect_first_instance: bool,
+    /// Largest storage buffer binding, bytes (lavapipe 128 MiB, NVIDIA 2 GiB or more).
+    pub max_storage_buffer_binding_size: u64,
+    /// Largest buffer, bytes.
+    pub max_buffer_size: u64,
+    /// Storage buffers one shader stage may bind.
+    pub max_storage_buffers_per_shader_stage: u32,
+    /// Features the adapter offers (before anything was disabled).
+    pub adapter_features: Features,
+    /// Features enabled on the device.
+    pub enabled_features: Features,
+}
+
+impl GpuCapabilities {
+    /// The largest buffer that can be bound whole as one storage binding: the size of a
+    /// gigabuffer page.
+    pub fn max_page_bytes(&self) -> u64 {
+        self.max_storage_buffer_binding_size
+            .min(self.max_buffer_size)
+    }
+}
+
+/// Why no context could be created.
+#[derive(Debug)]
+pub enum DeviceError {
+    /// No adapter matched; says what was searched.
+    NoAdapter {
+        /// Backends searched.
+        backends: Backends,
+        /// Power preference asked for.
+        power_preference: PowerPreference,
+        /// Name filter, if any.
+        adapter_name: Option<String>,
+        /// Adapters found but rejected by the name filter.
+        rejected: Vec<String>,
+    },
+    /// The adapter refused the device request.
+    RequestDevice {
+        /// The adapter asked.
+        adapter: AdapterSummary,
+        /// wgpu's error (boxed: it is large).
+        source: Box<wgpu::RequestDeviceError>,
+    },
+}
+
+impl DeviceError {
+    /// True for [`DeviceError::NoAdapter`]: the machine has no usable GPU or driver, as
+    /// opposed to a failure on an adapter that exists.
+    pub fn is_no_adapter(&self) -> bool {
+        matches!(self, DeviceError::NoAdapter { .. })
+    }
+}
+
+impl fmt::Display for DeviceError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            DeviceError::NoAdapter {
+                backends,
+                power_preference,
+                adapter_name,
+                rejected,
+            } => {
+                write!(
+                    f,
+                    "no GPU adapter found (backends {backends:?}, power preference \
+                     {power_preference:?}"
+                )?;
+                if let Some(name) = adapter_name {
+                    write!(f, ", name containing {name:?}")?;
+                }
+                write!(f, ")")?;
+                if !rejected.is_empty() {
+                    write!(f, "; rejected by the name filter: {}", rejected.join(", "))?;
+                }
+                write!(
+                    f,
+                    "; on Debian install a Vulkan driver, e.g. `mesa-vulkan-drivers` \
+                     (lavapipe) and `libvulkan1`"
+                )
+            }
+            DeviceError::RequestDevice { adapter, source } => {
+                write!(f, "adapter {adapter} refused the device request: {source}")
+            }
+        }
+    }
+}
+
+impl std::error::Error for DeviceError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            DeviceError::NoAdapter { .. } => None,
+            DeviceError::RequestDevice { source, .. } => Some(source.as_ref()),
+        }
+    }
+}
+
+/// A wgpu device and queue with the capabilities this backend probed.
+#[derive(Debug)]
+pub struct GpuContext {
+    /// The instance (kept for surfaces and polling).
+    pub instance: Instance,
+    /// The adapter the device runs on.
+    pub adapter: Adapter,
+    /// The device.
+    pub device: Device,
+    /// Its queue.
+    pub queue: Queue,
+    /// What the device can do, and the fallbacks chosen.
+    pub capabilities: GpuCapabilities,
+}
+
+impl GpuContext {
+    /// A context without a surface, for tests, benchmarks and offscreen rendering.
+    pub fn new_headless(options: &DeviceOptions) -> Result<GpuContext, DeviceError> {
+        let mut descriptor = InstanceDescriptor::new_without_display_handle_from_env();
+        descriptor.backends = options.backends;
+        let instance = Instance::new(descriptor);
+        GpuContext::from_instance(instance, options)
+    }
+
+    /// Picks an adapter of `instance` and creates the device. The windowed constructor will
+    /// reuse this with the window's surface as a constraint on the adapter.
+    pub fn from_instance(
+        instance: Instance,
+        options: &DeviceOptions,
+    ) -> Result<GpuContext, DeviceError> {
+        let adapter = choose_adapter(&instance, options)?;
+        let summary = summarize(&adapter);
+        let adapter_features = adapter.features();
+        let adapter_limits = adapter.limits();
+        let wanted = wanted_features(adapter_features, options);
+        let limits = wanted_limits(&adapter_limits);
+        let descriptor = wgpu::DeviceDescriptor {
+            label: Some("gpu-backend device"),
+            required_features: wanted,
+            required_limits: limits.clone(),
+            ..Default::default()
+        };
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&descriptor)).map_err(|source| {
+                DeviceError::RequestDevice {
+                    adapter: summary.clone(),
+                    source: Box::new(source),
+                }
+            })?;
+        let enabled = device.features();
+        let capabilities = GpuCapabilities {
+            adapter: summary,
+            multi_draw: if enabled.contains(Features::MULTI_DRAW_INDIRECT_COUNT) {
+                MultiDrawPath::IndirectCount
+            } else {
+                MultiDrawPath::ZeroedCommands
+            },
+            timing: if enabled.contains(Features::TIMESTAMP_QUERY) {
+                TimingPath::GpuTimestamps {
+                    inside_encoders: enabled.contains(Features::TIMESTAMP_QUERY_INSIDE_ENCODERS),
+                    inside_passes: enabled.contains(Features::TIMESTAMP_QUERY_INSIDE_PASSES),
+                    period_ns: queue.get_timestamp_period(),
+                }
+            } else {
+                TimingPath::Cpu
+            },
+            indirect_first_instance: enabled.contains(Features::INDIRECT_FIRST_INSTANCE),
+            max_storage_buffer_binding_size: limits.max_storage_buffer_binding_size,
+            max_buffer_size: limits.max_buffer_size,
+            max_storage_buffers_per_shader_stage: limits.max_storage_buffers_per_shader_stage,
+            adapter_features,
+            enabled_features: enabled,
+        };
+        Ok(GpuContext {
+            instance,
+            adapter,
+            device,
+            queue,
+            capabilities,
+        })
+    }
+}
+
+/// The optional features to enable: those the adapter has, minus the disabled ones.
+fn wanted_features(adapter: Features, options: &DeviceOptions) -> Features {
+    let mut wanted = Features::empty();
+    if !options.disable_indirect_count {
+        wanted |= Features::MULTI_DRAW_INDIRECT_COUNT;
+    }
+    if !options.disable_timestamps {
+        wanted |= Features::TIMESTAMP_QUERY;
+        // The finer timestamp features are only usable together with TIMESTAMP_QUERY.
+        if adapter.contains(Features::TIMESTAMP_QUERY) {
+            wanted |=
+                Features::TIMESTAMP_QUERY_INSIDE_ENCODERS | Features::TIMESTAMP_QUERY_INSIDE_PASSES;
+        }
+    }
+    if !options.disable_indirect_first_instance {
+        wanted |= Features::INDIRECT_FIRST_INSTANCE;
+    }
+    wanted & adapter
+}
+
+/// WebGPU defaults, with the buffer limits raised to what the adapter offers.
+fn wanted_limits(adapter: &Limits) -> Limits {
+    let defaults = Limits::default();
+    Limits {
+        max_buffer_size: adapter.max_buffer_size.max(defaults.max_buffer_size),
+        max_storage_buffer_binding_size: adapter
+            .max_storage_buffer_binding_size
+            .max(defaults.max_storage_buffer_binding_size),
+        max_storage_buffers_per_shader_stage: adapter
+            .max_storage_buffers_per_shader_stage
+            .max(defaults.max_storage_buffers_per_shader_stage),
+        ..defaults
+    }
+    // Never ask for more than the adapter has (a downlevel adapter may be below a default).
+    .or_worse_values_from(adapter)
+}
+
+/// Every adapter of the requested backends that passes the name filter, best first.
+fn choose_adapter(instance: &Instance, options: &DeviceOptions) -> Result<Adapter, DeviceError> {
+    let all = pollster::block_on(instance.enumerate_adapters(options.backends));
+    let mut rejected = Vec::new();
+    let mut candidates: Vec<Adapter> = Vec::new();
+    for adapter in all {
+        let name = adapter.get_info().name;
+        match &options.adapter_name {
+            Some(filter) if !name.to_lowercase().contains(&filter.to_lowercase()) => {
+                rejected.push(name);
+            }
+            _ => candidates.push(adapter),
+        }
+    }
+    // Stable sort: equal ranks keep the enumeration order.
+    candidates.sort_by_key(|a| rank(a.get_info().device_type, options.power_preference));
+    candidates
+        .into_iter()
+        .next()
+        .ok_or_else(|| DeviceError::NoAdapter {
+            backends: options.backends,
+            power_preference: options.power_preference,
+            adapter_name: options.adapter_name.clone(),
+            rejected,
+        })
+}
+
+/// Lower is better: the device types in the order the power preference wants them. A CPU
+/// adapter (lavapipe) is always last, so a real GPU wins whenever there is one.
+fn rank(device_type: DeviceType, preference: PowerPreference) -> u8 {
+    let order: [DeviceType; 4] = match preference {
+        PowerPreference::LowPower => [
+            DeviceType::IntegratedGpu,
+            DeviceType::DiscreteGpu,
+            DeviceType::VirtualGpu,
+            DeviceType::Other,
+        ],
+        _ => [
+            DeviceType::DiscreteGpu,
+            DeviceType::IntegratedGpu,
+            DeviceType::VirtualGpu,
+            DeviceType::Other,
+        ],
+    };
+    order
+        .iter()
+        .position(|&t| t == device_type)
+        .map_or(order.len() as u8, |i| i as u8)
+}
+
+fn summarize(adapter: &Adapter) -> AdapterSummary {
+    let info = adapter.get_info();
+    let driver = if info.driver_info.is_empty() {
+        info.driver.clone()
+    } else {
+        format!("{} {}", info.driver, info.driver_info)
+    };
+    AdapterSummary {
+        name: info.name,
+        backend: format!("{:?}", info.backend),
+        device_type: format!("{:?}", info.device_type),
+        driver,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn disabled_features_are_never_requested() {
+        let all = Features::all();
+        let wanted = wanted_features(all, &DeviceOptions::all_fallbacks());
+        assert!(!wanted.contains(Features::MULTI_DRAW_INDIRECT_COUNT));
+        assert!(!wanted.intersects(
+            Features::TIMESTAMP_QUERY
+                | Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+                | Features::TIMESTAMP_QUERY_INSIDE_PASSES
+        ));
+        assert!(!wanted.contains(Features::INDIRECT_FIRST_INSTANCE));
+        let default = wanted_features(all, &DeviceOptions::default());
+        assert!(default.contains(
+            Features::MULTI_DRAW_INDIRECT_COUNT
+                | Features::TIMESTAMP_QUERY_INSIDE_PASSES
+                | Features::INDIRECT_FIRST_INSTANCE
+        ));
+    }
+
+    #[test]
+    fn features_the_adapter_lacks_are_never_requested() {
+        let wanted = wanted_features(Features::TIMESTAMP_QUERY, &DeviceOptions::default());
+        assert_eq!(
+            wanted,
+            Features::TIMESTAMP_QUERY,
+            "only what the adapter offers"
+        );
+        let wanted = wanted_features(Features::empty(), &DeviceOptions::default());
+        assert!(wanted.is_empty());
+    }
+
+    #[test]
+    fn limits_follow_the_adapter_buffers() {
+        let adapter = Limits {
+            max_storage_buffer_binding_size: 2 << 30,
+            max_buffer_size: 4 << 30,
+            ..Limits::default()
+        };
+        let limits = wanted_limits(&adapter);
+        assert_eq!(limits.max_storage_buffer_binding_size, 2 << 30);
+        assert_eq!(limits.max_buffer_size, 4 << 30);
+        let low = Limits::downlevel_webgl2_defaults();
+        let limits = wanted_limits(&low);
+        assert!(limits.max_storage_buffer_binding_size <= low.max_storage_buffer_binding_size);
+    }
+
+    #[test]
+    fn cpu_adapters_rank_last() {
+        for preference in [PowerPreference::HighPerformance, PowerPreference::LowPower] {
+            let cpu = rank(DeviceType::Cpu, preference);
+            for gpu in [DeviceType::DiscreteGpu, DeviceType::IntegratedGpu] {
+                assert!(rank(gpu, preference) < cpu);
+            }
+        }
+        assert!(
+            rank(DeviceType::DiscreteGpu, PowerPreference::HighPerformance)
+                < rank(DeviceType::IntegratedGpu, PowerPreference::HighPerformance)
+        );
+        assert!(
+            rank(DeviceType::IntegratedGpu, PowerPreference::LowPower)
+                < rank(DeviceType::DiscreteGpu, PowerPreference::LowPower)
+        );
+    }
+
+    #[test]
+    fn no_adapter_error_names_the_search() {
+        let e = DeviceError::NoAdapter {
+            backends: Backends::VULKAN,
+            power_preference: PowerPreference::HighPerformance,
+            adapter_name: Some("H200".into()),
+            rejected: vec!["llvmpipe".into()],
+        };
+        let text = e.to_string();
+        for part in ["VULKAN", "HighPerformance", "H200", "llvmpipe"] {
+            assert!(text.contains(part), "{text:?} lacks {part}");
+        }
+        assert!(e.is_no_adapter());
+    }
+}

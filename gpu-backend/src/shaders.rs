@@ -1,0 +1,156 @@
+//! WGSL sources: every shader is voxel-core's [`FORMATS_WGSL`] (the twins of the packed
+//! formats, never re-written here) followed by a body from `src/shaders/`, composed in one
+//! place, [`ShaderSpec::source`]. Each composed module is validated with naga in a unit test,
+//! without a GPU.
+//!
+//! [`FORMATS_WGSL`]: voxel_core::formats::FORMATS_WGSL
+
+use std::borrow::Cow;
+use std::fmt;
+
+use voxel_core::formats::FORMATS_WGSL;
+
+/// One shader: a name and the WGSL body that follows the formats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ShaderSpec {
+    /// Name, used as the module label.
+    pub name: &'static str,
+    /// The WGSL after [`voxel_core::formats::FORMATS_WGSL`].
+    pub body: &'static str,
+}
+
+/// Decodes every packed format with its WGSL twin and writes the fields out (the format
+/// parity test's compute shader; entry points `decode_<format>`).
+pub const FORMAT_PARITY: ShaderSpec = ShaderSpec {
+    name: "format_parity",
+    body: include_str!("shaders/format_parity.wgsl"),
+};
+
+/// The cull pass: table slots to per-page multi-draw-indirect commands (entry point `cull`;
+/// see [`crate::cull`]).
+pub const CULL: ShaderSpec = ShaderSpec {
+    name: "cull",
+    body: include_str!("shaders/cull.wgsl"),
+};
+
+/// Every shader of the crate.
+pub const ALL_SHADERS: &[ShaderSpec] = &[FORMAT_PARITY, CULL];
+
+/// `FORMATS_WGSL` followed by `body`: the one place shader sources are put together.
+pub fn compose(name: &str, body: &str) -> String {
+    format!("{FORMATS_WGSL}\n// ---- {name} ----\n\n{body}")
+}
+
+impl ShaderSpec {
+    /// The complete WGSL source.
+    pub fn source(&self) -> String {
+        compose(self.name, self.body)
+    }
+
+    /// The shader module on `device`.
+    pub fn create_module(&self, device: &wgpu::Device) -> wgpu::ShaderModule {
+        device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(self.name),
+            source: wgpu::ShaderSource::Wgsl(Cow::Owned(self.source())),
+        })
+    }
+}
+
+/// A WGSL source naga rejected, with the diagnostic rendered against the source.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ShaderError {
+    /// The shader's name.
+    pub name: String,
+    /// naga's message.
+    pub message: String,
+}
+
+impl fmt::Display for ShaderError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "shader {} is invalid:\n{}", self.name, self.message)
+    }
+}
+
+impl std::error::Error for ShaderError {}
+
+/// Parses and validates WGSL with naga at the WebGPU baseline capabilities (what any adapter
+/// accepts), returning the module.
+pub fn validate(name: &str, source: &str) -> Result<naga::Module, ShaderError> {
+    let error = |message: String| ShaderError {
+        name: name.to_owned(),
+        message,
+    };
+    let module = naga::front::wgsl::parse_str(source)
+        .map_err(|e| error(e.emit_to_string_with_path(source, name)))?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(&module)
+    .map_err(|e| error(e.emit_to_string_with_path(source, name)))?;
+    Ok(module)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_composed_shader_validates() {
+        for spec in ALL_SHADERS {
+            let module = validate(spec.name, &spec.source()).unwrap_or_else(|e| panic!("{e}"));
+            assert!(
+                !module.entry_points.is_empty(),
+                "{} has no entry point",
+                spec.name
+            );
+        }
+    }
+
+    #[test]
+    fn sources_start_with_the_formats() {
+        for spec in ALL_SHADERS {
+            assert!(spec.source().starts_with(FORMATS_WGSL));
+            assert!(
+                !spec.body.contains("struct PackedQuad"),
+                "{} re-declares a format",
+                spec.name
+            );
+        }
+    }
+
+    #[test]
+    fn parity_shader_has_one_entry_point_per_decoder() {
+        let module = validate(FORMAT_PARITY.name, &FORMAT_PARITY.source()).unwrap();
+        let names: Vec<&str> = module
+            .entry_points
+            .iter()
+            .map(|e| e.name.as_str())
+            .collect();
+        for entry in [
+            "decode_draw_block",
+            "decode_packed_quad",
+            "decode_block_vertex",
+            "decode_clutter_unit",
+            "decode_chunk_draw_info",
+            "decode_meshed_chunk_info",
+            "decode_chunk_draw_indirect",
+            "decode_oct16",
+            "decode_oct32",
+            "decode_unorm",
+        ] {
+            assert!(names.contains(&entry), "missing entry point {entry}");
+        }
+    }
+
+    #[test]
+    fn invalid_wgsl_is_reported_with_the_name() {
+        let err = validate(
+            "broken",
+            &compose("broken", "fn f() -> u32 { return 1.0; }"),
+        )
+        .unwrap_err();
+        assert_eq!(err.name, "broken");
+        assert!(!err.message.is_empty());
+    }
+}

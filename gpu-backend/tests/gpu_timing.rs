@@ -1,0 +1,312 @@
+//! The GPU timer on both paths: timestamp queries give positive durations that grow with the
+//! work dispatched and fit inside the wall time of the submission; the CPU fallback gives wall
+//! times of each scope's own submission; labels come back in order.
+
+use std::time::Instant;
+
+use gpu_backend::cull::{CullCamera, CullConfig, CullLayer, CullPass};
+use gpu_backend::gigabuffer::{DataKind, PageLayout};
+use gpu_backend::test_support::headless_or_skip;
+use gpu_backend::timing::{GpuTimer, PassTime, TimerError, TimingSource};
+use gpu_backend::{DeviceOptions, GpuContext, MeshedChunkTable, TimingPath};
+use voxel_core::formats::{FaceLayerRange, MeshedChunkInfo};
+use voxel_core::{ChunkCoord, ChunkSize};
+
+/// A compute pass of `invocations` threads each running a dependent loop of `iterations`.
+const BUSY: &str = r"
+struct Params { iterations: u32 }
+@group(0) @binding(0) var<storage, read_write> out: array<f32>;
+@group(0) @binding(1) var<uniform> params: Params;
+
+@compute @workgroup_size(64)
+fn busy(@builtin(global_invocation_id) id: vec3<u32>) {
+    var x = f32(id.x) * 1e-3;
+    for (var i = 0u; i < params.iterations; i += 1u) {
+        x = fract(x * 1.618034 + 0.3183099);
+    }
+    out[id.x] = x;
+}
+";
+
+struct Busy {
+    pipeline: wgpu::ComputePipeline,
+    bind_groups: Vec<(u32, wgpu::BindGroup)>,
+}
+
+impl Busy {
+    /// One bind group per iteration count.
+    fn new(ctx: &GpuContext, iterations: &[u32]) -> Busy {
+        use wgpu::util::DeviceExt;
+        let device = &ctx.device;
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("busy"),
+            source: wgpu::ShaderSource::Wgsl(BUSY.into()),
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("busy"),
+            layout: None,
+            module: &module,
+            entry_point: Some("busy"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let out = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("busy out"),
+            size: 4 * Self::INVOCATIONS as u64,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        let bind_groups = iterations
+            .iter()
+            .map(|&n| {
+                let mut params = [0u8; 16];
+                params[..4].copy_from_slice(&n.to_le_bytes());
+                let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("busy params"),
+                    contents: &params,
+                    usage: wgpu::BufferUsages::UNIFORM,
+                });
+                let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("busy"),
+                    layout: &pipeline.get_bind_group_layout(0),
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: out.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: params.as_entire_binding(),
+                        },
+                    ],
+                });
+                (n, group)
+            })
+            .collect();
+        Busy {
+            pipeline,
+            bind_groups,
+        }
+    }
+
+    const INVOCATIONS: u32 = 64 * 64;
+
+    fn dispatch(&self, pass: &mut wgpu::ComputePass<'_>, iterations: u32) {
+        let group = &self
+            .bind_groups
+            .iter()
+            .find(|(n, _)| *n == iterations)
+            .expect("a bind group for this count")
+            .1;
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, group, &[]);
+        pass.dispatch_workgroups(Self::INVOCATIONS / 64, 1, 1);
+    }
+
+    /// Records one pass of `iterations` into `encoder`.
+    fn record(&self, encoder: &mut wgpu::CommandEncoder, iterations: u32) {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        self.dispatch(&mut pass, iterations);
+    }
+}
+
+const LIGHT: u32 = 1;
+/// About 10 ms on lavapipe, tens of microseconds on a discrete GPU.
+const HEAVY: u32 = 20_000;
+
+/// A table of 300 full chunks and a cull pass over it, for timing a real pass.
+fn cull_setup(ctx: &GpuContext) -> (CullPass, MeshedChunkTable) {
+    let quads = PageLayout::plan(DataKind::Quads, 1 << 20, 1 << 20).unwrap();
+    let pass = CullPass::new(ctx, &quads, &CullConfig::new(ChunkSize::S16, 512)).unwrap();
+    let mut table = MeshedChunkTable::new(
+        &ctx.device,
+        512,
+        ctx.capabilities.max_storage_buffer_binding_size,
+    )
+    .unwrap();
+    for i in 0..300 {
+        table
+            .insert(MeshedChunkInfo {
+                chunk: [i % 10, i / 10 % 10, i / 100],
+                centre: [8.0; 3],
+                extent: [8.0; 3],
+                opaque_quads: FaceLayerRange {
+                    offset: 36 * i as u32,
+                    counts: [6; 6],
+                },
+                ..MeshedChunkInfo::default()
+            })
+            .unwrap();
+    }
+    table.flush(&ctx.queue);
+    (pass, table)
+}
+
+/// Records light, heavy (scopes) and a cull (scope), plus a heavy pass timed by its own
+/// descriptor writes when the timer offers them; submits; returns the figures and the wall
+/// time from the first submission to the GPU going idle.
+fn time_frame(ctx: &GpuContext, timer: &mut GpuTimer) -> (Vec<PassTime>, u128) {
+    let busy = Busy::new(ctx, &[LIGHT, HEAVY]);
+    let (cull, table) = cull_setup(ctx);
+    let output = cull.create_output("timed").unwrap();
+    let camera = CullCamera::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
+    // Warm up: lavapipe compiles a pipeline at its first dispatch, which would land in the
+    // first scope.
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    busy.record(&mut encoder, LIGHT);
+    busy.record(&mut encoder, HEAVY);
+    cull.record(&mut encoder, &table, &camera, CullLayer::Opaque, &output)
+        .unwrap();
+    ctx.queue.submit([encoder.finish()]);
+    ctx.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .unwrap();
+    let started = Instant::now();
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    let scope = timer.begin(&mut encoder, "light");
+    busy.record(&mut encoder, LIGHT);
+    timer.end(&mut encoder, scope);
+    let scope = timer.begin(&mut encoder, "heavy");
+    busy.record(&mut encoder, HEAVY);
+    timer.end(&mut encoder, scope);
+    let scope = timer.begin(&mut encoder, "cull");
+    cull.record(&mut encoder, &table, &camera, CullLayer::Opaque, &output)
+        .unwrap();
+    timer.end(&mut encoder, scope);
+    if let Some(writes) = timer.compute_pass_writes("heavy pass") {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("heavy pass"),
+            timestamp_writes: Some(writes),
+        });
+        busy.dispatch(&mut pass, HEAVY);
+    }
+    timer.resolve(&mut encoder);
+    ctx.queue.submit([encoder.finish()]);
+    ctx.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .unwrap();
+    let wall = started.elapsed().as_nanos();
+    let times = timer.collect().unwrap();
+    // The cull did run: every chunk is in front of or around the eye.
+    let read = output.read(&ctx.device, &ctx.queue).unwrap();
+    assert!(read.wanted[0] > 0);
+    for t in &times {
+        eprintln!("{:>12} {:>12} ns", t.label, t.nanoseconds);
+    }
+    eprintln!("{:>12} {wall:>12} ns (wall, submit to idle)", "frame");
+    (times, wall)
+}
+
+fn get<'a>(times: &'a [PassTime], label: &str) -> &'a PassTime {
+    times
+        .iter()
+        .find(|t| t.label == label)
+        .unwrap_or_else(|| panic!("no figure for {label}: {times:?}"))
+}
+
+#[test]
+fn timestamps_time_dispatched_passes() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let TimingPath::GpuTimestamps { period_ns, .. } = ctx.capabilities.timing else {
+        eprintln!("skipped: the adapter has no timestamp queries");
+        return;
+    };
+    eprintln!(
+        "adapter {}, period {period_ns} ns",
+        ctx.capabilities.adapter
+    );
+    let mut timer = GpuTimer::new(&ctx, 16);
+    assert_eq!(timer.source(), TimingSource::GpuTimestamps);
+    let (times, wall) = time_frame(&ctx, &mut timer);
+    let labels: Vec<&str> = times.iter().map(|t| t.label.as_str()).collect();
+    assert_eq!(labels, ["light", "heavy", "cull", "heavy pass"]);
+    let (light, heavy, cull, pass) = (
+        get(&times, "light"),
+        get(&times, "heavy"),
+        get(&times, "cull"),
+        get(&times, "heavy pass"),
+    );
+    assert!(heavy.nanoseconds > 0 && pass.nanoseconds > 0 && cull.nanoseconds > 0);
+    assert!(
+        heavy.nanoseconds > light.nanoseconds,
+        "20,000 iterations per thread take longer than 1"
+    );
+    assert!(pass.nanoseconds > light.nanoseconds);
+    // GPU time of the scopes fits in the wall time around the whole submission.
+    let sum: u64 = times.iter().map(|t| t.nanoseconds).sum();
+    assert!(
+        u128::from(sum) <= wall,
+        "scopes sum to {sum} ns, more than the {wall} ns the frame took"
+    );
+
+    // A second frame reuses the queries; forgetting the resolve is an error.
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    let scope = timer.begin(&mut encoder, "unresolved");
+    timer.end(&mut encoder, scope);
+    ctx.queue.submit([encoder.finish()]);
+    assert_eq!(timer.collect(), Err(TimerError::NotResolved));
+    let (again, _) = time_frame(&ctx, &mut timer);
+    assert_eq!(again.len(), 4);
+    assert!(get(&again, "heavy").nanoseconds > get(&again, "light").nanoseconds);
+}
+
+#[test]
+fn timestamps_without_encoder_writes_use_empty_passes() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let TimingPath::GpuTimestamps { .. } = ctx.capabilities.timing else {
+        return;
+    };
+    let mut caps = ctx.capabilities.clone();
+    caps.timing = TimingPath::GpuTimestamps {
+        inside_encoders: false,
+        inside_passes: false,
+        period_ns: ctx.queue.get_timestamp_period(),
+    };
+    let mut timer = GpuTimer::with_capabilities(&ctx.device, &ctx.queue, &caps, 4);
+    let (times, wall) = time_frame(&ctx, &mut timer);
+    assert_eq!(times.len(), 4);
+    assert!(get(&times, "heavy").nanoseconds > get(&times, "light").nanoseconds);
+    assert!(u128::from(get(&times, "heavy").nanoseconds) <= wall);
+    // Scopes past the capacity (4) are not timed.
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    for i in 0..6 {
+        let scope = timer.begin(&mut encoder, &format!("scope {i}"));
+        timer.end(&mut encoder, scope);
+    }
+    timer.resolve(&mut encoder);
+    ctx.queue.submit([encoder.finish()]);
+    assert_eq!(timer.collect().unwrap().len(), 4);
+    assert_eq!(timer.untimed_scopes(), 2);
+}
+
+#[test]
+fn cpu_fallback_returns_wall_times() {
+    let options = DeviceOptions {
+        disable_timestamps: true,
+        ..DeviceOptions::default()
+    };
+    let Some(ctx) = headless_or_skip(&options) else {
+        return;
+    };
+    assert_eq!(ctx.capabilities.timing, TimingPath::Cpu);
+    let mut timer = GpuTimer::new(&ctx, 16);
+    assert_eq!(timer.source(), TimingSource::CpuWallClock);
+    assert!(timer.compute_pass_writes("x").is_none());
+    assert!(timer.render_pass_writes("x").is_none());
+    let (times, wall) = time_frame(&ctx, &mut timer);
+    let labels: Vec<&str> = times.iter().map(|t| t.label.as_str()).collect();
+    assert_eq!(
+        labels,
+        ["light", "heavy", "cull"],
+        "pass writes are not offered"
+    );
+    assert!(times.iter().all(|t| t.nanoseconds > 0), "{times:?}");
+    // No "heavy > light" here: each wall-clock scope includes its own submission and wait,
+    // which on a fast GPU (seen on an H200) can outweigh the heavy dispatch itself.
+    let sum: u64 = times.iter().map(|t| t.nanoseconds).sum();
+    assert!(u128::from(sum) <= wall);
+}
