@@ -12,8 +12,8 @@ cargo fmt --all -- --check
 echo "== clippy (warnings are errors)"
 cargo clippy --workspace --all-targets --locked -- -D warnings
 
-echo "== voxel-core without std (bare-metal target)"
-cargo build -p voxel-core --no-default-features --target x86_64-unknown-none --locked
+echo "== voxel-core and mesher without std (bare-metal target)"
+cargo build -p voxel-core -p mesher --no-default-features --target x86_64-unknown-none --locked
 
 echo "== tests (unit, property, integration, fuzz-corpus replay, doc)"
 cargo test --workspace --locked
