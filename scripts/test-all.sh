@@ -6,6 +6,13 @@ cd "$(dirname "$0")/.."
 
 scripts/setup-debian.sh
 
+# Mesa's Vulkan loader layers complain on every device creation when this is unset (CI has no
+# login session); a private empty folder is all they need.
+if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
+    XDG_RUNTIME_DIR=$(mktemp -d)
+    export XDG_RUNTIME_DIR
+fi
+
 echo "== format"
 cargo fmt --all -- --check
 
