@@ -23,7 +23,7 @@ use bytemuck::{Pod, Zeroable};
 use voxel_core::formats::{FaceDirection, WgslMember, WgslStruct, WgslType};
 use voxel_core::{BlockId, PaddedChunk};
 
-use crate::surface_blocks::exposure::{ExposureScratch, chunk_is_empty, chunk_is_full, eq_mask};
+use crate::surface_blocks::exposure::{ExposureScratch, eq_mask, nothing_exposed};
 use crate::{BlockClasses, MeshError};
 
 /// One vertical run of exposed voxels of one block id: a box of `1 x height x 1` voxels whose
@@ -254,7 +254,7 @@ pub fn vertical_shells(
     out: &mut ShellRuns,
 ) -> Result<(), MeshError> {
     out.clear();
-    if chunk_is_empty(chunk) || (!classes.any_transparent() && chunk_is_full(chunk)) {
+    if nothing_exposed(chunk, classes) {
         return Ok(());
     }
     let result = extract(chunk, classes, out);

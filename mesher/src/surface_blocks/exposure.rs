@@ -85,6 +85,13 @@ pub(crate) fn inner_mask(size: ChunkSize) -> u64 {
     ((1u64 << size.edge()) - 1) << 1
 }
 
+/// True when no voxel of the chunk can have an exposed face, known from the row masks alone:
+/// the chunk is empty, or it is full and buried with no transparent material in the palette.
+/// The early-out shared by the surface-block and shell extractions.
+pub(crate) fn nothing_exposed(chunk: &PaddedChunk, classes: &BlockClasses) -> bool {
+    chunk_is_empty(chunk) || (!classes.any_transparent() && chunk_is_full(chunk))
+}
+
 /// True if the chunk itself (not its border) holds no voxel: nothing can be exposed.
 pub(crate) fn chunk_is_empty(chunk: &PaddedChunk) -> bool {
     let p = chunk.padded_edge();

@@ -46,7 +46,7 @@ use voxel_core::formats::{DrawBlock, DrawBlockFields, DrawBlockFlags};
 use voxel_core::{BlockId, MaterialClass, PaddedChunk};
 
 use crate::{BlockClasses, MeshError};
-use exposure::{ExposureScratch, chunk_is_empty, chunk_is_full};
+use exposure::{ExposureScratch, nothing_exposed};
 
 /// Edge of one sub-block in voxels: the 16 positions a [`DrawBlock`] axis can address.
 pub const SUB_BLOCK_EDGE: u32 = DrawBlock::MAX_POSITION + 1;
@@ -194,7 +194,7 @@ pub fn surface_blocks(
     out: &mut SurfaceBlocks,
 ) -> Result<(), MeshError> {
     out.clear();
-    if chunk_is_empty(chunk) || (!classes.any_transparent() && chunk_is_full(chunk)) {
+    if nothing_exposed(chunk, classes) {
         return Ok(());
     }
     let result = extract(chunk, classes, out);
