@@ -182,6 +182,16 @@ fn packed_quad_corner(q: PackedQuad, corner: u32) -> vec3<u32> {
     return p;
 }
 
+// Three unorm16 coordinates packed as BlockVertex and ClutterUnit pack them: x and y in the low
+// and high halves of `xy`, z in the low half of `z_low` (the mirror of `unorm16x3_decode`).
+fn unorm16x3_decode(xy: u32, z_low: u32, extent: f32) -> vec3<f32> {
+    return vec3<f32>(
+        unorm16_decode(xy, extent),
+        unorm16_decode(xy >> 16u, extent),
+        unorm16_decode(z_low, extent),
+    );
+}
+
 // ---------------------------------------------------------------------------------------------
 // BlockVertex (block_vertex.rs)
 
@@ -194,11 +204,7 @@ struct BlockVertex {
 
 // Chunk-local position over 0..=extent (the extent the encoder used).
 fn block_vertex_position(v: BlockVertex, extent: f32) -> vec3<f32> {
-    return vec3<f32>(
-        unorm16_decode(v.position_xy, extent),
-        unorm16_decode(v.position_xy >> 16u, extent),
-        unorm16_decode(v.position_z_normal, extent),
-    );
+    return unorm16x3_decode(v.position_xy, v.position_z_normal, extent);
 }
 
 fn block_vertex_normal(v: BlockVertex) -> vec3<f32> {
@@ -230,11 +236,7 @@ struct ClutterUnit {
 
 // Chunk-local position over 0..=extent (the extent the encoder used).
 fn clutter_unit_position(c: ClutterUnit, extent: f32) -> vec3<f32> {
-    return vec3<f32>(
-        unorm16_decode(c.position_xy, extent),
-        unorm16_decode(c.position_xy >> 16u, extent),
-        unorm16_decode(c.position_z_normal, extent),
-    );
+    return unorm16x3_decode(c.position_xy, c.position_z_normal, extent);
 }
 
 fn clutter_unit_normal(c: ClutterUnit) -> vec3<f32> {
