@@ -114,9 +114,6 @@ fn cull_400k_chunks() {
     }
     let gpu = output.read(&ctx.device, &ctx.queue).unwrap();
     let cpu = cull_reference(table.records(), &camera, CullLayer::Opaque, &layout);
-    assert_eq!(gpu.wanted, cpu.wanted);
-    assert!(cpu.wanted.iter().all(|&w| w <= layout.commands_per_page));
-    assert_eq!(gpu.malformed, 0);
     // The first frame warms up; report the median of the rest.
     let median = |v: &mut Vec<u64>| {
         let mut rest = v[1..].to_vec();
@@ -139,4 +136,8 @@ fn cull_400k_chunks() {
         FRAMES - 1,
         median(&mut record_ns),
     );
+    // Checked after the report, so a wrong result still shows what was timed.
+    assert_eq!(gpu.wanted, cpu.wanted);
+    assert!(cpu.wanted.iter().all(|&w| w <= layout.commands_per_page));
+    assert_eq!(gpu.malformed, 0);
 }

@@ -2,12 +2,10 @@
 //! 20-byte draw arguments, the uniform block, and the configuration they come from.
 
 use std::fmt;
-use std::mem::offset_of;
 use std::ops::Range;
 
 use bytemuck::{Pod, Zeroable};
 use voxel_core::ChunkSize;
-use voxel_core::formats::{FaceLayerRange, MeshedChunkInfo};
 
 use super::camera::{CullCamera, CullLayer};
 use crate::gigabuffer::{DataKind, PageLayout};
@@ -68,7 +66,7 @@ impl DrawIndexedArgs {
     }
 }
 
-/// The cull shader's uniform block (`CullUniforms` in `cull.wgsl`), 176 bytes; a unit test
+/// The cull shader's uniform block (`CullUniforms` in `cull.wgsl`), 160 bytes; a unit test
 /// checks every offset against naga's layout of the WGSL struct.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -95,69 +93,14 @@ pub struct CullUniforms {
     pub commands_per_page: u32,
     /// Quads one command may draw at most.
     pub max_quads_per_draw: u32,
-    /// Where the shader finds what it reads in a table entry, in 32-bit words.
-    pub info: InfoWords,
     /// Padding to 16 bytes.
-    pub pad: u32,
+    pub pad: [u32; 2],
 }
 
 const _: () = assert!(
-    size_of::<CullUniforms>() == 176,
-    "CullUniforms is 176 bytes"
+    size_of::<CullUniforms>() == 160,
+    "CullUniforms is 160 bytes"
 );
-
-/// Largest [`MeshedChunkInfo`] in 32-bit words the cull shader stages per slot
-/// (`CULL_MAX_INFO_WORDS` in `cull.wgsl`).
-pub const MAX_INFO_WORDS: u32 = 32;
-
-const _: () = assert!(
-    size_of::<MeshedChunkInfo>() <= MAX_INFO_WORDS as usize * 4,
-    "the cull shader stages at most MAX_INFO_WORDS words per MeshedChunkInfo"
-);
-
-/// The layout of [`MeshedChunkInfo`] as the cull shader reads it: the table is bound as
-/// 32-bit words and each field is found at these word offsets, taken from the Rust struct,
-/// so the shader never restates the format.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct InfoWords {
-    /// Words per entry.
-    pub words: u32,
-    /// First word of the chunk coordinate (3 x i32).
-    pub chunk: u32,
-    /// First word of the box centre (3 x f32).
-    pub centre: u32,
-    /// First word of the box half size (3 x f32).
-    pub extent: u32,
-    /// First word of the culled layer's `FaceLayerRange` (offset, then 6 counts).
-    pub range: u32,
-}
-
-impl InfoWords {
-    /// The word offsets for culling `layer`.
-    pub fn for_layer(layer: CullLayer) -> InfoWords {
-        let range = match layer {
-            CullLayer::Opaque => offset_of!(MeshedChunkInfo, opaque_quads),
-            CullLayer::Transparent => offset_of!(MeshedChunkInfo, transparent_quads),
-        };
-        InfoWords {
-            words: word(size_of::<MeshedChunkInfo>()),
-            chunk: word(offset_of!(MeshedChunkInfo, chunk)),
-            centre: word(offset_of!(MeshedChunkInfo, centre)),
-            extent: word(offset_of!(MeshedChunkInfo, extent)),
-            range: word(range),
-        }
-    }
-}
-
-/// A byte offset of a 4-byte-aligned field in words.
-const fn word(bytes: usize) -> u32 {
-    (bytes / 4) as u32
-}
-
-// The shader reads a FaceLayerRange as its offset followed by the six counts.
-const _: () =
-    assert!(offset_of!(FaceLayerRange, offset) == 0 && offset_of!(FaceLayerRange, counts) == 4);
 
 impl CullUniforms {
     /// The uniforms of one record.
@@ -179,8 +122,7 @@ impl CullUniforms {
             last_page_capacity: layout.last_page_capacity,
             commands_per_page: layout.commands_per_page,
             max_quads_per_draw: layout.max_quads_per_draw,
-            info: InfoWords::for_layer(layer),
-            pad: 0,
+            pad: [0; 2],
         }
     }
 }

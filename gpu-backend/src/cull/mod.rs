@@ -78,8 +78,8 @@ mod reference;
 
 pub use camera::{CullCamera, CullLayer, PLANE_KEEP_ALL};
 pub use layout::{
-    CullConfig, CullError, CullLayout, CullUniforms, DrawIndexedArgs, InfoWords, MAX_INFO_WORDS,
-    MAX_PAGE_QUADS, MAX_PAGES, MAX_QUADS_PER_DRAW, quad_indices,
+    CullConfig, CullError, CullLayout, CullUniforms, DrawIndexedArgs, MAX_PAGE_QUADS, MAX_PAGES,
+    MAX_QUADS_PER_DRAW, quad_indices,
 };
 pub use pass::{CullOutput, CullPass, CullReadback};
 pub use reference::{
@@ -150,12 +150,8 @@ mod tests {
                 "max_quads_per_draw",
                 std::mem::offset_of!(CullUniforms, max_quads_per_draw),
             ),
-            ("info_words", std::mem::offset_of!(CullUniforms, info)),
-            ("info_chunk", std::mem::offset_of!(CullUniforms, info) + 4),
-            ("info_centre", std::mem::offset_of!(CullUniforms, info) + 8),
-            ("info_extent", std::mem::offset_of!(CullUniforms, info) + 12),
-            ("info_range", std::mem::offset_of!(CullUniforms, info) + 16),
             ("pad0", std::mem::offset_of!(CullUniforms, pad)),
+            ("pad1", std::mem::offset_of!(CullUniforms, pad) + 4),
         ];
         let got: Vec<(&str, usize)> = members
             .iter()
@@ -192,10 +188,11 @@ mod tests {
             &bytemuck::bytes_of(&record)[..20],
             bytemuck::bytes_of(&args)
         );
-        // The shader writes records word by word in this order (`staged_word`).
-        assert_eq!(
-            std::mem::offset_of!(voxel_core::formats::ChunkDrawIndirect, chunk),
-            20
-        );
+        // cull.wgsl's write_record stores the fields as two vec4<u32> in this order.
+        use std::mem::offset_of;
+        use voxel_core::formats::ChunkDrawIndirect;
+        assert_eq!(offset_of!(ChunkDrawIndirect, first_instance), 16);
+        assert_eq!(offset_of!(ChunkDrawIndirect, chunk), 20);
+        assert_eq!(size_of::<ChunkDrawIndirect>(), 32);
     }
 }
