@@ -16,6 +16,9 @@
 //!   with naga;
 //! - [`cull`]: the cull pass (frustum + per-face-direction culling into per-page
 //!   multi-draw-indirect commands) and its CPU reference;
+//! - [`render`]: the near-field renderer: vertex-pulled greedy and smooth quads into a
+//!   G-buffer, deferred lighting, a back-to-front transparent pass and a tonemap, recorded
+//!   into one encoder per frame ([`Renderer`]);
 //! - [`timing`]: per-pass GPU time from timestamp queries, CPU wall time as the fallback;
 //! - [`readback`] and [`test_support`] for tests.
 //!
@@ -27,6 +30,7 @@ pub mod device;
 mod dirty_ranges;
 pub mod gigabuffer;
 pub mod readback;
+pub mod render;
 pub mod shaders;
 pub mod test_support;
 pub mod timing;
@@ -40,4 +44,5 @@ pub use gigabuffer::{
     ChunkHandle, ChunkLayersData, ChunkRanges, DataKind, Gigabuffer, GigabufferConfig,
     GigabufferError, UploadedChunk,
 };
+pub use render::{Renderer, RendererConfig};
 pub use timing::{GpuTimer, PassTime};

@@ -33,8 +33,28 @@ pub const CULL: ShaderSpec = ShaderSpec {
     body: include_str!("shaders/cull.wgsl"),
 };
 
+/// The renderer's geometry passes (entry points `vs_quad`, `vs_smooth`, `fs_gbuffer`,
+/// `fs_transparent`; see [`crate::render`]).
+pub const GBUFFER: ShaderSpec = ShaderSpec {
+    name: "gbuffer",
+    body: concat!(
+        include_str!("shaders/render_common.wgsl"),
+        include_str!("shaders/gbuffer.wgsl")
+    ),
+};
+
+/// The renderer's full-screen passes (entry points `vs_fullscreen`, `fs_lighting`,
+/// `fs_tonemap`; see [`crate::render`]).
+pub const DEFERRED: ShaderSpec = ShaderSpec {
+    name: "deferred",
+    body: concat!(
+        include_str!("shaders/render_common.wgsl"),
+        include_str!("shaders/deferred.wgsl")
+    ),
+};
+
 /// Every shader of the crate.
-pub const ALL_SHADERS: &[ShaderSpec] = &[FORMAT_PARITY, CULL];
+pub const ALL_SHADERS: &[ShaderSpec] = &[FORMAT_PARITY, CULL, GBUFFER, DEFERRED];
 
 /// `FORMATS_WGSL` followed by `body`: the one place shader sources are put together.
 pub fn compose(name: &str, body: &str) -> String {

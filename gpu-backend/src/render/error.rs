@@ -1,0 +1,83 @@
+//! Why the renderer refused something.
+
+use std::fmt;
+
+use voxel_core::FormatError;
+
+use crate::chunk_table::TableError;
+use crate::cull::CullError;
+use crate::gigabuffer::{ChunkHandle, GigabufferError};
+use crate::readback::ReadbackError;
+use crate::timing::TimerError;
+
+/// An error of the [`Renderer`](super::Renderer): each names the problem, none is a panic.
+#[derive(Debug)]
+pub enum RenderError {
+    /// The output size is zero or larger than the device's texture limit.
+    BadSize {
+        /// Width asked for.
+        width: u32,
+        /// Height asked for.
+        height: u32,
+        /// The device's largest 2D texture edge.
+        max: u32,
+    },
+    /// The device lacks a feature the renderer needs.
+    MissingFeature(&'static str),
+    /// The gigabuffer refused an upload or free.
+    Gigabuffer(GigabufferError),
+    /// The chunk table is full or the slot is stale.
+    Table(TableError),
+    /// The cull pass could not be set up.
+    Cull(CullError),
+    /// A chunk record does not encode (non-finite bounds, range overflow).
+    Format(FormatError),
+    /// A handle that names no resident chunk of this renderer.
+    UnknownChunk(ChunkHandle),
+    /// Reading the image back failed.
+    Readback(ReadbackError),
+    /// Collecting the per-pass times failed.
+    Timer(TimerError),
+}
+
+impl fmt::Display for RenderError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RenderError::BadSize { width, height, max } => write!(
+                f,
+                "output size {width}x{height} is invalid: each side must be 1..={max}"
+            ),
+            RenderError::MissingFeature(feature) => {
+                write!(f, "the device lacks {feature}, which the renderer needs")
+            }
+            RenderError::Gigabuffer(e) => write!(f, "gigabuffer: {e}"),
+            RenderError::Table(e) => write!(f, "chunk table: {e}"),
+            RenderError::Cull(e) => write!(f, "cull pass: {e}"),
+            RenderError::Format(e) => write!(f, "chunk record: {e}"),
+            RenderError::UnknownChunk(h) => {
+                write!(f, "chunk handle {h:?} names no resident chunk")
+            }
+            RenderError::Readback(e) => write!(f, "{e}"),
+            RenderError::Timer(e) => write!(f, "pass timing: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for RenderError {}
+
+macro_rules! from_error {
+    ($source:ty, $variant:ident) => {
+        impl From<$source> for RenderError {
+            fn from(e: $source) -> Self {
+                RenderError::$variant(e)
+            }
+        }
+    };
+}
+
+from_error!(GigabufferError, Gigabuffer);
+from_error!(TableError, Table);
+from_error!(CullError, Cull);
+from_error!(FormatError, Format);
+from_error!(ReadbackError, Readback);
+from_error!(TimerError, Timer);

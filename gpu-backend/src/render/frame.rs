@@ -1,0 +1,191 @@
+//! Per-frame GPU records: the frame uniforms and the smooth-chunk draw records.
+
+use bytemuck::{Pod, Zeroable};
+
+use super::camera::RenderCamera;
+use super::lighting::{LightingParams, LightingUniforms};
+
+/// The uniforms every renderer shader reads (twin of the WGSL `FrameUniforms` in
+/// `shaders/render_common.wgsl`; a unit test checks the layout with naga). 176 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct FrameUniforms {
+    /// Camera-relative view-projection, column-major ([`RenderCamera::view_projection`]).
+    pub view_proj: [[f32; 4]; 4],
+    /// The eye inside its chunk, blocks.
+    pub camera_offset: [f32; 3],
+    /// Chunk edge, blocks.
+    pub chunk_edge: f32,
+    /// The chunk holding the eye.
+    pub camera_chunk: [i32; 3],
+    /// Materials uploaded (larger block ids read entry 0).
+    pub material_count: u32,
+    /// Smooth vertex positions decode over `0..=smooth_extent`.
+    pub smooth_extent: f32,
+    /// Subtracted from decoded smooth positions to make them chunk-local.
+    pub smooth_origin: f32,
+    /// Output width, pixels.
+    pub width: u32,
+    /// Output height, pixels.
+    pub height: u32,
+    /// Light and sky.
+    pub lighting: LightingUniforms,
+}
+
+const _: () = assert!(size_of::<FrameUniforms>() == 176);
+
+/// What [`FrameUniforms::new`] needs besides the camera and lighting.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameShape {
+    /// Output width, pixels.
+    pub width: u32,
+    /// Output height, pixels.
+    pub height: u32,
+    /// Chunk edge, blocks.
+    pub chunk_edge: u32,
+    /// Materials uploaded.
+    pub material_count: u32,
+    /// Smooth vertex extent.
+    pub smooth_extent: f32,
+    /// Smooth vertex origin.
+    pub smooth_origin: f32,
+}
+
+impl FrameUniforms {
+    /// The uniforms of one frame.
+    pub fn new(camera: &RenderCamera, lighting: &LightingParams, shape: &FrameShape) -> Self {
+        FrameUniforms {
+            view_proj: camera.view_projection(shape.width, shape.height),
+            camera_offset: camera.offset,
+            chunk_edge: shape.chunk_edge as f32,
+            camera_chunk: [camera.chunk.x, camera.chunk.y, camera.chunk.z],
+            material_count: shape.material_count,
+            smooth_extent: shape.smooth_extent,
+            smooth_origin: shape.smooth_origin,
+            width: shape.width,
+            height: shape.height,
+            lighting: LightingUniforms::new(lighting),
+        }
+    }
+}
+
+/// One chunk's smooth layer as the smooth draw reads it (twin of the WGSL `SmoothDraw`),
+/// 32 bytes. Written by the renderer each frame for the resident smooth chunks (a side table:
+/// `MeshedChunkInfo` has no smooth-quad range).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct SmoothDraw {
+    /// Chunk minus camera chunk (wrapping), x, y, z.
+    pub chunk: [i32; 3],
+    /// First vertex in the smooth-vertex page (quad indices are relative to it).
+    pub vertex_offset: u32,
+    /// First quad in the smooth-quad page.
+    pub quad_offset: u32,
+    /// Quads.
+    pub quad_count: u32,
+    /// Zero.
+    pub pad: [u32; 2],
+}
+
+const _: () = assert!(size_of::<SmoothDraw>() == 32);
+
+#[cfg(test)]
+mod tests {
+    use std::mem::offset_of;
+
+    use naga::TypeInner;
+
+    use super::*;
+    use crate::shaders::{DEFERRED, GBUFFER, validate};
+
+    fn layout(module: &naga::Module, name: &str) -> (Vec<(String, usize)>, usize) {
+        let ty = module
+            .types
+            .iter()
+            .find(|(_, ty)| ty.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("no struct {name}"))
+            .1;
+        let TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("{name} is not a struct");
+        };
+        let members = members
+            .iter()
+            .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+            .collect();
+        (members, *span as usize)
+    }
+
+    fn check(module: &naga::Module, name: &str, size: usize, expected: &[(&str, usize)]) {
+        let (members, span) = layout(module, name);
+        assert_eq!(span, size, "{name} size");
+        let got: Vec<(&str, usize)> = members.iter().map(|(n, o)| (n.as_str(), *o)).collect();
+        assert_eq!(got, expected, "{name} members");
+    }
+
+    #[test]
+    fn uniforms_and_records_match_their_wgsl_twins() {
+        for spec in [GBUFFER, DEFERRED] {
+            let module = validate(spec.name, &spec.source()).unwrap_or_else(|e| panic!("{e}"));
+            check(
+                &module,
+                "FrameUniforms",
+                size_of::<FrameUniforms>(),
+                &[
+                    ("view_proj", offset_of!(FrameUniforms, view_proj)),
+                    ("camera_offset", offset_of!(FrameUniforms, camera_offset)),
+                    ("chunk_edge", offset_of!(FrameUniforms, chunk_edge)),
+                    ("camera_chunk", offset_of!(FrameUniforms, camera_chunk)),
+                    ("material_count", offset_of!(FrameUniforms, material_count)),
+                    ("smooth_extent", offset_of!(FrameUniforms, smooth_extent)),
+                    ("smooth_origin", offset_of!(FrameUniforms, smooth_origin)),
+                    ("width", offset_of!(FrameUniforms, width)),
+                    ("height", offset_of!(FrameUniforms, height)),
+                    ("lighting", offset_of!(FrameUniforms, lighting)),
+                ],
+            );
+            check(
+                &module,
+                "Lighting",
+                size_of::<LightingUniforms>(),
+                &[
+                    ("sun_direction", offset_of!(LightingUniforms, sun_direction)),
+                    (
+                        "ambient_strength",
+                        offset_of!(LightingUniforms, ambient_strength),
+                    ),
+                    ("sun_colour", offset_of!(LightingUniforms, sun_colour)),
+                    (
+                        "emissive_scale",
+                        offset_of!(LightingUniforms, emissive_scale),
+                    ),
+                    ("sky_colour", offset_of!(LightingUniforms, sky_colour)),
+                    ("exposure", offset_of!(LightingUniforms, exposure)),
+                    ("ground_colour", offset_of!(LightingUniforms, ground_colour)),
+                    ("ao_floor", offset_of!(LightingUniforms, ao_floor)),
+                ],
+            );
+            check(
+                &module,
+                "GpuMaterial",
+                8,
+                &[("colour", 0), ("roughness_emission_class", 4)],
+            );
+        }
+        let module = validate(GBUFFER.name, &GBUFFER.source()).unwrap();
+        check(
+            &module,
+            "SmoothDraw",
+            size_of::<SmoothDraw>(),
+            &[
+                ("chunk_x", 0),
+                ("chunk_y", 4),
+                ("chunk_z", 8),
+                ("vertex_offset", offset_of!(SmoothDraw, vertex_offset)),
+                ("quad_offset", offset_of!(SmoothDraw, quad_offset)),
+                ("quad_count", offset_of!(SmoothDraw, quad_count)),
+                ("pad0", offset_of!(SmoothDraw, pad)),
+                ("pad1", offset_of!(SmoothDraw, pad) + 4),
+            ],
+        );
+    }
+}

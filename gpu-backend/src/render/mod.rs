@@ -1,0 +1,62 @@
+//! The near-field renderer: vertex-pulled draw passes into a G-buffer, deferred lighting,
+//! transparent forward pass, tonemap, all recorded into one encoder per frame.
+//!
+//! ```text
+//!  upload_chunk ─► Gigabuffer (quads, smooth vertices, smooth quads) + MeshedChunkTable
+//!
+//!  record_frame(encoder):
+//!    flush uploads ─► cull (compute, opaque quads) ─► args + records per page
+//!    gbuffer pass:   multi_draw_indexed_indirect(_count) per quad page   (vs_quad, fs_gbuffer)
+//!                    one draw per smooth chunk                           (vs_smooth)
+//!                    ─► albedo+AO, oct normal+material id, reversed-Z depth
+//!    lighting pass:  full screen: sun + hemisphere ambient x AO + emission ─► HDR (Rgba16Float)
+//!    transparent:    CPU-culled, chunks back to front, lit and alpha-blended into HDR
+//!    tonemap:        ACES ─► Rgba8UnormSrgb output (read back with read_image)
+//!    timer resolve   (GpuTimer scopes: cull, gbuffer, lighting, transparent, tonemap)
+//! ```
+//!
+//! **Vertex pulling.** No vertex buffers. A greedy quad ([`PackedQuad`], 8 bytes) becomes 4
+//! corners in `vs_quad`: the shared quad index buffer ([`quad_indices`]) gives
+//! `vertex_index = 4 * quad + slot`, the cull pass's `base_vertex` puts `quad` in the bound
+//! page, and the record at `instance_index` (the command's `first_instance`) holds the chunk.
+//! The AO diagonal flip of the mesher (`mesher::blocky::triangle_indices`) is applied by
+//! renaming slot `k` to corner `(k + flip) & 3`. Smooth quads (4 indices into the chunk's
+//! [`BlockVertex`]es) are expanded with `vertex_index / 6` = quad and
+//! `[0, 1, 2, 0, 2, 3][vertex_index % 6]` = corner.
+//!
+//! **Smooth layer bookkeeping.** `MeshedChunkInfo` has a smooth-vertex range but no
+//! smooth-quad range, and the cull pass does not cull the smooth layer. Rather than grow the
+//! shared 112-byte format, the renderer keeps a side table (the gigabuffer's
+//! [`ChunkRanges`](crate::gigabuffer::ChunkRanges) per resident chunk) and writes one
+//! [`SmoothDraw`] per smooth chunk per frame; each is one direct draw, unculled (depth-tested).
+//!
+//! **Camera-relative.** See [`camera`]: chunk differences in `i32`, small `f32` offsets.
+//!
+//! **Transparent order.** See [`transparent`]: chunks back to front, faces within a chunk
+//! unsorted.
+//!
+//! **Lighting.** See [`lighting`], which also holds the CPU twin of the shading formulas.
+//!
+//! [`PackedQuad`]: voxel_core::formats::PackedQuad
+//! [`BlockVertex`]: voxel_core::formats::BlockVertex
+//! [`quad_indices`]: crate::cull::quad_indices
+
+pub mod camera;
+mod error;
+pub mod frame;
+pub mod lighting;
+pub mod materials;
+mod pipelines;
+mod renderer;
+mod residency;
+pub mod targets;
+pub mod transparent;
+
+pub use camera::{CameraBasis, RenderCamera};
+pub use error::RenderError;
+pub use frame::{FrameShape, FrameUniforms, SmoothDraw};
+pub use lighting::LightingParams;
+pub use materials::{GpuMaterial, gpu_materials};
+pub use renderer::{Renderer, RendererConfig};
+pub use residency::{ChunkMeshData, SmoothFrame, SmoothRanges, chunk_record, mesh_bounds};
+pub use targets::{FrameImage, RenderTargets};

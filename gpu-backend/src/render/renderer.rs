@@ -1,0 +1,603 @@
+//! [`Renderer`]: resident chunks, camera and lighting in; one frame recorded into one encoder.
+
+use std::collections::HashMap;
+
+use wgpu::util::DeviceExt;
+use wgpu::{BindGroup, Buffer, BufferUsages, CommandEncoder, Device, Queue};
+
+use voxel_core::formats::MeshedChunkInfo;
+use voxel_core::{ChunkSize, MaterialPalette};
+
+use super::camera::RenderCamera;
+use super::error::RenderError;
+use super::frame::{FrameShape, FrameUniforms, SmoothDraw};
+use super::lighting::LightingParams;
+use super::materials::gpu_materials;
+use super::pipelines::Pipelines;
+use super::residency::{ChunkMeshData, SmoothFrame, SmoothRanges, chunk_record, mesh_bounds};
+use super::targets::{FrameImage, RenderTargets, read_output};
+use super::transparent::transparent_draws;
+use crate::chunk_table::{MeshedChunkTable, TableSlot};
+use crate::cull::{CullConfig, CullLayer, CullOutput, CullPass, quad_indices};
+use crate::device::GpuContext;
+use crate::gigabuffer::{ChunkHandle, DataKind, Gigabuffer, GigabufferConfig};
+use crate::timing::{GpuTimer, PassTime};
+
+/// How a [`Renderer`] is sized.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RendererConfig {
+    /// Output width, pixels.
+    pub width: u32,
+    /// Output height, pixels.
+    pub height: u32,
+    /// Edge of every chunk.
+    pub chunk_size: ChunkSize,
+    /// Gigabuffer budget per kind.
+    pub gigabuffer: GigabufferConfig,
+    /// Resident chunks at most (the chunk table's capacity).
+    pub max_chunks: u32,
+    /// How smooth vertex positions map to chunk-local blocks.
+    pub smooth: SmoothFrame,
+}
+
+impl RendererConfig {
+    /// A configuration for `width x height` and chunks of `size`: 64 MiB of greedy quads,
+    /// 16 MiB each of smooth vertices and quads, 4096 chunks. Clutter and draw blocks are not
+    /// drawn yet, so they get no space.
+    pub fn new(width: u32, height: u32, size: ChunkSize) -> RendererConfig {
+        const MIB: u64 = 1 << 20;
+        RendererConfig {
+            width,
+            height,
+            chunk_size: size,
+            gigabuffer: GigabufferConfig::empty()
+                .with_bytes(DataKind::Quads, 64 * MIB)
+                .with_bytes(DataKind::SmoothVertices, 16 * MIB)
+                .with_bytes(DataKind::SmoothQuads, 16 * MIB)
+                .with_max_chunks(4096),
+            max_chunks: 4096,
+            smooth: SmoothFrame::nocubes(size),
+        }
+    }
+}
+
+/// A resident chunk.
+#[derive(Debug)]
+struct Resident {
+    slot: TableSlot,
+    smooth: Option<SmoothRanges>,
+}
+
+/// The deferred voxel renderer (see the [module docs](super) for a frame's passes).
+#[derive(Debug)]
+pub struct Renderer {
+    device: Device,
+    queue: Queue,
+    config: RendererConfig,
+    gigabuffer: Gigabuffer,
+    table: MeshedChunkTable,
+    chunks: HashMap<ChunkHandle, Resident>,
+    cull: CullPass,
+    opaque_commands: CullOutput,
+    pipelines: Pipelines,
+    targets: RenderTargets,
+    quad_indices: Buffer,
+    materials: Buffer,
+    material_count: u32,
+    frame_uniforms: Buffer,
+    timer: GpuTimer,
+    camera: RenderCamera,
+    lighting: LightingParams,
+}
+
+impl Renderer {
+    /// A renderer on `ctx` drawing `palette`'s materials. Needs `INDIRECT_FIRST_INSTANCE`
+    /// (the cull pass's commands name their record through `first_instance`).
+    pub fn new(
+        ctx: &GpuContext,
+        config: &RendererConfig,
+        palette: &MaterialPalette,
+    ) -> Result<Renderer, RenderError> {
+        if !ctx.capabilities.indirect_first_instance {
+            return Err(RenderError::MissingFeature("INDIRECT_FIRST_INSTANCE"));
+        }
+        let device = &ctx.device;
+        let targets = RenderTargets::new(device, config.width, config.height)?;
+        let gigabuffer = Gigabuffer::new(device, &ctx.capabilities, &config.gigabuffer)?;
+        let table = MeshedChunkTable::new(
+            device,
+            config.max_chunks,
+            ctx.capabilities.max_storage_buffer_binding_size,
+        )?;
+        let cull = CullPass::new(
+            ctx,
+            gigabuffer.layout(DataKind::Quads),
+            &CullConfig::new(config.chunk_size, config.max_chunks),
+        )?;
+        let opaque_commands = cull.create_output("opaque")?;
+        let indices = quad_indices(cull.layout().max_quads_per_draw);
+        let quad_indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("quad indices"),
+            contents: bytemuck::cast_slice(&indices),
+            usage: BufferUsages::INDEX,
+        });
+        let (materials, material_count) = material_buffer(device, palette);
+        let frame_uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame uniforms"),
+            size: size_of::<FrameUniforms>() as u64,
+            usage: BufferUsages::UNIFORM | BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let edge = config.chunk_size.edge() as i32;
+        Ok(Renderer {
+            device: device.clone(),
+            queue: ctx.queue.clone(),
+            gigabuffer,
+            table,
+            chunks: HashMap::new(),
+            cull,
+            opaque_commands,
+            pipelines: Pipelines::new(device),
+            targets,
+            quad_indices,
+            materials,
+            material_count,
+            frame_uniforms,
+            timer: GpuTimer::new(ctx, 16),
+            camera: RenderCamera::from_world(
+                voxel_core::WorldPos::new(edge / 2, edge / 2, edge / 2),
+                [0.5; 3],
+                config.chunk_size,
+                0.0,
+                0.0,
+                1.0,
+            ),
+            lighting: LightingParams::default(),
+            config: config.clone(),
+        })
+    }
+
+    /// Replaces the material palette.
+    pub fn set_palette(&mut self, palette: &MaterialPalette) {
+        (self.materials, self.material_count) = material_buffer(&self.device, palette);
+    }
+
+    /// Sets the camera of the next frames.
+    pub fn set_camera(&mut self, camera: &RenderCamera) {
+        self.camera = *camera;
+    }
+
+    /// The current camera.
+    pub fn camera(&self) -> &RenderCamera {
+        &self.camera
+    }
+
+    /// Sets the light of the next frames.
+    pub fn set_lighting(&mut self, lighting: &LightingParams) {
+        self.lighting = *lighting;
+    }
+
+    /// Changes the output size (recreates the targets).
+    pub fn resize(&mut self, width: u32, height: u32) -> Result<(), RenderError> {
+        self.targets = RenderTargets::new(&self.device, width, height)?;
+        self.config.width = width;
+        self.config.height = height;
+        Ok(())
+    }
+
+    /// The output and G-buffer textures.
+    pub fn targets(&self) -> &RenderTargets {
+        &self.targets
+    }
+
+    /// The gigabuffer (memory use, layouts).
+    pub fn gigabuffer(&self) -> &Gigabuffer {
+        &self.gigabuffer
+    }
+
+    /// Resident chunks.
+    pub fn chunk_count(&self) -> usize {
+        self.chunks.len()
+    }
+
+    /// Uploads a chunk's mesh (its bytes reach the GPU with the next recorded frame) and
+    /// returns its handle. On error nothing stays allocated.
+    pub fn upload_chunk(&mut self, mesh: &ChunkMeshData<'_>) -> Result<ChunkHandle, RenderError> {
+        let bounds = mesh_bounds(&mesh.layers, self.config.smooth);
+        let uploaded = self.gigabuffer.upload(&mesh.layers)?;
+        let record = chunk_record(mesh.coord, bounds, &uploaded.ranges)
+            .map_err(RenderError::from)
+            .and_then(|record| self.table.insert(record).map_err(RenderError::from));
+        let slot = match record {
+            Ok(slot) => slot,
+            Err(e) => {
+                // The upload succeeded; give its space back before reporting.
+                self.gigabuffer.free(uploaded.handle)?;
+                return Err(e);
+            }
+        };
+        let ranges = uploaded.ranges;
+        let smooth = (ranges.smooth_quads.count > 0).then_some(SmoothRanges {
+            vertices: ranges.smooth_vertices,
+            quads: ranges.smooth_quads,
+        });
+        self.chunks
+            .insert(uploaded.handle, Resident { slot, smooth });
+        Ok(uploaded.handle)
+    }
+
+    /// Frees a resident chunk: its space and table slot. A stale or foreign handle is an
+    /// error and frees nothing.
+    pub fn free_chunk(&mut self, handle: ChunkHandle) -> Result<(), RenderError> {
+        let resident = self
+            .chunks
+            .remove(&handle)
+            .ok_or(RenderError::UnknownChunk(handle))?;
+        self.table.remove(resident.slot)?;
+        self.gigabuffer.free(handle)?;
+        Ok(())
+    }
+
+    /// Records a whole frame into `encoder`: pending uploads, the cull, the G-buffer pass
+    /// (opaque quads, then smooth quads), lighting, the transparent pass and the tonemap, each
+    /// timed by the renderer's [`GpuTimer`], then the timer's resolve. Submit the encoder (on
+    /// the CPU timing path the timer submits parts of it itself), then call
+    /// [`collect_timings`](Self::collect_timings) if wanted.
+    pub fn record_frame(&mut self, encoder: &mut CommandEncoder) -> Result<(), RenderError> {
+        let (width, height) = (self.targets.width, self.targets.height);
+        self.gigabuffer.flush(encoder);
+        self.table.flush(&self.queue);
+        let shape = FrameShape {
+            width,
+            height,
+            chunk_edge: self.config.chunk_size.edge(),
+            material_count: self.material_count,
+            smooth_extent: self.config.smooth.extent,
+            smooth_origin: self.config.smooth.origin,
+        };
+        let uniforms = FrameUniforms::new(&self.camera, &self.lighting, &shape);
+        self.queue
+            .write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&uniforms));
+        let frame_group = self.frame_group();
+        let cull_camera = self.camera.cull_camera(width, height);
+
+        let scope = self.timer.begin(encoder, "cull");
+        self.cull.record(
+            encoder,
+            &self.table,
+            &cull_camera,
+            CullLayer::Opaque,
+            &self.opaque_commands,
+        )?;
+        self.timer.end(encoder, scope);
+
+        let scope = self.timer.begin(encoder, "gbuffer");
+        self.record_gbuffer(encoder, &frame_group);
+        self.timer.end(encoder, scope);
+
+        let scope = self.timer.begin(encoder, "lighting");
+        self.record_fullscreen(encoder, &frame_group, false);
+        self.timer.end(encoder, scope);
+
+        let scope = self.timer.begin(encoder, "transparent");
+        let draws = transparent_draws(self.occupied_records(), &cull_camera, self.cull.layout());
+        self.record_transparent(encoder, &frame_group, &draws);
+        self.timer.end(encoder, scope);
+
+        let scope = self.timer.begin(encoder, "tonemap");
+        self.record_fullscreen(encoder, &frame_group, true);
+        self.timer.end(encoder, scope);
+        self.timer.resolve(encoder);
+        Ok(())
+    }
+
+    /// Records and submits one frame, waits for it, and returns its per-pass times.
+    pub fn render(&mut self) -> Result<Vec<PassTime>, RenderError> {
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        self.record_frame(&mut encoder)?;
+        self.queue.submit([encoder.finish()]);
+        self.collect_timings()
+    }
+
+    /// The last submitted frame's per-pass times (waits for the GPU).
+    pub fn collect_timings(&mut self) -> Result<Vec<PassTime>, RenderError> {
+        self.timer.collect().map_err(RenderError::Timer)
+    }
+
+    /// Reads the last frame's output and depth back (blocks).
+    pub fn read_image(&self) -> Result<FrameImage, RenderError> {
+        read_output(&self.device, &self.queue, &self.targets)
+    }
+
+    /// The table records of the resident chunks.
+    fn occupied_records(&self) -> impl Iterator<Item = &MeshedChunkInfo> + '_ {
+        self.chunks.values().filter_map(|r| self.table.get(r.slot))
+    }
+
+    fn frame_group(&self) -> BindGroup {
+        self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout: &self.pipelines.frame_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: self.frame_uniforms.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.materials.as_entire_binding(),
+                },
+            ],
+        })
+    }
+
+    /// Group 1 of the quad pipelines: quad page `page` and `records`.
+    fn quad_group(&self, page: u32, records: &Buffer) -> Option<BindGroup> {
+        let quads = self.gigabuffer.page(DataKind::Quads, page)?;
+        Some(self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("quads"),
+            layout: &self.pipelines.quad_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: quads.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: records.as_entire_binding(),
+                },
+            ],
+        }))
+    }
+
+    fn record_gbuffer(&self, encoder: &mut CommandEncoder, frame_group: &BindGroup) {
+        let clear = |view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let smooth = self.smooth_batches();
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("gbuffer"),
+            color_attachments: &[clear(&self.targets.albedo), clear(&self.targets.normal)],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.targets.depth,
+                // Reversed-Z: 0 is infinitely far.
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipelines.quad_gbuffer);
+        pass.set_bind_group(0, frame_group, &[]);
+        pass.set_index_buffer(self.quad_indices.slice(..), wgpu::IndexFormat::Uint32);
+        for page in 0..self.cull.layout().page_count {
+            if let Some(group) = self.quad_group(page, self.opaque_commands.records()) {
+                pass.set_bind_group(1, &group, &[]);
+                self.opaque_commands.draw_page(&mut pass, page);
+            }
+        }
+        if !smooth.is_empty() {
+            pass.set_pipeline(&self.pipelines.smooth_gbuffer);
+            pass.set_bind_group(0, frame_group, &[]);
+            for (group, draws) in &smooth {
+                pass.set_bind_group(1, group, &[]);
+                for (i, draw) in draws {
+                    pass.draw(0..6 * draw.quad_count, *i..*i + 1);
+                }
+            }
+        }
+    }
+
+    /// The smooth draws of the resident chunks, grouped by the pages they read.
+    fn smooth_batches(&self) -> Vec<(BindGroup, Vec<(u32, SmoothDraw)>)> {
+        let vertices = self
+            .gigabuffer
+            .layout(DataKind::SmoothVertices)
+            .page_capacity;
+        let quads = self.gigabuffer.layout(DataKind::SmoothQuads).page_capacity;
+        let camera = self.camera.chunk;
+        let mut by_pages: HashMap<(u32, u32), Vec<SmoothDraw>> = HashMap::new();
+        for resident in self.chunks.values() {
+            let (Some(smooth), Some(info)) = (resident.smooth, self.table.get(resident.slot))
+            else {
+                continue;
+            };
+            let (Some(vp), Some(qp)) = (
+                smooth.vertices.offset.checked_div(vertices),
+                smooth.quads.offset.checked_div(quads),
+            ) else {
+                continue;
+            };
+            by_pages.entry((vp, qp)).or_default().push(SmoothDraw {
+                chunk: [
+                    info.chunk[0].wrapping_sub(camera.x),
+                    info.chunk[1].wrapping_sub(camera.y),
+                    info.chunk[2].wrapping_sub(camera.z),
+                ],
+                vertex_offset: smooth.vertices.offset % vertices,
+                quad_offset: smooth.quads.offset % quads,
+                quad_count: smooth.quads.count,
+                pad: [0; 2],
+            });
+        }
+        let mut batches = Vec::new();
+        for ((vp, qp), draws) in by_pages {
+            let (Some(vertex_page), Some(quad_page)) = (
+                self.gigabuffer.page(DataKind::SmoothVertices, vp),
+                self.gigabuffer.page(DataKind::SmoothQuads, qp),
+            ) else {
+                continue;
+            };
+            let records = self
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("smooth draws"),
+                    contents: bytemuck::cast_slice(&draws),
+                    usage: BufferUsages::STORAGE,
+                });
+            let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("smooth"),
+                layout: &self.pipelines.smooth_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: vertex_page.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: quad_page.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: records.as_entire_binding(),
+                    },
+                ],
+            });
+            batches.push((group, (0u32..).zip(draws).collect()));
+        }
+        batches
+    }
+
+    fn record_transparent(
+        &self,
+        encoder: &mut CommandEncoder,
+        frame_group: &BindGroup,
+        draws: &[super::transparent::TransparentDraw],
+    ) {
+        if draws.is_empty() {
+            return;
+        }
+        let records: Vec<_> = draws.iter().map(|d| d.record).collect();
+        let records = self
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("transparent records"),
+                contents: bytemuck::cast_slice(&records),
+                usage: BufferUsages::STORAGE,
+            });
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("transparent"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.targets.hdr,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.targets.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipelines.quad_transparent);
+        pass.set_bind_group(0, frame_group, &[]);
+        pass.set_index_buffer(self.quad_indices.slice(..), wgpu::IndexFormat::Uint32);
+        let mut bound = None;
+        for draw in draws {
+            if bound != Some(draw.page) {
+                let Some(group) = self.quad_group(draw.page, &records) else {
+                    continue;
+                };
+                pass.set_bind_group(1, &group, &[]);
+                bound = Some(draw.page);
+            }
+            let r = draw.record;
+            pass.draw_indexed(
+                0..r.index_count,
+                r.base_vertex,
+                r.first_instance..r.first_instance + 1,
+            );
+        }
+    }
+
+    /// The lighting pass (`tonemap = false`: G-buffer to HDR) or the tonemap pass (HDR to the
+    /// output).
+    fn record_fullscreen(
+        &self,
+        encoder: &mut CommandEncoder,
+        frame_group: &BindGroup,
+        tonemap: bool,
+    ) {
+        let t = &self.targets;
+        let texture = |binding, view| wgpu::BindGroupEntry {
+            binding,
+            resource: wgpu::BindingResource::TextureView(view),
+        };
+        let (pipeline, layout, entries, target) = if tonemap {
+            (
+                &self.pipelines.tonemap,
+                &self.pipelines.hdr_read_layout,
+                vec![texture(3, &t.hdr)],
+                &t.output,
+            )
+        } else {
+            (
+                &self.pipelines.lighting,
+                &self.pipelines.gbuffer_read_layout,
+                vec![
+                    texture(0, &t.albedo),
+                    texture(1, &t.normal),
+                    texture(2, &t.depth),
+                ],
+                &t.hdr,
+            )
+        };
+        let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(if tonemap { "hdr read" } else { "gbuffer read" }),
+            layout,
+            entries: &entries,
+        });
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(if tonemap { "tonemap" } else { "lighting" }),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, frame_group, &[]);
+        pass.set_bind_group(1, &group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
+
+/// The palette as a storage buffer, and its entry count.
+fn material_buffer(device: &Device, palette: &MaterialPalette) -> (Buffer, u32) {
+    let materials = gpu_materials(palette);
+    let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("materials"),
+        contents: bytemuck::cast_slice(&materials),
+        usage: BufferUsages::STORAGE,
+    });
+    (buffer, materials.len() as u32)
+}

@@ -1,0 +1,100 @@
+//! Chunks resident in the renderer: their gigabuffer space, table slot and bounds.
+
+use voxel_core::ChunkCoord;
+use voxel_core::formats::quantize::UnormExtent;
+use voxel_core::formats::{LayerRange, MeshedChunkInfo, MeshedChunkInfoFields, PackedQuad};
+
+use crate::gigabuffer::{ChunkLayersData, ChunkRanges};
+
+/// One chunk's mesh, ready to upload: its coordinate and its packed layers (borrowed from
+/// the mesher's output; see [`ChunkLayersData`]).
+#[derive(Clone, Copy, Debug)]
+pub struct ChunkMeshData<'a> {
+    /// The chunk's coordinate.
+    pub coord: ChunkCoord,
+    /// Its packed layers. Clutter and draw blocks are stored but not drawn yet.
+    pub layers: ChunkLayersData<'a>,
+}
+
+/// The smooth layer of a resident chunk (global element ranges).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SmoothRanges {
+    /// Vertices in the smooth-vertex gigabuffer.
+    pub vertices: LayerRange,
+    /// Quads in the smooth-quad gigabuffer (indices relative to the first vertex).
+    pub quads: LayerRange,
+}
+
+/// How smooth vertex positions map to chunk-local blocks: decode over `0..=extent`, then
+/// subtract `origin` (the mesher's NoCubes output: the padded chunk's extent, origin 1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SmoothFrame {
+    /// The unorm16 extent the mesher packed positions over.
+    pub extent: f32,
+    /// The chunk-local position of decoded 0.
+    pub origin: f32,
+}
+
+impl SmoothFrame {
+    /// The frame of the mesher's NoCubes output for chunks of `size`.
+    pub fn nocubes(size: voxel_core::ChunkSize) -> SmoothFrame {
+        SmoothFrame {
+            extent: UnormExtent::padded_chunk(size).get(),
+            origin: 1.0,
+        }
+    }
+}
+
+/// The chunk-local bounding box (centre, half extent) of a chunk's quads and smooth vertices,
+/// or `None` when it has neither.
+pub fn mesh_bounds(
+    layers: &ChunkLayersData<'_>,
+    smooth: SmoothFrame,
+) -> Option<([f32; 3], [f32; 3])> {
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    let mut grow = |p: [f32; 3]| {
+        for i in 0..3 {
+            lo[i] = lo[i].min(p[i]);
+            hi[i] = hi[i].max(p[i]);
+        }
+    };
+    let quads = layers.opaque_quads.iter().chain(&layers.transparent_quads);
+    for quad in quads.flat_map(|f| f.iter()) {
+        // A quad that does not decode is drawn as garbage by the GPU but cannot be bounded;
+        // bound it by its raw position so it still lands in the box.
+        let fields = PackedQuad::decode(*quad);
+        match fields {
+            Ok(f) => f.corners().iter().for_each(|c| grow(c.map(|v| v as f32))),
+            Err(_) => grow([0.0; 3]),
+        }
+    }
+    let extent = UnormExtent::new(smooth.extent).unwrap_or(UnormExtent::UNIT);
+    for v in layers.smooth_vertices {
+        let p = v.decode(extent).position.to_array();
+        grow(p.map(|c| c - smooth.origin));
+    }
+    (lo[0] <= hi[0]).then(|| {
+        (
+            std::array::from_fn(|i| (lo[i] + hi[i]) * 0.5),
+            std::array::from_fn(|i| (hi[i] - lo[i]) * 0.5),
+        )
+    })
+}
+
+/// The chunk-table record of a chunk uploaded at `ranges`.
+pub fn chunk_record(
+    coord: ChunkCoord,
+    bounds: Option<([f32; 3], [f32; 3])>,
+    ranges: &ChunkRanges,
+) -> Result<MeshedChunkInfo, voxel_core::FormatError> {
+    let (centre, extent) = bounds.unwrap_or(([0.0; 3], [0.0; 3]));
+    let mut fields = MeshedChunkInfoFields {
+        chunk: coord,
+        centre: centre.into(),
+        extent: extent.into(),
+        ..Default::default()
+    };
+    ranges.apply_to(&mut fields);
+    MeshedChunkInfo::encode(&fields)
+}

@@ -1,0 +1,183 @@
+//! The renderer's textures (G-buffer, HDR, output) and reading the output back.
+//!
+//! | target  | format            | holds                                                  |
+//! | ------- | ----------------- | ------------------------------------------------------ |
+//! | albedo  | `Rgba8Unorm`      | the palette's sRGB colour bytes as is, alpha = AO / 3  |
+//! | normal  | `Rg32Uint`        | octahedral 16+16 normal (`oct32`), block id (material) |
+//! | depth   | `Depth32Float`    | reversed-Z `near / view_z`, cleared to 0 (sky)         |
+//! | hdr     | `Rgba16Float`     | lit linear colour; transparent faces blend into it     |
+//! | output  | `Rgba8UnormSrgb`  | tonemapped, sRGB-encoded by the hardware               |
+//!
+//! Albedo is stored sRGB-encoded and decoded in the lighting pass, so the palette's bytes pass
+//! through exactly; the material id lets the lighting pass read emission (and, later,
+//! roughness) from the palette.
+
+use wgpu::{Device, Extent3d, Queue, Texture, TextureFormat, TextureUsages, TextureView};
+
+use super::error::RenderError;
+use crate::readback::read_buffer;
+
+/// G-buffer albedo + AO.
+pub const ALBEDO_FORMAT: TextureFormat = TextureFormat::Rgba8Unorm;
+/// G-buffer normal + material.
+pub const NORMAL_FORMAT: TextureFormat = TextureFormat::Rg32Uint;
+/// Depth (reversed-Z).
+pub const DEPTH_FORMAT: TextureFormat = TextureFormat::Depth32Float;
+/// Lit linear colour.
+pub const HDR_FORMAT: TextureFormat = TextureFormat::Rgba16Float;
+/// The tonemapped output.
+pub const OUTPUT_FORMAT: TextureFormat = TextureFormat::Rgba8UnormSrgb;
+
+/// The textures of one output size.
+#[derive(Debug)]
+pub struct RenderTargets {
+    /// Width, pixels.
+    pub width: u32,
+    /// Height, pixels.
+    pub height: u32,
+    /// G-buffer albedo + AO.
+    pub albedo: TextureView,
+    /// G-buffer normal + material.
+    pub normal: TextureView,
+    /// Depth texture (read back by [`read_output`]).
+    pub depth_texture: Texture,
+    /// Depth view.
+    pub depth: TextureView,
+    /// Lit linear colour.
+    pub hdr: TextureView,
+    /// Output texture (read back by [`read_output`]; usable as a copy source).
+    pub output_texture: Texture,
+    /// Output view.
+    pub output: TextureView,
+}
+
+impl RenderTargets {
+    /// Textures for `width x height`, or [`RenderError::BadSize`].
+    pub fn new(device: &Device, width: u32, height: u32) -> Result<RenderTargets, RenderError> {
+        let max = device.limits().max_texture_dimension_2d;
+        if width == 0 || height == 0 || width > max || height > max {
+            return Err(RenderError::BadSize { width, height, max });
+        }
+        let texture = |label: &str, format: TextureFormat, usage: TextureUsages| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let attachment = TextureUsages::RENDER_ATTACHMENT | TextureUsages::TEXTURE_BINDING;
+        let view = |t: &Texture| t.create_view(&Default::default());
+        let albedo = texture("gbuffer albedo", ALBEDO_FORMAT, attachment);
+        let normal = texture("gbuffer normal", NORMAL_FORMAT, attachment);
+        let depth_texture = texture("depth", DEPTH_FORMAT, attachment | TextureUsages::COPY_SRC);
+        let hdr = texture("hdr", HDR_FORMAT, attachment);
+        let output_texture = texture(
+            "output",
+            OUTPUT_FORMAT,
+            attachment | TextureUsages::COPY_SRC,
+        );
+        Ok(RenderTargets {
+            width,
+            height,
+            albedo: view(&albedo),
+            normal: view(&normal),
+            depth: view(&depth_texture),
+            depth_texture,
+            hdr: view(&hdr),
+            output: view(&output_texture),
+            output_texture,
+        })
+    }
+}
+
+/// The output read back: RGBA8 (sRGB) and the raw reversed-Z depth per pixel, row-major.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameImage {
+    /// Width, pixels.
+    pub width: u32,
+    /// Height, pixels.
+    pub height: u32,
+    /// RGBA8, sRGB-encoded, alpha 255.
+    pub rgba: Vec<u8>,
+    /// Reversed-Z depth (`near / view_z`; 0 where nothing was drawn).
+    pub depth: Vec<f32>,
+}
+
+/// Copies `texture` (4 bytes per texel, `aspect`) to the CPU, rows tightly packed.
+fn read_texture(
+    device: &Device,
+    queue: &Queue,
+    texture: &Texture,
+    aspect: wgpu::TextureAspect,
+) -> Result<Vec<u8>, RenderError> {
+    let (width, height) = (texture.width(), texture.height());
+    let row = width * 4;
+    let padded_row =
+        row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("texture readback"),
+        size: u64::from(padded_row) * u64::from(height),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    encoder.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded_row),
+                rows_per_image: None,
+            },
+        },
+        texture.size(),
+    );
+    queue.submit([encoder.finish()]);
+    let bytes = read_buffer(device, queue, &buffer, 0, buffer.size())?;
+    Ok(bytes
+        .chunks(padded_row as usize)
+        .flat_map(|r| &r[..row as usize])
+        .copied()
+        .collect())
+}
+
+/// Reads the output colour and the depth of `targets` (blocks until the GPU is done).
+pub fn read_output(
+    device: &Device,
+    queue: &Queue,
+    targets: &RenderTargets,
+) -> Result<FrameImage, RenderError> {
+    let rgba = read_texture(
+        device,
+        queue,
+        &targets.output_texture,
+        wgpu::TextureAspect::All,
+    )?;
+    let depth = read_texture(
+        device,
+        queue,
+        &targets.depth_texture,
+        wgpu::TextureAspect::DepthOnly,
+    )?;
+    Ok(FrameImage {
+        width: targets.width,
+        height: targets.height,
+        rgba,
+        depth: bytemuck::pod_collect_to_vec(&depth),
+    })
+}

@@ -1,0 +1,107 @@
+// Geometry passes by vertex pulling (no vertex buffers): greedy PackedQuads and smooth
+// BlockVertex quads into the G-buffer (opaque), and PackedQuads forward-shaded with blending
+// (transparent). render_common.wgsl comes before this body, FORMATS_WGSL before that.
+//
+// Quads: the shared index buffer holds 4q + (0, 1, 2, 0, 2, 3); draws start at index 0 with
+// base_vertex = 4 * (in-page index of the first quad), so vertex_index >> 2 is the quad in the
+// bound page and vertex_index & 3 the corner slot. records[instance_index] is the draw's
+// ChunkDrawIndirect (first_instance = its index), holding the camera-relative chunk.
+
+@group(0) @binding(0) var<uniform> frame: FrameUniforms;
+@group(0) @binding(1) var<storage, read> materials: array<GpuMaterial>;
+
+@group(1) @binding(0) var<storage, read> quads: array<PackedQuad>;
+@group(1) @binding(1) var<storage, read> records: array<ChunkDrawIndirect>;
+
+// One smooth chunk: its camera-relative chunk and where its vertices and quads live (twin of
+// render::SmoothDraw).
+struct SmoothDraw {
+    chunk_x: i32,
+    chunk_y: i32,
+    chunk_z: i32,
+    vertex_offset: u32,
+    quad_offset: u32,
+    quad_count: u32,
+    pad0: u32,
+    pad1: u32,
+}
+
+@group(1) @binding(2) var<storage, read> smooth_vertices: array<BlockVertex>;
+@group(1) @binding(3) var<storage, read> smooth_quads: array<vec4<u32>>;
+@group(1) @binding(4) var<storage, read> smooth_draws: array<SmoothDraw>;
+
+struct SurfaceVaryings {
+    @builtin(position) position: vec4<f32>,
+    @location(0) @interpolate(flat) block: u32,
+    // Ambient occlusion, 0..=3, interpolated across the triangle.
+    @location(1) ao: f32,
+    // Constant over a greedy quad, per vertex on smooth surfaces.
+    @location(2) normal: vec3<f32>,
+}
+
+// Camera-relative position of chunk-local point `local` of chunk `rel` (already chunk -
+// camera chunk): every term is small, so nothing large is ever an f32.
+fn relative_position(rel: vec3<i32>, local: vec3<f32>) -> vec4<f32> {
+    let p = (vec3<f32>(rel) * frame.chunk_edge - frame.camera_offset) + local;
+    return frame.view_proj * vec4<f32>(p, 1.0);
+}
+
+@vertex
+fn vs_quad(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> SurfaceVaryings {
+    let q = quads[vertex >> 2u];
+    // The AO diagonal flip of mesher::blocky::triangle_indices: split along corners 1-3 when
+    // they are brighter, by renaming corner slot k to corner (k + 1) & 3.
+    let flip = packed_quad_ao(q, 1u) + packed_quad_ao(q, 3u) > packed_quad_ao(q, 0u) + packed_quad_ao(q, 2u);
+    let corner = ((vertex & 3u) + u32(flip)) & 3u;
+    let rel = chunk_draw_indirect_chunk(records[instance]);
+    let n = vec3<f32>(face_normal(packed_quad_face(q)));
+    var out: SurfaceVaryings;
+    out.position = relative_position(rel, vec3<f32>(packed_quad_corner(q, corner)));
+    out.block = packed_quad_block(q);
+    out.ao = f32(packed_quad_ao(q, corner));
+    out.normal = n;
+    return out;
+}
+
+@vertex
+fn vs_smooth(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> SurfaceVaryings {
+    let draw = smooth_draws[instance];
+    let quad = smooth_quads[draw.quad_offset + vertex / 6u];
+    // Triangles (a, b, c) and (a, c, d) of the quad's corners.
+    let slot = array<u32, 6>(0u, 1u, 2u, 0u, 2u, 3u)[vertex % 6u];
+    let v = smooth_vertices[draw.vertex_offset + quad[slot]];
+    let local = block_vertex_position(v, frame.smooth_extent) - vec3<f32>(frame.smooth_origin);
+    let n = block_vertex_normal(v);
+    var out: SurfaceVaryings;
+    out.position = relative_position(vec3<i32>(draw.chunk_x, draw.chunk_y, draw.chunk_z), local);
+    out.block = block_vertex_block(v);
+    out.ao = 3.0;
+    out.normal = n;
+    return out;
+}
+
+struct GBufferOut {
+    // sRGB albedo (exact palette bytes), alpha = AO / 3.
+    @location(0) albedo_ao: vec4<f32>,
+    // Octahedral 16+16 normal, block id.
+    @location(1) normal_material: vec2<u32>,
+}
+
+@fragment
+fn fs_gbuffer(in: SurfaceVaryings) -> GBufferOut {
+    let m = material_of(in.block);
+    var out: GBufferOut;
+    out.albedo_ao = vec4<f32>(material_srgba(m).rgb, clamp(in.ao / 3.0, 0.0, 1.0));
+    out.normal_material = vec2<u32>(oct32_encode(normalize(in.normal)), in.block);
+    return out;
+}
+
+// Transparent quads: lit here (forward) with the deferred lighting model and blended over the
+// lit opaque image with the palette alpha.
+@fragment
+fn fs_transparent(in: SurfaceVaryings) -> @location(0) vec4<f32> {
+    let m = material_of(in.block);
+    let srgba = material_srgba(m);
+    let colour = shade(srgb_to_linear(srgba.rgb), in.normal, in.ao, material_emission(m));
+    return vec4<f32>(colour, srgba.a);
+}

@@ -1,0 +1,85 @@
+// Shared by the renderer's shaders (gbuffer.wgsl, deferred.wgsl): the frame uniforms, the GPU
+// material palette, and the lighting model. Twins: render/frame.rs (FrameUniforms),
+// render/lighting.rs (Lighting, shade, aces: the CPU twin of the formulas, same operation
+// order), render/materials.rs (GpuMaterial). Layouts are checked with naga in unit tests.
+
+struct Lighting {
+    sun_direction: vec3<f32>,
+    ambient_strength: f32,
+    sun_colour: vec3<f32>,
+    emissive_scale: f32,
+    sky_colour: vec3<f32>,
+    exposure: f32,
+    ground_colour: vec3<f32>,
+    ao_floor: f32,
+}
+
+struct FrameUniforms {
+    // Camera-relative positions (eye at the origin, blocks) to clip space; reversed-Z.
+    view_proj: mat4x4<f32>,
+    // The eye inside its chunk, blocks.
+    camera_offset: vec3<f32>,
+    chunk_edge: f32,
+    camera_chunk: vec3<i32>,
+    material_count: u32,
+    // BlockVertex positions decode over 0..=smooth_extent, then smooth_origin is subtracted.
+    smooth_extent: f32,
+    smooth_origin: f32,
+    width: u32,
+    height: u32,
+    lighting: Lighting,
+}
+
+struct GpuMaterial {
+    colour: u32,
+    roughness_emission_class: u32,
+}
+
+// Material `id`, or entry 0 for an id past the palette (never an out-of-bounds read).
+fn material_of(id: u32) -> GpuMaterial {
+    return materials[select(0u, id, id < frame.material_count)];
+}
+
+// sRGB-encoded RGBA, each channel 0..=1.
+fn material_srgba(m: GpuMaterial) -> vec4<f32> {
+    return unpack4x8unorm(m.colour);
+}
+
+// Emission, 0..=1.
+fn material_emission(m: GpuMaterial) -> f32 {
+    return f32((m.roughness_emission_class >> 8u) & 0xffu) / 255.0;
+}
+
+fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
+    return select(pow((c + 0.055) / 1.055, vec3<f32>(2.4)), c / 12.92, c <= vec3<f32>(0.04045));
+}
+
+// Linear colour of a surface point: hemisphere ambient scaled by AO (0..=3), Lambert sun,
+// emission. The twin of lighting::shade.
+fn shade(albedo: vec3<f32>, n: vec3<f32>, ao: f32, emission: f32) -> vec3<f32> {
+    let l = frame.lighting;
+    let hemisphere = 0.5 + 0.5 * n.y;
+    let ambient = l.ground_colour + (l.sky_colour - l.ground_colour) * hemisphere;
+    let occlusion = (l.ao_floor + (1.0 - l.ao_floor) * (ao / 3.0)) * l.ambient_strength;
+    let n_dot_l = max(n.x * l.sun_direction.x + n.y * l.sun_direction.y + n.z * l.sun_direction.z, 0.0);
+    let light = ambient * occlusion + l.sun_colour * n_dot_l;
+    return albedo * light + albedo * (emission * l.emissive_scale);
+}
+
+// Narkowicz's ACES fit, clamped; the twin of lighting::aces.
+fn aces(x: vec3<f32>) -> vec3<f32> {
+    return clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), vec3<f32>(0.0), vec3<f32>(1.0));
+}
+
+// Octahedral 16+16 encoding of a unit vector, rounded to nearest; oct32_decode (formats) is
+// its inverse. Axis-aligned normals round-trip exactly.
+fn oct32_encode(n: vec3<f32>) -> u32 {
+    let l1 = abs(n.x) + abs(n.y) + abs(n.z);
+    var p = n.xy / l1;
+    if n.z < 0.0 {
+        let s = select(vec2<f32>(-1.0), vec2<f32>(1.0), p >= vec2<f32>(0.0));
+        p = (1.0 - abs(p.yx)) * s;
+    }
+    let c = vec2<i32>(round(clamp(p, vec2<f32>(-1.0), vec2<f32>(1.0)) * 32767.0));
+    return (bitcast<u32>(c.x) & 0xffffu) | (bitcast<u32>(c.y) << 16u);
+}
