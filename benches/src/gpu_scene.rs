@@ -76,14 +76,16 @@ impl MeshedTerrain {
             .sum()
     }
 
-    /// Block columns per side of the square the first `n` chunks cover (their largest ring).
+    /// Block columns per side of the square the first `n` chunks cover (the larger of their
+    /// x and z spans).
     pub fn covered_side(&self, n: usize) -> u32 {
-        let ring = self.meshes[..n.min(self.meshes.len())]
-            .iter()
-            .map(|m| m.coord.x.unsigned_abs().max(m.coord.z.unsigned_abs()))
-            .max()
-            .unwrap_or(0);
-        (2 * ring + 1) * self.size.edge()
+        let chunks = &self.meshes[..n.min(self.meshes.len())];
+        let span = |axis: fn(&ChunkMesh) -> i32| {
+            let lo = chunks.iter().map(axis).min().unwrap_or(0);
+            let hi = chunks.iter().map(axis).max().unwrap_or(-1);
+            (hi - lo + 1) as u32
+        };
+        span(|m| m.coord.x).max(span(|m| m.coord.z)) * self.size.edge()
     }
 }
 

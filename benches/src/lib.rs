@@ -7,6 +7,7 @@
 //! | module | what it holds |
 //! | --- | --- |
 //! | [`cpu_time`] | [`ThreadCpuTime`](cpu_time::ThreadCpuTime), the criterion clock the bench targets use by default (`BENCH_CLOCK=wall` for wall time) |
+//! | [`gpu_bench`] | the GPU benchmark (binary `gpu_bench`): terrain scenes of growing chunk counts drawn by the renderer, GPU time per pass, bytes, CPU frame time |
 //! | [`gpu_scene`] | the GPU benchmark's scene: the viewer's terrain over `side x side` columns, meshed, nearest chunks first |
 //! | [`rng`] | a tiny seeded PRNG, so every input is the same on every machine and every run |
 //! | [`inputs::chunks`] | terrain chunks with caves (32^3, 62^3), a world of 27 of them, uniform and random chunks, random positions |
@@ -30,6 +31,7 @@
 //! ```
 
 pub mod cpu_time;
+pub mod gpu_bench;
 pub mod gpu_scene;
 pub mod inputs;
 pub mod mesh_inputs;
