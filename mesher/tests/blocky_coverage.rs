@@ -72,8 +72,12 @@ fn every_size_and_fill_once() {
             Fill::Noise { air_percent: 50 },
             Fill::Boxes { count: 20 },
             Fill::Terrain,
+            Fill::Checkerboard,
         ] {
-            check_all(size, 7, fill, true, true);
+            // Two seeds: the checkerboard is of one id for one of them, of mixed ids for the other.
+            for seed in [7, 8] {
+                check_all(size, seed, fill, true, true);
+            }
         }
     }
 }

@@ -14,26 +14,31 @@
 //! `across` those whose face in the next line does, so both growth steps are whole-line bit
 //! operations (a run of equal keys is a run of ones) with no data-dependent loop over keys.
 //!
-//! Faces with no neighbouring face in the slice (found per line with two shifts and three ORs)
-//! can only ever be 1 x 1 quads, whatever order the greedy pass takes: they are emitted
-//! straight away, without a key table entry. So are, once the masks are known, faces none of
-//! whose 4 neighbours has an equal key (a quad covering one would need an equal neighbour);
-//! removing them changes no other quad.
+//! Faces none of whose 4 neighbours has an equal key can only ever be 1 x 1 quads, whatever
+//! order the greedy pass takes (a quad covering one would need an equal neighbour): once the
+//! masks are known they are emitted straight away, and removing them changes no other quad.
+//! On terrain they are most faces.
 //!
-//! Unknown ids are checked once per quad of the opaque layer; ids below 64 that passed are
-//! cached as bits, a test that stays predictable when neighbouring faces alternate ids.
+//! Keys are computed and alone faces emitted from a flat list of the slice's faces
+//! ([`Positions`]), not by looping over the bits of each line: a surface of a few faces per
+//! line would otherwise cost a mispredicted loop exit per line and per pass.
+//!
+//! Unknown ids are checked once per face (greedy) or quad (one quad per face) of the opaque
+//! layer; ids below 64 that passed are cached as bits, a test that stays predictable when
+//! neighbouring faces alternate ids.
 
 use voxel_core::BlockId;
 use voxel_core::formats::PackedQuad;
 
 use super::masks::Slice;
+use super::positions::{Positions, line_bit};
 use super::slices::Direction;
 use crate::{BlockClasses, MeshError};
 
-/// Scratch of the greedy pass for one slice: the key of every face by line and bit, and per
-/// line which neighbouring faces have equal keys. Only entries of faces (and of lines with
-/// faces) that take part in merging are meaningful; everything is rewritten before it is read,
-/// so nothing is cleared between slices.
+/// Scratch of the greedy pass for one slice: the key of every face by line and bit, per line
+/// which neighbouring faces have equal keys, and the face lists of the passes (see
+/// [`Positions`]). Only entries of faces (and of lines with faces) that take part in merging are
+/// meaningful; everything is rewritten before it is read, so nothing is cleared between slices.
 #[derive(Clone, Debug)]
 pub(crate) struct Keys {
     /// Key by line and bit.
@@ -42,6 +47,10 @@ pub(crate) struct Keys {
     along: Slice,
     /// `across[l]` bit `b`: the faces at `(l, b)` and `(l + 1, b)` merge and have equal keys.
     across: Slice,
+    /// `alone[l]` bit `b`: the face at `(l, b)` has no neighbour with an equal key.
+    alone: Slice,
+    /// The faces of the slice, line by line.
+    list: Positions,
 }
 
 impl Keys {
@@ -51,6 +60,8 @@ impl Keys {
             keys: [[0; 64]; 64],
             along: [0; 64],
             across: [0; 64],
+            alone: [0; 64],
+            list: Positions::new(),
         }
     }
 }
@@ -96,6 +107,13 @@ impl Quads<'_> {
         self.buf[self.len & 4095] = q;
         self.len += 1;
     }
+
+    /// Writes `q` past the end, and keeps it (moves the end) only if `keep`: no branch.
+    #[inline(always)]
+    fn push_if(&mut self, q: PackedQuad, keep: bool) {
+        self.buf[self.len & 4095] = q;
+        self.len += usize::from(keep);
+    }
 }
 
 impl<const D: usize> SliceFaces<'_, D> {
@@ -109,45 +127,14 @@ impl<const D: usize> SliceFaces<'_, D> {
         )
     }
 
-    /// The ids of the line whose voxel 0 is at index `line`, as a 64-id row when the bits run
-    /// along x (contiguous ids: ±Y and ±Z faces) and the row fits in the array.
+    /// The key of the face at line `l`, bit `b`: its id and, with `AO`, its 4 corner values.
     #[inline(always)]
-    fn row(&self, line: usize) -> Option<&[u16; 64]> {
-        if Direction::<D>::LAYOUT == 2 {
-            return None;
-        }
-        self.voxels
-            .get(line..line + 64)
-            .and_then(|r| <&[u16; 64]>::try_from(r).ok())
-    }
-
-    /// The id at bit `b` of the line whose voxel 0 is at index `line`, `row` its ids if
-    /// [`row`](Self::row) gave them.
-    #[inline(always)]
-    fn id(&self, row: Option<&[u16; 64]>, line: usize, b: usize) -> u32 {
-        u32::from(match row {
-            Some(row) => row[b & 63],
-            None => self
-                .voxels
-                .get(line + b * self.stride_b)
-                .copied()
-                .unwrap_or(0),
-        })
-    }
-
-    /// The key of the face at bit `b` of the line whose voxel 0 is at index `line`.
-    #[inline(always)]
-    fn key<const AO: bool>(
-        &self,
-        row: Option<&[u16; 64]>,
-        line: usize,
-        b: usize,
-        front: Front,
-    ) -> u32 {
-        let id = self.id(row, line, b);
+    fn key<const AO: bool>(&self, l: usize, b: usize) -> u32 {
+        let i = self.base + l * self.stride_l + b * self.stride_b;
+        let id = u32::from(self.voxels.get(i).copied().unwrap_or(0));
         let ao = if AO {
             let s = (b - 1) & 63;
-            let (f0, f1, f2) = front;
+            let (f0, f1, f2) = self.front_lines(l);
             let code = ((f0 >> s) & 7) | ((f1 >> s) & 7) << 3 | ((f2 >> s) & 7) << 6;
             u32::from(Direction::<D>::AO_TABLE[(code & 511) as usize])
         } else {
@@ -191,30 +178,13 @@ impl<const D: usize> SliceFaces<'_, D> {
         Err(MeshError::UnknownBlock { id, position })
     }
 
-    /// Appends a 1 x 1 quad for every face of `bits` in line `l`, computing keys on the way.
+    /// The 1 x 1 quad of the face at line `l`, bit `b`, with `key`.
     #[inline(always)]
-    fn units<const AO: bool>(
-        &self,
-        l: usize,
-        mut bits: u64,
-        known: &mut u64,
-        out: &mut Quads<'_>,
-    ) -> Result<(), MeshError> {
-        let line = self.base + l * self.stride_l;
-        let row = self.row(line);
-        let front = self.front_lines(l);
-        let word = self.position_size(l, 1, 1, 1);
-        while bits != 0 {
-            let b = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
-            let key = self.key::<AO>(row, line, b, front);
-            self.check(key, known, l, b)?;
-            out.push(PackedQuad {
-                position_size: word | ((b as u32 - 1) << Direction::<D>::SHIFT_B),
-                face_ao_block: key | D as u32,
-            });
+    fn unit(&self, l: usize, b: usize, key: u32) -> PackedQuad {
+        PackedQuad {
+            position_size: self.position_size(l, b, 1, 1),
+            face_ao_block: key | D as u32,
         }
-        Ok(())
     }
 
     /// Pushes the quad at line `l`, bit `b`, spanning `lines` lines and `bits` bits.
@@ -235,105 +205,106 @@ impl<const D: usize> SliceFaces<'_, D> {
     }
 }
 
-/// One quad per face of lines `1..=e`; leaves `faces` empty.
+/// Bit `l` set iff line `l` of `faces` has a face.
+#[inline]
+pub(crate) fn rows_of(faces: &Slice) -> u64 {
+    faces
+        .iter()
+        .enumerate()
+        .fold(0, |rows, (l, &f)| rows | u64::from(f != 0) << l)
+}
+
+/// Lists the faces of the lines of `rows`.
+#[inline(always)]
+fn list_faces(faces: &mut Slice, rows: u64, list: &mut Positions) {
+    list.clear();
+    let mut rest = rows;
+    while rest != 0 {
+        let l = rest.trailing_zeros() as usize;
+        rest &= rest - 1;
+        list.push_line(l, faces[l & 63]);
+    }
+}
+
+/// One quad per face of the lines of `rows`; leaves `faces` empty.
 pub(crate) fn unit_quads<const D: usize, const AO: bool>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
-    e: usize,
+    rows: u64,
+    keys: &mut Keys,
     out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
+    list_faces(faces, rows, &mut keys.list);
     let mut known = 0u64;
-    #[expect(
-        clippy::range_plus_one,
-        reason = "`Range` iterates faster than `RangeInclusive`"
-    )]
-    for l in 1..e + 1 {
-        let bits = core::mem::take(&mut faces[l & 63]);
-        if bits != 0 {
-            s.units::<AO>(l, bits, &mut known, out)?;
-        }
+    for &pos in keys.list.as_slice() {
+        let (l, b) = line_bit(pos);
+        s.push(out, &mut known, (l, b, 1, 1), s.key::<AO>(l, b))?;
     }
+    *faces = [0; 64];
     Ok(())
 }
 
-/// Greedy quads for one slice; leaves `faces` empty.
+/// Greedy quads for one slice whose faces lie in the lines of `rows`; leaves `faces` empty.
 ///
-/// First pass, line by line: faces with no neighbouring face are emitted as 1 x 1 quads; the
-/// others get their key and the equal-key masks (`along`, `across`). Second pass: faces none of
-/// whose 4 neighbours has an equal key can only ever be 1 x 1 quads too, whatever the order;
-/// they are emitted from their stored key. The rest grows quads with bit operations on the
-/// masks: a run of equal keys is a run of ones.
+/// 1. The faces are listed line by line ([`Positions`]).
+/// 2. Per listed face: its key into the table, and whether it equals the keys of the faces
+///    before it in its line and in the line before (`along`, `across`, masked in step 3).
+/// 3. Per line: faces none of whose 4 neighbours has an equal key (`alone`) can only ever be
+///    1 x 1 quads, whatever the order of the greedy pass; they leave `faces`.
+/// 4. Per listed face: every key is checked, and the alone faces are written as 1 x 1 quads
+///    (each face written, the end moved past the alone ones only: no branch per face).
+/// 5. The rest grows quads with bit operations on the masks: a run of equal keys is a run of
+///    ones.
 pub(crate) fn greedy<const D: usize, const AO: bool>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
+    rows: u64,
     e: usize,
     keys: &mut Keys,
     out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
-    let mut known = 0u64;
-    let mut left = 0u64;
-    #[expect(
-        clippy::range_plus_one,
-        reason = "`Range` iterates faster than `RangeInclusive`"
-    )]
-    for l in 1..e + 1 {
-        let f = faces[l & 63];
-        if f == 0 {
-            continue;
-        }
-        let near = (f << 1) | (f >> 1) | faces[(l - 1) & 63] | faces[(l + 1) & 63];
-        let lone = f & !near;
-        if lone != 0 {
-            s.units::<AO>(l, lone, &mut known, out)?;
-        }
-        let present = f & near;
-        faces[l & 63] = present;
-        if present == 0 {
-            continue;
-        }
-        left |= 1 << l;
-        let line = s.base + l * s.stride_l;
-        let ids = s.row(line);
-        let front = s.front_lines(l);
-        let mut bits = present;
-        let mut along = 0u64;
-        let mut across = 0u64;
-        while bits != 0 {
-            let b = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
-            let key = s.key::<AO>(ids, line, b, front);
-            keys.keys[l & 63][b & 63] = key;
-            along |= u64::from(keys.keys[l & 63][(b - 1) & 63] == key) << ((b - 1) & 63);
-            across |= u64::from(keys.keys[(l - 1) & 63][b & 63] == key) << (b & 63);
-        }
-        keys.along[l & 63] = along & present & (present >> 1);
-        keys.across[(l - 1) & 63] = across & present & faces[(l - 1) & 63];
-        // Rewritten by line l + 1 if it has faces that merge.
+    list_faces(faces, rows, &mut keys.list);
+    let mut rest = rows;
+    while rest != 0 {
+        let l = rest.trailing_zeros() as usize;
+        rest &= rest - 1;
+        keys.along[l & 63] = 0;
         keys.across[l & 63] = 0;
+        keys.across[(l - 1) & 63] = 0;
     }
-    // Faces with no equal-key neighbour.
-    let mut rest = left;
+    for &pos in keys.list.as_slice() {
+        let (l, b) = line_bit(pos);
+        let key = s.key::<AO>(l, b);
+        keys.keys[l][b] = key;
+        // Compared with stale entries too where there is no face: masked off below.
+        let left_eq = keys.keys[l][(b - 1) & 63] == key;
+        keys.along[l] |= u64::from(left_eq) << ((b - 1) & 63);
+        let below_eq = keys.keys[(l - 1) & 63][b] == key;
+        keys.across[(l - 1) & 63] |= u64::from(below_eq) << b;
+    }
+    let mut left = rows;
+    let mut rest = rows;
     while rest != 0 {
         let l = rest.trailing_zeros() as usize;
         rest &= rest - 1;
         let here = faces[l & 63];
-        let along = keys.along[l & 63];
-        let alone =
-            here & !along & !(along << 1) & !keys.across[l & 63] & !keys.across[(l - 1) & 63];
-        if alone == 0 {
-            continue;
-        }
+        let along = keys.along[l & 63] & here & (here >> 1);
+        let across = keys.across[l & 63] & here & faces[(l + 1) & 63];
+        // Line l - 1 already went through this loop (or has no face): its entry is final.
+        let below = keys.across[(l - 1) & 63] & faces[(l - 1) & 63] & here;
+        keys.along[l & 63] = along;
+        keys.across[l & 63] = across;
+        let alone = here & !along & !(along << 1) & !across & !below;
+        keys.alone[l & 63] = alone;
         faces[l & 63] = here & !alone;
-        if here == alone {
-            left &= !(1 << l);
-        }
-        let row = &keys.keys[l & 63];
-        let mut bits = alone;
-        while bits != 0 {
-            let b = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
-            s.push(out, &mut known, (l, b, 1, 1), row[b & 63])?;
-        }
+        left &= !(u64::from(here == alone) << l);
+    }
+    let mut known = 0u64;
+    for &pos in keys.list.as_slice() {
+        let (l, b) = line_bit(pos);
+        let key = keys.keys[l][b];
+        s.check(key, &mut known, l, b)?;
+        out.push_if(s.unit(l, b, key), (keys.alone[l] >> b) & 1 != 0);
     }
     if Direction::<D>::LINES_FIRST {
         greedy_lines_first(s, faces, e, left, keys, &mut known, out)

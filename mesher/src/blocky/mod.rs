@@ -35,6 +35,7 @@ mod masks;
 mod merge;
 mod mesh;
 mod plain;
+mod positions;
 mod slices;
 mod visible;
 

@@ -22,7 +22,7 @@ use voxel_core::formats::PackedQuad;
 
 use super::ao::AO_TABLES;
 use super::masks::{Layouts, Slice};
-use super::merge::{Keys, Quads, SliceFaces, SliceQuads, greedy, unit_quads};
+use super::merge::{Keys, Quads, SliceFaces, SliceQuads, greedy, rows_of, unit_quads};
 use crate::{BlockClasses, MeshError};
 
 /// How face direction `D` (index in `FaceDirection::ALL`) maps onto slices, lines and bits.
@@ -202,11 +202,12 @@ fn emit<const D: usize>(
     out: &mut Vec<PackedQuad>,
 ) -> Result<(), MeshError> {
     let mut quads = Quads { buf, len: 0 };
+    let rows = rows_of(faces);
     match (input.merge, input.ao) {
-        (false, true) => unit_quads::<D, true>(slice, faces, e, &mut quads)?,
-        (false, false) => unit_quads::<D, false>(slice, faces, e, &mut quads)?,
-        (true, true) => greedy::<D, true>(slice, faces, e, keys, &mut quads)?,
-        (true, false) => greedy::<D, false>(slice, faces, e, keys, &mut quads)?,
+        (false, true) => unit_quads::<D, true>(slice, faces, rows, keys, &mut quads)?,
+        (false, false) => unit_quads::<D, false>(slice, faces, rows, keys, &mut quads)?,
+        (true, true) => greedy::<D, true>(slice, faces, rows, e, keys, &mut quads)?,
+        (true, false) => greedy::<D, false>(slice, faces, rows, e, keys, &mut quads)?,
     }
     out.extend_from_slice(&quads.buf[..quads.len.min(4096)]);
     Ok(())

@@ -72,6 +72,9 @@ pub enum Fill {
     Boxes { count: u32 },
     /// A height field of stone and dirt with water above it up to a level: terrain-like.
     Terrain,
+    /// A 3-D checkerboard: voxel `(x, y, z)` is air iff `x + y + z` is odd, else one of `ids`
+    /// (one id for the whole chunk with probability 1/2): every face is visible and alone.
+    Checkerboard,
 }
 
 /// A random padded chunk of `size`; `air_border` leaves the one-voxel border air.
@@ -109,6 +112,19 @@ pub fn random_chunk(
                 }
             }
             padded
+        }
+        Fill::Checkerboard => {
+            let single = rng.below(2) == 0;
+            let first = ids[rng.below(ids.len() as u64) as usize];
+            PaddedChunk::from_fn(size, |x, y, z| {
+                if (x + y + z) % 2 == 1 {
+                    BlockId::AIR
+                } else if single {
+                    BlockId(first)
+                } else {
+                    BlockId(ids[rng.below(ids.len() as u64) as usize])
+                }
+            })
         }
         Fill::Terrain => {
             let heights: Vec<u32> = (0..p * p).map(|_| rng.below(u64::from(p)) as u32).collect();
@@ -477,5 +493,6 @@ pub fn fills() -> impl proptest::strategy::Strategy<Value = Fill> {
         (0u64..=100).prop_map(|air_percent| Fill::Noise { air_percent }),
         (1u32..40).prop_map(|count| Fill::Boxes { count }),
         Just(Fill::Terrain),
+        Just(Fill::Checkerboard),
     ]
 }
