@@ -6,5 +6,7 @@
 //! The renderer today is [`reference_raycast`], the CPU ground truth that GPU images are tested
 //! against.
 
+pub mod deferred_reference;
+pub mod gpu_view;
 pub mod reference_raycast;
 pub mod scene;

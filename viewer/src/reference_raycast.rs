@@ -85,6 +85,29 @@ pub struct Hit {
     pub transparent: [Option<BlockId>; MAX_LAYERS],
 }
 
+/// One transparent surface a ray entered: the first voxel of a run of one transparent id.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TransparentEntry {
+    /// The transparent block.
+    pub block: BlockId,
+    /// The voxel the ray entered.
+    pub voxel: WorldPos,
+    /// The outward normal of the face it entered through.
+    pub normal: [i32; 3],
+    /// Distance from the eye to the entry point, in voxels.
+    pub distance: f64,
+}
+
+/// Everything one ray met: the first opaque hit (if any within range) and the transparent
+/// surfaces in front of it, front to back (at most [`MAX_LAYERS`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Trace {
+    /// The first opaque block, or `None` for sky.
+    pub hit: Option<Hit>,
+    /// Transparent surfaces crossed before the hit (or before the ray gave up).
+    pub layers: [Option<TransparentEntry>; MAX_LAYERS],
+}
+
 /// Transparent surfaces a ray blends before it stops looking further.
 pub const MAX_LAYERS: usize = 2;
 
@@ -111,6 +134,26 @@ pub fn cast_ray(
     direction: DVec3,
     max_distance: f64,
 ) -> Option<Hit> {
+    trace_ray(
+        block_at,
+        palette,
+        origin_voxel,
+        origin_fraction,
+        direction,
+        max_distance,
+    )
+    .hit
+}
+
+/// [`cast_ray`], also returning the transparent surfaces met when no opaque block is hit.
+pub fn trace_ray(
+    block_at: &impl Fn(WorldPos) -> BlockId,
+    palette: &MaterialPalette,
+    origin_voxel: WorldPos,
+    origin_fraction: DVec3,
+    direction: DVec3,
+    max_distance: f64,
+) -> Trace {
     // Integer voxel coordinates in i64, so stepping past the i32 edge is detected, not wrapped.
     let mut cell = [
         i64::from(origin_voxel.x),
@@ -134,16 +177,24 @@ pub fn cast_ray(
         }
     }
     let mut transparent = [None; MAX_LAYERS];
+    let mut entries = [None; MAX_LAYERS];
     let mut layers = 0;
     let mut last_transparent = None;
     let mut normal = [0i32; 3];
     let mut distance = 0.0;
+    let sky = |entries| Trace {
+        hit: None,
+        layers: entries,
+    };
     loop {
-        let voxel = WorldPos::new(
-            i32::try_from(cell[0]).ok()?,
-            i32::try_from(cell[1]).ok()?,
-            i32::try_from(cell[2]).ok()?,
-        );
+        let (Ok(x), Ok(y), Ok(z)) = (
+            i32::try_from(cell[0]),
+            i32::try_from(cell[1]),
+            i32::try_from(cell[2]),
+        ) else {
+            return sky(entries);
+        };
+        let voxel = WorldPos::new(x, y, z);
         let block = block_at(voxel);
         if !block.is_air() {
             match palette.class(block) {
@@ -151,18 +202,27 @@ pub fn cast_ray(
                     // Water next to water shows no face: blend each run of one id once.
                     if last_transparent != Some(block) && layers < MAX_LAYERS {
                         transparent[layers] = Some(block);
+                        entries[layers] = Some(TransparentEntry {
+                            block,
+                            voxel,
+                            normal,
+                            distance,
+                        });
                         layers += 1;
                     }
                     last_transparent = Some(block);
                 }
                 Ok(class) if class.is_opaque() => {
-                    return Some(Hit {
-                        block,
-                        voxel,
-                        normal,
-                        distance,
-                        transparent,
-                    });
+                    return Trace {
+                        hit: Some(Hit {
+                            block,
+                            voxel,
+                            normal,
+                            distance,
+                            transparent,
+                        }),
+                        layers: entries,
+                    };
                 }
                 // Air-classed or unknown ids are drawn as nothing, like air.
                 _ => last_transparent = None,
@@ -179,7 +239,7 @@ pub fn cast_ray(
         };
         distance = t_max[axis];
         if distance > max_distance {
-            return None;
+            return sky(entries);
         }
         cell[axis] += step[axis];
         t_max[axis] += t_delta[axis];

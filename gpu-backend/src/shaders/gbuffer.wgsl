@@ -30,6 +30,11 @@ struct SmoothDraw {
 @group(1) @binding(3) var<storage, read> smooth_quads: array<vec4<u32>>;
 @group(1) @binding(4) var<storage, read> smooth_draws: array<SmoothDraw>;
 
+// How far vs_quad grows a quad in its plane, relative to its distance from the eye, and the
+// least it grows it, blocks (see vs_quad).
+const DILATION: f32 = 1.0 / 8192.0;
+const MIN_DILATION: f32 = 1.0 / 4096.0;
+
 struct SurfaceVaryings {
     @builtin(position) position: vec4<f32>,
     @location(0) @interpolate(flat) block: u32,
@@ -55,8 +60,16 @@ fn vs_quad(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance
     let corner = ((vertex & 3u) + u32(flip)) & 3u;
     let rel = chunk_draw_indirect_chunk(records[instance]);
     let n = vec3<f32>(face_normal(packed_quad_face(q)));
+    // Greedy quads meet at T-junctions, where rasterization can leave pinholes: grow each quad
+    // in its own plane by a hair (DILATION of its distance, at least MIN_DILATION blocks), so
+    // neighbours overlap instead. The normal axis of (corner - centre) is 0, so sign() keeps
+    // the quad in its plane.
+    let corner_local = vec3<f32>(packed_quad_corner(q, corner));
+    let centre = 0.5 * (vec3<f32>(packed_quad_corner(q, 0u)) + vec3<f32>(packed_quad_corner(q, 2u)));
+    let origin = vec3<f32>(rel) * frame.chunk_edge - frame.camera_offset;
+    let grow = max(length(origin + corner_local) * DILATION, MIN_DILATION);
     var out: SurfaceVaryings;
-    out.position = relative_position(rel, vec3<f32>(packed_quad_corner(q, corner)));
+    out.position = relative_position(rel, corner_local + sign(corner_local - centre) * grow);
     out.block = packed_quad_block(q);
     out.ao = f32(packed_quad_ao(q, corner));
     out.normal = n;

@@ -1,0 +1,279 @@
+//! Comparing a GPU image with the CPU reference, and writing PNGs when they differ.
+//!
+//! **What is compared.** Both images hold sRGB RGBA8 and, per pixel, the distance along the
+//! pixel's ray to the first opaque surface (infinity = nothing hit).
+//!
+//! - *Silhouette-edge pixels* are those whose 3x3 neighbourhood in the reference mixes hit and
+//!   miss. There a ray through the pixel centre and the rasterizer's coverage rule may
+//!   disagree by rounding, so they are skipped entirely.
+//! - *Coverage* (hit or miss) must match exactly on every other pixel.
+//! - *Crease pixels* are those that, with their four edge neighbours in the reference, show
+//!   more than one surface plane (a convex or concave edge, or one surface in front of another). The GPU
+//!   grows each greedy quad by a hair (about 1/100 pixel) to close T-junction pinholes, so a
+//!   pixel centre within that hair of an edge may see the neighbouring face; and a ray through
+//!   a voxel edge exactly may be resolved either way. Depth and colour are not compared there.
+//! - *Depth* of pixels both hit must agree within `depth_abs + depth_rel * distance`.
+//! - *Colour*: every channel within `colour` codes, except on at most `colour_outliers` of the
+//!   compared pixels (a fraction): where the GPU's greedy quad interpolates AO over a merged
+//!   quad that the reference shades per unit face.
+
+use std::path::PathBuf;
+
+use viewer::reference_raycast::encode_png;
+
+/// An image with depth: sRGB RGBA8 and the eye distance per pixel (infinity for sky).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    /// Width, pixels.
+    pub width: u32,
+    /// Height, pixels.
+    pub height: u32,
+    /// Row-major RGBA8.
+    pub rgba: Vec<u8>,
+    /// Row-major eye distance, blocks.
+    pub depth: Vec<f32>,
+    /// Row-major plane of the surface hit, `(face direction, plane coordinate)`, where known
+    /// (the CPU reference knows it; it marks creases).
+    pub planes: Option<Vec<Option<(u8, i32)>>>,
+}
+
+/// How close two images must be (see the [module docs](self)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tolerance {
+    /// Absolute depth error, blocks.
+    pub depth_abs: f32,
+    /// Depth error relative to the distance.
+    pub depth_rel: f32,
+    /// Largest per-channel colour difference, in 8-bit codes, of non-outlier pixels.
+    pub colour: u8,
+    /// Fraction of compared pixels allowed past `colour`.
+    pub colour_outliers: f64,
+}
+
+impl Tolerance {
+    /// Set on lavapipe (Mesa 22.3, llvmpipe, 256-bit) against the deferred CPU reference.
+    /// Measured there (128 x 96, five scenes): colour at most 1 code apart on every compared
+    /// pixel but one (42 codes, at the rim of the water pool, whose plane the crease mask does
+    /// not know); depth at most 5e-5 blocks apart (f32 reversed-Z against f64 rays). The GPU
+    /// rounds through a 16-bit float HDR target, an 8-bit AO channel and its own `pow`.
+    pub const LAVAPIPE: Tolerance = Tolerance {
+        depth_abs: 1e-3,
+        depth_rel: 1e-4,
+        colour: 2,
+        colour_outliers: 0.001,
+    };
+}
+
+/// The outcome of a comparison.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Comparison {
+    /// Pixels skipped as silhouette edges.
+    pub edge_pixels: usize,
+    /// Pixels compared.
+    pub compared: usize,
+    /// Compared pixels whose depth and colour were skipped as creases.
+    pub crease_pixels: usize,
+    /// Non-edge pixels hit in one image and missed in the other.
+    pub coverage_mismatches: usize,
+    /// Pixels whose depth is out of tolerance.
+    pub depth_failures: usize,
+    /// Largest depth error seen, blocks.
+    pub max_depth_error: f32,
+    /// Pixels whose colour is past `colour`.
+    pub colour_outliers: usize,
+    /// Largest channel difference seen.
+    pub max_colour_difference: u8,
+    /// Pixels that hit something in the reference.
+    pub reference_hits: usize,
+}
+
+impl Comparison {
+    /// True when every rule of `tolerance` holds.
+    pub fn passed(&self, tolerance: &Tolerance) -> bool {
+        self.coverage_mismatches == 0
+            && self.depth_failures == 0
+            && self.colour_outliers as f64 <= tolerance.colour_outliers * self.compared as f64
+    }
+}
+
+fn is_hit(d: f32) -> bool {
+    d.is_finite()
+}
+
+/// True when pixel `(x, y)` and its four edge neighbours in `reference` show more than one
+/// plane (false when the reference has no planes). An edge passing within a hair of the pixel
+/// centre always separates the centre from one of its four neighbours, so the cross suffices.
+pub fn is_crease(reference: &Image, x: u32, y: u32) -> bool {
+    let Some(planes) = &reference.planes else {
+        return false;
+    };
+    let (w, h) = (reference.width as i64, reference.height as i64);
+    let (x, y) = (i64::from(x), i64::from(y));
+    let centre = planes[(y * w + x) as usize];
+    [(-1, 0), (1, 0), (0, -1), (0, 1)].iter().any(|&(dx, dy)| {
+        let (nx, ny) = (x + dx, y + dy);
+        (0..w).contains(&nx) && (0..h).contains(&ny) && planes[(ny * w + nx) as usize] != centre
+    })
+}
+
+/// True when pixel `(x, y)`'s 3x3 neighbourhood in `reference` mixes hit and miss.
+pub fn is_silhouette_edge(reference: &Image, x: u32, y: u32) -> bool {
+    let centre = is_hit(reference.depth[(y * reference.width + x) as usize]);
+    let (w, h) = (reference.width as i64, reference.height as i64);
+    (-1..=1).any(|dy: i64| {
+        (-1..=1).any(|dx: i64| {
+            let (nx, ny) = (i64::from(x) + dx, i64::from(y) + dy);
+            (0..w).contains(&nx)
+                && (0..h).contains(&ny)
+                && is_hit(reference.depth[(ny * w + nx) as usize]) != centre
+        })
+    })
+}
+
+/// Compares `actual` with `reference` (same size) under `tolerance`.
+pub fn compare(actual: &Image, reference: &Image, tolerance: &Tolerance) -> Comparison {
+    assert_eq!(
+        (actual.width, actual.height),
+        (reference.width, reference.height),
+        "images of different sizes"
+    );
+    let mut c = Comparison::default();
+    for y in 0..reference.height {
+        for x in 0..reference.width {
+            let i = (y * reference.width + x) as usize;
+            let (a, e) = (actual.depth[i], reference.depth[i]);
+            c.reference_hits += usize::from(is_hit(e));
+            if is_silhouette_edge(reference, x, y) {
+                c.edge_pixels += 1;
+                continue;
+            }
+            c.compared += 1;
+            if is_hit(a) != is_hit(e) {
+                c.coverage_mismatches += 1;
+                continue;
+            }
+            if is_crease(reference, x, y) {
+                c.crease_pixels += 1;
+                continue;
+            }
+            if is_hit(e) {
+                let error = (a - e).abs();
+                c.max_depth_error = c.max_depth_error.max(error);
+                if error > tolerance.depth_abs + tolerance.depth_rel * e {
+                    c.depth_failures += 1;
+                }
+            }
+            let diff = (0..3)
+                .map(|k| actual.rgba[4 * i + k].abs_diff(reference.rgba[4 * i + k]))
+                .max()
+                .unwrap_or(0);
+            c.max_colour_difference = c.max_colour_difference.max(diff);
+            if diff > tolerance.colour {
+                c.colour_outliers += 1;
+            }
+        }
+    }
+    c
+}
+
+/// `target/image-tests/<name>/` of the workspace.
+pub fn output_dir(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../target/image-tests")
+        .join(name)
+}
+
+/// The difference image: channel differences times 8; coverage mismatches magenta, skipped
+/// silhouette pixels dark blue, creases dark green.
+pub fn difference_image(actual: &Image, reference: &Image) -> Vec<u8> {
+    let mut out = Vec::with_capacity(actual.rgba.len());
+    for y in 0..reference.height {
+        for x in 0..reference.width {
+            let i = (y * reference.width + x) as usize;
+            let pixel = if is_silhouette_edge(reference, x, y) {
+                [0, 0, 60, 255]
+            } else if is_hit(actual.depth[i]) != is_hit(reference.depth[i]) {
+                [255, 0, 255, 255]
+            } else if is_crease(reference, x, y) {
+                [0, 40, 0, 255]
+            } else {
+                let d = |k: usize| {
+                    actual.rgba[4 * i + k]
+                        .abs_diff(reference.rgba[4 * i + k])
+                        .saturating_mul(8)
+                };
+                [d(0), d(1), d(2), 255]
+            };
+            out.extend_from_slice(&pixel);
+        }
+    }
+    out
+}
+
+/// Writes actual, expected and difference PNGs under [`output_dir`]; returns the folder.
+pub fn write_pngs(name: &str, actual: &Image, reference: &Image) -> PathBuf {
+    let dir = output_dir(name);
+    std::fs::create_dir_all(&dir)
+        .unwrap_or_else(|e| panic!("cannot create {}: {e}", dir.display()));
+    let (w, h) = (reference.width, reference.height);
+    for (file, rgba) in [
+        ("actual.png", actual.rgba.clone()),
+        ("expected.png", reference.rgba.clone()),
+        ("difference.png", difference_image(actual, reference)),
+    ] {
+        let png = encode_png(w, h, &rgba).expect("PNG encoding");
+        let path = dir.join(file);
+        std::fs::write(&path, png)
+            .unwrap_or_else(|e| panic!("cannot write {}: {e}", path.display()));
+    }
+    dir
+}
+
+/// Compares, and on failure writes the PNGs and panics saying where they are.
+pub fn assert_images_match(name: &str, actual: &Image, reference: &Image, tolerance: &Tolerance) {
+    let c = compare(actual, reference, tolerance);
+    eprintln!("{name}: {c:?}");
+    assert!(
+        c.reference_hits > 0 && c.reference_hits < reference.depth.len(),
+        "{name}: the reference should show both geometry and sky ({} hits)",
+        c.reference_hits
+    );
+    if !c.passed(tolerance) {
+        let dir = write_pngs(name, actual, reference);
+        let mut pixels = failing_pixels(actual, reference, tolerance);
+        pixels.truncate(8);
+        panic!(
+            "{name}: GPU image differs from the CPU reference: {c:?} (tolerance {tolerance:?}); \
+             first failing pixels (x, y, GPU depth, CPU depth): {pixels:?}; actual, expected \
+             and difference PNGs in {}",
+            dir.display()
+        );
+    }
+}
+pub mod scenes;
+
+/// The pixels that fail coverage or depth, with both depths (for failure messages).
+pub fn failing_pixels(
+    actual: &Image,
+    reference: &Image,
+    tolerance: &Tolerance,
+) -> Vec<(u32, u32, f32, f32)> {
+    let mut out = Vec::new();
+    for y in 0..reference.height {
+        for x in 0..reference.width {
+            let i = (y * reference.width + x) as usize;
+            let (a, e) = (actual.depth[i], reference.depth[i]);
+            if is_silhouette_edge(reference, x, y) {
+                continue;
+            }
+            let bad = is_hit(a) != is_hit(e)
+                || (is_hit(e)
+                    && !is_crease(reference, x, y)
+                    && (a - e).abs() > tolerance.depth_abs + tolerance.depth_rel * e);
+            if bad {
+                out.push((x, y, a, e));
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,213 @@
+//! Small scenes for the image tests, and rendering them on the GPU and the CPU.
+
+use gpu_backend::render::{Renderer, RendererConfig};
+use gpu_backend::{GpuContext, PassTime};
+use viewer::deferred_reference::{lighting_params, render_deferred};
+use viewer::gpu_view::{render_camera, upload_world};
+use viewer::reference_raycast::{Camera, Lighting, trace_ray};
+use voxel_core::storage::{PaletteChunk, WorldMap};
+use voxel_core::{BlockId, ChunkSize, Material, MaterialClass, MaterialPalette, WorldPos};
+
+use super::Image;
+
+/// Image width of every test.
+pub const WIDTH: u32 = 128;
+/// Image height of every test.
+pub const HEIGHT: u32 = 96;
+/// The reference raycaster's range, blocks (far beyond every test scene).
+pub const MAX_DISTANCE: f64 = 4000.0;
+
+/// A world, its palette and a camera that frames it.
+pub struct TestScene {
+    /// The voxels.
+    pub world: WorldMap<PaletteChunk>,
+    /// Their materials.
+    pub palette: MaterialPalette,
+    /// The camera both renderers use.
+    pub camera: Camera,
+}
+
+/// A scene of the blocks `fill` gives inside `lo..=hi`, every position shifted by `shift`,
+/// framed by `viewer::scene::camera_looking_at`.
+pub fn scene_from_fn(
+    palette: MaterialPalette,
+    size: ChunkSize,
+    lo: [i32; 3],
+    hi: [i32; 3],
+    shift: i32,
+    fill: impl Fn(i32, i32, i32) -> BlockId,
+) -> TestScene {
+    let mut world = WorldMap::new(size);
+    for z in lo[2]..=hi[2] {
+        for y in lo[1]..=hi[1] {
+            for x in lo[0]..=hi[0] {
+                let id = fill(x, y, z);
+                if !id.is_air() {
+                    let p = WorldPos::new(
+                        x.wrapping_add(shift),
+                        y.wrapping_add(shift),
+                        z.wrapping_add(shift),
+                    );
+                    world.set_block(p, id);
+                }
+            }
+        }
+    }
+    let at = |p: [i32; 3]| {
+        WorldPos::new(
+            p[0].wrapping_add(shift),
+            p[1].wrapping_add(shift),
+            p[2].wrapping_add(shift),
+        )
+    };
+    let camera = viewer::scene::camera_looking_at(at(lo), at(hi));
+    TestScene {
+        world,
+        palette,
+        camera,
+    }
+}
+
+/// A 6 x 6 x 6 cube crossing chunk borders (16^3 chunks), `shift` blocks from the origin on
+/// every axis.
+pub fn cube(shift: i32) -> TestScene {
+    let mut palette = MaterialPalette::new();
+    let stone = palette.push(Material::opaque(180, 90, 60)).unwrap();
+    scene_from_fn(
+        palette,
+        ChunkSize::S16,
+        [-3, -2, -3],
+        [2, 3, 2],
+        shift,
+        |_, _, _| stone,
+    )
+}
+
+/// A sphere of radius 7 in three colour bands, with an emissive band, on a floor with a pool
+/// of glass-clear water: AO where they meet, emission and one transparent layer.
+pub fn sphere() -> TestScene {
+    let mut palette = MaterialPalette::new();
+    let floor = palette.push(Material::opaque(120, 140, 90)).unwrap();
+    let bands = [
+        palette.push(Material::opaque(200, 60, 50)).unwrap(),
+        palette.push(Material::opaque(230, 210, 80)).unwrap(),
+        palette.push(Material::opaque(60, 90, 200)).unwrap(),
+    ];
+    let mut glow = Material::opaque(255, 160, 40);
+    glow.emission = 160;
+    let glow = palette.push(glow).unwrap();
+    let mut water = Material::opaque(40, 110, 200).with_class(MaterialClass::Transparent);
+    water.colour[3] = 140;
+    let water = palette.push(water).unwrap();
+    scene_from_fn(
+        palette,
+        ChunkSize::S16,
+        [-12, -1, -12],
+        [12, 15, 12],
+        0,
+        move |x, y, z| {
+            let (dx, dy, dz) = (x, y - 7, z);
+            if dx * dx + dy * dy + dz * dz <= 49 {
+                if y == 7 {
+                    glow
+                } else {
+                    bands[(y.max(0) / 5).min(2) as usize]
+                }
+            } else if y == -1 {
+                floor
+            } else if y == 0 && x >= 4 && z >= 4 && x <= 10 && z <= 10 {
+                water
+            } else {
+                BlockId::AIR
+            }
+        },
+    )
+}
+
+/// The terrain of the headless viewer, a 48 x 32 x 48 patch (16^3 chunks).
+pub fn terrain() -> TestScene {
+    let scene = viewer::scene::terrain_scene(7, ChunkSize::S16, 3, 2, 3);
+    let camera =
+        viewer::scene::camera_looking_at(WorldPos::new(-24, 0, -24), WorldPos::new(23, 31, 23));
+    TestScene {
+        world: scene.world,
+        palette: scene.palette,
+        camera,
+    }
+}
+
+/// Renders `scene` from `camera` on the GPU; returns the image and the frame's pass times.
+pub fn gpu_render(ctx: &GpuContext, scene: &TestScene, camera: &Camera) -> (Image, Vec<PassTime>) {
+    let size = scene.world.size();
+    let config = RendererConfig::new(WIDTH, HEIGHT, size);
+    let mut renderer = Renderer::new(ctx, &config, &scene.palette).expect("renderer");
+    upload_world(&mut renderer, &scene.world, &scene.palette).expect("upload");
+    let render_cam = render_camera(camera, size);
+    renderer.set_camera(&render_cam);
+    renderer.set_lighting(&lighting_params(&Lighting::default()));
+    let times = renderer.render().expect("frame");
+    let frame = renderer.read_image().expect("readback");
+    let depth = frame
+        .depth
+        .iter()
+        .enumerate()
+        .map(|(i, &d)| {
+            let (x, y) = (i as u32 % WIDTH, i as u32 / WIDTH);
+            render_cam.eye_distance(x, y, WIDTH, HEIGHT, d)
+        })
+        .collect();
+    (
+        Image {
+            width: WIDTH,
+            height: HEIGHT,
+            rgba: frame.rgba,
+            depth,
+            planes: None,
+        },
+        times,
+    )
+}
+
+/// Renders `scene` with the CPU reference shaded like the GPU.
+pub fn cpu_render(scene: &TestScene, camera: &Camera) -> Image {
+    let block_at = |p| scene.world.get_block(p);
+    let image = render_deferred(
+        &block_at,
+        &scene.palette,
+        camera,
+        &lighting_params(&Lighting::default()),
+        WIDTH,
+        HEIGHT,
+        MAX_DISTANCE,
+    );
+    // The plane of each pixel's hit, from the same rays.
+    let planes = (0..HEIGHT)
+        .flat_map(|py| (0..WIDTH).map(move |px| (px, py)))
+        .map(|(px, py)| {
+            let dir = camera.ray_direction(px, py, WIDTH, HEIGHT);
+            let hit = trace_ray(
+                &block_at,
+                &scene.palette,
+                camera.voxel,
+                camera.fraction,
+                dir,
+                MAX_DISTANCE,
+            )
+            .hit?;
+            let face = viewer::deferred_reference::face_of(hit.normal)?;
+            let axis = face.normal_axis();
+            let voxel = [hit.voxel.x, hit.voxel.y, hit.voxel.z];
+            Some((
+                face.index(),
+                voxel[axis].wrapping_add(i32::from(face.is_positive())),
+            ))
+        })
+        .collect();
+    Image {
+        width: image.width,
+        height: image.height,
+        rgba: image.rgba,
+        depth: image.depth,
+        planes: Some(planes),
+    }
+}

@@ -1,0 +1,278 @@
+//! The reference raycaster shaded like the GPU renderer: the CPU ground truth of the image
+//! tests.
+//!
+//! Same rays and hits as [`reference_raycast`](crate::reference_raycast) (one ray per pixel
+//! centre, DDA through voxels), shaded with the deferred lighting model's CPU twin
+//! ([`gpu_backend::render::lighting`]): no shadow rays, no fog, per-vertex ambient occlusion
+//! interpolated over each face exactly as the GPU interpolates it over a quad (the mesher's AO
+//! rule per corner, the same diagonal flip, linear interpolation over the triangle the hit point
+//! lies in), transparent surfaces lit the same way and blended back to front, and the same
+//! tonemap.
+//!
+//! One difference remains by construction: the GPU draws *greedy* quads, which merge faces with
+//! equal corner AO, and interpolates AO over the merged quad, while this reference interpolates
+//! over each unit face. The two agree wherever a merged quad's AO is uniform or varies only
+//! across the merge direction (nearly everywhere); where faces with one non-uniform AO pattern
+//! repeat along both axes, the shading differs slightly.
+
+use glam::DVec3;
+use gpu_backend::render::lighting::{LightingParams, blend, output_rgba8, shade, srgb_to_linear};
+use rayon::prelude::*;
+use voxel_core::{BlockId, FaceDirection, MaterialPalette, WorldPos};
+
+use crate::reference_raycast::{Camera, Lighting, RenderedImage, trace_ray};
+
+/// The GPU lighting parameters matching the reference raycaster's [`Lighting`].
+pub fn lighting_params(lighting: &Lighting) -> LightingParams {
+    LightingParams {
+        sun_direction: lighting.sun_direction.to_array(),
+        sun_colour: lighting.sun_colour.to_array(),
+        sky_colour: lighting.sky_colour.to_array(),
+        ground_colour: lighting.ground_colour.to_array(),
+        ..LightingParams::default()
+    }
+}
+
+/// The face direction whose outward normal is `normal`, if any.
+pub fn face_of(normal: [i32; 3]) -> Option<FaceDirection> {
+    FaceDirection::ALL
+        .into_iter()
+        .find(|f| f.normal() == normal)
+}
+
+/// `(du, dv)` of the 4 corners in the order of `PackedQuadFields::corners`.
+fn corner_steps(face: FaceDirection) -> [(i32, i32); 4] {
+    let swap = matches!(
+        face,
+        FaceDirection::PosX | FaceDirection::PosY | FaceDirection::NegZ
+    );
+    [(0, 0), (1, 0), (1, 1), (0, 1)].map(|(a, b)| if swap { (b, a) } else { (a, b) })
+}
+
+fn offset(p: WorldPos, axis: usize, by: i32) -> WorldPos {
+    let mut a = [p.x, p.y, p.z];
+    a[axis] = a[axis].wrapping_add(by);
+    WorldPos::new(a[0], a[1], a[2])
+}
+
+/// Per-corner ambient occlusion (`0..=3`, order of `PackedQuadFields::corners`) of the face
+/// of `voxel` facing `face`: the mesher's rule on the opaque voxels of the layer in front.
+pub fn face_ao(
+    block_at: &impl Fn(WorldPos) -> BlockId,
+    palette: &MaterialPalette,
+    voxel: WorldPos,
+    face: FaceDirection,
+) -> [u8; 4] {
+    let solid = |p: WorldPos| palette.class(block_at(p)).is_ok_and(|c| c.is_opaque());
+    let n = face.normal();
+    let front = WorldPos::new(
+        voxel.x.wrapping_add(n[0]),
+        voxel.y.wrapping_add(n[1]),
+        voxel.z.wrapping_add(n[2]),
+    );
+    let (w, h) = (face.width_axis(), face.height_axis());
+    corner_steps(face).map(|(du, dv)| {
+        let side1 = offset(front, w, 2 * du - 1);
+        let side2 = offset(front, h, 2 * dv - 1);
+        let corner = offset(side1, h, 2 * dv - 1);
+        let (s1, s2, c) = (solid(side1), solid(side2), solid(corner));
+        if s1 && s2 {
+            0
+        } else {
+            3 - (u8::from(s1) + u8::from(s2) + u8::from(c))
+        }
+    })
+}
+
+/// AO at `(u, v)` (`0..=1` along the face's width and height axes) of a face with corner AO
+/// `ao`, interpolated as the GPU does: split along corners 0-2, or 1-3 when
+/// `ao[1] + ao[3] > ao[0] + ao[2]`, then linear over the triangle holding the point.
+pub fn interpolate_ao(ao: [u8; 4], face: FaceDirection, u: f64, v: f64) -> f32 {
+    // a[du][dv]: the AO at the corner (du, dv).
+    let mut a = [[0.0f64; 2]; 2];
+    for (i, (du, dv)) in corner_steps(face).into_iter().enumerate() {
+        a[du as usize][dv as usize] = f64::from(ao[i]);
+    }
+    let (u, v) = (u.clamp(0.0, 1.0), v.clamp(0.0, 1.0));
+    let flip = u32::from(ao[1]) + u32::from(ao[3]) > u32::from(ao[0]) + u32::from(ao[2]);
+    let value = if !flip {
+        // Diagonal (0, 0)-(1, 1).
+        if u >= v {
+            a[0][0] + u * (a[1][0] - a[0][0]) + v * (a[1][1] - a[1][0])
+        } else {
+            a[0][0] + u * (a[1][1] - a[0][1]) + v * (a[0][1] - a[0][0])
+        }
+    } else if u + v <= 1.0 {
+        // Diagonal (1, 0)-(0, 1), lower triangle.
+        a[0][0] + u * (a[1][0] - a[0][0]) + v * (a[0][1] - a[0][0])
+    } else {
+        a[1][1] + (1.0 - u) * (a[0][1] - a[1][1]) + (1.0 - v) * (a[1][0] - a[1][1])
+    };
+    value as f32
+}
+
+/// Linear albedo, alpha and emission of `block` (white, opaque, dark for an unknown id).
+fn material(palette: &MaterialPalette, block: BlockId) -> ([f32; 3], f32, f32) {
+    match palette.get(block) {
+        Ok(m) => {
+            let [r, g, b, a] = m.colour;
+            (
+                [r, g, b].map(srgb_to_linear),
+                f32::from(a) / 255.0,
+                f32::from(m.emission) / 255.0,
+            )
+        }
+        Err(_) => ([1.0; 3], 1.0, 0.0),
+    }
+}
+
+/// The lit colour of the face of `voxel` facing `normal`, at the point `distance` along the
+/// ray `direction` from the camera.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "one surface point, fully described"
+)]
+fn shade_face(
+    block_at: &impl Fn(WorldPos) -> BlockId,
+    palette: &MaterialPalette,
+    params: &LightingParams,
+    camera: &Camera,
+    direction: DVec3,
+    block: BlockId,
+    voxel: WorldPos,
+    normal: [i32; 3],
+    distance: f64,
+) -> [f32; 3] {
+    let (albedo, _, emission) = material(palette, block);
+    let n = normal.map(|c| c as f32);
+    let Some(face) = face_of(normal) else {
+        // The eye is inside a block: no face was crossed; shade unoccluded.
+        return shade(params, albedo, n, 3.0, emission);
+    };
+    // The hit point relative to the voxel, from small numbers only: the voxel difference is
+    // an exact integer (i64), the fraction and the ray step are small.
+    let rel = [
+        i64::from(camera.voxel.x) - i64::from(voxel.x),
+        i64::from(camera.voxel.y) - i64::from(voxel.y),
+        i64::from(camera.voxel.z) - i64::from(voxel.z),
+    ];
+    let p = DVec3::new(rel[0] as f64, rel[1] as f64, rel[2] as f64)
+        + camera.fraction
+        + direction * distance;
+    let p = p.to_array();
+    let ao = face_ao(block_at, palette, voxel, face);
+    let ao = interpolate_ao(ao, face, p[face.width_axis()], p[face.height_axis()]);
+    shade(params, albedo, n, ao, emission)
+}
+
+/// Renders `width x height` pixels like the GPU renderer (see the [module docs](self)):
+/// sRGB RGBA8 and, per pixel, the distance to the first opaque surface (infinity for sky).
+pub fn render_deferred(
+    block_at: &(impl Fn(WorldPos) -> BlockId + Sync),
+    palette: &MaterialPalette,
+    camera: &Camera,
+    params: &LightingParams,
+    width: u32,
+    height: u32,
+    max_distance: f64,
+) -> RenderedImage {
+    let rows: Vec<(Vec<u8>, Vec<f32>)> = (0..height)
+        .into_par_iter()
+        .map(|py| {
+            let mut rgba = Vec::with_capacity(width as usize * 4);
+            let mut depth = Vec::with_capacity(width as usize);
+            for px in 0..width {
+                let dir = camera.ray_direction(px, py, width, height);
+                let trace = trace_ray(
+                    block_at,
+                    palette,
+                    camera.voxel,
+                    camera.fraction,
+                    dir,
+                    max_distance,
+                );
+                let face = |block, voxel, normal, distance| {
+                    shade_face(
+                        block_at, palette, params, camera, dir, block, voxel, normal, distance,
+                    )
+                };
+                let mut colour = match &trace.hit {
+                    Some(hit) => face(hit.block, hit.voxel, hit.normal, hit.distance),
+                    None => params.sky_colour,
+                };
+                for layer in trace.layers.iter().rev().flatten() {
+                    let (_, alpha, _) = material(palette, layer.block);
+                    let surface = face(layer.block, layer.voxel, layer.normal, layer.distance);
+                    colour = blend(colour, surface, alpha);
+                }
+                rgba.extend_from_slice(&output_rgba8(params, colour));
+                depth.push(trace.hit.map_or(f32::INFINITY, |h| h.distance as f32));
+            }
+            (rgba, depth)
+        })
+        .collect();
+    let mut image = RenderedImage {
+        width,
+        height,
+        rgba: Vec::with_capacity(width as usize * height as usize * 4),
+        depth: Vec::with_capacity(width as usize * height as usize),
+    };
+    for (rgba, depth) in rows {
+        image.rgba.extend_from_slice(&rgba);
+        image.depth.extend_from_slice(&depth);
+    }
+    image
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn interpolation_hits_the_corner_values() {
+        for face in FaceDirection::ALL {
+            for ao in [[3, 2, 1, 0], [0, 3, 3, 3], [3, 3, 0, 3], [1, 1, 2, 2]] {
+                for (i, (du, dv)) in corner_steps(face).into_iter().enumerate() {
+                    let got = interpolate_ao(ao, face, f64::from(du), f64::from(dv));
+                    assert_eq!(got, f32::from(ao[i]), "{face:?} {ao:?} corner {i}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_lone_block_is_unoccluded_and_a_floor_corner_is_dark() {
+        let mut palette = MaterialPalette::new();
+        let stone = palette
+            .push(voxel_core::Material::opaque(100, 100, 100))
+            .unwrap();
+        let lone = |p: WorldPos| {
+            if p == WorldPos::new(0, 0, 0) {
+                stone
+            } else {
+                BlockId::AIR
+            }
+        };
+        assert_eq!(
+            face_ao(&lone, &palette, WorldPos::new(0, 0, 0), FaceDirection::PosY),
+            [3; 4]
+        );
+        // A floor with walls at x = -1 and z = -1 above it: the (0, 0) corner of the top face
+        // of (0, 0, 0) touches both.
+        let corner = |p: WorldPos| {
+            if p.y == 0 || (p.y == 1 && (p.x == -1 || p.z == -1)) {
+                stone
+            } else {
+                BlockId::AIR
+            }
+        };
+        let ao = face_ao(
+            &corner,
+            &palette,
+            WorldPos::new(0, 0, 0),
+            FaceDirection::PosY,
+        );
+        assert_eq!(ao.iter().filter(|&&a| a == 0).count(), 1, "{ao:?}");
+        assert_eq!(interpolate_ao(ao, FaceDirection::PosY, 0.0, 0.0), 0.0);
+    }
+}

@@ -1,0 +1,82 @@
+//! Showing a [`Scene`] with the GPU renderer: meshing its chunks, uploading them, and the
+//! camera conversion. Used by the headless viewer and the image tests.
+
+use std::fmt;
+
+use gpu_backend::gigabuffer::{ChunkHandle, ChunkLayersData};
+use gpu_backend::render::{ChunkMeshData, RenderCamera, RenderError, Renderer};
+use mesher::{BlockClasses, ChunkMesh, MeshError, MeshSettings};
+use voxel_core::storage::{VoxelStorage, WorldMap};
+use voxel_core::{ChunkCoord, ChunkSize, FaceDirection, MaterialPalette};
+
+use crate::reference_raycast::Camera;
+
+/// Why a scene could not be put on the GPU.
+#[derive(Debug)]
+pub enum GpuViewError {
+    /// Meshing a chunk failed.
+    Mesh(ChunkCoord, MeshError),
+    /// The renderer refused a chunk.
+    Render(ChunkCoord, RenderError),
+}
+
+impl fmt::Display for GpuViewError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            GpuViewError::Mesh(c, e) => write!(f, "meshing chunk {c:?}: {e}"),
+            GpuViewError::Render(c, e) => write!(f, "uploading chunk {c:?}: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for GpuViewError {}
+
+/// The renderer's camera for the raycaster's camera (same eye, split into chunk + offset for
+/// chunks of `size`; same angles).
+pub fn render_camera(camera: &Camera, size: ChunkSize) -> RenderCamera {
+    RenderCamera::from_world(
+        camera.voxel,
+        camera.fraction.to_array(),
+        size,
+        camera.yaw,
+        camera.pitch,
+        camera.fov_y,
+    )
+}
+
+/// The upload view of a meshed chunk's layers.
+pub fn layers_of(mesh: &ChunkMesh) -> ChunkLayersData<'_> {
+    let mut layers = ChunkLayersData::default();
+    for face in FaceDirection::ALL {
+        let i = usize::from(face.index());
+        layers.opaque_quads[i] = mesh.blocky.opaque.face(face);
+        layers.transparent_quads[i] = mesh.blocky.transparent.face(face);
+    }
+    layers
+}
+
+/// Meshes every stored chunk of `world` (greedy quads with AO, in parallel) and uploads the
+/// non-empty ones to `renderer`. Returns their handles.
+pub fn upload_world<C: VoxelStorage + Sync>(
+    renderer: &mut Renderer,
+    world: &WorldMap<C>,
+    palette: &MaterialPalette,
+) -> Result<Vec<ChunkHandle>, GpuViewError> {
+    let classes = BlockClasses::from_palette(palette);
+    let mut coords: Vec<ChunkCoord> = world.iter().map(|(c, _)| c).collect();
+    coords.sort_by_key(|c| (c.z, c.y, c.x));
+    let meshes = mesher::mesh_chunks(world, &coords, &classes, &MeshSettings::default())
+        .map_err(|e| GpuViewError::Mesh(ChunkCoord::new(0, 0, 0), e))?;
+    let mut handles = Vec::new();
+    for mesh in meshes.iter().filter(|m| !m.blocky.is_empty()) {
+        let data = ChunkMeshData {
+            coord: mesh.coord,
+            layers: layers_of(mesh),
+        };
+        let handle = renderer
+            .upload_chunk(&data)
+            .map_err(|e| GpuViewError::Render(mesh.coord, e))?;
+        handles.push(handle);
+    }
+    Ok(handles)
+}
