@@ -4,16 +4,23 @@
 use std::fmt;
 
 use gpu_backend::gigabuffer::{ChunkHandle, ChunkLayersData};
-use gpu_backend::render::{ChunkMeshData, RenderCamera, RenderError, Renderer};
+use gpu_backend::render::{ChunkMeshData, RenderCamera, RenderError, Renderer, RendererConfig};
+use gpu_backend::{DeviceError, DeviceOptions, GpuContext, PassTime};
 use mesher::{BlockClasses, ChunkMesh, MeshError, MeshSettings};
 use voxel_core::storage::{VoxelStorage, WorldMap};
 use voxel_core::{ChunkCoord, ChunkSize, FaceDirection, MaterialPalette};
 
-use crate::reference_raycast::Camera;
+use crate::deferred_reference::lighting_params;
+use crate::reference_raycast::{Camera, Lighting};
+use crate::scene::Scene;
 
 /// Why a scene could not be put on the GPU.
 #[derive(Debug)]
 pub enum GpuViewError {
+    /// No device (no Vulkan adapter, or the adapter refused).
+    Device(DeviceError),
+    /// The renderer could not be created or could not render.
+    Renderer(RenderError),
     /// Meshing a chunk failed.
     Mesh(ChunkCoord, MeshError),
     /// The renderer refused a chunk.
@@ -23,6 +30,8 @@ pub enum GpuViewError {
 impl fmt::Display for GpuViewError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            GpuViewError::Device(e) => write!(f, "{e}"),
+            GpuViewError::Renderer(e) => write!(f, "renderer: {e}"),
             GpuViewError::Mesh(c, e) => write!(f, "meshing chunk {c:?}: {e}"),
             GpuViewError::Render(c, e) => write!(f, "uploading chunk {c:?}: {e}"),
         }
@@ -79,4 +88,44 @@ pub fn upload_world<C: VoxelStorage + Sync>(
         handles.push(handle);
     }
     Ok(handles)
+}
+
+/// One frame rendered on the GPU.
+#[derive(Clone, Debug)]
+pub struct GpuFrame {
+    /// Row-major RGBA8, sRGB.
+    pub rgba: Vec<u8>,
+    /// The adapter it ran on.
+    pub adapter: String,
+    /// Per-pass times of the frame.
+    pub timings: Vec<PassTime>,
+    /// Chunks uploaded.
+    pub chunks: usize,
+}
+
+/// Renders `scene` from `camera` with the GPU renderer on a headless Vulkan device:
+/// meshes and uploads every chunk, draws one frame, reads it back.
+pub fn render_scene(
+    scene: &Scene,
+    camera: &Camera,
+    lighting: &Lighting,
+    width: u32,
+    height: u32,
+) -> Result<GpuFrame, GpuViewError> {
+    let ctx = GpuContext::new_headless(&DeviceOptions::default()).map_err(GpuViewError::Device)?;
+    let size = scene.world.size();
+    let config = RendererConfig::new(width, height, size);
+    let mut renderer =
+        Renderer::new(&ctx, &config, &scene.palette).map_err(GpuViewError::Renderer)?;
+    let handles = upload_world(&mut renderer, &scene.world, &scene.palette)?;
+    renderer.set_camera(&render_camera(camera, size));
+    renderer.set_lighting(&lighting_params(lighting));
+    let timings = renderer.render().map_err(GpuViewError::Renderer)?;
+    let image = renderer.read_image().map_err(GpuViewError::Renderer)?;
+    Ok(GpuFrame {
+        rgba: image.rgba,
+        adapter: ctx.capabilities.adapter.to_string(),
+        timings,
+        chunks: handles.len(),
+    })
 }
