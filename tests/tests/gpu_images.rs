@@ -11,8 +11,9 @@ mod image_support;
 
 use gpu_backend::DeviceOptions;
 use gpu_backend::test_support::headless_or_skip;
-use image_support::scenes::{self, TestScene, cpu_render, gpu_render};
+use image_support::scenes::{self, TestScene, cpu_render, gpu_render, gpu_render_with};
 use image_support::{Image, Tolerance, assert_images_match, compare};
+use mesher::SurfaceMode;
 use voxel_core::ChunkSize;
 
 const TOLERANCE: Tolerance = Tolerance::LAVAPIPE;
@@ -61,6 +62,24 @@ fn magicavoxel_model() {
         palette: vox.palette,
     };
     gpu_matches_cpu("vox_chr_knight", &scene);
+}
+
+/// The smooth pipeline (BlockVertex quads by vertex pulling): in NoCubes mode a plain opaque
+/// cube becomes cube faces in the smooth layer, which must render like the greedy cube (the
+/// smooth layer carries no AO, and a lone cube has none).
+#[test]
+fn smooth_layer_cube() {
+    let scene = scenes::cube(0);
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let (smooth, _) = gpu_render_with(&ctx, &scene, &scene.camera, SurfaceMode::NoCubes);
+    assert_images_match(
+        "smooth_cube",
+        &smooth,
+        &cpu_render(&scene, &scene.camera),
+        &TOLERANCE,
+    );
 }
 
 /// The cube near (2^30, 2^30, 2^30) renders bit for bit like the cube at the origin (the GPU

@@ -53,15 +53,25 @@ pub fn render_camera(camera: &Camera, size: ChunkSize) -> RenderCamera {
     )
 }
 
-/// The upload view of a meshed chunk's layers.
-pub fn layers_of(mesh: &ChunkMesh) -> ChunkLayersData<'_> {
-    let mut layers = ChunkLayersData::default();
+/// The upload view of a meshed chunk's layers; `smooth_quads` are the mesh's smooth quads
+/// widened to `u32` ([`smooth_quads_u32`]).
+pub fn layers_of<'a>(mesh: &'a ChunkMesh, smooth_quads: &'a [[u32; 4]]) -> ChunkLayersData<'a> {
+    let mut layers = ChunkLayersData {
+        smooth_vertices: mesh.smooth.vertices(),
+        smooth_quads,
+        ..Default::default()
+    };
     for face in FaceDirection::ALL {
         let i = usize::from(face.index());
         layers.opaque_quads[i] = mesh.blocky.opaque.face(face);
         layers.transparent_quads[i] = mesh.blocky.transparent.face(face);
     }
     layers
+}
+
+/// The smooth layer's quads of `mesh`, widened to `u32` (the gigabuffer's element).
+pub fn smooth_quads_u32(mesh: &ChunkMesh) -> Vec<[u32; 4]> {
+    mesh.smooth.quads().iter().collect()
 }
 
 /// Meshes every stored chunk of `world` (greedy quads with AO, in parallel) and uploads the
@@ -71,16 +81,31 @@ pub fn upload_world<C: VoxelStorage + Sync>(
     world: &WorldMap<C>,
     palette: &MaterialPalette,
 ) -> Result<Vec<ChunkHandle>, GpuViewError> {
+    upload_world_with(renderer, world, palette, &MeshSettings::default())
+}
+
+/// [`upload_world`] with other mesh settings (e.g. `SurfaceMode::NoCubes`, whose smooth layer
+/// the renderer draws too; clutter is not drawn yet).
+pub fn upload_world_with<C: VoxelStorage + Sync>(
+    renderer: &mut Renderer,
+    world: &WorldMap<C>,
+    palette: &MaterialPalette,
+    settings: &MeshSettings,
+) -> Result<Vec<ChunkHandle>, GpuViewError> {
     let classes = BlockClasses::from_palette(palette);
     let mut coords: Vec<ChunkCoord> = world.iter().map(|(c, _)| c).collect();
     coords.sort_by_key(|c| (c.z, c.y, c.x));
-    let meshes = mesher::mesh_chunks(world, &coords, &classes, &MeshSettings::default())
+    let meshes = mesher::mesh_chunks(world, &coords, &classes, settings)
         .map_err(|e| GpuViewError::Mesh(ChunkCoord::new(0, 0, 0), e))?;
     let mut handles = Vec::new();
-    for mesh in meshes.iter().filter(|m| !m.blocky.is_empty()) {
+    for mesh in meshes
+        .iter()
+        .filter(|m| !m.blocky.is_empty() || !m.smooth.is_empty())
+    {
+        let smooth_quads = smooth_quads_u32(mesh);
         let data = ChunkMeshData {
             coord: mesh.coord,
-            layers: layers_of(mesh),
+            layers: layers_of(mesh, &smooth_quads),
         };
         let handle = renderer
             .upload_chunk(&data)

@@ -2,8 +2,9 @@
 
 use gpu_backend::render::{Renderer, RendererConfig};
 use gpu_backend::{GpuContext, PassTime};
+use mesher::{MeshSettings, SurfaceMode};
 use viewer::deferred_reference::{lighting_params, render_deferred};
-use viewer::gpu_view::{render_camera, upload_world};
+use viewer::gpu_view::{render_camera, upload_world_with};
 use viewer::reference_raycast::{Camera, Lighting, trace_ray};
 use voxel_core::storage::{PaletteChunk, WorldMap};
 use voxel_core::{BlockId, ChunkSize, Material, MaterialClass, MaterialPalette, WorldPos};
@@ -136,12 +137,28 @@ pub fn terrain() -> TestScene {
     }
 }
 
-/// Renders `scene` from `camera` on the GPU; returns the image and the frame's pass times.
+/// Renders `scene` from `camera` on the GPU (greedy quads); returns the image and the frame's
+/// pass times.
 pub fn gpu_render(ctx: &GpuContext, scene: &TestScene, camera: &Camera) -> (Image, Vec<PassTime>) {
+    gpu_render_with(ctx, scene, camera, SurfaceMode::Greedy)
+}
+
+/// [`gpu_render`] with the chunks meshed in `surface` mode (`NoCubes` puts every opaque block
+/// in the smooth layer, drawn by the smooth pipeline).
+pub fn gpu_render_with(
+    ctx: &GpuContext,
+    scene: &TestScene,
+    camera: &Camera,
+    surface: SurfaceMode,
+) -> (Image, Vec<PassTime>) {
     let size = scene.world.size();
     let config = RendererConfig::new(WIDTH, HEIGHT, size);
     let mut renderer = Renderer::new(ctx, &config, &scene.palette).expect("renderer");
-    upload_world(&mut renderer, &scene.world, &scene.palette).expect("upload");
+    let settings = MeshSettings {
+        surface,
+        clutter: None,
+    };
+    upload_world_with(&mut renderer, &scene.world, &scene.palette, &settings).expect("upload");
     let render_cam = render_camera(camera, size);
     renderer.set_camera(&render_cam);
     renderer.set_lighting(&lighting_params(&Lighting::default()));
