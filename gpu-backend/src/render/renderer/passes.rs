@@ -1,0 +1,290 @@
+//! Recording the renderer's passes: bind groups, the G-buffer pass (opaque quads from the cull
+//! pass's commands, then smooth chunks), the transparent pass and the two full-screen passes.
+
+use std::collections::HashMap;
+
+use wgpu::util::DeviceExt;
+use wgpu::{BindGroup, Buffer, BufferUsages, CommandEncoder};
+
+use super::Renderer;
+use crate::gigabuffer::DataKind;
+use crate::render::frame::SmoothDraw;
+use crate::render::transparent::TransparentDraw;
+
+impl Renderer {
+    pub(super) fn frame_group(&self) -> BindGroup {
+        self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout: &self.pipelines.frame_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: self.frame_uniforms.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.materials.as_entire_binding(),
+                },
+            ],
+        })
+    }
+
+    /// Group 1 of the quad pipelines: quad page `page` and `records`.
+    fn quad_group(&self, page: u32, records: &Buffer) -> Option<BindGroup> {
+        let quads = self.gigabuffer.page(DataKind::Quads, page)?;
+        Some(self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("quads"),
+            layout: &self.pipelines.quad_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: quads.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: records.as_entire_binding(),
+                },
+            ],
+        }))
+    }
+
+    pub(super) fn record_gbuffer(&self, encoder: &mut CommandEncoder, frame_group: &BindGroup) {
+        let clear = |view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let smooth = self.smooth_batches();
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("gbuffer"),
+            color_attachments: &[clear(&self.targets.albedo), clear(&self.targets.normal)],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.targets.depth,
+                // Reversed-Z: 0 is infinitely far.
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipelines.quad_gbuffer);
+        pass.set_bind_group(0, frame_group, &[]);
+        pass.set_index_buffer(self.quad_indices.slice(..), wgpu::IndexFormat::Uint32);
+        for page in 0..self.cull.layout().page_count {
+            if let Some(group) = self.quad_group(page, self.opaque_commands.records()) {
+                pass.set_bind_group(1, &group, &[]);
+                self.opaque_commands.draw_page(&mut pass, page);
+            }
+        }
+        if !smooth.is_empty() {
+            pass.set_pipeline(&self.pipelines.smooth_gbuffer);
+            pass.set_bind_group(0, frame_group, &[]);
+            for (group, draws) in &smooth {
+                pass.set_bind_group(1, group, &[]);
+                for (i, draw) in draws {
+                    pass.draw(0..6 * draw.quad_count, *i..*i + 1);
+                }
+            }
+        }
+    }
+
+    /// The smooth draws of the resident chunks, grouped by the pages they read.
+    fn smooth_batches(&self) -> Vec<(BindGroup, Vec<(u32, SmoothDraw)>)> {
+        let vertices = self
+            .gigabuffer
+            .layout(DataKind::SmoothVertices)
+            .page_capacity;
+        let quads = self.gigabuffer.layout(DataKind::SmoothQuads).page_capacity;
+        let camera = self.camera.chunk;
+        let mut by_pages: HashMap<(u32, u32), Vec<SmoothDraw>> = HashMap::new();
+        for resident in self.chunks.values() {
+            let (Some(smooth), Some(info)) = (resident.smooth, self.table.get(resident.slot))
+            else {
+                continue;
+            };
+            let (Some(vp), Some(qp)) = (
+                smooth.vertices.offset.checked_div(vertices),
+                smooth.quads.offset.checked_div(quads),
+            ) else {
+                continue;
+            };
+            by_pages.entry((vp, qp)).or_default().push(SmoothDraw {
+                chunk: [
+                    info.chunk[0].wrapping_sub(camera.x),
+                    info.chunk[1].wrapping_sub(camera.y),
+                    info.chunk[2].wrapping_sub(camera.z),
+                ],
+                vertex_offset: smooth.vertices.offset % vertices,
+                quad_offset: smooth.quads.offset % quads,
+                quad_count: smooth.quads.count,
+                pad: [0; 2],
+            });
+        }
+        let mut batches = Vec::new();
+        for ((vp, qp), draws) in by_pages {
+            let (Some(vertex_page), Some(quad_page)) = (
+                self.gigabuffer.page(DataKind::SmoothVertices, vp),
+                self.gigabuffer.page(DataKind::SmoothQuads, qp),
+            ) else {
+                continue;
+            };
+            let records = self
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("smooth draws"),
+                    contents: bytemuck::cast_slice(&draws),
+                    usage: BufferUsages::STORAGE,
+                });
+            let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("smooth"),
+                layout: &self.pipelines.smooth_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: vertex_page.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: quad_page.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: records.as_entire_binding(),
+                    },
+                ],
+            });
+            batches.push((group, (0u32..).zip(draws).collect()));
+        }
+        batches
+    }
+
+    pub(super) fn record_transparent(
+        &self,
+        encoder: &mut CommandEncoder,
+        frame_group: &BindGroup,
+        draws: &[TransparentDraw],
+    ) {
+        if draws.is_empty() {
+            return;
+        }
+        let records: Vec<_> = draws.iter().map(|d| d.record).collect();
+        let records = self
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("transparent records"),
+                contents: bytemuck::cast_slice(&records),
+                usage: BufferUsages::STORAGE,
+            });
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("transparent"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.targets.hdr,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.targets.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipelines.quad_transparent);
+        pass.set_bind_group(0, frame_group, &[]);
+        pass.set_index_buffer(self.quad_indices.slice(..), wgpu::IndexFormat::Uint32);
+        let mut bound = None;
+        for draw in draws {
+            if bound != Some(draw.page) {
+                let Some(group) = self.quad_group(draw.page, &records) else {
+                    continue;
+                };
+                pass.set_bind_group(1, &group, &[]);
+                bound = Some(draw.page);
+            }
+            let r = draw.record;
+            pass.draw_indexed(
+                0..r.index_count,
+                r.base_vertex,
+                r.first_instance..r.first_instance + 1,
+            );
+        }
+    }
+
+    /// The lighting pass (`tonemap = false`: G-buffer to HDR) or the tonemap pass (HDR to the
+    /// output).
+    pub(super) fn record_fullscreen(
+        &self,
+        encoder: &mut CommandEncoder,
+        frame_group: &BindGroup,
+        tonemap: bool,
+    ) {
+        let t = &self.targets;
+        let texture = |binding, view| wgpu::BindGroupEntry {
+            binding,
+            resource: wgpu::BindingResource::TextureView(view),
+        };
+        let (pipeline, layout, entries, target) = if tonemap {
+            (
+                &self.pipelines.tonemap,
+                &self.pipelines.hdr_read_layout,
+                vec![texture(3, &t.hdr)],
+                &t.output,
+            )
+        } else {
+            (
+                &self.pipelines.lighting,
+                &self.pipelines.gbuffer_read_layout,
+                vec![
+                    texture(0, &t.albedo),
+                    texture(1, &t.normal),
+                    texture(2, &t.depth),
+                ],
+                &t.hdr,
+            )
+        };
+        let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(if tonemap { "hdr read" } else { "gbuffer read" }),
+            layout,
+            entries: &entries,
+        });
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(if tonemap { "tonemap" } else { "lighting" }),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, frame_group, &[]);
+        pass.set_bind_group(1, &group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
