@@ -8,8 +8,9 @@ use voxel_core::PaddedChunk;
 use voxel_core::formats::PackedQuad;
 
 use super::BlockyMesh;
+use super::faces::SliceQuads;
 use super::masks::{Content, Masks};
-use super::merge::{Keys, SliceQuads};
+use super::merge::Keys;
 use super::plain::{build_columns, padded_edge_of};
 use super::slices::{Input, mesh_direction};
 use crate::{BlockClasses, MeshError};

@@ -30,7 +30,10 @@
 
 pub mod ao;
 mod bits;
+mod faces;
 mod greedy;
+mod grow;
+mod line_units;
 mod masks;
 mod merge;
 mod mesh;

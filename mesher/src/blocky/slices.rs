@@ -21,8 +21,9 @@ use alloc::vec::Vec;
 use voxel_core::formats::PackedQuad;
 
 use super::ao::AO_TABLES;
+use super::faces::{Quads, SliceFaces, SliceQuads};
 use super::masks::{Layouts, Slice};
-use super::merge::{Keys, Quads, SliceFaces, SliceQuads, greedy, rows_of, unit_quads};
+use super::merge::{Keys, greedy, rows_of, unit_quads};
 use crate::{BlockClasses, MeshError};
 
 /// How face direction `D` (index in `FaceDirection::ALL`) maps onto slices, lines and bits.
@@ -204,8 +205,8 @@ fn emit<const D: usize>(
     let mut quads = Quads { buf, len: 0 };
     let rows = rows_of(faces);
     match (input.merge, input.ao) {
-        (false, true) => unit_quads::<D, true>(slice, faces, rows, keys, &mut quads)?,
-        (false, false) => unit_quads::<D, false>(slice, faces, rows, keys, &mut quads)?,
+        (false, true) => unit_quads::<D, true>(slice, faces, rows, &mut quads)?,
+        (false, false) => unit_quads::<D, false>(slice, faces, rows, &mut quads)?,
         (true, true) => greedy::<D, true>(slice, faces, rows, e, keys, &mut quads)?,
         (true, false) => greedy::<D, false>(slice, faces, rows, e, keys, &mut quads)?,
     }

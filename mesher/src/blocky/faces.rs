@@ -1,0 +1,163 @@
+//! [`SliceFaces`]: the faces of one slice as the merge passes read them (ids, AO from the
+//! front slice, quad words), and [`Quads`], the buffer their quads are written to.
+
+use voxel_core::BlockId;
+use voxel_core::formats::PackedQuad;
+
+use super::masks::Slice;
+use super::slices::Direction;
+use crate::{BlockClasses, MeshError};
+
+/// The faces of one slice of direction `D`, as the merge passes see them.
+pub(crate) struct SliceFaces<'a, const D: usize> {
+    /// Padded ids, x fastest.
+    pub voxels: &'a [u16],
+    /// Index of the slice's voxel at line 0, bit 0.
+    pub base: usize,
+    /// Voxel index stride of one line.
+    pub stride_l: usize,
+    /// Voxel index stride of one bit.
+    pub stride_b: usize,
+    /// Opaque lines of the front slice (for AO).
+    pub front: &'a Slice,
+    /// The slice's padded coordinate.
+    pub n: usize,
+    /// Check that ids are known (opaque layer).
+    pub check: Option<&'a BlockClasses>,
+}
+
+/// The opaque lines of the front slice around line `l`.
+pub(crate) type Front = (u64, u64, u64);
+
+/// Room for the quads of one slice (at most 62 x 62 faces), written in place and appended to
+/// the output with one copy per slice, which keeps the loops free of the output vector's
+/// length and capacity bookkeeping.
+pub(crate) type SliceQuads = [PackedQuad; 4096];
+
+/// The quads of the slice being meshed: the buffer and how many it holds.
+pub(crate) struct Quads<'a> {
+    /// The buffer.
+    pub buf: &'a mut SliceQuads,
+    /// Quads written so far.
+    pub len: usize,
+}
+
+impl Quads<'_> {
+    /// Appends one quad.
+    #[inline(always)]
+    pub(crate) fn push(&mut self, q: PackedQuad) {
+        self.buf[self.len & 4095] = q;
+        self.len += 1;
+    }
+
+    /// Writes `q` past the end, and keeps it (moves the end) only if `keep`: no branch.
+    #[inline(always)]
+    pub(crate) fn push_if(&mut self, q: PackedQuad, keep: bool) {
+        self.buf[self.len & 4095] = q;
+        self.len += usize::from(keep);
+    }
+}
+
+impl<const D: usize> SliceFaces<'_, D> {
+    /// The front lines around line `l`.
+    #[inline(always)]
+    pub(crate) fn front_lines(&self, l: usize) -> Front {
+        (
+            self.front[(l - 1) & 63],
+            self.front[l & 63],
+            self.front[(l + 1) & 63],
+        )
+    }
+
+    /// The id of the face at line `l`, bit `b`.
+    #[inline(always)]
+    pub(crate) fn id(&self, l: usize, b: usize) -> u32 {
+        let i = self.base + l * self.stride_l + b * self.stride_b;
+        u32::from(self.voxels.get(i).copied().unwrap_or(0))
+    }
+
+    /// The key of the face at line `l`, bit `b`: its id and, with `AO`, its 4 corner values.
+    #[inline(always)]
+    pub(crate) fn key<const AO: bool>(&self, l: usize, b: usize) -> u32 {
+        self.id(l, b) << 11 | self.ao::<AO>(self.front_lines(l), b) << 3
+    }
+
+    /// The packed AO byte of the face at bit `b` of a line with front lines `front` (all 3s
+    /// without `AO`): 9 bits of the front lines index the direction's table.
+    #[inline(always)]
+    pub(crate) fn ao<const AO: bool>(&self, (f0, f1, f2): Front, b: usize) -> u32 {
+        if !AO {
+            return 0xFF;
+        }
+        let s = (b - 1) & 63;
+        let code = ((f0 >> s) & 7) | ((f1 >> s) & 7) << 3 | ((f2 >> s) & 7) << 6;
+        u32::from(Direction::<D>::AO_TABLE[(code & 511) as usize])
+    }
+
+    /// Word 0 of a quad at line `l`, bit `b`, spanning `lines` lines and `bits` bits.
+    #[inline(always)]
+    pub(crate) fn position_size(&self, l: usize, b: usize, lines: usize, bits: usize) -> u32 {
+        ((self.n as u32 - 1) << Direction::<D>::SHIFT_N)
+            | ((l as u32 - 1) << Direction::<D>::SHIFT_L)
+            | ((b as u32 - 1) << Direction::<D>::SHIFT_B)
+            | ((lines as u32 - 1) << Direction::<D>::SIZE_SHIFT_L)
+            | ((bits as u32 - 1) << Direction::<D>::SIZE_SHIFT_B)
+    }
+
+    /// Fails if the layer is checked and the id of `key` is unknown; `known` caches, one bit
+    /// each, the ids below 64 that passed (a test that stays predictable when ids alternate).
+    #[inline(always)]
+    pub(crate) fn check(
+        &self,
+        key: u32,
+        known: &mut u64,
+        l: usize,
+        b: usize,
+    ) -> Result<(), MeshError> {
+        let id = key >> 11;
+        if id < 64 && (*known >> id) & 1 != 0 {
+            return Ok(());
+        }
+        let Some(classes) = self.check else {
+            return Ok(());
+        };
+        let id = BlockId(id as u16);
+        if classes.class(id).is_some() {
+            if id.0 < 64 {
+                *known |= 1 << id.0;
+            }
+            return Ok(());
+        }
+        let mut position = [0u32; 3];
+        position[(Direction::<D>::SHIFT_N / 6) as usize] = self.n as u32;
+        position[(Direction::<D>::SHIFT_L / 6) as usize] = l as u32;
+        position[(Direction::<D>::SHIFT_B / 6) as usize] = b as u32;
+        Err(MeshError::UnknownBlock { id, position })
+    }
+
+    /// The 1 x 1 quad of the face at line `l`, bit `b`, with `key`.
+    #[inline(always)]
+    pub(crate) fn unit(&self, l: usize, b: usize, key: u32) -> PackedQuad {
+        PackedQuad {
+            position_size: self.position_size(l, b, 1, 1),
+            face_ao_block: key | D as u32,
+        }
+    }
+
+    /// Pushes the quad at line `l`, bit `b`, spanning `lines` lines and `bits` bits.
+    #[inline(always)]
+    pub(crate) fn push(
+        &self,
+        out: &mut Quads<'_>,
+        known: &mut u64,
+        (l, b, lines, bits): (usize, usize, usize, usize),
+        key: u32,
+    ) -> Result<(), MeshError> {
+        self.check(key, known, l, b)?;
+        out.push(PackedQuad {
+            position_size: self.position_size(l, b, lines, bits),
+            face_ao_block: key | D as u32,
+        });
+        Ok(())
+    }
+}

@@ -1,0 +1,144 @@
+//! The fast path for a line with many faces to emit as 1 x 1 quads: every face of a
+//! checkerboard, a long exposed row of faces that do not merge.
+//!
+//! Per face, the generic path reads the id, builds the 9-bit front neighbourhood and looks its
+//! AO up. On such a line most faces usually share one key, so the line is split with whole-line
+//! bit operations first:
+//!
+//! - faces whose 3 x 3 front neighbourhood equals the first face's share its AO: 9 bit planes
+//!   (each front line shifted by -1, 0, +1), each compared with the first face's bit;
+//! - where the bits run along x (±Y and ±Z faces) the ids of the line are a contiguous row, and
+//!   the faces with the first face's id come from one SIMD compare of the row.
+//!
+//! Faces with both take one add and one store each; faces with the AO only read their id; the
+//! others take the generic path.
+
+use voxel_core::formats::PackedQuad;
+
+use super::bits::row_equal;
+use super::faces::{Quads, SliceFaces};
+use super::slices::Direction;
+use crate::MeshError;
+
+/// True if `bits` has at least 4 set bits (without `popcnt`, which the baseline x86-64 target
+/// lacks): the lines worth the fast path's fixed cost.
+#[inline(always)]
+pub(crate) fn many(bits: u64) -> bool {
+    let mut x = bits & bits.wrapping_sub(1);
+    x &= x.wrapping_sub(1);
+    x &= x.wrapping_sub(1);
+    x != 0
+}
+
+impl<const D: usize> SliceFaces<'_, D> {
+    /// The faces of `bits` (line `l`) whose front neighbourhood, the 9 bits [`key`](Self::key)
+    /// reads, equals that of the face at bit `b0`.
+    #[inline(always)]
+    fn same_neighbourhood(&self, l: usize, b0: usize, bits: u64) -> u64 {
+        let (f0, f1, f2) = self.front_lines(l);
+        let mut same = bits;
+        for f in [f0, f1, f2] {
+            // Bit b of each plane: the front voxel at bit offset -1, 0, +1 of face b.
+            for plane in [f << 1, f, f >> 1] {
+                let want = 0u64.wrapping_sub((plane >> b0) & 1);
+                same &= !(plane ^ want);
+            }
+        }
+        same
+    }
+
+    /// The 64 ids of line `l` when its bits run along x (±Y and ±Z faces) and the row fits in
+    /// the array (past the padded edge it holds the next row's ids, never read as faces).
+    #[inline(always)]
+    pub(crate) fn row(&self, l: usize) -> Option<&[u16; 64]> {
+        if Direction::<D>::LAYOUT == 2 {
+            return None;
+        }
+        let start = self.base + l * self.stride_l;
+        self.voxels
+            .get(start..start + 64)
+            .and_then(|r| <&[u16; 64]>::try_from(r).ok())
+    }
+
+    /// Appends a 1 x 1 quad for every face of `bits` in line `l`, the line's id row and front
+    /// lines read once.
+    #[inline(always)]
+    pub(crate) fn units<const AO: bool>(
+        &self,
+        l: usize,
+        bits: u64,
+        known: &mut u64,
+        out: &mut Quads<'_>,
+    ) -> Result<(), MeshError> {
+        let row = self.row(l);
+        let (f0, f1, f2) = self.front_lines(l);
+        let mut m = bits;
+        while m != 0 {
+            let b = m.trailing_zeros() as usize;
+            m &= m - 1;
+            let id = match row {
+                Some(row) => u32::from(row[b & 63]),
+                None => self.id(l, b),
+            };
+            let ao = self.ao::<AO>((f0, f1, f2), b);
+            self.push(out, known, (l, b, 1, 1), id << 11 | ao << 3)?;
+        }
+        Ok(())
+    }
+
+    /// Appends a 1 x 1 quad for every face of `bits` (not empty) in line `l`, a line with
+    /// [`many`] faces: faces that share the first face's key cost one add and one store each.
+    #[inline(never)]
+    pub(crate) fn line_units<const AO: bool>(
+        &self,
+        l: usize,
+        bits: u64,
+        known: &mut u64,
+        out: &mut Quads<'_>,
+    ) -> Result<(), MeshError> {
+        let b0 = bits.trailing_zeros() as usize & 63;
+        let key0 = self.key::<AO>(l, b0);
+        // Lines of mixed keys (random ids, varied AO) would pay the bulk compares for little:
+        // sample the second face first.
+        let b1 = (bits & bits.wrapping_sub(1)).trailing_zeros() as usize & 63;
+        if self.key::<AO>(l, b1) != key0 {
+            return self.units::<AO>(l, bits, known, out);
+        }
+        let same_ao = if AO {
+            self.same_neighbourhood(l, b0, bits)
+        } else {
+            bits
+        };
+        let row = self.row(l);
+        let same_key = match row {
+            Some(row) => same_ao & row_equal(row, row[b0]),
+            None => 0,
+        };
+        if same_key != 0 {
+            self.check(key0, known, l, b0)?;
+            let word = self.position_size(l, 1, 1, 1);
+            let q = key0 | D as u32;
+            let mut m = same_key;
+            while m != 0 {
+                let b = m.trailing_zeros();
+                m &= m - 1;
+                out.push(PackedQuad {
+                    position_size: word + ((b - 1) << Direction::<D>::SHIFT_B),
+                    face_ao_block: q,
+                });
+            }
+        }
+        if row.is_none() {
+            // Same AO, the id read per face (strided: ±X faces).
+            let mut m = same_ao;
+            while m != 0 {
+                let b = m.trailing_zeros() as usize;
+                m &= m - 1;
+                let key = self.id(l, b) << 11 | (key0 & 0x7FF);
+                self.push(out, known, (l, b, 1, 1), key)?;
+            }
+            return self.units::<AO>(l, bits & !same_ao, known, out);
+        }
+        self.units::<AO>(l, bits & !same_key, known, out)
+    }
+}
