@@ -33,8 +33,8 @@ pub const CULL: ShaderSpec = ShaderSpec {
     body: include_str!("shaders/cull.wgsl"),
 };
 
-/// The renderer's geometry passes (entry points `vs_quad`, `vs_smooth`, `fs_gbuffer`,
-/// `fs_transparent`; see [`crate::render`]).
+/// The renderer's geometry passes (entry points `vs_quad`, `vs_quad_transparent`, `vs_smooth`,
+/// `fs_gbuffer`, `fs_transparent`; see [`crate::render`]).
 pub const GBUFFER: ShaderSpec = ShaderSpec {
     name: "gbuffer",
     body: concat!(

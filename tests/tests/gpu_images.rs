@@ -43,6 +43,11 @@ fn sphere_on_a_floor_with_water() {
 }
 
 #[test]
+fn glass_panes_blend_back_to_front() {
+    gpu_matches_cpu("glass_panes", &scenes::glass_panes());
+}
+
+#[test]
 fn terrain_patch() {
     gpu_matches_cpu("terrain", &scenes::terrain());
 }

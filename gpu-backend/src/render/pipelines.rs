@@ -214,7 +214,7 @@ impl Pipelines {
             PipelineDesc {
                 label: "transparent quads",
                 module: &geometry,
-                vertex: "vs_quad",
+                vertex: "vs_quad_transparent",
                 fragment: "fs_transparent",
                 groups: [&frame_layout, &quad_layout],
                 targets: &[Some(ColorTargetState {

@@ -74,3 +74,45 @@ pub fn transparent_draws<'a>(
     }
     draws
 }
+
+#[cfg(test)]
+mod tests {
+    use voxel_core::formats::FaceLayerRange;
+    use voxel_core::{ChunkCoord, ChunkSize};
+
+    use super::*;
+    use crate::cull::CullConfig;
+    use crate::gigabuffer::{DataKind, PageLayout};
+
+    fn chunk(z: i32, offset: u32) -> MeshedChunkInfo {
+        MeshedChunkInfo {
+            chunk: [0, 0, z],
+            centre: [8.0; 3],
+            extent: [8.0; 3],
+            transparent_quads: FaceLayerRange {
+                offset,
+                // +Z and -Z faces; only +Z faces the eye at z = +8 in front of every chunk.
+                counts: [0, 0, 0, 0, 3, 2],
+            },
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn chunks_come_back_to_front_with_facing_groups_only() {
+        let pages = PageLayout::plan(DataKind::Quads, 1 << 20, 1 << 20).unwrap();
+        let layout = CullLayout::new(&pages, &CullConfig::new(ChunkSize::S16, 16)).unwrap();
+        let camera = CullCamera::without_frustum(ChunkCoord::new(0, 0, 0), [8.0, 8.0, 8.0]);
+        // Chunks at z = -1, -3, -2 (all in front of the eye along -z).
+        let infos = [chunk(-1, 0), chunk(-3, 100), chunk(-2, 200)];
+        let draws = transparent_draws(&infos, &camera, &layout);
+        let order: Vec<i32> = draws.iter().map(|d| d.record.chunk[2]).collect();
+        assert_eq!(order, [-3, -2, -1], "farthest first");
+        for (i, d) in draws.iter().enumerate() {
+            assert_eq!(d.record.first_instance, i as u32);
+            assert_eq!(d.record.index_count, 6 * 3, "only the 3 +Z quads");
+        }
+        // The +Z group starts after the groups of lower directions (all empty here).
+        assert_eq!(draws[0].record.base_vertex, 4 * 100);
+    }
+}

@@ -51,29 +51,43 @@ fn relative_position(rel: vec3<i32>, local: vec3<f32>) -> vec4<f32> {
     return frame.view_proj * vec4<f32>(p, 1.0);
 }
 
-@vertex
-fn vs_quad(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> SurfaceVaryings {
+// Corner `vertex & 3` of quad `vertex >> 2` of the bound page, in the chunk of the draw's
+// record. `grow`: see vs_quad.
+fn quad_vertex(vertex: u32, instance: u32, grow: bool) -> SurfaceVaryings {
     let q = quads[vertex >> 2u];
     // The AO diagonal flip of mesher::blocky::triangle_indices: split along corners 1-3 when
     // they are brighter, by renaming corner slot k to corner (k + 1) & 3.
     let flip = packed_quad_ao(q, 1u) + packed_quad_ao(q, 3u) > packed_quad_ao(q, 0u) + packed_quad_ao(q, 2u);
     let corner = ((vertex & 3u) + u32(flip)) & 3u;
     let rel = chunk_draw_indirect_chunk(records[instance]);
-    let n = vec3<f32>(face_normal(packed_quad_face(q)));
-    // Greedy quads meet at T-junctions, where rasterization can leave pinholes: grow each quad
-    // in its own plane by a hair (DILATION of its distance, at least MIN_DILATION blocks), so
-    // neighbours overlap instead. The normal axis of (corner - centre) is 0, so sign() keeps
-    // the quad in its plane.
-    let corner_local = vec3<f32>(packed_quad_corner(q, corner));
-    let centre = 0.5 * (vec3<f32>(packed_quad_corner(q, 0u)) + vec3<f32>(packed_quad_corner(q, 2u)));
-    let origin = vec3<f32>(rel) * frame.chunk_edge - frame.camera_offset;
-    let grow = max(length(origin + corner_local) * DILATION, MIN_DILATION);
+    var local = vec3<f32>(packed_quad_corner(q, corner));
+    if grow {
+        // The normal axis of (corner - centre) is 0, so sign() keeps the quad in its plane.
+        let centre = 0.5 * (vec3<f32>(packed_quad_corner(q, 0u)) + vec3<f32>(packed_quad_corner(q, 2u)));
+        let origin = vec3<f32>(rel) * frame.chunk_edge - frame.camera_offset;
+        let hair = max(length(origin + local) * DILATION, MIN_DILATION);
+        local += sign(local - centre) * hair;
+    }
     var out: SurfaceVaryings;
-    out.position = relative_position(rel, corner_local + sign(corner_local - centre) * grow);
+    out.position = relative_position(rel, local);
     out.block = packed_quad_block(q);
     out.ao = f32(packed_quad_ao(q, corner));
-    out.normal = n;
+    out.normal = vec3<f32>(face_normal(packed_quad_face(q)));
     return out;
+}
+
+// Opaque quads. Greedy quads meet at T-junctions, where rasterization can leave pinholes: each
+// quad is grown in its own plane by a hair (DILATION of its distance, at least MIN_DILATION
+// blocks, about 1/100 pixel at the tests' resolution), so neighbours overlap instead.
+@vertex
+fn vs_quad(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> SurfaceVaryings {
+    return quad_vertex(vertex, instance, true);
+}
+
+// Transparent quads are not grown: overlapping seams would be blended twice.
+@vertex
+fn vs_quad_transparent(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> SurfaceVaryings {
+    return quad_vertex(vertex, instance, false);
 }
 
 @vertex

@@ -8,7 +8,8 @@
 //!   disagree by rounding, so they are skipped entirely.
 //! - *Coverage* (hit or miss) must match exactly on every other pixel.
 //! - *Crease pixels* are those that, with their four edge neighbours in the reference, show
-//!   more than one surface plane (a convex or concave edge, or one surface in front of another). The GPU
+//!   more than one surface plane, opaque or transparent (a convex or concave edge, one surface
+//!   in front of another, the border of a transparent surface). The GPU
 //!   grows each greedy quad by a hair (about 1/100 pixel) to close T-junction pinholes, so a
 //!   pixel centre within that hair of an edge may see the neighbouring face; and a ray through
 //!   a voxel edge exactly may be resolved either way. Depth and colour are not compared there.
@@ -32,9 +33,21 @@ pub struct Image {
     pub rgba: Vec<u8>,
     /// Row-major eye distance, blocks.
     pub depth: Vec<f32>,
-    /// Row-major plane of the surface hit, `(face direction, plane coordinate)`, where known
-    /// (the CPU reference knows it; it marks creases).
-    pub planes: Option<Vec<Option<(u8, i32)>>>,
+    /// Row-major planes of the surfaces a pixel's ray met, where known (the CPU reference
+    /// knows them; they mark creases).
+    pub planes: Option<Vec<Plane>>,
+}
+
+/// A surface plane: `(face direction, plane coordinate)`.
+pub type FacePlane = (u8, i32);
+
+/// The planes one ray met: the opaque hit's and the transparent surfaces' in front of it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Plane {
+    /// The opaque surface, if any.
+    pub opaque: Option<FacePlane>,
+    /// Transparent surfaces, front to back.
+    pub layers: [Option<FacePlane>; 2],
 }
 
 /// How close two images must be (see the [module docs](self)).
@@ -229,7 +242,8 @@ pub fn write_pngs(name: &str, actual: &Image, reference: &Image) -> PathBuf {
     dir
 }
 
-/// Compares, and on failure writes the PNGs and panics saying where they are.
+/// Compares, and on failure writes the PNGs and panics saying where they are (with
+/// `IMAGE_TESTS_WRITE` set, writes them on success too).
 pub fn assert_images_match(name: &str, actual: &Image, reference: &Image, tolerance: &Tolerance) {
     let c = compare(actual, reference, tolerance);
     eprintln!("{name}: {c:?}");
@@ -238,6 +252,9 @@ pub fn assert_images_match(name: &str, actual: &Image, reference: &Image, tolera
         "{name}: the reference should show both geometry and sky ({} hits)",
         c.reference_hits
     );
+    if std::env::var_os("IMAGE_TESTS_WRITE").is_some() {
+        eprintln!("{name}: PNGs in {}", write_pngs(name, actual, reference).display());
+    }
     if !c.passed(tolerance) {
         let dir = write_pngs(name, actual, reference);
         let mut pixels = failing_pixels(actual, reference, tolerance);

@@ -9,7 +9,7 @@ use viewer::reference_raycast::{Camera, Lighting, trace_ray};
 use voxel_core::storage::{PaletteChunk, WorldMap};
 use voxel_core::{BlockId, ChunkSize, Material, MaterialClass, MaterialPalette, WorldPos};
 
-use super::Image;
+use super::{Image, Plane};
 
 /// Image width of every test.
 pub const WIDTH: u32 = 128;
@@ -125,6 +125,44 @@ pub fn sphere() -> TestScene {
     )
 }
 
+/// Two coloured glass panes in different chunks, one behind the other, in front of a white
+/// wall: the blend is right only if the far pane is drawn first.
+pub fn glass_panes() -> TestScene {
+    let mut palette = MaterialPalette::new();
+    let wall = palette.push(Material::opaque(230, 230, 230)).unwrap();
+    let glass = |r, g, b| {
+        let mut m = Material::opaque(r, g, b).with_class(MaterialClass::Transparent);
+        m.colour[3] = 150;
+        m
+    };
+    let red = palette.push(glass(220, 40, 40)).unwrap();
+    let blue = palette.push(glass(40, 60, 220)).unwrap();
+    let mut scene = scene_from_fn(
+        palette,
+        ChunkSize::S16,
+        [-8, -6, -36],
+        [8, 6, -4],
+        0,
+        move |x, y, z| {
+            let inside = x.abs() <= 6 && y.abs() <= 4;
+            match z {
+                -36 if x.abs() <= 8 && y.abs() <= 6 => wall,
+                -20 if inside && x >= -2 => blue,
+                -4 if inside && x <= 2 => red,
+                _ => BlockId::AIR,
+            }
+        },
+    );
+    scene.camera = Camera {
+        voxel: WorldPos::new(0, 1, 8),
+        fraction: glam::DVec3::new(0.3, 0.4, 0.5),
+        yaw: 0.05,
+        pitch: -0.03,
+        fov_y: 1.2,
+    };
+    scene
+}
+
 /// The terrain of the headless viewer, a 48 x 32 x 48 patch (16^3 chunks).
 pub fn terrain() -> TestScene {
     let scene = viewer::scene::terrain_scene(7, ChunkSize::S16, 3, 2, 3);
@@ -197,27 +235,34 @@ pub fn cpu_render(scene: &TestScene, camera: &Camera) -> Image {
         HEIGHT,
         MAX_DISTANCE,
     );
-    // The plane of each pixel's hit, from the same rays.
+    // The planes each pixel's ray met, from the same rays.
     let planes = (0..HEIGHT)
         .flat_map(|py| (0..WIDTH).map(move |px| (px, py)))
         .map(|(px, py)| {
             let dir = camera.ray_direction(px, py, WIDTH, HEIGHT);
-            let hit = trace_ray(
+            let trace = trace_ray(
                 &block_at,
                 &scene.palette,
                 camera.voxel,
                 camera.fraction,
                 dir,
                 MAX_DISTANCE,
-            )
-            .hit?;
-            let face = viewer::deferred_reference::face_of(hit.normal)?;
-            let axis = face.normal_axis();
-            let voxel = [hit.voxel.x, hit.voxel.y, hit.voxel.z];
-            Some((
-                face.index(),
-                voxel[axis].wrapping_add(i32::from(face.is_positive())),
-            ))
+            );
+            // The planes of the opaque hit and of each transparent surface in front of it.
+            let plane = |voxel: WorldPos, normal: [i32; 3]| {
+                let face = viewer::deferred_reference::face_of(normal)?;
+                let voxel = [voxel.x, voxel.y, voxel.z];
+                let coordinate =
+                    voxel[face.normal_axis()].wrapping_add(i32::from(face.is_positive()));
+                Some((face.index(), coordinate))
+            };
+            let layers = trace
+                .layers
+                .map(|l| l.and_then(|l| plane(l.voxel, l.normal)));
+            Plane {
+                opaque: trace.hit.and_then(|h| plane(h.voxel, h.normal)),
+                layers,
+            }
         })
         .collect();
     Image {
