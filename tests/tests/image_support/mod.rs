@@ -253,7 +253,10 @@ pub fn assert_images_match(name: &str, actual: &Image, reference: &Image, tolera
         c.reference_hits
     );
     if std::env::var_os("IMAGE_TESTS_WRITE").is_some() {
-        eprintln!("{name}: PNGs in {}", write_pngs(name, actual, reference).display());
+        eprintln!(
+            "{name}: PNGs in {}",
+            write_pngs(name, actual, reference).display()
+        );
     }
     if !c.passed(tolerance) {
         let dir = write_pngs(name, actual, reference);
