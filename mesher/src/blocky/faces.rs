@@ -1,6 +1,8 @@
 //! [`SliceFaces`]: the faces of one slice as the merge passes read them (ids, AO from the
 //! front slice, quad words), and [`Quads`], the buffer their quads are written to.
 
+use alloc::vec::Vec;
+
 use voxel_core::BlockId;
 use voxel_core::formats::PackedQuad;
 
@@ -34,12 +36,15 @@ pub(crate) type Front = (u64, u64, u64);
 /// length and capacity bookkeeping.
 pub(crate) type SliceQuads = [PackedQuad; 4096];
 
-/// The quads of the slice being meshed: the buffer and how many it holds.
+/// Where the quads of the slice being meshed go: the buffer and how many it holds, and the
+/// output layer, which the bulk path of [`push_bits`](Quads::push_bits) writes to directly.
 pub(crate) struct Quads<'a> {
     /// The buffer.
     pub buf: &'a mut SliceQuads,
     /// Quads written so far.
     pub len: usize,
+    /// The output, appended to with the buffer's quads once the slice is done.
+    pub out: &'a mut Vec<PackedQuad>,
 }
 
 impl Quads<'_> {
@@ -48,6 +53,23 @@ impl Quads<'_> {
     pub(crate) fn push(&mut self, q: PackedQuad) {
         self.buf[self.len & 4095] = q;
         self.len += 1;
+    }
+
+    /// Appends a quad for every set bit `b` of `bits`, all with word 1 `key`: word 0 is
+    /// `word + (b << shift)` (wrapping). The bulk path of lines whose faces share a key: it
+    /// writes to the output directly (one capacity check for the whole line, as the count is
+    /// known), not through the buffer.
+    #[inline(always)]
+    pub(crate) fn push_bits(&mut self, mut bits: u64, word: u32, shift: u32, key: u32) {
+        let count = bits.count_ones();
+        self.out.extend((0..count).map(|_| {
+            let b = bits.trailing_zeros();
+            bits &= bits.wrapping_sub(1);
+            PackedQuad {
+                position_size: word.wrapping_add(b << shift),
+                face_ao_block: key,
+            }
+        }));
     }
 
     /// Writes `q` past the end, and keeps it (moves the end) only if `keep`: no branch.

@@ -10,10 +10,11 @@
 //! - where the bits run along x (±Y and ±Z faces) the ids of the line are a contiguous row, and
 //!   the faces with the first face's id come from one SIMD compare of the row.
 //!
-//! Faces with both take one add and one store each; faces with the AO only read their id; the
-//! others take the generic path.
-
-use voxel_core::formats::PackedQuad;
+//! - ±X faces have their ids strided: those with the first face's AO are read one by one and
+//!   compared with its id without a branch.
+//!
+//! Faces with the first face's key take one add and one store each; the others take the
+//! generic path.
 
 use super::bits::row_equal;
 use super::faces::{Quads, SliceFaces};
@@ -109,36 +110,27 @@ impl<const D: usize> SliceFaces<'_, D> {
         } else {
             bits
         };
-        let row = self.row(l);
-        let same_key = match row {
+        let same_key = match self.row(l) {
             Some(row) => same_ao & row_equal(row, row[b0]),
-            None => 0,
+            // ±X faces: the ids are strided, read one by one but compared without a branch.
+            None => {
+                let id0 = key0 >> 11;
+                let mut differ = 0u64;
+                let mut m = same_ao;
+                while m != 0 {
+                    let b = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    differ |= u64::from(self.id(l, b) != id0) << b;
+                }
+                same_ao & !differ
+            }
         };
-        if same_key != 0 {
-            self.check(key0, known, l, b0)?;
-            let word = self.position_size(l, 1, 1, 1);
-            let q = key0 | D as u32;
-            let mut m = same_key;
-            while m != 0 {
-                let b = m.trailing_zeros();
-                m &= m - 1;
-                out.push(PackedQuad {
-                    position_size: word + ((b - 1) << Direction::<D>::SHIFT_B),
-                    face_ao_block: q,
-                });
-            }
-        }
-        if row.is_none() {
-            // Same AO, the id read per face (strided: ±X faces).
-            let mut m = same_ao;
-            while m != 0 {
-                let b = m.trailing_zeros() as usize;
-                m &= m - 1;
-                let key = self.id(l, b) << 11 | (key0 & 0x7FF);
-                self.push(out, known, (l, b, 1, 1), key)?;
-            }
-            return self.units::<AO>(l, bits & !same_ao, known, out);
-        }
+        self.check(key0, known, l, b0)?;
+        // Word 0 of the face at bit b is `word + (b << SHIFT_B)`.
+        let word = self
+            .position_size(l, 1, 1, 1)
+            .wrapping_sub(1 << Direction::<D>::SHIFT_B);
+        out.push_bits(same_key, word, Direction::<D>::SHIFT_B, key0 | D as u32);
         self.units::<AO>(l, bits & !same_key, known, out)
     }
 }

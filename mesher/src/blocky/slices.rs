@@ -202,7 +202,7 @@ fn emit<const D: usize>(
     buf: &mut SliceQuads,
     out: &mut Vec<PackedQuad>,
 ) -> Result<(), MeshError> {
-    let mut quads = Quads { buf, len: 0 };
+    let mut quads = Quads { buf, len: 0, out };
     let rows = rows_of(faces);
     match (input.merge, input.ao) {
         (false, true) => unit_quads::<D, true>(slice, faces, rows, &mut quads)?,
@@ -210,6 +210,8 @@ fn emit<const D: usize>(
         (true, true) => greedy::<D, true>(slice, faces, rows, e, keys, &mut quads)?,
         (true, false) => greedy::<D, false>(slice, faces, rows, e, keys, &mut quads)?,
     }
-    out.extend_from_slice(&quads.buf[..quads.len.min(4096)]);
+    quads
+        .out
+        .extend_from_slice(&quads.buf[..quads.len.min(4096)]);
     Ok(())
 }
