@@ -176,7 +176,7 @@ mod tests {
         };
         assert_eq!(bytemuck::bytes_of(&args), args.to_wgpu().as_bytes());
         // The records repeat the args in their first 20 bytes.
-        let record = voxel_core::formats::ChunkDrawIndirect {
+        let record = ChunkDrawIndirect {
             index_count: 1,
             instance_count: 2,
             first_index: 3,
