@@ -36,7 +36,8 @@
 //! smooth-quad range, and the cull pass does not cull the smooth layer. Rather than grow the
 //! shared 112-byte format, the renderer keeps a side table (the gigabuffer's
 //! [`ChunkRanges`](crate::gigabuffer::ChunkRanges) per resident chunk) and writes one
-//! [`SmoothDraw`] per smooth chunk per frame; each is one direct draw, unculled (depth-tested).
+//! [`SmoothDraw`] per smooth chunk in the frustum per frame (culled on the CPU by its box); each is
+//! one direct draw.
 //!
 //! **Camera-relative.** See [`camera`]: chunk differences in `i32`, small `f32` offsets.
 //!
@@ -50,7 +51,8 @@
 //! [`RenderError::MissingFeature`]. Both `MultiDrawPath`s and both `TimingPath`s work.
 //!
 //! **Not yet drawn:** clutter units and draw blocks (stored if uploaded, never drawn), far
-//! chunks (raycast sprites), shadows, textures; the smooth layer is not culled.
+//! chunks (raycast sprites), shadows, textures; the smooth layer is frustum-culled on the CPU
+//! only (no per-face-direction culling).
 //!
 //! [`PackedQuad`]: voxel_core::formats::PackedQuad
 //! [`BlockVertex`]: voxel_core::formats::BlockVertex

@@ -275,7 +275,7 @@ impl Renderer {
         self.timer.end(encoder, scope);
 
         let scope = self.timer.begin(encoder, "gbuffer");
-        self.record_gbuffer(encoder, &frame_group);
+        self.record_gbuffer(encoder, &frame_group, &cull_camera);
         self.timer.end(encoder, scope);
 
         let scope = self.timer.begin(encoder, "lighting");

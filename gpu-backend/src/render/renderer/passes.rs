@@ -7,6 +7,7 @@ use wgpu::util::DeviceExt;
 use wgpu::{BindGroup, Buffer, BufferUsages, CommandEncoder};
 
 use super::Renderer;
+use crate::cull::{CullCamera, in_frustum, relative_box};
 use crate::gigabuffer::DataKind;
 use crate::render::frame::SmoothDraw;
 use crate::render::transparent::TransparentDraw;
@@ -48,7 +49,12 @@ impl Renderer {
         }))
     }
 
-    pub(super) fn record_gbuffer(&self, encoder: &mut CommandEncoder, frame_group: &BindGroup) {
+    pub(super) fn record_gbuffer(
+        &self,
+        encoder: &mut CommandEncoder,
+        frame_group: &BindGroup,
+        camera: &CullCamera,
+    ) {
         let clear = |view| {
             Some(wgpu::RenderPassColorAttachment {
                 view,
@@ -60,7 +66,7 @@ impl Renderer {
                 },
             })
         };
-        let smooth = self.smooth_batches();
+        let smooth = self.smooth_batches(camera);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("gbuffer"),
             color_attachments: &[clear(&self.targets.albedo), clear(&self.targets.normal)],
@@ -99,19 +105,26 @@ impl Renderer {
     }
 
     /// The smooth draws of the resident chunks, grouped by the pages they read.
-    fn smooth_batches(&self) -> Vec<(BindGroup, Vec<(u32, SmoothDraw)>)> {
+    /// Smooth chunks are culled here, on the CPU, by their boxes against the frustum (the cull
+    /// pass reads only the quad layers); there are few of them.
+    fn smooth_batches(&self, camera: &CullCamera) -> Vec<(BindGroup, Vec<(u32, SmoothDraw)>)> {
+        let edge = self.config.chunk_size.edge();
         let vertices = self
             .gigabuffer
             .layout(DataKind::SmoothVertices)
             .page_capacity;
         let quads = self.gigabuffer.layout(DataKind::SmoothQuads).page_capacity;
-        let camera = self.camera.chunk;
+        let eye_chunk = self.camera.chunk;
         let mut by_pages: HashMap<(u32, u32), Vec<SmoothDraw>> = HashMap::new();
         for resident in self.chunks.values() {
             let (Some(smooth), Some(info)) = (resident.smooth, self.table.get(resident.slot))
             else {
                 continue;
             };
+            let (centre, extent) = relative_box(info, camera, edge);
+            if !in_frustum(&camera.planes, centre, extent) {
+                continue;
+            }
             let (Some(vp), Some(qp)) = (
                 smooth.vertices.offset.checked_div(vertices),
                 smooth.quads.offset.checked_div(quads),
@@ -120,9 +133,9 @@ impl Renderer {
             };
             by_pages.entry((vp, qp)).or_default().push(SmoothDraw {
                 chunk: [
-                    info.chunk[0].wrapping_sub(camera.x),
-                    info.chunk[1].wrapping_sub(camera.y),
-                    info.chunk[2].wrapping_sub(camera.z),
+                    info.chunk[0].wrapping_sub(eye_chunk.x),
+                    info.chunk[1].wrapping_sub(eye_chunk.y),
+                    info.chunk[2].wrapping_sub(eye_chunk.z),
                 ],
                 vertex_offset: smooth.vertices.offset % vertices,
                 quad_offset: smooth.quads.offset % quads,
