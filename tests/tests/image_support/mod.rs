@@ -65,13 +65,17 @@ pub struct Tolerance {
 
 impl Tolerance {
     /// Set on lavapipe (Mesa 22.3, llvmpipe, 256-bit) against the deferred CPU reference.
-    /// Measured there (128 x 96, five scenes): colour at most 1 code apart on every compared
-    /// pixel but one (42 codes, at the rim of the water pool, whose plane the crease mask does
-    /// not know); depth at most 5e-5 blocks apart (f32 reversed-Z against f64 rays). The GPU
-    /// rounds through a 16-bit float HDR target, an 8-bit AO channel and its own `pow`.
+    /// Measured there (128 x 96, eight scenes): colour at most 1 code apart on every compared
+    /// pixel; depth at most 5e-5 blocks apart (f32 reversed-Z against f64 rays). The GPU rounds
+    /// through a 16-bit float HDR target, an 8-bit AO channel and its own `pow`.
+    ///
+    /// The same tests pass on an NVIDIA H200 (driver 580.159.04): colour at most 1 code apart
+    /// except one terrain pixel (84 codes, inside the 0.1% outlier budget); depth up to 0.0069
+    /// blocks at about 70 blocks, i.e. 1e-4 relative, hence `depth_rel = 2e-4` for headroom
+    /// (still 40 times finer than the half-block camera shift the tests must catch).
     pub const LAVAPIPE: Tolerance = Tolerance {
         depth_abs: 1e-3,
-        depth_rel: 1e-4,
+        depth_rel: 2e-4,
         colour: 2,
         colour_outliers: 0.001,
     };
