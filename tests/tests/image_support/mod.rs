@@ -65,7 +65,7 @@ pub struct Tolerance {
 
 impl Tolerance {
     /// Set on lavapipe (Mesa 22.3, llvmpipe, 256-bit) against the deferred CPU reference.
-    /// Measured there (128 x 96, eight scenes): colour at most 1 code apart on every compared
+    /// Measured there (128 x 96, seven scenes): colour at most 1 code apart on every compared
     /// pixel; depth at most 5e-5 blocks apart (f32 reversed-Z against f64 rays). The GPU rounds
     /// through a 16-bit float HDR target, an 8-bit AO channel and its own `pow`.
     ///
