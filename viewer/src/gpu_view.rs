@@ -21,8 +21,8 @@ pub enum GpuViewError {
     Device(DeviceError),
     /// The renderer could not be created or could not render.
     Renderer(RenderError),
-    /// Meshing a chunk failed.
-    Mesh(ChunkCoord, MeshError),
+    /// Meshing the scene failed (the first chunk in error).
+    Mesh(MeshError),
     /// The renderer refused a chunk.
     Render(ChunkCoord, RenderError),
 }
@@ -32,7 +32,7 @@ impl fmt::Display for GpuViewError {
         match self {
             GpuViewError::Device(e) => write!(f, "{e}"),
             GpuViewError::Renderer(e) => write!(f, "renderer: {e}"),
-            GpuViewError::Mesh(c, e) => write!(f, "meshing chunk {c:?}: {e}"),
+            GpuViewError::Mesh(e) => write!(f, "meshing the scene: {e}"),
             GpuViewError::Render(c, e) => write!(f, "uploading chunk {c:?}: {e}"),
         }
     }
@@ -95,8 +95,8 @@ pub fn upload_world_with<C: VoxelStorage + Sync>(
     let classes = BlockClasses::from_palette(palette);
     let mut coords: Vec<ChunkCoord> = world.iter().map(|(c, _)| c).collect();
     coords.sort_by_key(|c| (c.z, c.y, c.x));
-    let meshes = mesher::mesh_chunks(world, &coords, &classes, settings)
-        .map_err(|e| GpuViewError::Mesh(ChunkCoord::new(0, 0, 0), e))?;
+    let meshes =
+        mesher::mesh_chunks(world, &coords, &classes, settings).map_err(GpuViewError::Mesh)?;
     let mut handles = Vec::new();
     for mesh in meshes
         .iter()
