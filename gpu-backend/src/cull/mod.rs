@@ -67,12 +67,17 @@
 //! `2^24` blocks) is identical. The parity tests keep random boxes a margin away from every
 //! plane and compare the command lists exactly.
 //!
+//! **Back to front.** [`CullPass::record_ordered`] writes the same commands sorted far to
+//! near per page (a counting sort on a depth key; [`depth_key`] links the rule and its artefacts),
+//! for blended layers.
+//!
 //! **Views.** The camera is an input: a shadow map or a second camera is another
 //! [`CullCamera`] recorded into another [`CullOutput`] (or the same one, after the draws that
 //! read it were recorded: uniforms are copied in encoder order).
 
 mod camera;
 mod layout;
+mod order;
 mod pass;
 mod reference;
 
@@ -81,6 +86,7 @@ pub use layout::{
     CullConfig, CullError, CullLayout, CullUniforms, DrawIndexedArgs, MAX_PAGE_QUADS, MAX_PAGES,
     MAX_QUADS_PER_DRAW, quad_indices,
 };
+pub use order::{ORDER_KEYS, cull_reference_ordered, depth_key};
 pub use pass::{CullOutput, CullPass, CullReadback};
 pub use reference::{
     ChunkCull, CullReference, cull_chunk, cull_reference, face_mask, in_frustum, layer_range,

@@ -12,6 +12,7 @@ use voxel_core::formats::{ChunkDrawIndirect, MeshedChunkInfo};
 
 use super::camera::{CullCamera, CullLayer};
 use super::layout::{CullConfig, CullError, CullLayout, CullUniforms, DrawIndexedArgs};
+use super::order::ORDER_KEYS;
 use crate::chunk_table::GpuTable;
 use crate::device::{GpuContext, MultiDrawPath};
 use crate::gigabuffer::PageLayout;
@@ -28,6 +29,7 @@ const MAX_GROUPS_PER_DIM: u32 = 65_535;
 pub struct CullPass {
     device: Device,
     pipeline: ComputePipeline,
+    ordered: OrderedPipelines,
     bind_group_layout: BindGroupLayout,
     layout: CullLayout,
     multi_draw: MultiDrawPath,
@@ -72,6 +74,8 @@ impl CullPass {
                 storage(2, false),
                 storage(3, false),
                 storage(4, false),
+                storage(5, false),
+                storage(6, false),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -80,17 +84,26 @@ impl CullPass {
             immediate_size: 0,
         });
         let module = CULL.create_module(device);
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("cull"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("cull"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline_for = |entry_point: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry_point),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry_point),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let pipeline = pipeline_for("cull");
+        let ordered = OrderedPipelines {
+            count: pipeline_for("cull_count"),
+            prefix: pipeline_for("order_prefix"),
+            scatter: pipeline_for("cull_scatter"),
+        };
         Ok(CullPass {
             device: device.clone(),
             pipeline,
+            ordered,
             bind_group_layout,
             layout,
             multi_draw: ctx.capabilities.multi_draw,
@@ -126,6 +139,10 @@ impl CullPass {
         };
         let args_bytes = check("args", total * size_of::<DrawIndexedArgs>() as u64)?;
         let records_bytes = check("records", total * size_of::<ChunkDrawIndirect>() as u64)?;
+        let order_bytes = check(
+            "order counts",
+            u64::from(self.layout.page_count) * u64::from(ORDER_KEYS) * 4,
+        )?;
         let buffer = |suffix: &str, size: u64, usage: BufferUsages| {
             self.device.create_buffer(&BufferDescriptor {
                 label: Some(&format!("{label} cull {suffix}")),
@@ -148,13 +165,15 @@ impl CullPass {
                 size_of::<CullUniforms>() as u64,
                 BufferUsages::UNIFORM | BufferUsages::COPY_DST,
             ),
+            order_counts: buffer("order counts", order_bytes, readable),
+            order_cursors: buffer("order cursors", order_bytes, BufferUsages::STORAGE),
             layout: self.layout,
             multi_draw: self.multi_draw,
         })
     }
 
     /// Records the cull of `layer` of `table`'s slots `0..slot_bound` for `camera` into
-    /// `encoder`, writing `output`.
+    /// `encoder`, writing `output`; commands come in any order.
     ///
     /// In encoder order: the uniforms are copied in (so several records of one output in one
     /// encoder each see their own camera), the counts cleared, with
@@ -168,6 +187,65 @@ impl CullPass {
         layer: CullLayer,
         output: &CullOutput,
     ) -> Result<(), CullError> {
+        let Some((bind_group, groups)) = self.prepare(encoder, table, camera, layer, output)?
+        else {
+            return Ok(());
+        };
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("cull"),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.set_pipeline(&self.pipeline);
+        dispatch_slots(&mut pass, groups);
+        Ok(())
+    }
+
+    /// Like [`record`](Self::record), but each page's commands come back to front: sorted by
+    /// the depth key of their chunk's box centre, farthest first (see [`depth_key`] for the
+    /// rule and its resolution; chunks of one key in any order, a chunk's face groups in face
+    /// order). For blended layers. Three dispatches (count, prefix sums, scatter) after the
+    /// same copies and clears as `record`, plus a clear of the per-key counts; the CPU work is
+    /// the same whatever the chunk count.
+    ///
+    /// [`depth_key`]: super::depth_key
+    pub fn record_ordered(
+        &self,
+        encoder: &mut CommandEncoder,
+        table: &GpuTable<MeshedChunkInfo>,
+        camera: &CullCamera,
+        layer: CullLayer,
+        output: &CullOutput,
+    ) -> Result<(), CullError> {
+        let Some((bind_group, groups)) = self.prepare(encoder, table, camera, layer, output)?
+        else {
+            return Ok(());
+        };
+        encoder.clear_buffer(&output.order_counts, 0, None);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("ordered cull"),
+            timestamp_writes: None,
+        });
+        pass.set_bind_group(0, &bind_group, &[]);
+        pass.set_pipeline(&self.ordered.count);
+        dispatch_slots(&mut pass, groups);
+        pass.set_pipeline(&self.ordered.prefix);
+        pass.dispatch_workgroups(self.layout.page_count, 1, 1);
+        pass.set_pipeline(&self.ordered.scatter);
+        dispatch_slots(&mut pass, groups);
+        Ok(())
+    }
+
+    /// The copies and clears every record starts with, and the bind group; `None` when the
+    /// table has no slots (nothing to dispatch).
+    fn prepare(
+        &self,
+        encoder: &mut CommandEncoder,
+        table: &GpuTable<MeshedChunkInfo>,
+        camera: &CullCamera,
+        layer: CullLayer,
+        output: &CullOutput,
+    ) -> Result<Option<(wgpu::BindGroup, u32)>, CullError> {
         if output.layout != self.layout || output.multi_draw != self.multi_draw {
             return Err(CullError::OutputMismatch);
         }
@@ -187,45 +265,48 @@ impl CullPass {
         }
         let groups = slot_bound.div_ceil(WORKGROUP);
         if groups == 0 {
-            return Ok(());
+            return Ok(None);
         }
+        let buffers = [
+            &output.uniforms,
+            table.buffer(),
+            &output.args,
+            &output.records,
+            &output.counts,
+            &output.order_counts,
+            &output.order_cursors,
+        ];
+        let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+            .iter()
+            .enumerate()
+            .map(|(binding, buffer)| wgpu::BindGroupEntry {
+                binding: binding as u32,
+                resource: buffer.as_entire_binding(),
+            })
+            .collect();
         let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("cull"),
             layout: &self.bind_group_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: output.uniforms.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: table.buffer().as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: output.args.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: output.records.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: output.counts.as_entire_binding(),
-                },
-            ],
+            entries: &entries,
         });
-        let x = groups.min(MAX_GROUPS_PER_DIM);
-        let y = groups.div_ceil(x);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("cull"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &bind_group, &[]);
-        pass.dispatch_workgroups(x, y, 1);
-        Ok(())
+        Ok(Some((bind_group, groups)))
     }
+}
+
+/// The ordered cull's three pipelines (entry points of `cull.wgsl`).
+#[derive(Debug)]
+struct OrderedPipelines {
+    count: ComputePipeline,
+    prefix: ComputePipeline,
+    scatter: ComputePipeline,
+}
+
+/// Dispatches `groups` workgroups of slots, folded into two dimensions past the per-dimension
+/// limit (the shader linearises them).
+fn dispatch_slots(pass: &mut wgpu::ComputePass<'_>, groups: u32) {
+    let x = groups.min(MAX_GROUPS_PER_DIM);
+    let y = groups.div_ceil(x);
+    pass.dispatch_workgroups(x, y, 1);
 }
 
 /// One view's cull results on the GPU (see the [module docs](super) for the layout).
@@ -235,6 +316,8 @@ pub struct CullOutput {
     records: Buffer,
     counts: Buffer,
     uniforms: Buffer,
+    order_counts: Buffer,
+    order_cursors: Buffer,
     layout: CullLayout,
     multi_draw: MultiDrawPath,
 }

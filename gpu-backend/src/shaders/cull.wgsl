@@ -4,9 +4,13 @@
 // operation. FORMATS_WGSL (MeshedChunkInfo, FaceLayerRange, ChunkDrawIndirect) is prepended
 // by shaders.rs.
 //
-// One invocation per table slot (0..slot_bound). Per workgroup, commands are counted per page
-// in workgroup memory first, then each page with commands takes one global atomicAdd, so the
-// global counters see one atomic per workgroup and page, not one per command.
+// One invocation per table slot (0..slot_bound). Entry points:
+// - `cull`: commands in any order. Per workgroup, commands are counted per page in workgroup
+//   memory first, then each page with commands takes one global atomicAdd, so the global
+//   counters see one atomic per workgroup and page, not one per command.
+// - `cull_count`, `order_prefix`, `cull_scatter`: the same commands, back to front (a counting
+//   sort on a depth key, cull::order states the rule): count per (page, key), prefix sums per
+//   page far keys first, then each chunk writes its commands at its key's cursor.
 
 // wgpu's DrawIndexedIndirectArgs, 20 bytes, tightly packed (the stride of
 // multi_draw_indexed_indirect(_count)). Twin of cull::DrawIndexedArgs.
@@ -52,7 +56,20 @@ const CULL_MAX_PAGES: u32 = 256u;
 // counts[page_count]: malformed chunk layers skipped.
 @group(0) @binding(4) var<storage, read_write> counts: array<atomic<u32>>;
 
+// Depth keys of the ordered cull (cull::ORDER_KEYS): 256 per octave of squared distance,
+// squared distances 1 .. 2^48 blocks^2.
+const ORDER_KEYS: u32 = 12288u;
+// bitcast<u32>(1.0) >> 15: the key of squared distance 1.
+const ORDER_KEY_BASE: u32 = 32512u;
+// Invocations of order_prefix (one workgroup per page).
+const ORDER_PREFIX_WORKGROUP: u32 = 256u;
+
+// Ordered cull only: commands per (page, key), then the cursor each key's next command goes to.
+@group(0) @binding(5) var<storage, read_write> order_counts: array<atomic<u32>>;
+@group(0) @binding(6) var<storage, read_write> order_cursors: array<atomic<u32>>;
+
 var<workgroup> wg_count: array<atomic<u32>, CULL_MAX_PAGES>;
+var<workgroup> wg_scan: array<u32, ORDER_PREFIX_WORKGROUP>;
 var<workgroup> wg_base: array<u32, CULL_MAX_PAGES>;
 
 // Elements in page `page` of the quad gigabuffer.
@@ -113,61 +130,109 @@ fn write_record(at: u32, r: ChunkDrawIndirect) {
     );
 }
 
+// What one slot contributes: bit f of `emit` for each non-empty visible face group, `n` of
+// them, in page `page` from in-page quad `start`; `malformed` when the layer's range is bad.
+struct SlotCull {
+    emit: u32,
+    n: u32,
+    page: u32,
+    start: u32,
+    malformed: bool,
+    range: FaceLayerRange,
+    rel: vec3<i32>,
+    // Camera-relative box centre (the ordered cull's depth key comes from it).
+    centre: vec3<f32>,
+}
+
+fn cull_slot(slot: u32) -> SlotCull {
+    var out: SlotCull;
+    if slot >= u.slot_bound {
+        return out;
+    }
+    let info = table[slot];
+    out.range = info.opaque_quads;
+    if u.layer == 1u {
+        out.range = info.transparent_quads;
+    }
+    var any = false;
+    var oversized = false;
+    for (var f = 0u; f < 6u; f += 1u) {
+        let count = face_layer_range_count(out.range, f);
+        any = any || count > 0u;
+        oversized = oversized || count > u.max_quads_per_draw;
+    }
+    if !any {
+        return out;
+    }
+    out.page = out.range.offset / u.page_capacity;
+    out.start = out.range.offset % u.page_capacity;
+    // Counts are <= max_quads_per_draw < 2^26 here, so no sum overflows.
+    out.malformed = oversized || out.page >= u.page_count
+        || out.start + face_layer_range_total(out.range) > page_capacity_of(out.page);
+    if out.malformed {
+        return out;
+    }
+    out.rel = meshed_chunk_info_chunk(info) - u.camera_chunk;
+    out.centre = relative_centre(info, out.rel);
+    let e = meshed_chunk_info_extent(info);
+    if in_frustum(out.centre, e) {
+        let mask = face_mask(out.centre, e);
+        for (var f = 0u; f < 6u; f += 1u) {
+            if ((mask >> f) & 1u) != 0u && face_layer_range_count(out.range, f) > 0u {
+                out.emit |= 1u << f;
+                out.n += 1u;
+            }
+        }
+    }
+    return out;
+}
+
+// Writes the slot's commands from page-local command index `index` on; those at or past
+// commands_per_page are dropped (the caller sees counts[page] > commands_per_page).
+fn write_commands(s: SlotCull, first_index: u32) {
+    var index = first_index;
+    var first = s.start;
+    for (var f = 0u; f < 6u; f += 1u) {
+        let count = face_layer_range_count(s.range, f);
+        if ((s.emit >> f) & 1u) != 0u {
+            if index < u.commands_per_page {
+                let at = s.page * u.commands_per_page + index;
+                let a = DrawIndexedArgs(6u * count, 1u, 0u, i32(4u * first), at);
+                args[at] = a;
+                write_record(at, ChunkDrawIndirect(
+                    a.index_count,
+                    a.instance_count,
+                    a.first_index,
+                    a.base_vertex,
+                    a.first_instance,
+                    s.rel.x,
+                    s.rel.y,
+                    s.rel.z,
+                ));
+            }
+            index += 1u;
+        }
+        first += count;
+    }
+}
+
+fn slot_of(wid: vec3<u32>, groups: vec3<u32>, lid: u32) -> u32 {
+    return (wid.y * groups.x + wid.x) * CULL_WORKGROUP + lid;
+}
+
 @compute @workgroup_size(64)
 fn cull(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_index) lid: u32,
 ) {
-    let slot = (wid.y * groups.x + wid.x) * CULL_WORKGROUP + lid;
-    // Non-empty visible groups of this slot: bit f of `emit`, `n` of them, in page `page` from
-    // in-page quad `start`.
-    var emit = 0u;
-    var n = 0u;
-    var page = 0u;
-    var start = 0u;
+    let s = cull_slot(slot_of(wid, groups, lid));
+    if s.malformed {
+        atomicAdd(&counts[u.page_count], 1u);
+    }
     var local = 0u;
-    var range: FaceLayerRange;
-    var rel = vec3<i32>(0);
-    if slot < u.slot_bound {
-        let info = table[slot];
-        range = info.opaque_quads;
-        if u.layer == 1u {
-            range = info.transparent_quads;
-        }
-        var any = false;
-        var oversized = false;
-        for (var f = 0u; f < 6u; f += 1u) {
-            let count = face_layer_range_count(range, f);
-            any = any || count > 0u;
-            oversized = oversized || count > u.max_quads_per_draw;
-        }
-        if any {
-            page = range.offset / u.page_capacity;
-            start = range.offset % u.page_capacity;
-            // Counts are <= max_quads_per_draw < 2^26 here, so no sum overflows.
-            let malformed = oversized || page >= u.page_count
-                || start + face_layer_range_total(range) > page_capacity_of(page);
-            if malformed {
-                atomicAdd(&counts[u.page_count], 1u);
-            } else {
-                rel = meshed_chunk_info_chunk(info) - u.camera_chunk;
-                let c = relative_centre(info, rel);
-                let e = meshed_chunk_info_extent(info);
-                if in_frustum(c, e) {
-                    let mask = face_mask(c, e);
-                    for (var f = 0u; f < 6u; f += 1u) {
-                        if ((mask >> f) & 1u) != 0u && face_layer_range_count(range, f) > 0u {
-                            emit |= 1u << f;
-                            n += 1u;
-                        }
-                    }
-                }
-            }
-        }
-        if n > 0u {
-            local = atomicAdd(&wg_count[page], n);
-        }
+    if s.n > 0u {
+        local = atomicAdd(&wg_count[s.page], s.n);
     }
     workgroupBarrier();
     for (var p = lid; p < u.page_count; p += CULL_WORKGROUP) {
@@ -177,33 +242,85 @@ fn cull(
         }
     }
     workgroupBarrier();
-    if n == 0u {
-        return;
+    if s.n > 0u {
+        write_commands(s, wg_base[s.page] + local);
     }
-    var index = wg_base[page] + local;
-    var first = start;
-    for (var f = 0u; f < 6u; f += 1u) {
-        let count = face_layer_range_count(range, f);
-        if ((emit >> f) & 1u) != 0u {
-            // Past the page's range: counted above, not written (the caller sees
-            // counts[page] > commands_per_page).
-            if index < u.commands_per_page {
-                let at = page * u.commands_per_page + index;
-                let a = DrawIndexedArgs(6u * count, 1u, 0u, i32(4u * first), at);
-                args[at] = a;
-                write_record(at, ChunkDrawIndirect(
-                    a.index_count,
-                    a.instance_count,
-                    a.first_index,
-                    a.base_vertex,
-                    a.first_instance,
-                    rel.x,
-                    rel.y,
-                    rel.z,
-                ));
-            }
-            index += 1u;
+}
+
+// The ordered cull's depth key of a camera-relative box centre (twin of cull::depth_key):
+// the top 8 mantissa bits and the exponent of the squared distance, clamped to 1 .. 2^48.
+fn depth_key(c: vec3<f32>) -> u32 {
+    let d2 = max(c.x * c.x + c.y * c.y + c.z * c.z, 1.0);
+    return min((bitcast<u32>(d2) >> 15u) - ORDER_KEY_BASE, ORDER_KEYS - 1u);
+}
+
+// Ordered cull, pass 1: commands per (page, depth key), and the malformed count.
+@compute @workgroup_size(64)
+fn cull_count(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let s = cull_slot(slot_of(wid, groups, lid));
+    if s.malformed {
+        atomicAdd(&counts[u.page_count], 1u);
+    }
+    if s.n > 0u {
+        atomicAdd(&order_counts[s.page * ORDER_KEYS + depth_key(s.centre)], s.n);
+    }
+}
+
+// Ordered cull, pass 2 (one workgroup per page): each key's first command index, farthest key
+// first, into order_cursors; the page's total into counts[page].
+@compute @workgroup_size(256)
+fn order_prefix(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let page = wid.x;
+    let base = page * ORDER_KEYS;
+    // Thread t owns keys in far-first position t * per .. (t + 1) * per, position i being key
+    // ORDER_KEYS - 1 - i.
+    let per = ORDER_KEYS / ORDER_PREFIX_WORKGROUP;
+    var sum = 0u;
+    for (var i = lid * per; i < (lid + 1u) * per; i += 1u) {
+        sum += atomicLoad(&order_counts[base + ORDER_KEYS - 1u - i]);
+    }
+    wg_scan[lid] = sum;
+    workgroupBarrier();
+    // Inclusive Hillis-Steele scan of the per-thread sums.
+    for (var step = 1u; step < ORDER_PREFIX_WORKGROUP; step <<= 1u) {
+        var add = 0u;
+        if lid >= step {
+            add = wg_scan[lid - step];
         }
-        first += count;
+        workgroupBarrier();
+        wg_scan[lid] += add;
+        workgroupBarrier();
+    }
+    var cursor = wg_scan[lid] - sum;
+    for (var i = lid * per; i < (lid + 1u) * per; i += 1u) {
+        let key = base + ORDER_KEYS - 1u - i;
+        let c = atomicLoad(&order_counts[key]);
+        atomicStore(&order_cursors[key], cursor);
+        cursor += c;
+    }
+    if lid == ORDER_PREFIX_WORKGROUP - 1u {
+        atomicStore(&counts[page], wg_scan[lid]);
+    }
+}
+
+// Ordered cull, pass 3: each chunk's commands at its key's cursor (chunks of one key in any
+// order, the faces of one chunk in face order).
+@compute @workgroup_size(64)
+fn cull_scatter(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let s = cull_slot(slot_of(wid, groups, lid));
+    if s.n > 0u {
+        let at = atomicAdd(&order_cursors[s.page * ORDER_KEYS + depth_key(s.centre)], s.n);
+        write_commands(s, at);
     }
 }
