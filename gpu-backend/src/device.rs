@@ -17,15 +17,20 @@
 //! gigabuffer depends on (`max_buffer_size`, `max_storage_buffer_binding_size`,
 //! `max_storage_buffers_per_shader_stage`).
 //!
-//! Only a headless constructor exists yet; a windowed one will pass a surface as the
-//! adapter's `compatible_surface` through the same [`GpuContext::from_instance`] path.
+//! [`GpuContext::new_windowed`] does the same for a window: it creates the window's surface
+//! first and considers only adapters that can present to it, then returns the context with a
+//! [`WindowOutput`] configured for the window (see [`crate::present`]).
 
 use std::fmt;
+use std::sync::Arc;
 
+use wgpu::wgt::WgpuHasDisplayHandle;
 use wgpu::{
-    Adapter, Backends, Device, DeviceType, Features, Instance, InstanceDescriptor, Limits,
-    PowerPreference, Queue,
+    Adapter, Backends, CreateSurfaceError, Device, DeviceType, DisplayAndWindowHandle, Features,
+    Instance, InstanceDescriptor, Limits, PowerPreference, Queue, Surface,
 };
+
+use crate::present::{WindowOutput, choose_surface_format};
 
 /// How the context is created. `Default` is the configuration for real use: Vulkan, the
 /// high-performance adapter, every optional feature the adapter has.
@@ -168,6 +173,15 @@ pub enum DeviceError {
         /// Adapters found but rejected by the name filter.
         rejected: Vec<String>,
     },
+    /// The window's surface could not be created (the window or display handle is not one
+    /// the Vulkan driver can present to, e.g. no X11 / Wayland surface extension).
+    CreateSurface(Box<CreateSurfaceError>),
+    /// Adapters exist, but none can present to the window (a headless driver, or a surface
+    /// with no usable format).
+    NoPresentingAdapter {
+        /// The adapters found that cannot present (after the name filter).
+        adapters: Vec<String>,
+    },
     /// The adapter refused the device request.
     RequestDevice {
         /// The adapter asked.
@@ -179,7 +193,8 @@ pub enum DeviceError {
 
 impl DeviceError {
     /// True for [`DeviceError::NoAdapter`]: the machine has no usable GPU or driver, as
-    /// opposed to a failure on an adapter that exists.
+    /// opposed to a failure on an adapter that exists (an adapter that cannot present to a
+    /// window is [`DeviceError::NoPresentingAdapter`], not this).
     pub fn is_no_adapter(&self) -> bool {
         matches!(self, DeviceError::NoAdapter { .. })
     }
@@ -212,6 +227,14 @@ impl fmt::Display for DeviceError {
                      (lavapipe) and `libvulkan1`"
                 )
             }
+            DeviceError::CreateSurface(source) => {
+                write!(f, "the window's surface could not be created: {source}")
+            }
+            DeviceError::NoPresentingAdapter { adapters } => write!(
+                f,
+                "no adapter can present to this window (found, but cannot present: {})",
+                adapters.join(", ")
+            ),
             DeviceError::RequestDevice { adapter, source } => {
                 write!(f, "adapter {adapter} refused the device request: {source}")
             }
@@ -222,7 +245,8 @@ impl fmt::Display for DeviceError {
 impl std::error::Error for DeviceError {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
-            DeviceError::NoAdapter { .. } => None,
+            DeviceError::NoAdapter { .. } | DeviceError::NoPresentingAdapter { .. } => None,
+            DeviceError::CreateSurface(source) => Some(source.as_ref()),
             DeviceError::RequestDevice { source, .. } => Some(source.as_ref()),
         }
     }
@@ -252,13 +276,57 @@ impl GpuContext {
         GpuContext::from_instance(instance, options)
     }
 
-    /// Picks an adapter of `instance` and creates the device. The windowed constructor will
-    /// reuse this with the window's surface as a constraint on the adapter.
+    /// A context that presents to a window, and the window's output (its surface configured
+    /// for `width x height`; a zero size is allowed and waits for
+    /// [`WindowOutput::resize`]).
+    ///
+    /// `display` is the windowing system connection the window belongs to (with winit, the
+    /// event loop's `OwnedDisplayHandle`); `window` the window itself (e.g. an
+    /// `Arc<winit::window::Window>`), kept by the output so the surface can be re-created if it
+    /// is lost. Only adapters that can present to the window's surface are considered.
+    ///
+    /// Errors: [`DeviceError::CreateSurface`] when the surface cannot be created,
+    /// [`DeviceError::NoPresentingAdapter`] when adapters exist but none can present to it,
+    /// [`DeviceError::NoAdapter`] when there is none at all.
+    pub fn new_windowed<W>(
+        options: &DeviceOptions,
+        display: Box<dyn WgpuHasDisplayHandle>,
+        window: W,
+        width: u32,
+        height: u32,
+    ) -> Result<(GpuContext, WindowOutput), DeviceError>
+    where
+        W: DisplayAndWindowHandle + 'static,
+    {
+        let mut descriptor = InstanceDescriptor::new_with_display_handle_from_env(display);
+        descriptor.backends = options.backends;
+        let instance = Instance::new(descriptor);
+        let window: Arc<dyn DisplayAndWindowHandle> = Arc::new(window);
+        let surface = instance
+            .create_surface(Arc::clone(&window))
+            .map_err(|e| DeviceError::CreateSurface(Box::new(e)))?;
+        let ctx = GpuContext::create(instance, options, Some(&surface))?;
+        let output = WindowOutput::new(&ctx, surface, window, width, height)?;
+        Ok((ctx, output))
+    }
+
+    /// Picks an adapter of `instance` and creates the device (no surface constraint; the
+    /// windowed constructor adds one).
     pub fn from_instance(
         instance: Instance,
         options: &DeviceOptions,
     ) -> Result<GpuContext, DeviceError> {
-        let adapter = choose_adapter(&instance, options)?;
+        GpuContext::create(instance, options, None)
+    }
+
+    /// [`from_instance`](Self::from_instance), keeping only adapters that can present to
+    /// `surface` when one is given.
+    fn create(
+        instance: Instance,
+        options: &DeviceOptions,
+        surface: Option<&Surface<'_>>,
+    ) -> Result<GpuContext, DeviceError> {
+        let adapter = choose_adapter(&instance, options, surface)?;
         let summary = summarize(&adapter);
         let adapter_features = adapter.features();
         let adapter_limits = adapter.limits();
@@ -348,10 +416,16 @@ fn wanted_limits(adapter: &Limits) -> Limits {
     .or_worse_values_from(adapter)
 }
 
-/// Every adapter of the requested backends that passes the name filter, best first.
-fn choose_adapter(instance: &Instance, options: &DeviceOptions) -> Result<Adapter, DeviceError> {
+/// The best adapter of the requested backends that passes the name filter and, when a
+/// surface is given, can present to it with a format [`WindowOutput`] can use.
+fn choose_adapter(
+    instance: &Instance,
+    options: &DeviceOptions,
+    surface: Option<&Surface<'_>>,
+) -> Result<Adapter, DeviceError> {
     let all = pollster::block_on(instance.enumerate_adapters(options.backends));
     let mut rejected = Vec::new();
+    let mut cannot_present = Vec::new();
     let mut candidates: Vec<Adapter> = Vec::new();
     for adapter in all {
         let name = adapter.get_info().name;
@@ -359,8 +433,16 @@ fn choose_adapter(instance: &Instance, options: &DeviceOptions) -> Result<Adapte
             Some(filter) if !name.to_lowercase().contains(&filter.to_lowercase()) => {
                 rejected.push(name);
             }
-            _ => candidates.push(adapter),
+            _ => match surface {
+                Some(surface) if !can_present(&adapter, surface) => cannot_present.push(name),
+                _ => candidates.push(adapter),
+            },
         }
+    }
+    if candidates.is_empty() && !cannot_present.is_empty() {
+        return Err(DeviceError::NoPresentingAdapter {
+            adapters: cannot_present,
+        });
     }
     // Stable sort: equal ranks keep the enumeration order.
     candidates.sort_by_key(|a| rank(a.get_info().device_type, options.power_preference));
@@ -373,6 +455,12 @@ fn choose_adapter(instance: &Instance, options: &DeviceOptions) -> Result<Adapte
             adapter_name: options.adapter_name.clone(),
             rejected,
         })
+}
+
+/// `adapter` can present to `surface`, in a format the window output can use.
+fn can_present(adapter: &Adapter, surface: &Surface<'_>) -> bool {
+    adapter.is_surface_supported(surface)
+        && choose_surface_format(&surface.get_capabilities(adapter).formats).is_some()
 }
 
 /// Lower is better: the device types in the order the power preference wants them. A CPU
@@ -494,5 +582,19 @@ mod tests {
             assert!(text.contains(part), "{text:?} lacks {part}");
         }
         assert!(e.is_no_adapter());
+    }
+
+    #[test]
+    fn surface_errors_name_the_problem() {
+        let e = DeviceError::NoPresentingAdapter {
+            adapters: vec!["llvmpipe".into()],
+        };
+        let text = e.to_string();
+        assert!(
+            text.contains("no adapter can present to this window"),
+            "{text}"
+        );
+        assert!(text.contains("llvmpipe"), "{text}");
+        assert!(!e.is_no_adapter());
     }
 }

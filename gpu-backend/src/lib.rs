@@ -6,8 +6,8 @@
 //!
 //! Built so far (issue 4, first part):
 //!
-//! - [`device`]: headless device setup, adapter choice with a clear error, feature probing
-//!   with recorded fallbacks ([`GpuCapabilities`]), limits from the adapter;
+//! - [`device`]: headless and windowed device setup, adapter choice with a clear error, feature
+//!   probing with recorded fallbacks ([`GpuCapabilities`]), limits from the adapter;
 //! - [`gigabuffer`]: one paged storage buffer per kind of chunk data, sub-allocated with
 //!   `offset-allocator`, generation-checked chunk handles, per-frame batched uploads;
 //! - [`chunk_table`]: the near (`MeshedChunkInfo`) and far (`ChunkDrawInfo`) chunk tables on the
@@ -19,6 +19,8 @@
 //! - [`render`]: the near-field renderer: vertex-pulled greedy and smooth quads into a
 //!   G-buffer, deferred lighting, a back-to-front transparent pass and a tonemap, recorded
 //!   into one encoder per frame ([`Renderer`]);
+//! - [`present`]: a window's swapchain ([`WindowOutput`]) and the pass that copies the
+//!   renderer's output into it;
 //! - [`timing`]: per-pass GPU time from timestamp queries, CPU wall time as the fallback;
 //! - [`readback`] and [`test_support`] for tests.
 //!
@@ -29,6 +31,7 @@ pub mod cull;
 pub mod device;
 mod dirty_ranges;
 pub mod gigabuffer;
+pub mod present;
 pub mod readback;
 pub mod render;
 pub mod shaders;
@@ -44,5 +47,6 @@ pub use gigabuffer::{
     ChunkHandle, ChunkLayersData, ChunkRanges, DataKind, Gigabuffer, GigabufferConfig,
     GigabufferError, UploadedChunk,
 };
+pub use present::{FrameSkipped, WindowFrame, WindowOutput};
 pub use render::{Renderer, RendererConfig};
 pub use timing::{GpuTimer, PassTime};

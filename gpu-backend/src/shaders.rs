@@ -53,8 +53,15 @@ pub const DEFERRED: ShaderSpec = ShaderSpec {
     ),
 };
 
+/// Window presentation: the renderer's output copied into the swapchain image (entry points
+/// `vs_present`, `fs_present`, `fs_present_encode`; see [`crate::present`]).
+pub const PRESENT: ShaderSpec = ShaderSpec {
+    name: "present",
+    body: include_str!("shaders/present.wgsl"),
+};
+
 /// Every shader of the crate.
-pub const ALL_SHADERS: &[ShaderSpec] = &[FORMAT_PARITY, CULL, GBUFFER, DEFERRED];
+pub const ALL_SHADERS: &[ShaderSpec] = &[FORMAT_PARITY, CULL, GBUFFER, DEFERRED, PRESENT];
 
 /// `FORMATS_WGSL` followed by `body`: the one place shader sources are put together.
 pub fn compose(name: &str, body: &str) -> String {
