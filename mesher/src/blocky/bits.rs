@@ -44,6 +44,21 @@ fn row_mask(row: &[u16], pred: impl Fn(u16) -> bool) -> u64 {
     mask
 }
 
+/// Bit `l` set iff `lines[l]` is not zero: the lines of a slice that hold a face.
+///
+/// Like [`row_mask`]: one vectorised compare into 64 bytes of `0` / `1`, then 8 gathers, about
+/// 6x fewer instructions than shifting one flag per line into place.
+#[inline]
+pub(crate) fn nonzero_lines(lines: &[u64; 64]) -> u64 {
+    let bytes: [u8; 64] = core::array::from_fn(|l| u8::from(lines[l] != 0));
+    let mut mask = 0u64;
+    for (i, group) in bytes.chunks_exact(8).enumerate() {
+        let group: [u8; 8] = core::array::from_fn(|j| group[j]);
+        mask |= gather8(group) << ((8 * i) & 63);
+    }
+    mask
+}
+
 /// Occupancy of a row: bit `i` set iff `row[i]` is not air (`0`). `row.len() <= 64`.
 #[inline]
 pub(crate) fn row_non_air(row: &[u16]) -> u64 {
@@ -106,6 +121,15 @@ mod tests {
                 assert_eq!((row >> c) & 1, (col >> r) & 1, "bit ({r}, {c})");
             }
         }
+    }
+
+    #[test]
+    fn nonzero_lines_match_a_plain_loop() {
+        let lines: [u64; 64] = core::array::from_fn(|l| if l % 3 == 0 { 0 } else { 1 << (l % 64) });
+        let want = (0..64).fold(0u64, |m, l| m | u64::from(lines[l] != 0) << l);
+        assert_eq!(nonzero_lines(&lines), want);
+        assert_eq!(nonzero_lines(&[0; 64]), 0);
+        assert_eq!(nonzero_lines(&[u64::MAX; 64]), u64::MAX);
     }
 
     #[test]

@@ -9,6 +9,7 @@ use voxel_core::formats::PackedQuad;
 
 use super::BlockyMesh;
 use super::faces::SliceQuads;
+use super::lone_x::lone_x;
 use super::masks::{Content, Masks};
 use super::merge::Keys;
 use super::plain::{build_columns, padded_edge_of};
@@ -197,7 +198,7 @@ fn run(
     if masks.build(p, voxels, columns, classes) != Content::Surface {
         return Ok(());
     }
-    let input = Input {
+    let mut input = Input {
         voxels,
         p,
         opaque: masks.opaque(columns),
@@ -205,7 +206,19 @@ fn run(
         mixed_transparent: masks.mixed_transparent,
         ao,
         merge,
+        handled: [[0; 64]; 2],
+        lone_x_rows: false,
     };
+    let [o0, o1, ..] = &mut out.opaque.faces;
+    let mut handled = [[0; 64]; 2];
+    let lone = lone_x::<0>(&input, classes, o0, &mut handled[0])
+        .and_then(|()| lone_x::<1>(&input, classes, o1, &mut handled[1]));
+    if let Err(e) = lone {
+        out.clear();
+        return Err(e);
+    }
+    input.lone_x_rows = handled.iter().flatten().any(|&rows| rows != 0);
+    input.handled = handled;
     let [o0, o1, o2, o3, o4, o5] = &mut out.opaque.faces;
     let [t0, t1, t2, t3, t4, t5] = &mut out.transparent.faces;
     let result = mesh_direction::<0>(&input, classes, keys, quads, o0, t0)

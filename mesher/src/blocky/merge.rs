@@ -27,6 +27,7 @@
 //! layer; ids below 64 that passed are cached as bits, a test that stays predictable when
 //! neighbouring faces alternate ids.
 
+use super::bits::nonzero_lines;
 use super::faces::{Quads, SliceFaces};
 use super::grow::{greedy_bits_first, greedy_lines_first};
 use super::line_units::many;
@@ -69,10 +70,7 @@ impl Keys {
 /// Bit `l` set iff line `l` of `faces` has a face.
 #[inline]
 pub(crate) fn rows_of(faces: &Slice) -> u64 {
-    faces
-        .iter()
-        .enumerate()
-        .fold(0, |rows, (l, &f)| rows | u64::from(f != 0) << l)
+    nonzero_lines(faces)
 }
 
 /// One quad per face of the lines of `rows`; leaves `faces` empty.

@@ -34,6 +34,7 @@ mod faces;
 mod greedy;
 mod grow;
 mod line_units;
+mod lone_x;
 mod masks;
 mod merge;
 mod mesh;

@@ -22,6 +22,7 @@ use voxel_core::formats::PackedQuad;
 
 use super::ao::AO_TABLES;
 use super::faces::{Quads, SliceFaces, SliceQuads};
+use super::lone_x::drop_handled;
 use super::masks::{Layouts, Slice};
 use super::merge::{Keys, greedy, rows_of, unit_quads};
 use crate::{BlockClasses, MeshError};
@@ -78,6 +79,10 @@ pub(crate) struct Input<'a> {
     pub ao: bool,
     /// Merge faces into greedy quads (else one quad per face).
     pub merge: bool,
+    /// Per ±X direction, the rows whose lone faces `lone_x` emitted (bit y of line z).
+    pub handled: [Slice; 2],
+    /// Some row is marked in `handled`.
+    pub lone_x_rows: bool,
 }
 
 const ZERO: Slice = [0; 64];
@@ -126,6 +131,11 @@ pub(crate) fn mesh_direction<const D: usize>(
         }
         faces[0] = 0;
         faces[(p - 1) & 63] = 0;
+        if Direction::<D>::LAYOUT == 2 && any != 0 && input.lone_x_rows {
+            // Some lone ±X faces were emitted from the rows.
+            drop_handled(&mut faces, &input.handled[D & 1]);
+            any = faces.iter().fold(0, |any, &f| any | f);
+        }
         let mut slice_faces = SliceFaces::<D> {
             voxels: input.voxels,
             base: n * stride_n,

@@ -1,0 +1,215 @@
+//! ±X faces with no neighbouring face, emitted from the occupancy rows (layout `A`: one `u64`
+//! per padded x-row) instead of layout `C`.
+//!
+//! In layout `C` a line of ±X faces runs along y, so the ids of its faces lie a row apart
+//! (one cache line each). A face with no neighbouring face in its slice (up, down, left or
+//! right) is a 1 x 1 quad whatever the merge order, and everything it needs is in the rows:
+//!
+//! - its x-row of faces is `row & !(row >> 1)` (+X) or `row & !(row << 1)` (-X), and its 4
+//!   neighbours in the slice are the same bits of the face rows of `(y ± 1, z)`, `(y, z ± 1)`;
+//! - its id is in the row's run of contiguous ids;
+//! - its 9 front voxels (layer x ± 1, y and z ± 1) are bit x ± 1 of 9 occupancy rows: 9 bit
+//!   planes, as [`super::line_units`] builds from layout `C`, with line = z and bit = y.
+//!
+//! So rows with [`many`] such faces are emitted here (faces sharing a key in bulk), and the
+//! layout-`C` pass leaves those faces out of the opaque layer ([`drop_handled`]). On a
+//! checkerboard that is every ±X face. The scan costs a few microseconds, which terrain (a
+//! handful of lone faces per row at most) would pay for nothing: it runs only when a sample
+//! slab, the middle one, has rows of many lone faces. Either way the output is the same.
+
+use alloc::vec::Vec;
+
+use voxel_core::BlockId;
+use voxel_core::formats::PackedQuad;
+
+use super::bits::row_equal;
+use super::line_units::many;
+use super::masks::Slice;
+use super::slices::{Direction, Input};
+use crate::{BlockClasses, MeshError};
+
+/// Removes, in place, the faces of a slice that `lone_x` emitted: those with no neighbouring
+/// face whose line `l` and bit are set in `handled` (its rows of many lone faces, by z and y).
+#[inline]
+pub(crate) fn drop_handled(faces: &mut Slice, handled: &Slice) {
+    let old = *faces;
+    for (l, f) in faces.iter_mut().enumerate() {
+        let before = old[l.wrapping_sub(1) & 63] * u64::from(l > 0);
+        let after = old[(l + 1) & 63] * u64::from(l < 63);
+        let lone = *f & !((*f << 1) | (*f >> 1) | before | after);
+        *f &= !(lone & handled[l]);
+    }
+}
+
+/// The ±X faces (direction `D`) of a z-slab of occupancy rows, row by row (none on the
+/// padding rows, or in a padding slab when `inside` is false).
+#[inline(always)]
+fn slab_faces<const D: usize>(slab: &Slice, inner: u64, e: usize, inside: bool, out: &mut Slice) {
+    let rows = u64::MAX >> (63 - e) & !1;
+    for (y, (f, &row)) in out.iter_mut().zip(slab).enumerate() {
+        let front = if Direction::<D>::POSITIVE {
+            row >> 1
+        } else {
+            row << 1
+        };
+        let keep = u64::from(inside && (rows >> y) & 1 != 0);
+        *f = row & !front & inner & 0u64.wrapping_sub(keep);
+    }
+}
+
+/// Emits the opaque ±X faces (direction `D`, 0 or 1) that have no neighbouring face and lie in
+/// rows of [`many`] such faces, as 1 x 1 quads with AO, into `out`; marks those rows in
+/// `handled` (bit y of line z). Does nothing when the middle slab has no such row.
+pub(crate) fn lone_x<const D: usize>(
+    input: &Input<'_>,
+    classes: &BlockClasses,
+    out: &mut Vec<PackedQuad>,
+    handled: &mut Slice,
+) -> Result<(), MeshError> {
+    const ZERO: Slice = [0; 64];
+    let p = input.p;
+    let e = p - 2;
+    let inner = (u64::MAX >> (64 - e)) << 1;
+    let a = input.opaque.by[0];
+    let slab = |z: usize| a.get(z).unwrap_or(&ZERO);
+    // Face rows of slabs z - 1, z and z + 1.
+    let mut below = [0u64; 64];
+    let mut here = [0u64; 64];
+    let mut above = [0u64; 64];
+    let lone_rows = |below: &Slice, here: &Slice, above: &Slice, y: usize| {
+        let near = here[(y - 1) & 63] | here[(y + 1) & 63] | below[y & 63] | above[y & 63];
+        here[y & 63] & !near
+    };
+    // The sample: the middle slab.
+    let mid = e / 2 + 1;
+    slab_faces::<D>(slab(mid - 1), inner, e, mid > 1, &mut below);
+    slab_faces::<D>(slab(mid), inner, e, true, &mut here);
+    slab_faces::<D>(slab(mid + 1), inner, e, mid < e, &mut above);
+    if !(1..=e).any(|y| many(lone_rows(&below, &here, &above, y))) {
+        return Ok(());
+    }
+    below = [0; 64];
+    slab_faces::<D>(slab(1), inner, e, true, &mut here);
+    let mut known = 0u64;
+    for z in 1..=e {
+        slab_faces::<D>(slab(z + 1), inner, e, z < e, &mut above);
+        for y in 1..=e {
+            let lone = lone_rows(&below, &here, &above, y);
+            if !many(lone) {
+                continue;
+            }
+            handled[z & 63] |= 1 << y;
+            // Plane 3r + c, bit x: the front voxel of the face at x, at z + r - 1, y + c - 1.
+            let planes: [u64; 9] = core::array::from_fn(|k| {
+                let row = slab(z + k / 3 - 1)[(y + k % 3 - 1) & 63];
+                if Direction::<D>::POSITIVE {
+                    row >> 1
+                } else {
+                    row << 1
+                }
+            });
+            let start = (y + p * z) * p;
+            let ids = input.voxels.get(start..start + p).unwrap_or(&[]);
+            emit_row::<D>(
+                input.ao,
+                classes,
+                [y, z],
+                lone,
+                &planes,
+                ids,
+                &mut known,
+                out,
+            )?;
+        }
+        below = here;
+        here = above;
+    }
+    Ok(())
+}
+
+/// Emits the faces `bits` of row `(y, z)`, whose ids are `ids` (x-indexed) and whose front
+/// neighbourhoods are `planes`.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the row's parts, computed once by the caller"
+)]
+#[inline]
+fn emit_row<const D: usize>(
+    ao: bool,
+    classes: &BlockClasses,
+    [y, z]: [usize; 2],
+    bits: u64,
+    planes: &[u64; 9],
+    ids: &[u16],
+    known: &mut u64,
+    out: &mut Vec<PackedQuad>,
+) -> Result<(), MeshError> {
+    let code = |x: usize| {
+        planes.iter().enumerate().fold(0usize, |code, (k, &plane)| {
+            code | (((plane >> x) & 1) as usize) << k
+        })
+    };
+    let key = |x: usize| {
+        let id = u32::from(ids.get(x).copied().unwrap_or(0));
+        let ao = if ao {
+            u32::from(Direction::<D>::AO_TABLE[code(x) & 511])
+        } else {
+            0xFF
+        };
+        id << 11 | ao << 3 | D as u32
+    };
+    let check = |key: u32, x: usize, known: &mut u64| {
+        let id = key >> 11;
+        if id < 64 && (*known >> id) & 1 != 0 {
+            return Ok(());
+        }
+        if classes.class(BlockId(id as u16)).is_some() {
+            if id < 64 {
+                *known |= 1 << id;
+            }
+            return Ok(());
+        }
+        Err(MeshError::UnknownBlock {
+            id: BlockId(id as u16),
+            position: [x as u32, y as u32, z as u32],
+        })
+    };
+    // Word 0 of the face at x: chunk-local x, y, z; width and height 1.
+    let word = (((y - 1) << 6) | ((z - 1) << 12)) as u32;
+    let mut rest = bits;
+    {
+        // Faces with the first face's front neighbourhood and id share its key.
+        let x0 = bits.trailing_zeros() as usize & 63;
+        let key0 = key(x0);
+        let mut same = bits;
+        if ao {
+            for &plane in planes {
+                let want = 0u64.wrapping_sub((plane >> x0) & 1);
+                same &= !(plane ^ want);
+            }
+        }
+        same &= row_equal(ids, ids.get(x0).copied().unwrap_or(0));
+        check(key0, x0, known)?;
+        let mut m = same;
+        out.extend((0..same.count_ones()).map(|_| {
+            let x = m.trailing_zeros();
+            m &= m.wrapping_sub(1);
+            PackedQuad {
+                position_size: word | x.wrapping_sub(1) & 63,
+                face_ao_block: key0,
+            }
+        }));
+        rest &= !same;
+    }
+    while rest != 0 {
+        let x = rest.trailing_zeros() as usize;
+        rest &= rest - 1;
+        let k = key(x);
+        check(k, x, known)?;
+        out.push(PackedQuad {
+            position_size: word | (x as u32 - 1),
+            face_ao_block: k,
+        });
+    }
+    Ok(())
+}
