@@ -163,3 +163,39 @@ fn checkerboard_has_one_quad_per_face_all_fully_occluded_corners() {
     assert_eq!(mesh.opaque.len(), 6 * solid_interior);
     assert!(mesh.opaque.iter().all(|q| q.decode().unwrap().ao == [0; 4]));
 }
+
+/// On a checkerboard every face is alone and takes the bulk paths (rows of lone ±X faces from
+/// the occupancy rows, lines of one key): an unknown id there is still an error naming it and
+/// its position, on whichever side it is met first, in every mode.
+#[test]
+fn an_unknown_id_in_a_checkerboard_is_an_error() {
+    let classes = BlockClasses::from_palette(&palette(true));
+    for size in ChunkSize::ALL {
+        // A solid voxel (x + y + z even) in the middle.
+        let c = size.padded_edge() as u32 / 2;
+        let at = [c, c, c + (3 * c) % 2];
+        let padded = PaddedChunk::from_fn(size, |x, y, z| {
+            if (x + y + z) % 2 == 1 {
+                BlockId::AIR
+            } else if [x, y, z] == at {
+                BlockId(UNKNOWN)
+            } else {
+                BlockId(STONE)
+            }
+        });
+        let want = MeshError::UnknownBlock {
+            id: BlockId(UNKNOWN),
+            position: at,
+        };
+        let mut mesh = BlockyMesh::new();
+        for ao in [true, false] {
+            let mut mesher = GreedyMesher::new().with_ambient_occlusion(ao);
+            assert_eq!(mesher.mesh(&padded, &classes, &mut mesh), Err(want.clone()));
+            assert!(mesh.is_empty());
+            assert_eq!(
+                mesher.visible_faces(&padded, &classes, &mut mesh),
+                Err(want.clone())
+            );
+        }
+    }
+}
