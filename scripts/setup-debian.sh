@@ -2,6 +2,9 @@
 # Installs what a fresh Debian 12 machine lacks to build and test the workspace:
 #   - a Vulkan driver for the GPU tests: lavapipe (mesa-vulkan-drivers, the CPU Vulkan) when no
 #     Vulkan ICD is installed, plus the loader (libvulkan1);
+#   - for the window test (viewer/tests/window_mode.rs): a virtual X server (xvfb) and the X11
+#     libraries winit loads at run time (Xlib, Xlib-xcb, Xcursor, XInput2, xcb, xkbcommon and
+#     xkbcommon-x11; Mesa's own X11 presentation libraries come with mesa-vulkan-drivers);
 #   - the bare-metal target used to check that voxel-core builds without std.
 # Safe to run again: it installs only what is missing.
 set -euo pipefail
@@ -25,6 +28,15 @@ for dir in /usr/share/vulkan/icd.d /etc/vulkan/icd.d; do
 done
 [ "$have_icd" -eq 1 ] || packages+=(mesa-vulkan-drivers)
 ldconfig -p | grep -q 'libvulkan\.so\.1' || packages+=(libvulkan1)
+command -v Xvfb >/dev/null 2>&1 || packages+=(xvfb)
+# The library names once (a `grep -q` ending a pipe early can fail it under pipefail).
+libraries=$(ldconfig -p | awk '{print $1}')
+have_library() { grep -qxF "$1" <<<"$libraries"; }
+for entry in libX11.so.6:libx11-6 libX11-xcb.so.1:libx11-xcb1 libXcursor.so.1:libxcursor1 \
+    libXi.so.6:libxi6 libxcb.so.1:libxcb1 libxkbcommon.so.0:libxkbcommon0 \
+    libxkbcommon-x11.so.0:libxkbcommon-x11-0; do
+    have_library "${entry%%:*}" || packages+=("${entry#*:}")
+done
 
 if [ "${#packages[@]}" -gt 0 ]; then
     echo "setup: installing ${packages[*]}"

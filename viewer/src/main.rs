@@ -1,19 +1,27 @@
-//! The viewer's command line: renders the built-in scene.
+//! The viewer's command line: shows the built-in scene (or a `.vox` file).
 //!
-//! With no display (`DISPLAY` and `WAYLAND_DISPLAY` unset), or with `--headless`, it renders one
-//! frame to a PNG file and prints where it wrote it. The frame comes from the GPU renderer
-//! (deferred shading) when a Vulkan adapter exists (lavapipe counts), and from the CPU
-//! reference raycaster otherwise or with `--cpu`; it prints which one it used.
+//! With a display (`DISPLAY` or `WAYLAND_DISPLAY` set) it opens a window (GPU renderer, fly
+//! camera, stats overlay; see `viewer::window`); `--window` forces that, and then a failure is
+//! an error, while without `--window` a window that cannot be opened falls back to the PNG.
+//! `--frames N` closes the window after N presented frames and prints
+//! `window: presented N frames WxH on <adapter>`.
+//!
+//! With no display, or with `--headless`, it renders one frame to a PNG file and prints where
+//! it wrote it. The frame comes from the GPU renderer (deferred shading) when a Vulkan adapter
+//! exists (lavapipe counts), and from the CPU reference raycaster otherwise or with `--cpu`; it
+//! prints which one it used.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use clap::Parser;
 use viewer::gpu_view::render_scene;
 use viewer::reference_raycast::{Lighting, encode_png, render};
 use viewer::scene::vox::{VoxError, load_vox_file};
 use viewer::scene::{Scene, camera_looking_at, terrain_scene};
+use viewer::window::mode::{Mode, choose_mode, display_present};
+use viewer::window::{WindowOptions, run_window};
 use voxel_core::ChunkSize;
 
 /// Renders the built-in procedural terrain.
@@ -21,15 +29,27 @@ use voxel_core::ChunkSize;
 #[command(version, about)]
 struct Args {
     /// Render one frame to a PNG even when a display is available.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "window")]
     headless: bool,
+    /// Open a window even when no display is named in the environment; fail if it cannot.
+    #[arg(long)]
+    window: bool,
+    /// Window mode: close after this many presented frames (print what was presented).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    frames: Option<u64>,
+    /// Window mode: with --frames, fail when they take longer than this many seconds.
+    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u64).range(1..))]
+    frames_timeout: u64,
+    /// Window mode: present as fast as possible instead of at the display's refresh rate.
+    #[arg(long)]
+    no_vsync: bool,
     /// Where to write the PNG.
     #[arg(long, default_value = "target/viewer.png")]
     out: PathBuf,
-    /// Image width in pixels.
+    /// Image (or window) width in pixels.
     #[arg(long, default_value_t = 960, value_parser = clap::value_parser!(u32).range(1..=8192))]
     width: u32,
-    /// Image height in pixels.
+    /// Image (or window) height in pixels.
     #[arg(long, default_value_t = 540, value_parser = clap::value_parser!(u32).range(1..=8192))]
     height: u32,
     /// Terrain seed.
@@ -62,11 +82,7 @@ fn vox_scene(path: &std::path::Path) -> Result<Scene, VoxError> {
 
 fn main() -> ExitCode {
     let args = Args::parse();
-    let has_display =
-        std::env::var_os("DISPLAY").is_some() || std::env::var_os("WAYLAND_DISPLAY").is_some();
-    if has_display && !args.headless {
-        eprintln!("viewer: the interactive window is not built yet; rendering to a PNG instead");
-    }
+    let mode = choose_mode(args.headless, args.window, display_present());
 
     let started = Instant::now();
     let scene = match &args.vox {
@@ -80,12 +96,37 @@ fn main() -> ExitCode {
         },
     };
     let generated = started.elapsed();
+    if let Mode::Window { forced } = mode {
+        let options = WindowOptions {
+            frames: args.frames,
+            frames_deadline: Duration::from_secs(args.frames_timeout),
+            vsync: !args.no_vsync,
+            ..WindowOptions::new(args.width, args.height)
+        };
+        match run_window(&scene, options) {
+            Ok(report) => {
+                println!("window: {report}");
+                return ExitCode::SUCCESS;
+            }
+            Err(e) if forced => {
+                eprintln!("viewer: window: {e}");
+                return ExitCode::FAILURE;
+            }
+            Err(e) => eprintln!("viewer: no window ({e}); rendering to a PNG instead"),
+        }
+    }
+    headless(&args, &scene, generated)
+}
+
+/// Renders one frame of `scene` to the PNG at `args.out` and says where it went.
+fn headless(args: &Args, scene: &Scene, generated: Duration) -> ExitCode {
+    let started = Instant::now();
     let lighting = Lighting::default();
     let gpu = if args.cpu {
         Err("--cpu given".to_owned())
     } else {
         render_scene(
-            &scene,
+            scene,
             &scene.suggested_view,
             &lighting,
             args.width,
@@ -122,7 +163,7 @@ fn main() -> ExitCode {
             (image.rgba, format!("CPU reference raycast; no GPU: {why}"))
         }
     };
-    let rendered = started.elapsed() - generated;
+    let rendered = started.elapsed();
 
     let png = match encode_png(args.width, args.height, &rgba) {
         Ok(bytes) => bytes,

@@ -1,0 +1,228 @@
+//! The winit application: window events to the camera, the overlay and the GPU; one frame
+//! per redraw.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use winit::application::ApplicationHandler;
+use winit::dpi::{PhysicalPosition, PhysicalSize};
+use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::ActiveEventLoop;
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::{Window, WindowId};
+
+use gpu_backend::FrameSkipped;
+
+use super::camera::{FlyCamera, MoveKeys};
+use super::gpu::GpuWindow;
+use super::stats::FrameStats;
+use super::{WindowError, WindowOptions, WindowReport, overlay_lines};
+use crate::scene::Scene;
+
+/// Pixels of a scroll "line" for touchpads that report pixels.
+const PIXELS_PER_SCROLL_LINE: f64 = 40.0;
+
+/// The application state between events.
+pub struct App<'a> {
+    scene: &'a Scene,
+    options: WindowOptions,
+    gpu: Option<GpuWindow>,
+    camera: FlyCamera,
+    keys: MoveKeys,
+    /// A mouse button is held for looking (pressed outside the overlay).
+    dragging: bool,
+    cursor: Option<PhysicalPosition<f64>>,
+    stats: FrameStats,
+    last_frame: Option<Instant>,
+    started: Instant,
+    /// Why the last frame that was skipped was skipped.
+    skipped: Option<FrameSkipped>,
+    /// The outcome, once known.
+    pub result: Option<Result<WindowReport, WindowError>>,
+}
+
+impl<'a> App<'a> {
+    /// An app showing `scene`.
+    pub fn new(scene: &'a Scene, options: WindowOptions) -> App<'a> {
+        App {
+            scene,
+            camera: FlyCamera::new(scene.suggested_view, 32.0),
+            options,
+            gpu: None,
+            keys: MoveKeys::default(),
+            dragging: false,
+            cursor: None,
+            stats: FrameStats::default(),
+            last_frame: None,
+            started: Instant::now(),
+            skipped: None,
+            result: None,
+        }
+    }
+
+    /// Stops the loop with `result` (the first outcome wins).
+    fn finish(&mut self, event_loop: &ActiveEventLoop, result: Result<WindowReport, WindowError>) {
+        self.result.get_or_insert(result);
+        event_loop.exit();
+    }
+
+    fn report(&self) -> Option<WindowReport> {
+        let gpu = self.gpu.as_ref()?;
+        let (width, height) = gpu.size();
+        Some(WindowReport {
+            frames: self.stats.presented(),
+            width,
+            height,
+            adapter: gpu.adapter(),
+        })
+    }
+
+    fn set_key(&mut self, code: KeyCode, pressed: bool) {
+        let keys = &mut self.keys;
+        match code {
+            KeyCode::KeyW | KeyCode::ArrowUp => keys.forward = pressed,
+            KeyCode::KeyS | KeyCode::ArrowDown => keys.back = pressed,
+            KeyCode::KeyA | KeyCode::ArrowLeft => keys.left = pressed,
+            KeyCode::KeyD | KeyCode::ArrowRight => keys.right = pressed,
+            KeyCode::Space => keys.up = pressed,
+            KeyCode::ShiftLeft | KeyCode::ShiftRight => keys.down = pressed,
+            _ => {}
+        }
+    }
+
+    fn redraw(&mut self, event_loop: &ActiveEventLoop) {
+        let now = Instant::now();
+        let dt = self
+            .last_frame
+            .map_or(0.0, |t| now.saturating_duration_since(t).as_secs_f64());
+        self.last_frame = Some(now);
+        // A long stall (a drag of the window, a breakpoint) must not fling the camera.
+        self.camera.step(&self.keys, dt.min(0.1));
+        let Some(gpu) = self.gpu.as_mut() else {
+            return;
+        };
+        let camera = self.camera.render_camera(gpu.chunk_size());
+        let lines = overlay_lines(&self.stats, gpu, &self.camera);
+        match gpu.draw(&camera, &lines, &mut self.stats) {
+            Ok(Ok(())) => {}
+            Ok(Err(skipped)) => self.skipped = Some(skipped),
+            Err(e) => return self.finish(event_loop, Err(e)),
+        }
+        if let Some(target) = self.options.frames {
+            if self.stats.presented() >= target {
+                if let Some(report) = self.report() {
+                    self.finish(event_loop, Ok(report));
+                }
+                return;
+            }
+            if self.started.elapsed() > self.options.frames_deadline {
+                let e = WindowError::TooSlow {
+                    presented: self.stats.presented(),
+                    wanted: target,
+                    seconds: self.options.frames_deadline.as_secs(),
+                    last_skip: self.skipped.map(|s| s.to_string()),
+                };
+                return self.finish(event_loop, Err(e));
+            }
+        }
+        if let Some(gpu) = &self.gpu {
+            gpu.window().request_redraw();
+        }
+    }
+}
+
+impl ApplicationHandler for App<'_> {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.gpu.is_some() {
+            return;
+        }
+        let attributes = Window::default_attributes()
+            .with_title("voxel viewer")
+            .with_inner_size(PhysicalSize::new(self.options.width, self.options.height));
+        let window = match event_loop.create_window(attributes) {
+            Ok(window) => Arc::new(window),
+            Err(e) => return self.finish(event_loop, Err(WindowError::Window(e))),
+        };
+        let display = event_loop.owned_display_handle();
+        match GpuWindow::new(window, display, self.scene, self.options.vsync) {
+            Ok(gpu) => {
+                gpu.window().request_redraw();
+                self.started = Instant::now();
+                self.gpu = Some(gpu);
+            }
+            Err(e) => self.finish(event_loop, Err(e)),
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let Some(gpu) = self.gpu.as_mut() else {
+            return;
+        };
+        let consumed = gpu.overlay_event(&event);
+        match event {
+            WindowEvent::CloseRequested => {
+                if let Some(report) = self.report() {
+                    self.finish(event_loop, Ok(report));
+                }
+            }
+            WindowEvent::Resized(size) => {
+                if let Err(e) = gpu.resize(size.width, size.height) {
+                    return self.finish(event_loop, Err(e));
+                }
+                gpu.window().request_redraw();
+            }
+            WindowEvent::KeyboardInput {
+                event:
+                    KeyEvent {
+                        physical_key: PhysicalKey::Code(code),
+                        state,
+                        ..
+                    },
+                ..
+            } => {
+                let pressed = state == ElementState::Pressed;
+                if code == KeyCode::Escape && pressed {
+                    if let Some(report) = self.report() {
+                        self.finish(event_loop, Ok(report));
+                    }
+                } else if !consumed || !pressed {
+                    // Releases always count, so a key never sticks.
+                    self.set_key(code, pressed);
+                }
+            }
+            WindowEvent::Focused(false) => self.keys = MoveKeys::default(),
+            WindowEvent::MouseInput { state, button, .. } => {
+                let looking = matches!(button, MouseButton::Left | MouseButton::Right);
+                if state == ElementState::Released {
+                    self.dragging = false;
+                } else if looking && !consumed && !gpu.overlay_wants_pointer() {
+                    self.dragging = true;
+                }
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                if let (true, Some(last)) = (self.dragging, self.cursor) {
+                    self.camera.look(position.x - last.x, position.y - last.y);
+                }
+                self.cursor = Some(position);
+            }
+            WindowEvent::CursorLeft { .. } => self.cursor = None,
+            WindowEvent::MouseWheel { delta, .. } if !consumed => {
+                let lines = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => f64::from(y),
+                    MouseScrollDelta::PixelDelta(p) => p.y / PIXELS_PER_SCROLL_LINE,
+                };
+                self.camera.scroll(lines);
+            }
+            WindowEvent::RedrawRequested => self.redraw(event_loop),
+            _ => {}
+        }
+    }
+
+    fn exiting(&mut self, _event_loop: &ActiveEventLoop) {
+        if self.result.is_none() {
+            self.result = self.report().map(Ok);
+        }
+        // Release the surface and device while the display connection is still open.
+        self.gpu = None;
+    }
+}

@@ -1,0 +1,202 @@
+//! The interactive window: the scene drawn by the GPU renderer into a winit window, a fly
+//! camera, and an egui overlay with frame statistics.
+//!
+//! ```text
+//!  run_window(scene, options)
+//!    winit event loop ─► App (app.rs): events ─► FlyCamera (camera.rs), Overlay (overlay.rs)
+//!    resumed:          window ─► GpuWindow (gpu.rs): GpuContext::new_windowed, Renderer,
+//!                      the scene meshed and uploaded (gpu_view::upload_world)
+//!    RedrawRequested:  acquire ─► renderer.record_frame ─► blit to the swapchain image
+//!                      ─► egui overlay ─► submit, present ─► per-pass times (stats.rs)
+//! ```
+//!
+//! Controls: W/A/S/D (or the arrows) move, Space rises, Shift sinks, a left or right mouse drag
+//! looks around, the wheel changes the speed, Escape closes.
+//!
+//! With [`WindowOptions::frames`] the window closes by itself after that many presented frames
+//! (tests and smoke runs).
+
+mod app;
+pub mod camera;
+mod gpu;
+pub mod mode;
+mod overlay;
+pub mod stats;
+
+use std::fmt;
+use std::time::Duration;
+
+use gpu_backend::DeviceError;
+use gpu_backend::render::RenderError;
+use winit::error::{EventLoopError, OsError};
+use winit::event_loop::EventLoop;
+
+use crate::gpu_view::GpuViewError;
+use crate::scene::Scene;
+use camera::FlyCamera;
+use gpu::GpuWindow;
+use stats::FrameStats;
+
+/// How the window is opened.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WindowOptions {
+    /// Inner width asked for, pixels (the window manager may give another).
+    pub width: u32,
+    /// Inner height asked for, pixels.
+    pub height: u32,
+    /// Close after this many presented frames.
+    pub frames: Option<u64>,
+    /// With `frames`: give up (an error) when they are not presented within this time.
+    pub frames_deadline: Duration,
+    /// Wait for the display's refresh when presenting.
+    pub vsync: bool,
+}
+
+impl WindowOptions {
+    /// A `width x height` window with vsync, running until closed.
+    pub fn new(width: u32, height: u32) -> WindowOptions {
+        WindowOptions {
+            width,
+            height,
+            frames: None,
+            frames_deadline: Duration::from_secs(60),
+            vsync: true,
+        }
+    }
+}
+
+/// What a window session did.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct WindowReport {
+    /// Frames presented.
+    pub frames: u64,
+    /// The swapchain's last width, pixels.
+    pub width: u32,
+    /// The swapchain's last height, pixels.
+    pub height: u32,
+    /// The adapter it ran on.
+    pub adapter: String,
+}
+
+impl fmt::Display for WindowReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "presented {} frames {}x{} on {}",
+            self.frames, self.width, self.height, self.adapter
+        )
+    }
+}
+
+/// Why the window could not run.
+#[derive(Debug)]
+pub enum WindowError {
+    /// No event loop: no display could be opened (or a second loop was asked for).
+    EventLoop(EventLoopError),
+    /// The window could not be created.
+    Window(OsError),
+    /// No device can present to the window.
+    Device(DeviceError),
+    /// The renderer could not be created or failed.
+    Renderer(RenderError),
+    /// The scene could not be meshed or uploaded.
+    Scene(GpuViewError),
+    /// `--frames`: the frames were not presented in time.
+    TooSlow {
+        /// Frames presented.
+        presented: u64,
+        /// Frames asked for.
+        wanted: u64,
+        /// The time allowed, seconds.
+        seconds: u64,
+        /// Why the last skipped frame was skipped, if any was.
+        last_skip: Option<String>,
+    },
+    /// The event loop ended before the window was shown.
+    NeverShown,
+}
+
+impl fmt::Display for WindowError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            WindowError::EventLoop(e) => write!(f, "no window event loop (no display?): {e}"),
+            WindowError::Window(e) => write!(f, "the window could not be created: {e}"),
+            WindowError::Device(e) => write!(f, "{e}"),
+            WindowError::Renderer(e) => write!(f, "renderer: {e}"),
+            WindowError::Scene(e) => write!(f, "scene upload: {e}"),
+            WindowError::TooSlow {
+                presented,
+                wanted,
+                seconds,
+                last_skip,
+            } => {
+                write!(f, "presented {presented} of {wanted} frames in {seconds} s")?;
+                if let Some(why) = last_skip {
+                    write!(f, " (last skipped frame: {why})")?;
+                }
+                Ok(())
+            }
+            WindowError::NeverShown => {
+                write!(f, "the event loop ended before the window was shown")
+            }
+        }
+    }
+}
+
+impl std::error::Error for WindowError {}
+
+/// Opens a window showing `scene` and runs until it is closed (or `options.frames` are
+/// presented). Blocks; call from the main thread, once per process.
+pub fn run_window(scene: &Scene, options: WindowOptions) -> Result<WindowReport, WindowError> {
+    let event_loop = EventLoop::new().map_err(WindowError::EventLoop)?;
+    let mut app = app::App::new(scene, options);
+    event_loop
+        .run_app(&mut app)
+        .map_err(WindowError::EventLoop)?;
+    app.result.unwrap_or(Err(WindowError::NeverShown))
+}
+
+/// The overlay's text: frame rate and times, per-pass GPU times, what is resident, where the
+/// camera is.
+fn overlay_lines(stats: &FrameStats, gpu: &GpuWindow, camera: &FlyCamera) -> Vec<String> {
+    let ms = |ns: u64| ns as f64 / 1e6;
+    let mut lines = vec![
+        format!(
+            "{:.1} fps   CPU frame {:.2} ms",
+            stats.fps(),
+            stats.cpu_frame_time().as_secs_f64() * 1e3
+        ),
+        format!(
+            "GPU passes ({}): {:.2} ms",
+            if gpu.gpu_timestamps() {
+                "timestamps"
+            } else {
+                "CPU wall clock"
+            },
+            ms(stats.passes_total_ns())
+        ),
+    ];
+    lines.extend(
+        stats
+            .passes()
+            .iter()
+            .map(|p| format!("  {:<12} {:>7.3} ms", p.label, ms(p.nanoseconds))),
+    );
+    let counts = gpu.counts();
+    lines.push(format!(
+        "chunks {}   {:.1} MiB resident",
+        counts.chunks,
+        counts.bytes as f64 / f64::from(1u32 << 20)
+    ));
+    lines.push(format!(
+        "quads {}   smooth quads {}",
+        counts.quads, counts.smooth_quads
+    ));
+    let p = camera.position();
+    let (w, h) = gpu.size();
+    lines.push(format!(
+        "eye {:.1} {:.1} {:.1}   speed {:.1}/s   {w}x{h}",
+        p.x, p.y, p.z, camera.speed
+    ));
+    lines
+}
