@@ -43,6 +43,10 @@ struct Args {
     /// Window mode: present as fast as possible instead of at the display's refresh rate.
     #[arg(long)]
     no_vsync: bool,
+    /// Window mode (tests): after the first frame, resize the window to WIDTHxHEIGHT; with
+    /// --frames, close only once that size is in use.
+    #[arg(long, value_name = "WIDTHxHEIGHT", value_parser = parse_size)]
+    resize_to: Option<(u32, u32)>,
     /// Where to write the PNG.
     #[arg(long, default_value = "target/viewer.png")]
     out: PathBuf,
@@ -80,6 +84,18 @@ fn vox_scene(path: &std::path::Path) -> Result<Scene, VoxError> {
     })
 }
 
+/// `WIDTHxHEIGHT`, each 1 to 8192.
+fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let parse = |part: &str| match part.trim().parse::<u32>() {
+        Ok(v @ 1..=8192) => Ok(v),
+        _ => Err(format!("{part:?} is not a size from 1 to 8192")),
+    };
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("{text:?} is not WIDTHxHEIGHT"))?;
+    Ok((parse(w)?, parse(h)?))
+}
+
 fn main() -> ExitCode {
     let args = Args::parse();
     let mode = choose_mode(args.headless, args.window, display_present());
@@ -101,6 +117,7 @@ fn main() -> ExitCode {
             frames: args.frames,
             frames_deadline: Duration::from_secs(args.frames_timeout),
             vsync: !args.no_vsync,
+            resize_to: args.resize_to,
             ..WindowOptions::new(args.width, args.height)
         };
         match run_window(&scene, options) {
@@ -194,4 +211,18 @@ fn headless(args: &Args, scene: &Scene, generated: Duration) -> ExitCode {
     );
     println!("viewer: wrote {}", shown.display());
     ExitCode::SUCCESS
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_size;
+
+    #[test]
+    fn sizes_parse_and_bad_ones_are_refused() {
+        assert_eq!(parse_size("200x120"), Ok((200, 120)));
+        assert_eq!(parse_size("8X9"), Ok((8, 9)));
+        for bad in ["200", "0x10", "10x0", "9000x10", "ax1", "-1x2", ""] {
+            assert!(parse_size(bad).is_err(), "{bad:?} accepted");
+        }
+    }
 }

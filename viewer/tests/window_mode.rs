@@ -125,62 +125,77 @@ fn have_adapter() -> bool {
     headless_or_skip(&DeviceOptions::default()).is_some()
 }
 
-#[test]
-fn window_mode_presents_frames_on_a_virtual_display() {
+/// Runs the viewer in a window on a fresh Xvfb with `args` (after `--window --chunks 1`) and
+/// returns its `window:` line; `None` when skipped (no Xvfb or no adapter, outside CI).
+fn window_line(args: &[&str]) -> Option<String> {
     let Some(xvfb) = find_program("Xvfb") else {
         assert!(
             !in_ci(),
             "Xvfb is not installed (scripts/setup-debian.sh installs the `xvfb` package)"
         );
         eprintln!("skipped: Xvfb not installed");
-        return;
+        return None;
     };
     if !have_adapter() {
-        return;
+        return None;
     }
     let server = Xvfb::start(&xvfb);
     let started = Instant::now();
-    let output = run_viewer(
-        &[
-            "--window",
-            "--frames",
-            "3",
-            "--width",
-            "160",
-            "--height",
-            "96",
-            "--chunks",
-            "1",
-            "--frames-timeout",
-            "40",
-        ],
-        Some(&server.display),
-    );
+    let mut all = vec!["--window", "--chunks", "1", "--frames-timeout", "40"];
+    all.extend(args);
+    let output = run_viewer(&all, Some(&server.display));
     let elapsed = started.elapsed();
     drop(server);
     let (stdout, stderr) = (text(&output.stdout), text(&output.stderr));
     assert!(
         output.status.success(),
-        "viewer failed ({}):\nstdout:\n{stdout}\nstderr:\n{stderr}",
+        "viewer {all:?} failed ({}):\nstdout:\n{stdout}\nstderr:\n{stderr}",
         output.status
-    );
-    let line = stdout
-        .lines()
-        .find(|l| l.starts_with("window: "))
-        .unwrap_or_else(|| panic!("no `window:` line in:\n{stdout}\nstderr:\n{stderr}"));
-    assert!(
-        line.starts_with("window: presented 3 frames 160x96 on "),
-        "unexpected line {line:?}"
-    );
-    assert!(
-        line.len() > "window: presented 3 frames 160x96 on ".len(),
-        "the adapter is named: {line:?}"
     );
     assert!(
         !stdout.contains("wrote"),
         "window mode writes no PNG:\n{stdout}"
     );
-    eprintln!("window mode: {line} ({elapsed:.1?})");
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("window: "))
+        .unwrap_or_else(|| panic!("no `window:` line in:\n{stdout}\nstderr:\n{stderr}"))
+        .to_owned();
+    eprintln!("{line} ({elapsed:.1?})");
+    Some(line)
+}
+
+#[test]
+fn window_mode_presents_frames_on_a_virtual_display() {
+    let Some(line) = window_line(&["--frames", "3", "--width", "160", "--height", "96"]) else {
+        return;
+    };
+    let prefix = "window: presented 3 frames 160x96 on ";
+    assert!(line.starts_with(prefix), "unexpected line {line:?}");
+    assert!(line.len() > prefix.len(), "the adapter is named: {line:?}");
+}
+
+#[test]
+fn window_mode_follows_a_resize() {
+    // The swapchain and the renderer's targets must follow the window: the viewer closes only
+    // once frames were presented at the new size.
+    let args = [
+        "--frames",
+        "3",
+        "--width",
+        "160",
+        "--height",
+        "96",
+        "--resize-to",
+        "120x72",
+    ];
+    let Some(line) = window_line(&args) else {
+        return;
+    };
+    let (_, rest) = line
+        .split_once(" frames ")
+        .unwrap_or_else(|| panic!("unexpected line {line:?}"));
+    assert!(rest.starts_with("120x72 on "), "not resized: {line:?}");
 }
 
 #[test]

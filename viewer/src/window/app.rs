@@ -2,12 +2,14 @@
 //! per redraw.
 
 use std::sync::Arc;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use winit::application::ApplicationHandler;
 use winit::dpi::{PhysicalPosition, PhysicalSize};
-use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent};
-use winit::event_loop::ActiveEventLoop;
+use winit::event::{
+    ElementState, KeyEvent, MouseButton, MouseScrollDelta, StartCause, WindowEvent,
+};
+use winit::event_loop::{ActiveEventLoop, ControlFlow};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
@@ -21,6 +23,9 @@ use crate::scene::Scene;
 
 /// Pixels of a scroll "line" for touchpads that report pixels.
 const PIXELS_PER_SCROLL_LINE: f64 = 40.0;
+
+/// How long to wait before trying again after the swapchain gave no image.
+const RETRY_AFTER_SKIP: Duration = Duration::from_millis(50);
 
 /// The application state between events.
 pub struct App<'a> {
@@ -37,6 +42,8 @@ pub struct App<'a> {
     started: Instant,
     /// Why the last frame that was skipped was skipped.
     skipped: Option<FrameSkipped>,
+    /// `options.resize_to` was asked of the window.
+    resize_requested: bool,
     /// The outcome, once known.
     pub result: Option<Result<WindowReport, WindowError>>,
 }
@@ -56,6 +63,7 @@ impl<'a> App<'a> {
             last_frame: None,
             started: Instant::now(),
             skipped: None,
+            resize_requested: false,
             result: None,
         }
     }
@@ -103,13 +111,27 @@ impl<'a> App<'a> {
         };
         let camera = self.camera.render_camera(gpu.chunk_size());
         let lines = overlay_lines(&self.stats, gpu, &self.camera);
-        match gpu.draw(&camera, &lines, &mut self.stats) {
-            Ok(Ok(())) => {}
-            Ok(Err(skipped)) => self.skipped = Some(skipped),
+        let presented = match gpu.draw(&camera, &lines, &mut self.stats) {
+            Ok(Ok(())) => true,
+            Ok(Err(skipped)) => {
+                self.skipped = Some(skipped);
+                false
+            }
             Err(e) => return self.finish(event_loop, Err(e)),
+        };
+        let resize_to = self.options.resize_to;
+        if let (true, Some((width, height))) = (presented, resize_to)
+            && !self.resize_requested
+        {
+            self.resize_requested = true;
+            // Applied when the Resized event comes (at once on X11 without a window manager).
+            let _ = gpu
+                .window()
+                .request_inner_size(PhysicalSize::new(width, height));
         }
         if let Some(target) = self.options.frames {
-            if self.stats.presented() >= target {
+            let resized = resize_to.is_none_or(|size| gpu.size() == size);
+            if self.stats.presented() >= target && resized {
                 if let Some(report) = self.report() {
                     self.finish(event_loop, Ok(report));
                 }
@@ -125,13 +147,28 @@ impl<'a> App<'a> {
                 return self.finish(event_loop, Err(e));
             }
         }
-        if let Some(gpu) = &self.gpu {
-            gpu.window().request_redraw();
+        if presented {
+            if let Some(gpu) = &self.gpu {
+                gpu.window().request_redraw();
+            }
+        } else {
+            // No image this time (minimized, hidden, swapchain trouble): try again shortly
+            // rather than spin; `new_events` asks for the redraw.
+            event_loop.set_control_flow(ControlFlow::WaitUntil(Instant::now() + RETRY_AFTER_SKIP));
         }
     }
 }
 
 impl ApplicationHandler for App<'_> {
+    fn new_events(&mut self, event_loop: &ActiveEventLoop, cause: StartCause) {
+        if let StartCause::ResumeTimeReached { .. } = cause {
+            event_loop.set_control_flow(ControlFlow::Wait);
+            if let Some(gpu) = &self.gpu {
+                gpu.window().request_redraw();
+            }
+        }
+    }
+
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.gpu.is_some() {
             return;

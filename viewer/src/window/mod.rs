@@ -14,7 +14,7 @@
 //! looks around, the wheel changes the speed, Escape closes.
 //!
 //! With [`WindowOptions::frames`] the window closes by itself after that many presented frames
-//! (tests and smoke runs).
+//! (tests and smoke runs); [`WindowOptions::resize_to`] resizes it on the way.
 
 mod app;
 pub mod camera;
@@ -50,6 +50,9 @@ pub struct WindowOptions {
     pub frames_deadline: Duration,
     /// Wait for the display's refresh when presenting.
     pub vsync: bool,
+    /// After the first presented frame, ask the window for this inner size; with `frames`,
+    /// the window closes only once the new size is in use (tests the resize path).
+    pub resize_to: Option<(u32, u32)>,
 }
 
 impl WindowOptions {
@@ -61,6 +64,7 @@ impl WindowOptions {
             frames: None,
             frames_deadline: Duration::from_secs(60),
             vsync: true,
+            resize_to: None,
         }
     }
 }
