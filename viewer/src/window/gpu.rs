@@ -140,6 +140,10 @@ impl GpuWindow {
 
     /// Draws and presents one frame from `camera` with the overlay's `lines`; records its
     /// times into `stats`. `Ok(Err(reason))` when the swapchain gave no image this time.
+    ///
+    /// The pass times are collected right after the present, which waits for the GPU: frames
+    /// do not overlap, so the figures are each frame's own (a viewer for measuring, not a
+    /// throughput-tuned loop). The CPU frame time runs from the acquired image to the present.
     pub fn draw(
         &mut self,
         camera: &RenderCamera,
