@@ -47,6 +47,9 @@ struct Args {
     /// --frames, close only once that size is in use.
     #[arg(long, value_name = "WIDTHxHEIGHT", value_parser = parse_size)]
     resize_to: Option<(u32, u32)>,
+    /// Window mode: start without the stats overlay (F1 toggles it).
+    #[arg(long)]
+    no_overlay: bool,
     /// Where to write the PNG.
     #[arg(long, default_value = "target/viewer.png")]
     out: PathBuf,
@@ -118,6 +121,7 @@ fn main() -> ExitCode {
             frames_deadline: Duration::from_secs(args.frames_timeout),
             vsync: !args.no_vsync,
             resize_to: args.resize_to,
+            overlay: !args.no_overlay,
             ..WindowOptions::new(args.width, args.height)
         };
         match run_window(&scene, options) {

@@ -6,140 +6,20 @@
 //! Vulkan adapter) the test prints one `skipped:` line, except under `CI=true`, where
 //! `scripts/setup-debian.sh` installs both and their absence is a failure.
 
-use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
-use std::sync::mpsc;
-use std::time::{Duration, Instant};
+mod support;
 
-use gpu_backend::DeviceOptions;
-use gpu_backend::test_support::{headless_or_skip, in_ci};
+use std::time::Instant;
 
-/// How long the viewer may run before the test gives up on it.
-const VIEWER_TIMEOUT: Duration = Duration::from_secs(60);
-
-/// An `Xvfb` server, stopped on drop.
-struct Xvfb {
-    child: Child,
-    display: String,
-}
-
-impl Xvfb {
-    /// Starts `program` on a free display and waits until it accepts connections (it writes
-    /// the display number to `-displayfd` only then).
-    fn start(program: &Path) -> Xvfb {
-        let mut child = Command::new(program)
-            .args([
-                "-displayfd",
-                "1",
-                "-screen",
-                "0",
-                "320x240x24",
-                "-nolisten",
-                "tcp",
-            ])
-            .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap_or_else(|e| panic!("cannot start {}: {e}", program.display()));
-        let stdout = child.stdout.take().expect("stdout is piped");
-        let (sender, receiver) = mpsc::channel();
-        std::thread::spawn(move || {
-            let mut line = String::new();
-            let read = BufReader::new(stdout).read_line(&mut line);
-            // The receiver may have timed out and gone; nothing to do then.
-            let _ = sender.send(read.map(|_| line));
-        });
-        // The guard exists from here on, so a failure below still stops the server.
-        let mut server = Xvfb {
-            child,
-            display: String::new(),
-        };
-        let number = match receiver.recv_timeout(Duration::from_secs(20)) {
-            Ok(Ok(line)) if !line.trim().is_empty() => line.trim().to_owned(),
-            other => panic!("Xvfb did not report a display number: {other:?}"),
-        };
-        server.display = format!(":{number}");
-        server
-    }
-}
-
-impl Drop for Xvfb {
-    fn drop(&mut self) {
-        // Already gone is fine; the wait reaps it either way.
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-/// `name` on `PATH`, if there.
-fn find_program(name: &str) -> Option<PathBuf> {
-    let path = std::env::var_os("PATH")?;
-    std::env::split_paths(&path)
-        .map(|dir| dir.join(name))
-        .find(|candidate| candidate.is_file())
-}
-
-/// Runs the viewer binary with `args` and the display variables `display` (only
-/// `DISPLAY`, or none), killing it after [`VIEWER_TIMEOUT`].
-fn run_viewer(args: &[&str], display: Option<&str>) -> Output {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_viewer"));
-    command
-        .args(args)
-        .env_remove("DISPLAY")
-        .env_remove("WAYLAND_DISPLAY")
-        .env_remove("WAYLAND_SOCKET")
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    if let Some(display) = display {
-        command.env("DISPLAY", display);
-    }
-    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
-        command.env("XDG_RUNTIME_DIR", std::env::temp_dir());
-    }
-    let mut child = command.spawn().expect("the viewer binary starts");
-    let started = Instant::now();
-    while child.try_wait().expect("waiting for the viewer").is_none() {
-        if started.elapsed() > VIEWER_TIMEOUT {
-            let _ = child.kill();
-            let output = child.wait_with_output().expect("viewer output");
-            panic!(
-                "the viewer ran longer than {VIEWER_TIMEOUT:?}; stderr:\n{}",
-                String::from_utf8_lossy(&output.stderr)
-            );
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    child.wait_with_output().expect("viewer output")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
-
-/// A Vulkan adapter exists (else the first call printed `skipped: no Vulkan adapter`; panics
-/// under CI).
-fn have_adapter() -> bool {
-    headless_or_skip(&DeviceOptions::default()).is_some()
-}
+use support::{Xvfb, have_adapter, run_viewer, text, xvfb_or_skip};
 
 /// Runs the viewer in a window on a fresh Xvfb with `args` (after `--window --chunks 1`) and
 /// returns its `window:` line; `None` when skipped (no Xvfb or no adapter, outside CI).
 fn window_line(args: &[&str]) -> Option<String> {
-    let Some(xvfb) = find_program("Xvfb") else {
-        assert!(
-            !in_ci(),
-            "Xvfb is not installed (scripts/setup-debian.sh installs the `xvfb` package)"
-        );
-        eprintln!("skipped: Xvfb not installed");
-        return None;
-    };
+    let xvfb = xvfb_or_skip()?;
     if !have_adapter() {
         return None;
     }
-    let server = Xvfb::start(&xvfb);
+    let server = Xvfb::start(&xvfb, None);
     let started = Instant::now();
     let mut all = vec!["--window", "--chunks", "1", "--frames-timeout", "40"];
     all.extend(args);

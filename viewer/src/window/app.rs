@@ -42,6 +42,8 @@ pub struct App<'a> {
     started: Instant,
     /// Why the last frame that was skipped was skipped.
     skipped: Option<FrameSkipped>,
+    /// The stats overlay is drawn (F1 toggles it).
+    show_overlay: bool,
     /// `options.resize_to` was asked of the window.
     resize_requested: bool,
     /// The outcome, once known.
@@ -54,6 +56,7 @@ impl<'a> App<'a> {
         App {
             scene,
             camera: FlyCamera::new(scene.suggested_view, 32.0),
+            show_overlay: options.overlay,
             options,
             gpu: None,
             keys: MoveKeys::default(),
@@ -110,8 +113,10 @@ impl<'a> App<'a> {
             return;
         };
         let camera = self.camera.render_camera(gpu.chunk_size());
-        let lines = overlay_lines(&self.stats, gpu, &self.camera);
-        let presented = match gpu.draw(&camera, &lines, &mut self.stats) {
+        let lines = self
+            .show_overlay
+            .then(|| overlay_lines(&self.stats, gpu, &self.camera));
+        let presented = match gpu.draw(&camera, lines.as_deref(), &mut self.stats) {
             Ok(Ok(())) => true,
             Ok(Err(skipped)) => {
                 self.skipped = Some(skipped);
@@ -222,6 +227,8 @@ impl ApplicationHandler for App<'_> {
                     if let Some(report) = self.report() {
                         self.finish(event_loop, Ok(report));
                     }
+                } else if code == KeyCode::F1 && pressed {
+                    self.show_overlay = !self.show_overlay;
                 } else if !consumed || !pressed {
                     // Releases always count, so a key never sticks.
                     self.set_key(code, pressed);

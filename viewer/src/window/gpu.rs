@@ -138,7 +138,8 @@ impl GpuWindow {
         Ok(())
     }
 
-    /// Draws and presents one frame from `camera` with the overlay's `lines`; records its
+    /// Draws and presents one frame from `camera` with the overlay's `lines` (no overlay for
+    /// `None`); records its
     /// times into `stats`. `Ok(Err(reason))` when the swapchain gave no image this time.
     ///
     /// The pass times are collected right after the present, which waits for the GPU: frames
@@ -147,7 +148,7 @@ impl GpuWindow {
     pub fn draw(
         &mut self,
         camera: &RenderCamera,
-        lines: &[String],
+        lines: Option<&[String]>,
         stats: &mut FrameStats,
     ) -> Result<Result<(), FrameSkipped>, WindowError> {
         let frame = match self.output.acquire() {
@@ -173,14 +174,17 @@ impl GpuWindow {
             .map_err(WindowError::Renderer)?;
         self.output
             .blit(&mut encoder, &self.renderer.targets().output, &frame);
-        let extra = self.overlay.paint(
-            &self.window,
-            &self.ctx,
-            &mut encoder,
-            frame.view(),
-            size,
-            lines,
-        );
+        let extra = match lines {
+            Some(lines) => self.overlay.paint(
+                &self.window,
+                &self.ctx,
+                &mut encoder,
+                frame.view(),
+                size,
+                lines,
+            ),
+            None => Vec::new(),
+        };
         self.ctx
             .queue
             .submit(extra.into_iter().chain([encoder.finish()]));

@@ -11,7 +11,7 @@
 //! ```
 //!
 //! Controls: W/A/S/D (or the arrows) move, Space rises, Shift sinks, a left or right mouse drag
-//! looks around, the wheel changes the speed, Escape closes.
+//! looks around, the wheel changes the speed, F1 shows or hides the overlay, Escape closes.
 //!
 //! With [`WindowOptions::frames`] the window closes by itself after that many presented frames
 //! (tests and smoke runs); [`WindowOptions::resize_to`] resizes it on the way.
@@ -53,6 +53,8 @@ pub struct WindowOptions {
     /// After the first presented frame, ask the window for this inner size; with `frames`,
     /// the window closes only once the new size is in use (tests the resize path).
     pub resize_to: Option<(u32, u32)>,
+    /// Draw the stats overlay (F1 toggles it while running).
+    pub overlay: bool,
 }
 
 impl WindowOptions {
@@ -65,6 +67,7 @@ impl WindowOptions {
             frames_deadline: Duration::from_secs(60),
             vsync: true,
             resize_to: None,
+            overlay: true,
         }
     }
 }
