@@ -34,7 +34,14 @@ fn small_terrain_scenes() {
             8.0,
             "quad gigabuffer holds only packed quads"
         );
-        for pass in ["cull", "gbuffer", "lighting", "transparent", "tonemap"] {
+        for pass in [
+            "cull",
+            "cull transparent",
+            "gbuffer",
+            "lighting",
+            "transparent",
+            "tonemap",
+        ] {
             assert!(r.pass(pass).is_some(), "pass {pass} not timed");
         }
         assert!(r.cpu_frame_us > 0.0);

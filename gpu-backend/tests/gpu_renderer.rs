@@ -72,7 +72,14 @@ fn uploads_appear_and_frees_disappear() {
     let labels: Vec<&str> = times.iter().map(|t| t.label.as_str()).collect();
     assert_eq!(
         labels,
-        ["cull", "gbuffer", "lighting", "transparent", "tonemap"]
+        [
+            "cull",
+            "cull transparent",
+            "gbuffer",
+            "lighting",
+            "transparent",
+            "tonemap"
+        ]
     );
     let depth = centre_depth(&renderer);
     let distance = renderer

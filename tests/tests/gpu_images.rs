@@ -24,7 +24,14 @@ fn gpu_matches_cpu(name: &str, scene: &TestScene) -> Option<Image> {
     let labels: Vec<&str> = times.iter().map(|t| t.label.as_str()).collect();
     assert_eq!(
         labels,
-        ["cull", "gbuffer", "lighting", "transparent", "tonemap"],
+        [
+            "cull",
+            "cull transparent",
+            "gbuffer",
+            "lighting",
+            "transparent",
+            "tonemap"
+        ],
         "{name}: one timed scope per pass"
     );
     let cpu = cpu_render(scene, &scene.camera);

@@ -6,13 +6,20 @@
 //!
 //!  record_frame(encoder):
 //!    flush uploads ─► cull (compute, opaque quads) ─► args + records per page
+//!                 ─► cull transparent (compute, ordered: back to front) ─► args + records
 //!    gbuffer pass:   multi_draw_indexed_indirect(_count) per quad page   (vs_quad, fs_gbuffer)
-//!                    one draw per smooth chunk                           (vs_smooth)
+//!                    one draw per visible smooth chunk                   (vs_smooth)
 //!                    ─► albedo+AO, oct normal+material id, reversed-Z depth
 //!    lighting pass:  full screen: sun + hemisphere ambient x AO + emission ─► HDR (Rgba16Float)
-//!    transparent:    CPU-culled, chunks back to front, lit and alpha-blended into HDR
+//!    transparent:    multi-draw per quad page of the ordered commands, lit and
+//!                    alpha-blended into HDR
 //!    tonemap:        ACES ─► Rgba8UnormSrgb output (read back with read_image)
-//!    timer resolve   (GpuTimer scopes: cull, gbuffer, lighting, transparent, tonemap)
+//!    timer resolve   (GpuTimer scopes: cull, cull transparent, gbuffer, lighting,
+//!                    transparent, tonemap)
+//!
+//! **CPU work per frame** is the same whatever the number of resident greedy chunks: one
+//! cull record per layer, one multi-draw per layer and quad page, a few bind groups. Only
+//! smooth (NoCubes) chunks cost CPU per chunk (a frustum test and one draw each).
 //! ```
 //!
 //! **Vertex pulling.** No vertex buffers. A greedy quad ([`PackedQuad`], 8 bytes) becomes 4

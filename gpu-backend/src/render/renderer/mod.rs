@@ -3,12 +3,11 @@
 
 mod passes;
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use wgpu::util::DeviceExt;
 use wgpu::{Buffer, BufferUsages, CommandEncoder, Device, Queue};
 
-use voxel_core::formats::MeshedChunkInfo;
 use voxel_core::{ChunkSize, MaterialPalette};
 
 use super::camera::RenderCamera;
@@ -19,7 +18,6 @@ use super::materials::gpu_materials;
 use super::pipelines::Pipelines;
 use super::residency::{ChunkMeshData, SmoothFrame, SmoothRanges, chunk_record, mesh_bounds};
 use super::targets::{FrameImage, RenderTargets, read_output};
-use super::transparent::transparent_draws;
 use crate::chunk_table::{MeshedChunkTable, TableSlot};
 use crate::cull::{CullConfig, CullLayer, CullOutput, CullPass, quad_indices};
 use crate::device::GpuContext;
@@ -80,8 +78,12 @@ pub struct Renderer {
     gigabuffer: Gigabuffer,
     table: MeshedChunkTable,
     chunks: HashMap<ChunkHandle, Resident>,
+    /// The resident chunks with a smooth layer (drawn one by one; the others only through
+    /// the cull's commands, so a frame's CPU work does not grow with them).
+    smooth_chunks: HashSet<ChunkHandle>,
     cull: CullPass,
     opaque_commands: CullOutput,
+    transparent_commands: CullOutput,
     pipelines: Pipelines,
     targets: RenderTargets,
     quad_indices: Buffer,
@@ -118,6 +120,7 @@ impl Renderer {
             &CullConfig::new(config.chunk_size, config.max_chunks),
         )?;
         let opaque_commands = cull.create_output("opaque")?;
+        let transparent_commands = cull.create_output("transparent")?;
         let indices = quad_indices(cull.layout().max_quads_per_draw);
         let quad_indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("quad indices"),
@@ -138,8 +141,10 @@ impl Renderer {
             gigabuffer,
             table,
             chunks: HashMap::new(),
+            smooth_chunks: HashSet::new(),
             cull,
             opaque_commands,
+            transparent_commands,
             pipelines: Pipelines::new(device),
             targets,
             quad_indices,
@@ -224,6 +229,9 @@ impl Renderer {
             vertices: ranges.smooth_vertices,
             quads: ranges.smooth_quads,
         });
+        if smooth.is_some() {
+            self.smooth_chunks.insert(uploaded.handle);
+        }
         self.chunks
             .insert(uploaded.handle, Resident { slot, smooth });
         Ok(uploaded.handle)
@@ -236,6 +244,7 @@ impl Renderer {
             .chunks
             .remove(&handle)
             .ok_or(RenderError::UnknownChunk(handle))?;
+        self.smooth_chunks.remove(&handle);
         self.table.remove(resident.slot)?;
         self.gigabuffer.free(handle)?;
         Ok(())
@@ -274,6 +283,17 @@ impl Renderer {
         )?;
         self.timer.end(encoder, scope);
 
+        // The transparent layer, back to front (see `render::transparent`).
+        let scope = self.timer.begin(encoder, "cull transparent");
+        self.cull.record_ordered(
+            encoder,
+            &self.table,
+            &cull_camera,
+            CullLayer::Transparent,
+            &self.transparent_commands,
+        )?;
+        self.timer.end(encoder, scope);
+
         let scope = self.timer.begin(encoder, "gbuffer");
         self.record_gbuffer(encoder, &frame_group, &cull_camera);
         self.timer.end(encoder, scope);
@@ -283,8 +303,7 @@ impl Renderer {
         self.timer.end(encoder, scope);
 
         let scope = self.timer.begin(encoder, "transparent");
-        let draws = transparent_draws(self.occupied_records(), &cull_camera, self.cull.layout());
-        self.record_transparent(encoder, &frame_group, &draws);
+        self.record_transparent(encoder, &frame_group);
         self.timer.end(encoder, scope);
 
         let scope = self.timer.begin(encoder, "tonemap");
@@ -310,11 +329,6 @@ impl Renderer {
     /// Reads the last frame's output and depth back (blocks).
     pub fn read_image(&self) -> Result<FrameImage, RenderError> {
         read_output(&self.device, &self.queue, &self.targets)
-    }
-
-    /// The table records of the resident chunks.
-    fn occupied_records(&self) -> impl Iterator<Item = &MeshedChunkInfo> + '_ {
-        self.chunks.values().filter_map(|r| self.table.get(r.slot))
     }
 }
 

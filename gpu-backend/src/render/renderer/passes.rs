@@ -10,7 +10,6 @@ use super::Renderer;
 use crate::cull::{CullCamera, in_frustum, relative_box};
 use crate::gigabuffer::DataKind;
 use crate::render::frame::SmoothDraw;
-use crate::render::transparent::TransparentDraw;
 
 impl Renderer {
     pub(super) fn frame_group(&self) -> BindGroup {
@@ -116,7 +115,7 @@ impl Renderer {
         let quads = self.gigabuffer.layout(DataKind::SmoothQuads).page_capacity;
         let eye_chunk = self.camera.chunk;
         let mut by_pages: HashMap<(u32, u32), Vec<SmoothDraw>> = HashMap::new();
-        for resident in self.chunks.values() {
+        for resident in self.smooth_chunks.iter().filter_map(|h| self.chunks.get(h)) {
             let (Some(smooth), Some(info)) = (resident.smooth, self.table.get(resident.slot))
             else {
                 continue;
@@ -181,23 +180,9 @@ impl Renderer {
         batches
     }
 
-    pub(super) fn record_transparent(
-        &self,
-        encoder: &mut CommandEncoder,
-        frame_group: &BindGroup,
-        draws: &[TransparentDraw],
-    ) {
-        if draws.is_empty() {
-            return;
-        }
-        let records: Vec<_> = draws.iter().map(|d| d.record).collect();
-        let records = self
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("transparent records"),
-                contents: bytemuck::cast_slice(&records),
-                usage: BufferUsages::STORAGE,
-            });
+    /// The transparent pass: the ordered cull's commands, one multi-draw per quad page,
+    /// blended into the HDR target over the lit opaque image (depth-tested, not written).
+    pub(super) fn record_transparent(&self, encoder: &mut CommandEncoder, frame_group: &BindGroup) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("transparent"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -224,21 +209,12 @@ impl Renderer {
         pass.set_pipeline(&self.pipelines.quad_transparent);
         pass.set_bind_group(0, frame_group, &[]);
         pass.set_index_buffer(self.quad_indices.slice(..), wgpu::IndexFormat::Uint32);
-        let mut bound = None;
-        for draw in draws {
-            if bound != Some(draw.page) {
-                let Some(group) = self.quad_group(draw.page, &records) else {
-                    continue;
-                };
+        let commands = &self.transparent_commands;
+        for page in 0..self.cull.layout().page_count {
+            if let Some(group) = self.quad_group(page, commands.records()) {
                 pass.set_bind_group(1, &group, &[]);
-                bound = Some(draw.page);
+                commands.draw_page(&mut pass, page);
             }
-            let r = draw.record;
-            pass.draw_indexed(
-                0..r.index_count,
-                r.base_vertex,
-                r.first_instance..r.first_instance + 1,
-            );
         }
     }
 
