@@ -8,7 +8,8 @@
 //! submit a frame (the CPU cost the renderer adds per frame, which must not grow with the
 //! chunk count).
 //!
-//! The uploads of a scene are flushed by one frame before the timed frames start.
+//! The uploads of a scene are flushed by one frame, and three more warm up, before the timed
+//! frames start.
 
 mod report;
 
@@ -28,6 +29,9 @@ use crate::gpu_scene::MeshedTerrain;
 
 pub use report::{PassMedian, SceneReport, markdown_table};
 
+/// Untimed frames after each scene's upload frame.
+const WARM_UP_FRAMES: usize = 3;
+
 /// What to measure.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BenchConfig {
@@ -38,7 +42,7 @@ pub struct BenchConfig {
     pub width: u32,
     /// Output height, pixels.
     pub height: u32,
-    /// Timed frames per scene (after one untimed frame that flushes the uploads).
+    /// Timed frames per scene (after the untimed upload and warm-up frames).
     pub frames: usize,
 }
 
@@ -137,10 +141,15 @@ pub fn run(
         }
         let upload_cpu = started.elapsed();
         resident = target;
-        // One frame flushes the uploads (staging copies) and warms the pipelines.
+        // One frame flushes the uploads (staging copies); a few more let the driver finish
+        // compiling pipelines and settle its memory (the first scene's first frames are
+        // several times slower on an H200).
         let started = Instant::now();
         renderer.render()?;
         let flush_frame = started.elapsed();
+        for _ in 0..WARM_UP_FRAMES {
+            renderer.render()?;
+        }
         let mut passes: Vec<Vec<(String, u64)>> = Vec::new();
         let mut cpu_frame_ns = Vec::new();
         for _ in 0..config.frames {
