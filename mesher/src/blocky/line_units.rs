@@ -16,6 +16,8 @@
 //! Faces with the first face's key take one add and one store each; the others take the
 //! generic path.
 
+use voxel_core::formats::PackedQuad;
+
 use super::bits::row_equal;
 use super::faces::{Quads, SliceFaces};
 use super::slices::Direction;
@@ -73,6 +75,10 @@ impl<const D: usize> SliceFaces<'_, D> {
     ) -> Result<(), MeshError> {
         let row = self.row(l);
         let (f0, f1, f2) = self.front_lines(l);
+        let word = self.position_size(l, 1, 1, 1);
+        // The end in a local: the buffer's end is stored once, not once per quad (on an error
+        // the whole output is dropped).
+        let mut n = out.len;
         let mut m = bits;
         while m != 0 {
             let b = m.trailing_zeros() as usize;
@@ -81,9 +87,15 @@ impl<const D: usize> SliceFaces<'_, D> {
                 Some(row) => u32::from(row[b & 63]),
                 None => self.id(l, b),
             };
-            let ao = self.ao::<AO>((f0, f1, f2), b);
-            self.push(out, known, (l, b, 1, 1), id << 11 | ao << 3)?;
+            let key = id << 11 | self.ao::<AO>((f0, f1, f2), b) << 3;
+            self.check(key, known, l, b)?;
+            out.buf[n & 4095] = PackedQuad {
+                position_size: word | ((b as u32 - 1) << Direction::<D>::SHIFT_B),
+                face_ao_block: key | D as u32,
+            };
+            n += 1;
         }
+        out.len = n;
         Ok(())
     }
 
@@ -99,12 +111,6 @@ impl<const D: usize> SliceFaces<'_, D> {
     ) -> Result<(), MeshError> {
         let b0 = bits.trailing_zeros() as usize & 63;
         let key0 = self.key::<AO>(l, b0);
-        // Lines of mixed keys (random ids, varied AO) would pay the bulk compares for little:
-        // sample the second face first.
-        let b1 = (bits & bits.wrapping_sub(1)).trailing_zeros() as usize & 63;
-        if self.key::<AO>(l, b1) != key0 {
-            return self.units::<AO>(l, bits, known, out);
-        }
         let same_ao = if AO {
             self.same_neighbourhood(l, b0, bits)
         } else {

@@ -82,24 +82,21 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool>(
 ) -> Result<(), MeshError> {
     let mut known = 0u64;
     let mut rest = rows;
-    // Faces of the line before, as they were before this loop cleared them.
-    let mut before = 0u64;
     while rest != 0 {
         let l = rest.trailing_zeros() as usize;
         rest &= rest - 1;
-        let f = core::mem::take(&mut faces[l & 63]);
-        if rows >> (l - 1) & 1 == 0 {
-            before = 0;
-        }
-        let near = (f << 1) | (f >> 1) | before | faces[(l + 1) & 63];
-        before = f;
+        let f = faces[l & 63];
         // Many faces and none with a neighbouring face (a checkerboard): most share one key.
-        if f & near == 0 && many(f) {
-            s.line_units::<AO>(l, f, &mut known, out)?;
-        } else {
-            s.units::<AO>(l, f, &mut known, out)?;
+        if many(f) {
+            let near = (f << 1) | (f >> 1) | faces[(l - 1) & 63] | faces[(l + 1) & 63];
+            if f & near == 0 {
+                s.line_units::<AO>(l, f, &mut known, out)?;
+                continue;
+            }
         }
+        s.units::<AO>(l, f, &mut known, out)?;
     }
+    *faces = [0; 64];
     Ok(())
 }
 
