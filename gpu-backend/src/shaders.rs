@@ -118,6 +118,26 @@ pub fn validate(name: &str, source: &str) -> Result<naga::Module, ShaderError> {
     Ok(module)
 }
 
+/// `(member name, byte offset)` of the WGSL struct `name` in `module`, and its size: what the
+/// layout tests compare with the Rust twin's `offset_of!` and `size_of`.
+#[cfg(test)]
+pub(crate) fn struct_layout(module: &naga::Module, name: &str) -> (Vec<(String, usize)>, usize) {
+    let ty = module
+        .types
+        .iter()
+        .find(|(_, ty)| ty.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("no struct {name}"))
+        .1;
+    let naga::TypeInner::Struct { members, span } = &ty.inner else {
+        panic!("{name} is not a struct");
+    };
+    let members = members
+        .iter()
+        .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+        .collect();
+    (members, *span as usize)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

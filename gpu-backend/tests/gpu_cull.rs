@@ -72,7 +72,29 @@ fn table(ctx: &GpuContext) -> MeshedChunkTable {
     .unwrap()
 }
 
-/// Records one cull, submits it and reads the output back.
+/// Records one cull (`ordered`: back to front), submits it and reads the output back.
+fn cull_on_gpu(
+    ctx: &GpuContext,
+    pass: &CullPass,
+    table: &mut MeshedChunkTable,
+    camera: &CullCamera,
+    layer: CullLayer,
+    output: &CullOutput,
+    ordered: bool,
+) -> CullReadback {
+    table.flush(&ctx.queue);
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    if ordered {
+        pass.record_ordered(&mut encoder, table, camera, layer, output)
+    } else {
+        pass.record(&mut encoder, table, camera, layer, output)
+    }
+    .unwrap();
+    ctx.queue.submit([encoder.finish()]);
+    output.read(&ctx.device, &ctx.queue).unwrap()
+}
+
+/// [`cull_on_gpu`], in any order.
 fn run(
     ctx: &GpuContext,
     pass: &CullPass,
@@ -81,29 +103,7 @@ fn run(
     layer: CullLayer,
     output: &CullOutput,
 ) -> CullReadback {
-    table.flush(&ctx.queue);
-    let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    pass.record(&mut encoder, table, camera, layer, output)
-        .unwrap();
-    ctx.queue.submit([encoder.finish()]);
-    output.read(&ctx.device, &ctx.queue).unwrap()
-}
-
-/// Records one ordered cull, submits it and reads the output back.
-fn run_ordered(
-    ctx: &GpuContext,
-    pass: &CullPass,
-    table: &mut MeshedChunkTable,
-    camera: &CullCamera,
-    layer: CullLayer,
-    output: &CullOutput,
-) -> CullReadback {
-    table.flush(&ctx.queue);
-    let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    pass.record_ordered(&mut encoder, table, camera, layer, output)
-        .unwrap();
-    ctx.queue.submit([encoder.finish()]);
-    output.read(&ctx.device, &ctx.queue).unwrap()
+    cull_on_gpu(ctx, pass, table, camera, layer, output, false)
 }
 
 /// Camera chunks: near the origin, and within a few chunks of both i32 extremes (the scene
@@ -569,7 +569,7 @@ fn ordered_cull_is_back_to_front() {
                         "seed {seed}, {path:?}, scene {scene_index}, camera {camera_index}, \
                          {layer:?}"
                     );
-                    let gpu = run_ordered(ctx, &pass, &mut table, camera, layer, &output);
+                    let gpu = cull_on_gpu(ctx, &pass, &mut table, camera, layer, &output, true);
                     let cpu = cull_reference_ordered(&scene.records, camera, layer, &layout);
                     assert_matches(&gpu, &cpu, &layout, zeroed, &context);
                     // The depth key of each visible chunk, by its camera-relative coordinate

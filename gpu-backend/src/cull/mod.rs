@@ -98,34 +98,14 @@ use crate::device::MultiDrawPath;
 
 #[cfg(test)]
 mod tests {
-    use naga::TypeInner;
-
     use super::*;
-    use crate::shaders::{CULL, validate};
-
-    /// `(member name, byte offset)` of the WGSL struct `name`, and its size.
-    fn wgsl_layout(module: &naga::Module, name: &str) -> (Vec<(String, u32)>, u32) {
-        let ty = module
-            .types
-            .iter()
-            .find(|(_, ty)| ty.name.as_deref() == Some(name))
-            .unwrap_or_else(|| panic!("no struct {name}"))
-            .1;
-        let TypeInner::Struct { members, span } = &ty.inner else {
-            panic!("{name} is not a struct");
-        };
-        let members = members
-            .iter()
-            .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
-            .collect();
-        (members, *span)
-    }
+    use crate::shaders::{CULL, struct_layout, validate};
 
     #[test]
     fn uniforms_match_the_wgsl_struct() {
         let module = validate(CULL.name, &CULL.source()).unwrap_or_else(|e| panic!("{e}"));
-        let (members, size) = wgsl_layout(&module, "CullUniforms");
-        assert_eq!(size as usize, size_of::<CullUniforms>());
+        let (members, size) = struct_layout(&module, "CullUniforms");
+        assert_eq!(size, size_of::<CullUniforms>());
         let expected = [
             ("planes", std::mem::offset_of!(CullUniforms, planes)),
             (
@@ -159,19 +139,16 @@ mod tests {
             ("pad0", std::mem::offset_of!(CullUniforms, pad)),
             ("pad1", std::mem::offset_of!(CullUniforms, pad) + 4),
         ];
-        let got: Vec<(&str, usize)> = members
-            .iter()
-            .map(|(n, o)| (n.as_str(), *o as usize))
-            .collect();
+        let got: Vec<(&str, usize)> = members.iter().map(|(n, o)| (n.as_str(), *o)).collect();
         assert_eq!(got, expected);
     }
 
     #[test]
     fn draw_args_match_the_wgsl_struct_and_wgpu() {
         let module = validate(CULL.name, &CULL.source()).unwrap_or_else(|e| panic!("{e}"));
-        let (members, size) = wgsl_layout(&module, "DrawIndexedArgs");
+        let (members, size) = struct_layout(&module, "DrawIndexedArgs");
         assert_eq!(size, 20);
-        let offsets: Vec<u32> = members.iter().map(|m| m.1).collect();
+        let offsets: Vec<usize> = members.iter().map(|m| m.1).collect();
         assert_eq!(offsets, [0, 4, 8, 12, 16]);
         let args = DrawIndexedArgs {
             index_count: 1,

@@ -23,11 +23,11 @@
 //!
 //! [`CullPass::record_ordered`]: super::CullPass::record_ordered
 
-use voxel_core::formats::{ChunkDrawIndirect, MeshedChunkInfo};
+use voxel_core::formats::MeshedChunkInfo;
 
 use super::camera::{CullCamera, CullLayer};
 use super::layout::CullLayout;
-use super::reference::{ChunkCull, CullReference, cull_chunk, relative_box, relative_chunk};
+use super::reference::{ChunkCull, CullReference, cull_chunk, push_commands, relative_box};
 
 /// Depth keys per page (`ORDER_KEYS` in `cull.wgsl`): 256 per octave of squared distance over
 /// 48 octaves.
@@ -83,27 +83,14 @@ pub fn cull_reference_ordered(
     visible.sort_by_key(|&(page, key, slot, _, _)| (page, std::cmp::Reverse(key), slot));
     for (page, _, slot, start, faces) in visible {
         out.visible_slots.push(slot as u32);
-        let info = &records[slot];
-        let rel = relative_chunk(info, camera);
-        let range = super::reference::layer_range(info, layer);
-        let mut first = start;
-        for (f, &count) in range.counts.iter().enumerate() {
-            if faces >> f & 1 == 1 {
-                let index = out.wanted[page as usize];
-                out.wanted[page as usize] += 1;
-                if index < layout.commands_per_page {
-                    out.commands[page as usize].push(ChunkDrawIndirect {
-                        index_count: 6 * count,
-                        instance_count: 1,
-                        first_index: 0,
-                        base_vertex: (4 * first) as i32,
-                        first_instance: page * layout.commands_per_page + index,
-                        chunk: rel,
-                    });
-                }
-            }
-            first += count;
-        }
+        push_commands(
+            &mut out,
+            &records[slot],
+            camera,
+            layer,
+            layout,
+            (page, start, faces),
+        );
     }
     out.visible_slots.sort_unstable();
     out

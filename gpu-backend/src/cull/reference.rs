@@ -165,29 +165,41 @@ pub fn cull_reference(
             _ => continue,
         };
         out.visible_slots.push(slot as u32);
-        let rel = relative_chunk(info, camera);
-        let range = layer_range(info, layer);
-        let mut first = start;
-        for (f, &count) in range.counts.iter().enumerate() {
-            if faces >> f & 1 == 1 {
-                let index = out.wanted[page as usize];
-                out.wanted[page as usize] += 1;
-                if index < layout.commands_per_page {
-                    let at = page * layout.commands_per_page + index;
-                    out.commands[page as usize].push(ChunkDrawIndirect {
-                        index_count: 6 * count,
-                        instance_count: 1,
-                        first_index: 0,
-                        base_vertex: (4 * first) as i32,
-                        first_instance: at,
-                        chunk: rel,
-                    });
-                }
-            }
-            first += count;
-        }
+        push_commands(&mut out, info, camera, layer, layout, (page, start, faces));
     }
     out
+}
+
+/// Appends the commands of one visible chunk (`page`, in-page `start`, face bits `faces`) to
+/// its page in `out`: one per face bit, in face order, counted in `wanted` and kept while the
+/// page has command slots left.
+pub(super) fn push_commands(
+    out: &mut CullReference,
+    info: &MeshedChunkInfo,
+    camera: &CullCamera,
+    layer: CullLayer,
+    layout: &CullLayout,
+    (page, start, faces): (u32, u32, u32),
+) {
+    let rel = relative_chunk(info, camera);
+    let mut first = start;
+    for (f, &count) in layer_range(info, layer).counts.iter().enumerate() {
+        if faces >> f & 1 == 1 {
+            let index = out.wanted[page as usize];
+            out.wanted[page as usize] += 1;
+            if index < layout.commands_per_page {
+                out.commands[page as usize].push(ChunkDrawIndirect {
+                    index_count: 6 * count,
+                    instance_count: 1,
+                    first_index: 0,
+                    base_vertex: (4 * first) as i32,
+                    first_instance: page * layout.commands_per_page + index,
+                    chunk: rel,
+                });
+            }
+        }
+        first += count;
+    }
 }
 
 #[cfg(test)]

@@ -93,30 +93,11 @@ const _: () = assert!(size_of::<SmoothDraw>() == 32);
 mod tests {
     use std::mem::offset_of;
 
-    use naga::TypeInner;
-
     use super::*;
-    use crate::shaders::{DEFERRED, GBUFFER, validate};
-
-    fn layout(module: &naga::Module, name: &str) -> (Vec<(String, usize)>, usize) {
-        let ty = module
-            .types
-            .iter()
-            .find(|(_, ty)| ty.name.as_deref() == Some(name))
-            .unwrap_or_else(|| panic!("no struct {name}"))
-            .1;
-        let TypeInner::Struct { members, span } = &ty.inner else {
-            panic!("{name} is not a struct");
-        };
-        let members = members
-            .iter()
-            .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
-            .collect();
-        (members, *span as usize)
-    }
+    use crate::shaders::{DEFERRED, GBUFFER, struct_layout, validate};
 
     fn check(module: &naga::Module, name: &str, size: usize, expected: &[(&str, usize)]) {
-        let (members, span) = layout(module, name);
+        let (members, span) = struct_layout(module, name);
         assert_eq!(span, size, "{name} size");
         let got: Vec<(&str, usize)> = members.iter().map(|(n, o)| (n.as_str(), *o)).collect();
         assert_eq!(got, expected, "{name} members");
