@@ -14,8 +14,9 @@
 //! So rows with [`many`] such faces are emitted here (faces sharing a key in bulk), and the
 //! layout-`C` pass leaves those faces out of the opaque layer ([`drop_handled`]). On a
 //! checkerboard that is every ±X face. The scan costs a few microseconds, which terrain (a
-//! handful of lone faces per row at most) would pay for nothing: it runs only when a sample
-//! slab, the middle one, has rows of many lone faces. Either way the output is the same.
+//! handful of lone faces per row at most) or a random fill would pay for little: it runs only
+//! when a sample slab, the middle one, has a row of many faces that are all lone. Either way
+//! the output is the same.
 
 use alloc::vec::Vec;
 
@@ -59,7 +60,8 @@ fn slab_faces<const D: usize>(slab: &Slice, inner: u64, e: usize, inside: bool, 
 
 /// Emits the opaque ±X faces (direction `D`, 0 or 1) that have no neighbouring face and lie in
 /// rows of [`many`] such faces, as 1 x 1 quads with AO, into `out`; marks those rows in
-/// `handled` (bit y of line z). Does nothing when the middle slab has no such row.
+/// `handled` (bit y of line z). Does nothing unless the middle slab has a row of many faces
+/// that are all lone.
 pub(crate) fn lone_x<const D: usize>(
     input: &Input<'_>,
     classes: &BlockClasses,
@@ -85,7 +87,13 @@ pub(crate) fn lone_x<const D: usize>(
     slab_faces::<D>(slab(mid - 1), inner, e, mid > 1, &mut below);
     slab_faces::<D>(slab(mid), inner, e, true, &mut here);
     slab_faces::<D>(slab(mid + 1), inner, e, mid < e, &mut above);
-    if !(1..=e).any(|y| many(lone_rows(&below, &here, &above, y))) {
+    // Rows whose faces are all lone, and many: random fills (a few lone faces in most rows)
+    // would pay the whole scan for little.
+    let all_lone = |y: usize| {
+        let lone = lone_rows(&below, &here, &above, y);
+        many(lone) && lone == here[y & 63]
+    };
+    if !(1..=e).any(all_lone) {
         return Ok(());
     }
     below = [0; 64];
