@@ -5,4 +5,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup-debian.sh >/dev/null
+# Mesa's Vulkan loader layers complain on every device creation when this is unset (no login
+# session, as in containers); a private empty folder is all they need.
+if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
+    XDG_RUNTIME_DIR=$(mktemp -d)
+    export XDG_RUNTIME_DIR
+fi
 exec cargo run --release --locked -p viewer -- "$@"
