@@ -17,10 +17,9 @@
 
 use glam::DVec3;
 use gpu_backend::render::lighting::{LightingParams, blend, output_rgba8, shade, srgb_to_linear};
-use rayon::prelude::*;
 use voxel_core::{BlockId, FaceDirection, MaterialPalette, WorldPos};
 
-use crate::reference_raycast::{Camera, Lighting, RenderedImage, trace_ray};
+use crate::reference_raycast::{Camera, Lighting, RenderedImage, render_pixels, trace_ray};
 
 /// The GPU lighting parameters matching the reference raycaster's [`Lighting`].
 pub fn lighting_params(lighting: &Lighting) -> LightingParams {
@@ -176,52 +175,35 @@ pub fn render_deferred(
     height: u32,
     max_distance: f64,
 ) -> RenderedImage {
-    let rows: Vec<(Vec<u8>, Vec<f32>)> = (0..height)
-        .into_par_iter()
-        .map(|py| {
-            let mut rgba = Vec::with_capacity(width as usize * 4);
-            let mut depth = Vec::with_capacity(width as usize);
-            for px in 0..width {
-                let dir = camera.ray_direction(px, py, width, height);
-                let trace = trace_ray(
-                    block_at,
-                    palette,
-                    camera.voxel,
-                    camera.fraction,
-                    dir,
-                    max_distance,
-                );
-                let face = |block, voxel, normal, distance| {
-                    shade_face(
-                        block_at, palette, params, camera, dir, block, voxel, normal, distance,
-                    )
-                };
-                let mut colour = match &trace.hit {
-                    Some(hit) => face(hit.block, hit.voxel, hit.normal, hit.distance),
-                    None => params.sky_colour,
-                };
-                for layer in trace.layers.iter().rev().flatten() {
-                    let (_, alpha, _) = material(palette, layer.block);
-                    let surface = face(layer.block, layer.voxel, layer.normal, layer.distance);
-                    colour = blend(colour, surface, alpha);
-                }
-                rgba.extend_from_slice(&output_rgba8(params, colour));
-                depth.push(trace.hit.map_or(f32::INFINITY, |h| h.distance as f32));
-            }
-            (rgba, depth)
-        })
-        .collect();
-    let mut image = RenderedImage {
-        width,
-        height,
-        rgba: Vec::with_capacity(width as usize * height as usize * 4),
-        depth: Vec::with_capacity(width as usize * height as usize),
-    };
-    for (rgba, depth) in rows {
-        image.rgba.extend_from_slice(&rgba);
-        image.depth.extend_from_slice(&depth);
-    }
-    image
+    render_pixels(width, height, |px, py| {
+        let dir = camera.ray_direction(px, py, width, height);
+        let trace = trace_ray(
+            block_at,
+            palette,
+            camera.voxel,
+            camera.fraction,
+            dir,
+            max_distance,
+        );
+        let face = |block, voxel, normal, distance| {
+            shade_face(
+                block_at, palette, params, camera, dir, block, voxel, normal, distance,
+            )
+        };
+        let mut colour = match &trace.hit {
+            Some(hit) => face(hit.block, hit.voxel, hit.normal, hit.distance),
+            None => params.sky_colour,
+        };
+        for layer in trace.layers.iter().rev().flatten() {
+            let (_, alpha, _) = material(palette, layer.block);
+            let surface = face(layer.block, layer.voxel, layer.normal, layer.distance);
+            colour = blend(colour, surface, alpha);
+        }
+        (
+            output_rgba8(params, colour),
+            trace.hit.map_or(f32::INFINITY, |h| h.distance as f32),
+        )
+    })
 }
 
 #[cfg(test)]

@@ -291,29 +291,43 @@ pub fn render(
     height: u32,
     max_distance: f64,
 ) -> RenderedImage {
+    render_pixels(width, height, |px, py| {
+        let dir = camera.ray_direction(px, py, width, height);
+        let hit = cast_ray(
+            block_at,
+            palette,
+            camera.voxel,
+            camera.fraction,
+            dir,
+            max_distance,
+        );
+        let colour = shade(block_at, palette, lighting, hit.as_ref(), max_distance);
+        let rgba = [
+            linear_to_srgb(colour.x),
+            linear_to_srgb(colour.y),
+            linear_to_srgb(colour.z),
+            255,
+        ];
+        (rgba, hit.map_or(f32::INFINITY, |h| h.distance as f32))
+    })
+}
+
+/// An image of `width x height` pixels whose colour and depth `pixel(px, py)` gives, rows in
+/// parallel: the frame both CPU renderers share.
+pub fn render_pixels(
+    width: u32,
+    height: u32,
+    pixel: impl Fn(u32, u32) -> ([u8; 4], f32) + Sync,
+) -> RenderedImage {
     let rows: Vec<(Vec<u8>, Vec<f32>)> = (0..height)
         .into_par_iter()
         .map(|py| {
             let mut rgba = Vec::with_capacity(width as usize * 4);
             let mut depth = Vec::with_capacity(width as usize);
             for px in 0..width {
-                let dir = camera.ray_direction(px, py, width, height);
-                let hit = cast_ray(
-                    block_at,
-                    palette,
-                    camera.voxel,
-                    camera.fraction,
-                    dir,
-                    max_distance,
-                );
-                let colour = shade(block_at, palette, lighting, hit.as_ref(), max_distance);
-                rgba.extend_from_slice(&[
-                    linear_to_srgb(colour.x),
-                    linear_to_srgb(colour.y),
-                    linear_to_srgb(colour.z),
-                    255,
-                ]);
-                depth.push(hit.map_or(f32::INFINITY, |h| h.distance as f32));
+                let (colour, distance) = pixel(px, py);
+                rgba.extend_from_slice(&colour);
+                depth.push(distance);
             }
             (rgba, depth)
         })
