@@ -191,11 +191,7 @@ impl CullPass {
         else {
             return Ok(());
         };
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("cull"),
-            timestamp_writes: None,
-        });
-        pass.set_bind_group(0, &bind_group, &[]);
+        let mut pass = cull_pass(encoder, "cull", &bind_group);
         pass.set_pipeline(&self.pipeline);
         dispatch_slots(&mut pass, groups);
         Ok(())
@@ -222,11 +218,7 @@ impl CullPass {
             return Ok(());
         };
         encoder.clear_buffer(&output.order_counts, 0, None);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("ordered cull"),
-            timestamp_writes: None,
-        });
-        pass.set_bind_group(0, &bind_group, &[]);
+        let mut pass = cull_pass(encoder, "ordered cull", &bind_group);
         pass.set_pipeline(&self.ordered.count);
         dispatch_slots(&mut pass, groups);
         pass.set_pipeline(&self.ordered.prefix);
@@ -299,6 +291,20 @@ struct OrderedPipelines {
     count: ComputePipeline,
     prefix: ComputePipeline,
     scatter: ComputePipeline,
+}
+
+/// A compute pass with the cull's bind group set.
+fn cull_pass<'e>(
+    encoder: &'e mut CommandEncoder,
+    label: &str,
+    bind_group: &wgpu::BindGroup,
+) -> wgpu::ComputePass<'e> {
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some(label),
+        timestamp_writes: None,
+    });
+    pass.set_bind_group(0, bind_group, &[]);
+    pass
 }
 
 /// Dispatches `groups` workgroups of slots, folded into two dimensions past the per-dimension

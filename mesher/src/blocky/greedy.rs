@@ -114,19 +114,7 @@ impl GreedyMesher {
         classes: &BlockClasses,
         out: &mut BlockyMesh,
     ) -> Result<(), MeshError> {
-        let voxels: &[u16] = bytemuck::cast_slice(padded.voxels());
-        run(
-            &mut self.masks,
-            &mut self.keys,
-            &mut self.quads,
-            padded.padded_edge(),
-            voxels,
-            padded.columns(),
-            classes,
-            self.ambient_occlusion,
-            true,
-            out,
-        )
+        self.run_padded(padded, classes, true, out)
     }
 
     /// One quad per visible face (no merging), with AO, into `out` (cleared first). Same rules
@@ -136,6 +124,18 @@ impl GreedyMesher {
         &mut self,
         padded: &PaddedChunk,
         classes: &BlockClasses,
+        out: &mut BlockyMesh,
+    ) -> Result<(), MeshError> {
+        self.run_padded(padded, classes, false, out)
+    }
+
+    /// [`mesh`](Self::mesh) (`merge`) or [`visible_faces`](Self::visible_faces) on a padded
+    /// chunk's voxels and stored occupancy columns.
+    fn run_padded(
+        &mut self,
+        padded: &PaddedChunk,
+        classes: &BlockClasses,
+        merge: bool,
         out: &mut BlockyMesh,
     ) -> Result<(), MeshError> {
         let voxels: &[u16] = bytemuck::cast_slice(padded.voxels());
@@ -148,7 +148,7 @@ impl GreedyMesher {
             padded.columns(),
             classes,
             self.ambient_occlusion,
-            false,
+            merge,
             out,
         )
     }
