@@ -56,20 +56,11 @@ impl Quads<'_> {
     }
 
     /// Appends a quad for every set bit `b` of `bits`, all with word 1 `key`: word 0 is
-    /// `word + (b << shift)` (wrapping). The bulk path of lines whose faces share a key: it
-    /// writes to the output directly (one capacity check for the whole line, as the count is
-    /// known), not through the buffer.
+    /// `first + ((b - 1) << shift)`. The bulk path of lines whose faces share a key: it writes
+    /// to the output directly (see [`extend_units`]), not through the buffer.
     #[inline(always)]
-    pub(crate) fn push_bits(&mut self, mut bits: u64, word: u32, shift: u32, key: u32) {
-        let count = bits.count_ones();
-        self.out.extend((0..count).map(|_| {
-            let b = bits.trailing_zeros();
-            bits &= bits.wrapping_sub(1);
-            PackedQuad {
-                position_size: word.wrapping_add(b << shift),
-                face_ao_block: key,
-            }
-        }));
+    pub(crate) fn push_bits(&mut self, bits: u64, first: u32, shift: u32, key: u32) {
+        extend_units(self.out, bits, first, shift, key);
     }
 
     /// Writes `q` past the end, and keeps it (moves the end) only if `keep`: no branch.
@@ -78,6 +69,33 @@ impl Quads<'_> {
         self.buf[self.len & 4095] = q;
         self.len += usize::from(keep);
     }
+}
+
+/// Appends to `out` a 1 x 1 quad for every set bit `b` (at least 1) of `bits`, all with word 1
+/// `key` and word 0 `first + ((b - 1) << shift)`: one capacity check for the whole line (the
+/// count is known), then per quad a bit scan, one add on both words at once and one 8-byte
+/// store (the compiler merges the two word stores). In `key << 32 | first`, subtracting
+/// `1 << shift` and adding `b << shift` leaves `key` in the high half: word 0 of every face
+/// fits in its 32 bits, so the sum carries back whatever the subtraction borrowed.
+#[inline(always)]
+pub(crate) fn extend_units(
+    out: &mut Vec<PackedQuad>,
+    mut bits: u64,
+    first: u32,
+    shift: u32,
+    key: u32,
+) {
+    let count = bits.count_ones();
+    let base = (u64::from(key) << 32 | u64::from(first)).wrapping_sub(1 << shift);
+    out.extend((0..count).map(|_| {
+        let b = u64::from(bits.trailing_zeros());
+        bits &= bits.wrapping_sub(1);
+        let both = base.wrapping_add(b << shift);
+        PackedQuad {
+            position_size: both as u32,
+            face_ao_block: (both >> 32) as u32,
+        }
+    }));
 }
 
 impl<const D: usize> SliceFaces<'_, D> {

@@ -200,6 +200,7 @@ fn run(
     out: &mut BlockyMesh,
 ) -> Result<(), MeshError> {
     out.clear();
+    keys.known = 0;
     if masks.build(p, voxels, columns, classes) != Content::Surface {
         return Ok(());
     }

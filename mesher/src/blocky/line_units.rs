@@ -132,11 +132,12 @@ impl<const D: usize> SliceFaces<'_, D> {
             }
         };
         self.check(key0, known, l, b0)?;
-        // Word 0 of the face at bit b is `word + (b << SHIFT_B)`.
-        let word = self
-            .position_size(l, 1, 1, 1)
-            .wrapping_sub(1 << Direction::<D>::SHIFT_B);
-        out.push_bits(same_key, word, Direction::<D>::SHIFT_B, key0 | D as u32);
-        self.units::<AO>(l, bits & !same_key, known, out)
+        let first = self.position_size(l, 1, 1, 1);
+        out.push_bits(same_key, first, Direction::<D>::SHIFT_B, key0 | D as u32);
+        let rest = bits & !same_key;
+        if rest == 0 {
+            return Ok(());
+        }
+        self.units::<AO>(l, rest, known, out)
     }
 }

@@ -24,6 +24,7 @@ use voxel_core::BlockId;
 use voxel_core::formats::PackedQuad;
 
 use super::bits::row_equal;
+use super::faces::extend_units;
 use super::line_units::many;
 use super::masks::Slice;
 use super::slices::{Direction, Input};
@@ -198,15 +199,7 @@ fn emit_row<const D: usize>(
         }
         same &= row_equal(ids, ids.get(x0).copied().unwrap_or(0));
         check(key0, x0, known)?;
-        let mut m = same;
-        out.extend((0..same.count_ones()).map(|_| {
-            let x = m.trailing_zeros();
-            m &= m.wrapping_sub(1);
-            PackedQuad {
-                position_size: word | x.wrapping_sub(1) & 63,
-                face_ao_block: key0,
-            }
-        }));
+        extend_units(out, same, word, 0, key0);
         rest &= !same;
     }
     while rest != 0 {

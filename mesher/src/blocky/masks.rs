@@ -33,7 +33,7 @@ use alloc::vec::Vec;
 
 use voxel_core::BlockId;
 
-use super::bits::{row_contains, row_equal, transpose64};
+use super::bits::{nonzero_lines, row_contains, row_equal, transpose64};
 use crate::BlockClasses;
 
 /// Up to this many transparent ids in the palette, rows are classified with SIMD compares.
@@ -72,6 +72,8 @@ pub(crate) struct Masks {
     pub has_transparent: bool,
     /// Two different transparent ids occur, so transparent voxels can face each other.
     pub mixed_transparent: bool,
+    /// [`Layouts::occupied`] of the opaque and the transparent mask.
+    occupied: [[u64; 3]; 2],
 }
 
 /// Three layouts of one mask, as the directions read them.
@@ -79,6 +81,25 @@ pub(crate) struct Masks {
 pub(crate) struct Layouts<'a> {
     /// Layout A, B and C, each `p` slices.
     pub by: [&'a [Slice]; 3],
+    /// Per layout, bit `n` set iff slice `n` has a set bit: slices without one show no face.
+    pub occupied: [u64; 3],
+}
+
+/// Which slices of each layout have a set bit, from layout A alone: slab `z` of A (layout A's
+/// slice), line `y` of any slab (layout B's slice `y`), bit `x` of any line (layout C's slice).
+fn occupied_slices(a: &[Slice]) -> [u64; 3] {
+    let mut any_line = [0u64; 64];
+    let mut slabs = 0u64;
+    for (z, slab) in a.iter().enumerate() {
+        let mut any = 0u64;
+        for (acc, &line) in any_line.iter_mut().zip(slab) {
+            *acc |= line;
+            any |= line;
+        }
+        slabs |= u64::from(any != 0) << (z & 63);
+    }
+    let bits = any_line.iter().fold(0, |acc, &line| acc | line);
+    [slabs, nonzero_lines(&any_line), bits]
 }
 
 /// Resizes `v` to `n` slices. Callers overwrite lines `0..n` of every slice; lines `n..64` are
@@ -143,9 +164,11 @@ impl Masks {
         };
         word_transpose(p, opaque_a, &mut self.opaque_b);
         bit_transpose(p, opaque_a, &mut self.opaque_c);
+        self.occupied[0] = occupied_slices(opaque_a);
         if self.has_transparent {
             word_transpose(p, &self.trans_a, &mut self.trans_b);
             bit_transpose(p, &self.trans_a, &mut self.trans_c);
+            self.occupied[1] = occupied_slices(&self.trans_a);
         }
         Content::Surface
     }
@@ -210,6 +233,7 @@ impl Masks {
         };
         Layouts {
             by: [a, &self.opaque_b, &self.opaque_c],
+            occupied: self.occupied[0],
         }
     }
 
@@ -217,6 +241,7 @@ impl Masks {
     pub fn transparent(&self) -> Option<Layouts<'_>> {
         self.has_transparent.then_some(Layouts {
             by: [&self.trans_a, &self.trans_b, &self.trans_c],
+            occupied: self.occupied[1],
         })
     }
 }
@@ -224,11 +249,10 @@ impl Masks {
 /// Layout B from layout A: `out[y][z] = a[z][y]`.
 fn word_transpose(p: usize, a: &[Slice], out: &mut Vec<Slice>) {
     slices(out, p);
-    for (z, slab) in a.iter().enumerate() {
-        for (y, &line) in slab[..p].iter().enumerate() {
-            if let Some(slot) = out.get_mut(y) {
-                slot[z & 63] = line;
-            }
+    // Slice by slice of the output: 64 strided reads, one contiguous 512-byte write.
+    for (y, slot) in out.iter_mut().enumerate() {
+        for (word, slab) in slot.iter_mut().zip(a) {
+            *word = slab[y & 63];
         }
     }
 }

@@ -52,6 +52,9 @@ pub(crate) struct Keys {
     alone: Slice,
     /// The faces of the slice, line by line.
     list: Positions,
+    /// Ids below 64 known to the classes, one bit each (see [`SliceFaces::check`]); kept for a
+    /// whole chunk, so a slice's first face does not miss the cache.
+    pub(crate) known: u64,
 }
 
 impl Keys {
@@ -63,6 +66,7 @@ impl Keys {
             across: [0; 64],
             alone: [0; 64],
             list: Positions::new(),
+            known: 0,
         }
     }
 }
@@ -78,9 +82,9 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
     rows: u64,
+    known: &mut u64,
     out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
-    let mut known = 0u64;
     let mut rest = rows;
     while rest != 0 {
         let l = rest.trailing_zeros() as usize;
@@ -90,11 +94,11 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool>(
         if many(f) {
             let near = (f << 1) | (f >> 1) | faces[(l - 1) & 63] | faces[(l + 1) & 63];
             if f & near == 0 {
-                s.line_units::<AO>(l, f, &mut known, out)?;
+                s.line_units::<AO>(l, f, known, out)?;
                 continue;
             }
         }
-        s.units::<AO>(l, f, &mut known, out)?;
+        s.units::<AO>(l, f, known, out)?;
     }
     *faces = [0; 64];
     Ok(())
@@ -102,14 +106,15 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool>(
 
 /// Greedy quads for one slice whose faces lie in the lines of `rows`; leaves `faces` empty.
 ///
-/// 1. Per line: a line of [`many`] faces none of which has a neighbouring face (a checkerboard)
-///    is emitted as 1 x 1 quads straight away, whatever the order of the greedy pass. Other
-///    lines of many faces get their keys here, in a loop over their bits ("dense" lines); the
-///    faces of the rest are listed ([`Positions`]).
-/// 2. Per listed face: its key into the table. Every key is compared with the keys of the
-///    faces before it in its line and in the line before (`along`, `across`, masked in step 3);
-///    a listed face also with the face after it in the next line when that line is dense (its
-///    keys came first).
+/// 1. Per line, without a branch: the faces of lines of fewer than [`many`] faces are listed
+///    ([`Positions`]). Then per line of many faces: if none of them has a neighbouring face (a
+///    checkerboard) they are emitted as 1 x 1 quads straight away, whatever the order of the
+///    greedy pass; else the line is "dense".
+/// 2. Per listed face: its key into the table, compared with the keys of the faces before it
+///    in its line and in the line before (`along`, `across`, masked in step 3). Then per dense
+///    line, in order, in a loop over its bits: its keys, compared with the faces before them
+///    in the line and with both neighbouring lines; those `across` entries are replaced, since
+///    the listed faces compared against the dense line's stale keys.
 /// 3. Per line: faces none of whose 4 neighbours has an equal key (`alone`) can only ever be
 ///    1 x 1 quads, whatever the order of the greedy pass; they leave `faces`.
 /// 4. Alone faces are written as 1 x 1 quads: per listed face, each written and the end moved
@@ -127,9 +132,10 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
     keys: &mut Keys,
     out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
-    let mut known = 0u64;
+    let mut known = keys.known;
     let mut dense = 0u64;
     keys.list.clear();
+    let mut crowded = 0u64;
     let mut rest = rows;
     while rest != 0 {
         let l = rest.trailing_zeros() as usize;
@@ -138,30 +144,45 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
         keys.across[l & 63] = 0;
         keys.across[(l - 1) & 63] = 0;
         let f = faces[l & 63];
-        if !many(f) {
-            keys.list.push_line(l, f);
-            continue;
-        }
+        // No branch: a crowded line lists nothing here.
+        let is_crowded = many(f);
+        crowded |= u64::from(is_crowded) << l;
+        keys.list.push_line(l, if is_crowded { 0 } else { f });
+    }
+    let mut rest = crowded;
+    while rest != 0 {
+        let l = rest.trailing_zeros() as usize;
+        rest &= rest - 1;
+        let f = faces[l & 63];
         let near = (f << 1) | (f >> 1) | faces[(l - 1) & 63] | faces[(l + 1) & 63];
         if f & near == 0 {
             s.line_units::<AO>(l, f, &mut known, out)?;
             faces[l & 63] = 0;
         } else {
             dense |= 1 << l;
-            line_keys::<D, AO>(s, l, f, dense >> (l - 1) & 1 != 0, keys);
         }
     }
     for &pos in keys.list.as_slice() {
         let (l, b) = line_bit(pos);
         let key = s.key::<AO>(l, b);
         keys.keys[l][b] = key;
-        // Compared with stale entries too where there is no face: masked off below.
+        // Compared with stale entries too where there is no face (masked off below) or where
+        // line l - 1 is dense (its keys come next, and overwrite this entry).
         let left_eq = keys.keys[l][(b - 1) & 63] == key;
         keys.along[l] |= u64::from(left_eq) << ((b - 1) & 63);
         let below_eq = keys.keys[(l - 1) & 63][b] == key;
         keys.across[(l - 1) & 63] |= u64::from(below_eq) << b;
-        let above_eq = keys.keys[(l + 1) & 63][b] == key && dense >> (l + 1) & 1 != 0;
-        keys.across[l] |= u64::from(above_eq) << b;
+    }
+    let mut rest = dense;
+    while rest != 0 {
+        let l = rest.trailing_zeros() as usize;
+        rest &= rest - 1;
+        // Line l + 1's keys: final if it was listed, else computed next (and compared then).
+        if dense >> (l + 1) & 1 == 0 {
+            line_keys::<D, AO, true>(s, l, faces[l & 63], keys);
+        } else {
+            line_keys::<D, AO, false>(s, l, faces[l & 63], keys);
+        }
     }
     let mut left = rows;
     let mut rest = rows;
@@ -197,28 +218,32 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
             s.push(out, &mut known, (l, b, 1, 1), keys.keys[l & 63][b])?;
         }
     }
-    if Direction::<D>::LINES_FIRST {
+    let grown = if Direction::<D>::LINES_FIRST {
         greedy_lines_first(s, faces, e, left, keys, &mut known, out)
     } else {
         greedy_bits_first(s, faces, e, left, keys, &mut known, out)
-    }
+    };
+    keys.known = known;
+    grown
 }
 
 /// Keys of the faces `f` of dense line `l` into the table, and their comparisons with the
-/// faces before them in the line and, when `below_dense` (its keys are already in the table),
-/// in line `l - 1`.
+/// faces before them in the line, with line `l - 1` and, with `ABOVE`, with line `l + 1`; these
+/// replace the `across` entries of those lines. Line `l - 1`'s keys are final (listed lines
+/// come first, dense ones in order); `ABOVE` is for a listed line `l + 1` (a dense one makes
+/// the comparison itself when its turn comes).
 #[inline(always)]
-fn line_keys<const D: usize, const AO: bool>(
+fn line_keys<const D: usize, const AO: bool, const ABOVE: bool>(
     s: &SliceFaces<'_, D>,
     l: usize,
     f: u64,
-    below_dense: bool,
     keys: &mut Keys,
 ) {
     let row = s.row(l);
     let (f0, f1, f2) = s.front_lines(l);
     let mut along = 0u64;
-    let mut across = 0u64;
+    let mut below = 0u64;
+    let mut above = 0u64;
     let mut m = f;
     while m != 0 {
         let b = m.trailing_zeros() as usize;
@@ -230,10 +255,14 @@ fn line_keys<const D: usize, const AO: bool>(
         let key = id << 11 | s.ao::<AO>((f0, f1, f2), b) << 3;
         keys.keys[l & 63][b & 63] = key;
         along |= u64::from(keys.keys[l & 63][(b - 1) & 63] == key) << ((b - 1) & 63);
-        across |= u64::from(keys.keys[(l - 1) & 63][b & 63] == key) << (b & 63);
+        below |= u64::from(keys.keys[(l - 1) & 63][b & 63] == key) << (b & 63);
+        if ABOVE {
+            above |= u64::from(keys.keys[(l + 1) & 63][b & 63] == key) << (b & 63);
+        }
     }
     keys.along[l & 63] |= along;
-    if below_dense {
-        keys.across[(l - 1) & 63] |= across;
+    keys.across[(l - 1) & 63] = below;
+    if ABOVE {
+        keys.across[l & 63] = above;
     }
 }

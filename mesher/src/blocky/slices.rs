@@ -108,7 +108,9 @@ pub(crate) fn mesh_direction<const D: usize>(
     let inner = (u64::MAX >> (64 - e)) << 1;
     let layout = Direction::<D>::LAYOUT;
     let o_layout = input.opaque.by[layout];
+    let o_occupied = input.opaque.occupied[layout];
     let t_layout = input.transparent.map(|t| t.by[layout]);
+    let t_occupied = input.transparent.map_or(0, |t| t.occupied[layout]);
     let [stride_n, stride_l, stride_b] = Direction::<D>::strides(p);
     // Lines 0 and p - 1 are the padding; lines past p are zero in every layout.
     let mut faces: Slice = [0; 64];
@@ -125,9 +127,11 @@ pub(crate) fn mesh_direction<const D: usize>(
         let cur = slice(o_layout, n);
         let front = slice(o_layout, front_n);
         let mut any = 0;
-        for ((f, &c), &fr) in faces.iter_mut().zip(cur).zip(front) {
-            *f = c & !fr & inner;
-            any |= *f;
+        if (o_occupied >> n) & 1 != 0 {
+            for ((f, &c), &fr) in faces.iter_mut().zip(cur).zip(front) {
+                *f = c & !fr & inner;
+                any |= *f;
+            }
         }
         faces[0] = 0;
         faces[(p - 1) & 63] = 0;
@@ -150,6 +154,9 @@ pub(crate) fn mesh_direction<const D: usize>(
         }
 
         let Some(t_layout) = t_layout else { continue };
+        if (t_occupied >> n) & 1 == 0 {
+            continue;
+        }
         let t_cur = slice(t_layout, n);
         let t_front = slice(t_layout, front_n);
         let mut any = 0;
@@ -215,8 +222,8 @@ fn emit<const D: usize>(
     let mut quads = Quads { buf, len: 0, out };
     let rows = rows_of(faces);
     match (input.merge, input.ao) {
-        (false, true) => unit_quads::<D, true>(slice, faces, rows, &mut quads)?,
-        (false, false) => unit_quads::<D, false>(slice, faces, rows, &mut quads)?,
+        (false, true) => unit_quads::<D, true>(slice, faces, rows, &mut keys.known, &mut quads)?,
+        (false, false) => unit_quads::<D, false>(slice, faces, rows, &mut keys.known, &mut quads)?,
         (true, true) => greedy::<D, true>(slice, faces, rows, e, keys, &mut quads)?,
         (true, false) => greedy::<D, false>(slice, faces, rows, e, keys, &mut quads)?,
     }
