@@ -3,7 +3,9 @@
 //! One criterion group per input (`surface_nets/<input>`) with `ours_f32`, `ours_i8`,
 //! `fsn_f32` and `fsn_i8` (the peer with the `Sd8` sample type of its own benchmark, fed the
 //! same `i8` values as ours). Ours writes the packed `SmoothMesh` (16-byte `BlockVertex`es and
-//! `u16` quads); the peer writes `f32` positions and normals and `u32` triangle indices. Both
+//! 6-byte compact quads on these inputs, or `u16` / `u32` quads where a mesh needs them; the
+//! report line names the form); the peer writes `f32` positions and normals and `u32` triangle
+//! indices. Both
 //! reuse their output buffers, as in the peer's benchmark. The counts and bytes per quad of
 //! every input are printed before the timings, with an interleaved timing of the 4 variants
 //! (min and median of 200 rounds), which a shared, noisy machine disturbs far less than the
@@ -26,7 +28,7 @@ use criterion::measurement::Measurement;
 use fast_surface_nets::ndshape::ConstShape3u32;
 use fast_surface_nets::{SignedDistance, SurfaceNetsBuffer, surface_nets};
 use mesher::BlockClasses;
-use mesher::smooth::{GridShape, NoCubes, SmoothMesh, SurfaceNets};
+use mesher::smooth::{GridShape, NoCubes, SmoothMesh, SmoothQuads, SurfaceNets};
 use voxel_core::BlockId;
 
 /// The peer's own `i8` sample type (its `bench/src/bench.rs`): `q / 127`.
@@ -43,6 +45,17 @@ impl SignedDistance for Sd8 {
     fn is_negative(self) -> bool {
         self.0 < 0
     }
+}
+
+/// The form of a mesh's quads and its bytes per quad, for the report lines.
+fn quad_form(mesh: &SmoothMesh) -> String {
+    let quads = mesh.quads();
+    let form = match quads {
+        SmoothQuads::Compact(_) => "compact",
+        SmoothQuads::U16(_) => "u16",
+        SmoothQuads::U32(_) => "u32",
+    };
+    format!("{form} quads, {} B each", quads.quad_bytes())
 }
 
 fn bench_input<M: Measurement, const D: u32>(c: &mut Criterion<M>, name: &str, grid: &DensityGrid) {
@@ -62,10 +75,11 @@ fn bench_input<M: Measurement, const D: u32>(c: &mut Criterion<M>, name: &str, g
         .expect("finite");
     surface_nets(f, &Shape::<D> {}, [0; 3], max, &mut peer);
     println!(
-        "{name}: {D}^3 samples; ours f32 {} vertices, {} quads, {} B, {:.2} B/quad; \
+        "{name}: {D}^3 samples; ours f32 {} vertices, {} quads ({}), {} B, {:.2} B/quad; \
          fast-surface-nets {} vertices, {} triangles ({} quads)",
         ours.vertices().len(),
         ours.quad_count(),
+        quad_form(&ours),
         ours.byte_len(),
         ours.bytes_per_quad(),
         peer.positions.len(),
@@ -77,10 +91,11 @@ fn bench_input<M: Measurement, const D: u32>(c: &mut Criterion<M>, name: &str, g
         .expect("finite");
     surface_nets(&sd8, &Shape::<D> {}, [0; 3], max, &mut peer);
     println!(
-        "{name}: i8: ours {} vertices, {} quads, {:.2} B/quad; \
+        "{name}: i8: ours {} vertices, {} quads ({}), {:.2} B/quad; \
          fast-surface-nets {} vertices, {} quads",
         ours.vertices().len(),
         ours.quad_count(),
+        quad_form(&ours),
         ours.bytes_per_quad(),
         peer.positions.len(),
         peer.indices.len() / 6,
@@ -181,9 +196,10 @@ fn nocubes_benches<M: Measurement>(c: &mut Criterion<M>) {
     let mut out = SmoothMesh::new();
     let stats = mesher.mesh(&chunk, &classes, &mut out).expect("known ids");
     println!(
-        "nocubes terrain62: {stats:?}; {} vertices, {} quads, {:.2} B/quad",
+        "nocubes terrain62: {stats:?}; {} vertices, {} quads ({}), {:.2} B/quad",
         out.vertices().len(),
         out.quad_count(),
+        quad_form(&out),
         out.bytes_per_quad()
     );
     let mut group = c.benchmark_group("nocubes/terrain62");

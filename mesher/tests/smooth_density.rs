@@ -1,5 +1,5 @@
 //! SurfaceNets on density grids: input checks, empty and full grids, the i8 path against the f32
-//! path, closed meshes, the u16 / u32 index switch, and packing within the stated bounds.
+//! path, closed meshes, the compact / u16 / u32 quad forms, and packing within the stated bounds.
 
 mod smooth_support;
 
@@ -11,6 +11,7 @@ use mesher::smooth::{
 };
 use proptest::prelude::*;
 use smooth_support::{open_edges, sample, sine, sphere};
+use voxel_core::formats::compact_quad_encode;
 use voxel_core::formats::octahedral::oct16_decode;
 use voxel_core::{BlockId, ChunkSize};
 
@@ -187,16 +188,7 @@ proptest! {
         let mut raw = SmoothMeshF32::default();
         mesher.mesh_f32(&samples, s, BlockId(3), &mut packed).unwrap();
         mesher.mesh_f32_unpacked(&samples, s, &mut raw).unwrap();
-        // The packed mesh leaves out the vertices no quad uses, keeping the order.
-        let mut used = vec![false; raw.positions.len()];
-        raw.quads.iter().flatten().for_each(|&i| used[i as usize] = true);
-        let kept: Vec<usize> = (0..used.len()).filter(|&i| used[i]).collect();
-        let mut renumber = vec![u32::MAX; used.len()];
-        for (new, &old) in kept.iter().enumerate() {
-            renumber[old] = new as u32;
-        }
-        prop_assert_eq!(packed.vertices().len(), kept.len());
-        prop_assert_eq!(packed.quad_count(), raw.quads.len());
+        let kept = same_quads(&packed, &raw)?;
         let extent = s.extent();
         prop_assert_eq!(packed.extent(), extent);
         for (v, &i) in packed.vertices().iter().zip(&kept) {
@@ -214,18 +206,141 @@ proptest! {
             prop_assert_eq!(v.block, 3);
             prop_assert_eq!((v.uv, v.extra), ([0, 0], 0));
         }
-        // Same quads up to the choice of diagonal, which the packed mesh makes on the
-        // quantized positions.
-        for (q, r) in packed.quads().iter().zip(&raw.quads) {
-            let r = r.map(|i| renumber[i as usize]);
-            prop_assert!(same_cycle(q, r), "{:?} vs {:?}", q, r);
-        }
+        quad_form_is_the_narrowest(&packed, s)?;
     }
 }
 
-/// True when `a` is `b` rotated.
-fn same_cycle(a: [u32; 4], b: [u32; 4]) -> bool {
-    (0..4).any(|k| (0..4).all(|i| a[i] == b[(i + k) % 4]))
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// Smooth random surfaces (blobs and waves, plus a little noise) in the padded grids of
+    /// every chunk size: compact quads (up to 65,536 vertices), each decoding to the quad of the
+    /// unpacked path.
+    #[test]
+    fn chunk_grids_keep_compact_quads(
+        (s, samples) in (proptest::sample::select(ChunkSize::ALL.to_vec()), smooth_field())
+            .prop_map(|(size, f)| {
+                let s = GridShape::padded_chunk(size);
+                let n = s.dims()[0] as f32;
+                (s, sample(s, [0.0; 3], |p| f.at(p.map(|a| a / n))))
+            })
+    ) {
+        prop_assert!(s.dims()[0] <= 64);
+        let mut mesher = SurfaceNets::new();
+        let mut packed = SmoothMesh::new();
+        let mut raw = SmoothMeshF32::default();
+        mesher.mesh_f32(&samples, s, BlockId(1), &mut packed).unwrap();
+        mesher.mesh_f32_unpacked(&samples, s, &mut raw).unwrap();
+        same_quads(&packed, &raw)?;
+        if packed.vertices().len() <= U16_INDEX_LIMIT {
+            prop_assert!(matches!(packed.quads(), SmoothQuads::Compact(_)));
+        } else {
+            prop_assert!(matches!(packed.quads(), SmoothQuads::U32(_)));
+        }
+        quad_form_is_the_narrowest(&packed, s)?;
+    }
+
+    /// Random densities on grids up to 140 samples a row: rows longer than 64 put more than
+    /// 63 vertices between a cell and the one behind it along y, so their meshes fall back to
+    /// u16, exactly.
+    #[test]
+    fn wide_grids_fall_back_exactly(
+        (s, samples) in [3u32..141, 3u32..7, 3u32..7].prop_flat_map(|d| {
+            let s = shape(d);
+            (Just(s), proptest::collection::vec(-1.0f32..1.0, s.sample_count()))
+        })
+    ) {
+        let mut mesher = SurfaceNets::new();
+        let mut packed = SmoothMesh::new();
+        let mut raw = SmoothMeshF32::default();
+        mesher.mesh_f32(&samples, s, BlockId(1), &mut packed).unwrap();
+        mesher.mesh_f32_unpacked(&samples, s, &mut raw).unwrap();
+        same_quads(&packed, &raw)?;
+        quad_form_is_the_narrowest(&packed, s)?;
+    }
+}
+
+/// A smooth random field over the unit cube: the union of up to 3 balls, or a wave, plus a
+/// little bumpiness.
+#[derive(Clone, Debug)]
+struct SmoothField {
+    balls: Vec<([f32; 3], f32)>,
+    wave: Option<(f32, f32)>,
+    bump: f32,
+}
+
+impl SmoothField {
+    fn at(&self, p: [f32; 3]) -> f32 {
+        let base = match self.wave {
+            Some((frequency, phase)) => {
+                p.iter()
+                    .map(|&a| (a * frequency + phase).sin())
+                    .sum::<f32>()
+                    * 0.2
+            }
+            None => self
+                .balls
+                .iter()
+                .map(|&(c, r)| sphere(c, r)(p))
+                .fold(f32::INFINITY, f32::min),
+        };
+        base + self.bump * (p[0] * 91.0 + p[1] * 53.0 + p[2] * 37.0).sin()
+    }
+}
+
+fn smooth_field() -> impl Strategy<Value = SmoothField> {
+    let ball = ([0.2f32..0.8, 0.2f32..0.8, 0.2f32..0.8], 0.1f32..0.45);
+    (
+        proptest::collection::vec(ball, 1..4),
+        proptest::option::of((2.0f32..9.0, 0.0f32..6.0)),
+        0.0f32..0.04,
+    )
+        .prop_map(|(balls, wave, bump)| SmoothField { balls, wave, bump })
+}
+
+/// Checks that the packed mesh has the unpacked mesh's vertices less those no quad uses (in
+/// order) and the same quads, corner for corner once renumbered (both paths choose each
+/// diagonal on the same unquantized positions), whatever form the packed quads are stored in.
+/// Returns the unpacked index of each packed vertex.
+fn same_quads(packed: &SmoothMesh, raw: &SmoothMeshF32) -> Result<Vec<usize>, TestCaseError> {
+    let mut used = vec![false; raw.positions.len()];
+    raw.quads
+        .iter()
+        .flatten()
+        .for_each(|&i| used[i as usize] = true);
+    let kept: Vec<usize> = (0..used.len()).filter(|&i| used[i]).collect();
+    let mut renumber = vec![u32::MAX; used.len()];
+    for (new, &old) in kept.iter().enumerate() {
+        renumber[old] = new as u32;
+    }
+    prop_assert_eq!(packed.vertices().len(), kept.len());
+    prop_assert_eq!(packed.quad_count(), raw.quads.len());
+    prop_assert_eq!(packed.quads().iter().count(), raw.quads.len());
+    for (q, r) in packed.quads().iter().zip(&raw.quads) {
+        let r = r.map(|i| renumber[i as usize]);
+        prop_assert_eq!(q, r);
+    }
+    Ok(kept)
+}
+
+/// Checks that the mesh's quad form is the narrowest that holds its quads: compact when every
+/// quad has a compact record (always on grids of at most 64 samples a row with at most 65,536
+/// vertices), u16 when one does not and the mesh has at most 65,536 vertices, else u32; and
+/// that the buffer has the form's size.
+fn quad_form_is_the_narrowest(mesh: &SmoothMesh, s: GridShape) -> Result<(), TestCaseError> {
+    let quads = mesh.quads();
+    let all_compact = quads.iter().all(|q| compact_quad_encode(q).is_some());
+    let small = mesh.vertices().len() <= U16_INDEX_LIMIT;
+    if s.dims()[0] <= 64 && small {
+        prop_assert!(all_compact);
+    }
+    match quads {
+        SmoothQuads::Compact(_) => prop_assert!(all_compact),
+        SmoothQuads::U16(_) => prop_assert!(!all_compact && small),
+        SmoothQuads::U32(_) => prop_assert!(!small),
+    }
+    prop_assert_eq!(quads.bytes().len(), quads.quad_bytes() * quads.len());
+    Ok(())
 }
 
 #[test]
@@ -257,32 +372,63 @@ fn past_65536_vertices_quads_switch_to_u32() {
             .any(|&i| i as usize >= U16_INDEX_LIMIT)
     );
 
-    // The buffer is reusable: a small mesh afterwards is u16 again.
+    // The buffer is reusable: a small mesh afterwards is compact again.
     let small = shape([8, 8, 8]);
     let samples = sample(small, [0.0; 3], sphere([3.5; 3], 2.2));
     mesher
         .mesh_f32(&samples, small, BlockId(1), &mut out)
         .unwrap();
-    assert!(matches!(out.quads(), SmoothQuads::U16(q) if !q.is_empty()));
+    assert!(matches!(out.quads(), SmoothQuads::Compact(q) if !q.is_empty()));
 }
 
 #[test]
-fn sphere_and_sine_are_closed_and_about_24_bytes_per_quad() {
+fn rows_of_more_than_64_samples_can_need_u16() {
+    // Random densities: nearly every cell has a vertex, so a cell and the one behind it along
+    // y are a whole row of cells apart: 63 in a 64-wide grid (compact), 99 in a 100-wide one.
+    let mut mesher = SurfaceNets::new();
+    let mut packed = SmoothMesh::new();
+    let mut raw = SmoothMeshF32::default();
+    for (dx, wide) in [(64, false), (100, true)] {
+        let s = shape([dx, 5, 5]);
+        let samples: Vec<f32> = (0..s.sample_count())
+            .map(|i| ((i as f32 * 12.9898).sin() * 43_758.547).fract())
+            .collect();
+        mesher
+            .mesh_f32(&samples, s, BlockId(1), &mut packed)
+            .unwrap();
+        mesher.mesh_f32_unpacked(&samples, s, &mut raw).unwrap();
+        same_quads(&packed, &raw).unwrap();
+        quad_form_is_the_narrowest(&packed, s).unwrap();
+        if wide {
+            assert!(matches!(packed.quads(), SmoothQuads::U16(_)));
+            assert_eq!(packed.quads().bytes().len(), 8 * packed.quad_count());
+        } else {
+            assert!(matches!(packed.quads(), SmoothQuads::Compact(_)));
+            assert_eq!(packed.quads().bytes().len(), 6 * packed.quad_count());
+        }
+    }
+}
+
+#[test]
+fn sphere_and_sine_are_closed_and_at_most_24_bytes_per_quad() {
     let s = GridShape::padded_chunk(ChunkSize::S32);
     let mut mesher = SurfaceNets::new();
     let mut out = SmoothMesh::new();
     let ball = sample(s, [0.0; 3], sphere([16.7, 17.1, 16.9], 12.3));
     mesher.mesh_f32(&ball, s, BlockId(1), &mut out).unwrap();
     assert_eq!(open_edges(out.triangles(), |i| i), 0);
-    // Genus 0: V = F + 2, so 24 B per quad plus 32 B in all.
+    // Genus 0: V = F + 2, so 16 + 6 = 22 B per quad (compact quads) plus 32 B in all.
     assert_eq!(out.vertices().len(), out.quad_count() + 2);
-    assert_eq!(out.byte_len(), 24 * out.quad_count() + 32);
+    assert!(matches!(out.quads(), SmoothQuads::Compact(_)));
+    assert_eq!(out.byte_len(), 22 * out.quad_count() + 32);
 
     // Sine: the surface leaves the grid on every side, and the vertices on the border are
-    // shared with the neighbours' meshes, so about 25 B per quad.
+    // shared with the neighbours' meshes, so a few percent more vertices than quads: about
+    // 22.8 B per quad.
     let wave = sample(s, [0.0; 3], sine(0.7));
     mesher.mesh_f32(&wave, s, BlockId(1), &mut out).unwrap();
-    assert!(out.bytes_per_quad() < 25.0, "{}", out.bytes_per_quad());
+    assert!(matches!(out.quads(), SmoothQuads::Compact(_)));
+    assert!(out.bytes_per_quad() <= 24.0, "{}", out.bytes_per_quad());
     let used: std::collections::HashSet<u32> = out.quads().iter().flatten().collect();
     assert_eq!(used.len(), out.vertices().len(), "every vertex is used");
 }
@@ -321,6 +467,9 @@ fn wide_grids_are_closed_and_match_narrow_ones() {
         .unwrap();
     assert_eq!(packed.quad_count(), a.quads.len());
     assert_eq!(open_edges(packed.triangles(), |i| i), 0);
+    // A wide grid keeps compact quads while its rows hold few vertices (a small sphere).
+    assert!(matches!(packed.quads(), SmoothQuads::Compact(_)));
+    quad_form_is_the_narrowest(&packed, wide).unwrap();
 }
 
 #[test]

@@ -1,16 +1,19 @@
 //! NoCubes: one quad per visible face, smooth quads for smoothable blocks and cube faces for the
 //! rest, closed welded meshes for closed inputs, the vertex block-id rule, pinned vertices on
-//! cube corners, and degenerate chunks.
+//! cube corners, the quad form (compact when every quad fits it), and degenerate chunks.
 
 mod smooth_support;
 
 use std::collections::HashMap;
 
 use glam::Vec3;
-use mesher::smooth::{CUBE_FACE_FLAG, NoCubes, NoCubesStats, SmoothMesh};
+use mesher::smooth::{
+    CUBE_FACE_FLAG, NoCubes, NoCubesStats, SmoothMesh, SmoothQuads, U16_INDEX_LIMIT,
+};
 use mesher::{BlockClasses, MeshError};
 use proptest::prelude::*;
 use smooth_support::open_edges;
+use voxel_core::formats::compact_quad_encode;
 use voxel_core::formats::octahedral::oct16_decode;
 use voxel_core::{BlockId, ChunkSize, Material, MaterialClass, MaterialPalette, PaddedChunk};
 
@@ -218,6 +221,18 @@ fn check(chunk: &PaddedChunk, closed: bool) -> Result<(), TestCaseError> {
         prop_assert_eq!(Some(v.block), want);
     }
 
+    // The quads are in the narrowest form that holds them all.
+    let quads = out.quads();
+    let all_compact = quads.iter().all(|q| compact_quad_encode(q).is_some());
+    let small = out.vertices().len() <= U16_INDEX_LIMIT;
+    match quads {
+        SmoothQuads::Compact(_) => prop_assert!(all_compact),
+        SmoothQuads::U16(_) => prop_assert!(!all_compact && small),
+        // A 62^3 checkerboard has more than 65,536 vertices.
+        SmoothQuads::U32(_) => prop_assert!(!small),
+    }
+    prop_assert_eq!(quads.bytes().len(), quads.quad_bytes() * quads.len());
+
     if closed {
         // Welded by packed position, a closed input gives a closed mesh.
         let tris: Vec<[u32; 3]> = out.triangles().collect();
@@ -283,7 +298,24 @@ fn smooth_hill_on_a_stone_floor_is_closed() {
     );
     // Shared cube corners: a flat floor costs about one vertex per face, not four.
     assert!(stats.cube_vertices < 2 * stats.cube_quads, "{stats:?}");
+    // Cube-face vertices are made as their faces are, between the smooth vertices, so some
+    // smooth quad's pair of vertices lies more than 63 apart and the mesh falls back to u16
+    // quads (8 B): 16 B * 10,521 vertices / 9,770 quads + 8 B = 25.2 B per quad.
+    assert!(matches!(out.quads(), SmoothQuads::U16(_)));
     assert!(out.bytes_per_quad() < 30.0, "{}", out.bytes_per_quad());
+
+    // The same hill without stone: smooth quads only, whose vertices are numbered in cell scan
+    // order as in SurfaceNets, so every quad is compact (6 B): 16 B * 9,772 vertices / 9,770
+    // quads + 6 B = 22.0 B per quad.
+    let smooth_only = PaddedChunk::from_fn(size, |x, y, z| match chunk.get(x, y, z) {
+        Ok(id) if id == stone => dirt,
+        Ok(id) => id,
+        Err(e) => panic!("{e}"),
+    });
+    let (out, stats) = mesh(&smooth_only, &pal.classes);
+    assert_eq!(stats.cube_quads, 0);
+    assert!(matches!(out.quads(), SmoothQuads::Compact(_)));
+    assert!(out.bytes_per_quad() <= 24.0, "{}", out.bytes_per_quad());
 }
 
 #[test]

@@ -3,10 +3,14 @@
 
 use alloc::vec::Vec;
 
-use voxel_core::formats::BlockVertex;
 use voxel_core::formats::quantize::UnormExtent;
+use voxel_core::formats::{
+    BlockVertex, COMPACT_QUAD_MAX_DELTA, compact_quad_decode, compact_quad_encode,
+};
 
-/// Vertex count up to which quads use `u16` indices.
+use super::PairedQuad;
+
+/// Vertex count up to which quads use 16-bit indices (compact or `u16`).
 pub const U16_INDEX_LIMIT: usize = 1 << 16;
 
 /// A packed smooth mesh: [`BlockVertex`]es and quads of 4 vertex indices.
@@ -17,25 +21,46 @@ pub const U16_INDEX_LIMIT: usize = 1 << 16;
 /// quads on the GPU (vertex pulling: vertex `i` of the draw reads quad `i / 6`, corner
 /// `[0, 1, 2, 0, 2, 3][i % 6]`) or calls [`triangles`](Self::triangles).
 ///
-/// **Index width.** Quads are `u16` while the mesh has at most [`U16_INDEX_LIMIT`] (65,536)
-/// vertices when they are written, the common case (a 62^3 terrain chunk has about 10^4). A
-/// denser mesh switches to `u32` quads ([`SmoothQuads::U32`]): the quads written so far are
-/// widened once and the rest are written wide. That costs 8 more bytes per quad (16 instead of
-/// 8); the vertex buffer is unchanged and the mesh is never split.
+/// **Quad forms.** The quads are stored in one of three forms per mesh ([`SmoothQuads`]),
+/// chosen while they are written:
 ///
-/// **Bytes.** 16 per vertex plus 8 per quad (16 past the limit). On a closed surface there is
-/// about one vertex per quad, so about 24 bytes per quad; [`bytes_per_quad`](Self::bytes_per_quad)
-/// reports the exact figure of a mesh.
+/// | form | bytes per quad | holds |
+/// | --- | ---: | --- |
+/// | [`Compact`](SmoothQuads::Compact) | 6 | quads whose corners are two pairs of neighbouring corners with indices at most 63 apart, indices up to 65,535 ([`compact_quad`](voxel_core::formats::compact_quad)) |
+/// | [`U16`](SmoothQuads::U16) | 8 | any quad of a mesh with at most [`U16_INDEX_LIMIT`] (65,536) vertices |
+/// | [`U32`](SmoothQuads::U32) | 16 | any quad |
+///
+/// A mesh starts compact. Every SurfaceNets quad of a grid with at most 64 samples a row (every
+/// chunk grid: a padded 62^3 chunk has 64) fits the compact form, since its vertices are
+/// numbered in cell scan order (see the `compact_quad` docs). The first quad that does not fit
+/// switches the whole mesh, once, to the narrowest form that holds it: `u16`, or `u32` past
+/// 65,536 vertices (a `u16` mesh switches to `u32` in the same way when it grows past that).
+/// The quads written so far are converted exactly; the vertex buffer is unchanged and the mesh
+/// is never split. Wider grids and NoCubes meshes with cube faces (whose vertices interleave
+/// with the smooth ones) usually end up `u16`.
+///
+/// **Bytes.** 16 per vertex plus 6 per quad (8 or 16 in the wider forms). On a closed surface
+/// there is about one vertex per quad, so about 22 bytes per quad;
+/// [`bytes_per_quad`](Self::bytes_per_quad) reports the exact figure of a mesh.
 ///
 /// Positions are packed over [`extent`](Self::extent) (decode with
 /// [`BlockVertex::decode`]). [`clear`](Self::clear) keeps every buffer's capacity.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SmoothMesh {
     vertices: Vec<BlockVertex>,
+    compact: Vec<[u16; 3]>,
     quads16: Vec<[u16; 4]>,
     quads32: Vec<[u32; 4]>,
-    wide: bool,
+    form: QuadForm,
     extent: UnormExtent,
+}
+
+/// Which buffer of a [`SmoothMesh`] holds its quads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum QuadForm {
+    Compact,
+    U16,
+    U32,
 }
 
 impl Default for SmoothMesh {
@@ -44,12 +69,15 @@ impl Default for SmoothMesh {
     }
 }
 
-/// The quads of a [`SmoothMesh`], in the width the mesh uses.
+/// The quads of a [`SmoothMesh`], in the form the mesh uses (see its docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SmoothQuads<'a> {
-    /// At most 65,536 vertices: 8 bytes per quad.
+    /// 6 bytes per quad: compact records, decoded by
+    /// [`compact_quad_decode`](voxel_core::formats::compact_quad_decode).
+    Compact(&'a [[u16; 3]]),
+    /// 8 bytes per quad: 4 `u16` indices.
     U16(&'a [[u16; 4]]),
-    /// More vertices: 16 bytes per quad.
+    /// 16 bytes per quad: 4 `u32` indices.
     U32(&'a [[u32; 4]]),
 }
 
@@ -57,6 +85,7 @@ impl SmoothQuads<'_> {
     /// Number of quads.
     pub fn len(&self) -> usize {
         match self {
+            SmoothQuads::Compact(q) => q.len(),
             SmoothQuads::U16(q) => q.len(),
             SmoothQuads::U32(q) => q.len(),
         }
@@ -67,22 +96,37 @@ impl SmoothQuads<'_> {
         self.len() == 0
     }
 
-    /// Quad `i` widened to `u32`, or `None` past the end.
+    /// Bytes per quad of this form: 6, 8 or 16.
+    pub fn quad_bytes(&self) -> usize {
+        match self {
+            SmoothQuads::Compact(_) => 6,
+            SmoothQuads::U16(_) => 8,
+            SmoothQuads::U32(_) => 16,
+        }
+    }
+
+    /// Quad `i`'s 4 corners as `u32`, or `None` past the end (and for a compact record that
+    /// does not decode, which a [`SmoothMesh`] never holds).
+    #[inline]
     pub fn get(&self, i: usize) -> Option<[u32; 4]> {
         match self {
+            SmoothQuads::Compact(q) => q.get(i).and_then(|&r| compact_quad_decode(r).ok()),
             SmoothQuads::U16(q) => q.get(i).map(|q| q.map(u32::from)),
             SmoothQuads::U32(q) => q.get(i).copied(),
         }
     }
 
-    /// Every quad widened to `u32`.
+    /// Every quad's 4 corners as `u32`.
     pub fn iter(&self) -> impl Iterator<Item = [u32; 4]> + '_ {
         (0..self.len()).filter_map(|i| self.get(i))
     }
 
-    /// The index buffer's bytes, little-endian, 4 indices per quad.
+    /// The quad buffer's bytes as a GPU would upload them, little-endian: 3 `u16` per compact
+    /// record (6 bytes, so a buffer of an odd count is not a multiple of 4), or 4 indices per
+    /// quad.
     pub fn bytes(&self) -> &[u8] {
         match self {
+            SmoothQuads::Compact(q) => bytemuck::cast_slice(q),
             SmoothQuads::U16(q) => bytemuck::cast_slice(q),
             SmoothQuads::U32(q) => bytemuck::cast_slice(q),
         }
@@ -94,19 +138,21 @@ impl SmoothMesh {
     pub const fn new() -> Self {
         SmoothMesh {
             vertices: Vec::new(),
+            compact: Vec::new(),
             quads16: Vec::new(),
             quads32: Vec::new(),
-            wide: false,
+            form: QuadForm::Compact,
             extent: UnormExtent::UNIT,
         }
     }
 
-    /// Empties the mesh, keeping every buffer's capacity.
+    /// Empties the mesh, keeping every buffer's capacity; the next quads start compact.
     pub fn clear(&mut self) {
         self.vertices.clear();
+        self.compact.clear();
         self.quads16.clear();
         self.quads32.clear();
-        self.wide = false;
+        self.form = QuadForm::Compact;
     }
 
     /// Starts a new mesh with positions over `extent`.
@@ -126,24 +172,20 @@ impl SmoothMesh {
         bytemuck::cast_slice(&self.vertices)
     }
 
-    /// The quads, `u16` or `u32` (see the type docs).
+    /// The quads, in the mesh's form (see the type docs).
     #[inline]
     pub fn quads(&self) -> SmoothQuads<'_> {
-        if self.wide {
-            SmoothQuads::U32(&self.quads32)
-        } else {
-            SmoothQuads::U16(&self.quads16)
+        match self.form {
+            QuadForm::Compact => SmoothQuads::Compact(&self.compact),
+            QuadForm::U16 => SmoothQuads::U16(&self.quads16),
+            QuadForm::U32 => SmoothQuads::U32(&self.quads32),
         }
     }
 
     /// Number of quads.
     #[inline]
     pub fn quad_count(&self) -> usize {
-        if self.wide {
-            self.quads32.len()
-        } else {
-            self.quads16.len()
-        }
+        self.quads().len()
     }
 
     /// True when the mesh has no quads and no vertices.
@@ -157,7 +199,7 @@ impl SmoothMesh {
         self.extent
     }
 
-    /// Vertex bytes plus index bytes.
+    /// Vertex bytes plus quad bytes.
     pub fn byte_len(&self) -> usize {
         self.vertex_bytes().len() + self.quads().bytes().len()
     }
@@ -214,21 +256,72 @@ impl SmoothMesh {
     /// Appends a quad; every index must be below the current vertex count.
     #[inline]
     pub(crate) fn push_quad(&mut self, q: [u32; 4]) {
-        if !self.wide && self.vertices.len() <= U16_INDEX_LIMIT {
-            self.quads16.push(q.map(|i| i as u16));
+        match self.form {
+            QuadForm::Compact => {
+                if let Some(r) = compact_quad_encode(q) {
+                    self.compact.push(r);
+                    return;
+                }
+            }
+            QuadForm::U16 => {
+                if self.vertices.len() <= U16_INDEX_LIMIT {
+                    self.quads16.push(q.map(|i| i as u16));
+                    return;
+                }
+            }
+            QuadForm::U32 => {
+                self.quads32.push(q);
+                return;
+            }
+        }
+        self.push_quad_wider(q);
+    }
+
+    /// Appends a quad with its compact record fields (see [`PairedQuad`]): the record when the
+    /// mesh is compact and the deltas fit, else as [`push_quad`](Self::push_quad) would. This
+    /// skips the general encoder's search on the hot path of SurfaceNets.
+    #[inline(always)]
+    pub(crate) fn push_paired_quad(&mut self, q: PairedQuad) {
+        let fits = |d: u32| d.wrapping_sub(1) < COMPACT_QUAD_MAX_DELTA;
+        if self.form == QuadForm::Compact
+            && fits(q.da) & fits(q.db)
+            && self.vertices.len() <= U16_INDEX_LIMIT
+        {
+            let record = [q.a, q.b, q.da | q.db << 6 | q.code << 12].map(|v| v as u16);
+            debug_assert_eq!(compact_quad_decode(record), Ok(q.corners));
+            self.compact.push(record);
         } else {
-            self.push_quad_wide(q);
+            self.push_quad(q.corners);
         }
     }
 
+    /// Switches to the narrowest form wider than the current one that holds `q` (`u16` while
+    /// the mesh has at most [`U16_INDEX_LIMIT`] vertices, else `u32`), converting the quads
+    /// written so far, and appends `q`.
     #[cold]
-    fn push_quad_wide(&mut self, q: [u32; 4]) {
-        if !self.wide {
-            self.wide = true;
-            self.quads32.clear();
-            self.quads32
-                .extend(self.quads16.drain(..).map(|q| q.map(u32::from)));
+    fn push_quad_wider(&mut self, q: [u32; 4]) {
+        let decode = |r: [u16; 3]| compact_quad_decode(r).unwrap_or_default();
+        if self.form == QuadForm::Compact && self.vertices.len() <= U16_INDEX_LIMIT {
+            self.form = QuadForm::U16;
+            self.quads16.clear();
+            let compact = &self.compact;
+            self.quads16
+                .extend(compact.iter().map(|&r| decode(r).map(|i| i as u16)));
+            self.compact.clear();
+            self.quads16.push(q.map(|i| i as u16));
+            return;
         }
+        self.quads32.clear();
+        match self.form {
+            QuadForm::Compact => self.quads32.extend(self.compact.iter().map(|&r| decode(r))),
+            QuadForm::U16 => self
+                .quads32
+                .extend(self.quads16.iter().map(|q| q.map(u32::from))),
+            QuadForm::U32 => {}
+        }
+        self.compact.clear();
+        self.quads16.clear();
+        self.form = QuadForm::U32;
         self.quads32.push(q);
     }
 }
@@ -266,5 +359,126 @@ impl SmoothMeshF32 {
         self.quads
             .iter()
             .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use alloc::vec;
+    use alloc::vec::Vec;
+
+    use bytemuck::Zeroable;
+    use voxel_core::formats::compact_quad::COMPACT_QUAD_FORMS;
+
+    use super::*;
+
+    fn with_vertices(n: usize) -> SmoothMesh {
+        let mut mesh = SmoothMesh::new();
+        mesh.vertices.resize(n, BlockVertex::zeroed());
+        mesh
+    }
+
+    /// A quad of every compact form and rotation, with deltas 1 and 63.
+    fn every_layout() -> Vec<[u32; 4]> {
+        let mut quads = Vec::new();
+        for (da, db) in [(1, 1), (1, 63), (63, 1), (63, 63)] {
+            let values = [2000, 2000 - da, 1000, 1000 - db];
+            for form in COMPACT_QUAD_FORMS {
+                let cycle = form.map(|s| values[usize::from(s)]);
+                for rotation in 0..4 {
+                    quads.push(core::array::from_fn(|i| cycle[(i + rotation) % 4]));
+                }
+            }
+        }
+        quads
+    }
+
+    fn all(mesh: &SmoothMesh) -> Vec<[u32; 4]> {
+        mesh.quads().iter().collect()
+    }
+
+    #[test]
+    fn every_layout_stays_compact_until_the_first_misfit() {
+        let mut mesh = with_vertices(3000);
+        let mut expected = every_layout();
+        for &q in &expected {
+            mesh.push_quad(q);
+        }
+        assert!(matches!(mesh.quads(), SmoothQuads::Compact(r) if r.len() == 64));
+        assert_eq!(all(&mesh), expected);
+        assert_eq!(mesh.quads().bytes().len(), 6 * 64);
+        assert_eq!(mesh.quads().quad_bytes(), 6);
+
+        // A delta of 64 in the only pairing of neighbours that could fit: u16 from now on,
+        // with the quads so far converted exactly.
+        let misfit = [2000, 1936, 100, 99];
+        assert_eq!(compact_quad_encode(misfit), None);
+        mesh.push_quad(misfit);
+        expected.push(misfit);
+        mesh.push_quad(expected[0]);
+        expected.push(expected[0]);
+        assert!(matches!(mesh.quads(), SmoothQuads::U16(_)));
+        assert_eq!(all(&mesh), expected);
+        assert_eq!(mesh.byte_len(), 16 * 3000 + 8 * expected.len());
+    }
+
+    #[test]
+    fn compact_switches_to_u32_past_65536_vertices() {
+        let mut mesh = with_vertices(70_000);
+        let mut expected = every_layout();
+        for &q in &expected {
+            mesh.push_quad(q);
+        }
+        // Fits the deltas, but not in u16.
+        let wide = [69_999, 69_998, 68_000, 67_999];
+        mesh.push_quad(wide);
+        expected.push(wide);
+        assert!(matches!(mesh.quads(), SmoothQuads::U32(_)));
+        assert_eq!(all(&mesh), expected);
+        assert_eq!(mesh.quads().bytes().len(), 16 * expected.len());
+    }
+
+    #[test]
+    fn u16_switches_to_u32_when_the_mesh_grows() {
+        let mut mesh = with_vertices(300);
+        let mut expected = vec![[200, 100, 50, 20], [5, 4, 3, 2]];
+        for &q in &expected {
+            mesh.push_quad(q);
+        }
+        assert!(matches!(mesh.quads(), SmoothQuads::U16(_)));
+        mesh.vertices
+            .resize(U16_INDEX_LIMIT + 1, BlockVertex::zeroed());
+        let q = [65_536, 65_535, 7, 6];
+        mesh.push_quad(q);
+        expected.push(q);
+        assert!(matches!(mesh.quads(), SmoothQuads::U32(_)));
+        assert_eq!(all(&mesh), expected);
+    }
+
+    #[test]
+    fn clear_restarts_compact_and_keeps_capacity() {
+        let mut mesh = with_vertices(70_000);
+        for q in every_layout() {
+            mesh.push_quad(q);
+        }
+        mesh.push_quad([200, 100, 50, 20]);
+        mesh.push_quad([69_999, 69_998, 68_000, 67_999]);
+        assert!(matches!(mesh.quads(), SmoothQuads::U32(_)));
+        let capacity = (
+            mesh.compact.capacity(),
+            mesh.quads16.capacity(),
+            mesh.quads32.capacity(),
+        );
+        mesh.clear();
+        assert!(mesh.is_empty());
+        assert!(matches!(mesh.quads(), SmoothQuads::Compact(r) if r.is_empty()));
+        assert_eq!(
+            (
+                mesh.compact.capacity(),
+                mesh.quads16.capacity(),
+                mesh.quads32.capacity()
+            ),
+            capacity
+        );
     }
 }

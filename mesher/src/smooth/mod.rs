@@ -60,9 +60,21 @@
 //! [`SmoothMesh`]: 16-byte [`BlockVertex`](voxel_core::formats::BlockVertex)es (unorm16
 //! position in sample coordinates over [`GridShape::extent`], which for a padded chunk is the
 //! `BlockVertex` convention "chunk-local position + 1"; octahedral 8+8 normal, see
-//! [`OCT16_FAST_MAX_ERROR_DEGREES`]; block id) and quads of 4 `u16` indices: 16 B per vertex +
-//! 8 B per quad, about 24 B per quad on a closed surface (about one vertex per quad). Past
-//! 65,536 vertices the quads switch to `u32` indices (16 B per quad); see [`SmoothMesh`].
+//! [`OCT16_FAST_MAX_ERROR_DEGREES`]; block id) and quads of 4 vertex indices, stored in the
+//! narrowest of three forms that holds them ([`SmoothQuads`]):
+//!
+//! - **compact**, 6 B per quad ([`voxel_core::formats::compact_quad`]): `a`, `b` and one word
+//!   of two 6-bit deltas and a 4-bit layout. Vertices are numbered in cell scan order, so the
+//!   4 cells around a crossing edge are two pairs of neighbours along x or y whose indices are
+//!   at most one row of cells apart: every quad of a grid with at most 64 samples a row (every
+//!   chunk grid) fits, while the mesh has at most 65,536 vertices. The mesher writes each
+//!   record from a table per edge axis and corner order, without searching.
+//! - **u16**, 8 B per quad: where some quad does not fit (rows longer than 64 samples with many
+//!   vertices; NoCubes cube faces).
+//! - **u32**, 16 B per quad: past 65,536 vertices.
+//!
+//! So a chunk costs 16 B per vertex + 6 B per quad: on a closed surface (about one vertex per
+//! quad) about 22 B per quad, 22.1-22.8 B on the benchmark inputs (`BENCHMARKS.md`).
 //! [`SmoothMeshF32`] is the unquantized output for tests and tools.
 //!
 //! # How it is fast
@@ -98,6 +110,8 @@ pub use nets::SurfaceNets;
 pub use nocubes::{CUBE_FACE_FLAG, NoCubes, NoCubesStats};
 pub use pack::{FALLBACK_NORMAL, OCT16_FAST_MAX_ERROR_DEGREES, PositionPacker, oct16_encode_fast};
 pub use shape::GridShape;
+
+use voxel_core::formats::compact_quad::COMPACT_QUAD_FORMS;
 
 /// The corners of a cell (bit `i` = corner `i`) that are owned samples of the grid, from one
 /// axis: the cell at coordinate `c` of `cells` cells on `axis` (0 = x, 1 = y, 2 = z) has
@@ -204,30 +218,148 @@ mod tests {
 pub(crate) struct Quad {
     /// The lower sample is inside, so the surface faces along +axis.
     outward: bool,
+    /// The edge's axis (0 = x, 1 = y, 2 = z).
+    axis: u8,
     v: [u32; 4],
+}
+
+/// Indices into [`Quad::v`] (v1..v4 = 0..3) of the corners, by (v1-v4 shorter, outward); a
+/// table instead of branches, since both conditions are unpredictable.
+const ORDER: [[usize; 4]; 4] = [
+    [1, 0, 2, 3], // long, inward:   v2 v1 v3 v4
+    [1, 3, 2, 0], // long, outward:  v2 v4 v3 v1
+    [0, 2, 3, 1], // short, inward:  v1 v3 v4 v2
+    [0, 1, 3, 2], // short, outward: v1 v2 v4 v3
+];
+
+/// The compact-quad `form | rotation << 2` of each [`ORDER`] row, for quads whose pairs are
+/// `(v1, v2)` and `(v3, v4)` (x and z edges: `v2` is one step back along y or x from `v1`, `v4`
+/// from `v3`) and for quads whose pairs are `(v1, v3)` and `(v2, v4)` (y edges: the step along
+/// x is `v3`), with `a = v1` and `b` the other pair's first vertex. Found at compile time by
+/// matching each row against [`COMPACT_QUAD_FORMS`]; a row without a match fails the build.
+const PAIRED_CODES: [[u32; 4]; 2] = {
+    // Selector (0 = a, 1 = a - da, 2 = b, 3 = b - db) of v1..v4 for each pairing.
+    let selectors: [[u8; 4]; 2] = [[0, 1, 2, 3], [0, 2, 1, 3]];
+    let mut codes = [[u32::MAX; 4]; 2];
+    let mut pairing = 0;
+    while pairing < 2 {
+        let mut o = 0;
+        while o < 4 {
+            let mut code = 0;
+            while code < 16 {
+                let (form, rotation) = (code & 3, code >> 2);
+                let mut i = 0;
+                while i < 4 {
+                    let want = selectors[pairing][ORDER[o][i]];
+                    if COMPACT_QUAD_FORMS[form][(i + rotation) % 4] != want {
+                        break;
+                    }
+                    i += 1;
+                }
+                if i == 4 {
+                    codes[pairing][o] = code as u32;
+                    break;
+                }
+                code += 1;
+            }
+            assert!(code < 16, "every quad layout is a compact form");
+            o += 1;
+        }
+        pairing += 1;
+    }
+    codes
+};
+
+/// A quad's corners and the fields of its compact record (see
+/// [`voxel_core::formats::compact_quad`]); the deltas are not checked: [`SmoothMesh`] stores
+/// the record only when both are in `1..=63`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PairedQuad {
+    pub(crate) corners: [u32; 4],
+    pub(crate) a: u32,
+    pub(crate) da: u32,
+    pub(crate) b: u32,
+    pub(crate) db: u32,
+    /// `form | rotation << 2`.
+    pub(crate) code: u32,
 }
 
 impl Quad {
     #[inline]
-    pub(crate) fn new(outward: bool, v: [u32; 4]) -> Quad {
-        Quad { outward, v }
+    pub(crate) fn new(axis: u8, outward: bool, v: [u32; 4]) -> Quad {
+        Quad { outward, axis, v }
+    }
+
+    /// The row of [`ORDER`] for this quad (`dist2` gives squared distances; on a tie the
+    /// `v2`-`v3` diagonal is the shorter).
+    #[inline(always)]
+    fn order<D: PartialOrd>(&self, dist2: impl Fn(u32, u32) -> D) -> usize {
+        let [v1, v2, v3, v4] = self.v;
+        let short_14 = dist2(v1, v4) < dist2(v2, v3);
+        usize::from(short_14) * 2 + usize::from(self.outward)
     }
 
     /// The corners counter-clockwise from outside, rotated so that corners 0 and 2 span the
     /// shorter diagonal (`dist2` gives squared distances; on a tie the `v2`-`v3` diagonal).
     #[inline]
     pub(crate) fn corners<D: PartialOrd>(self, dist2: impl Fn(u32, u32) -> D) -> [u32; 4] {
-        // Indices into `v` (v1..v4 = 0..3), by (v1-v4 shorter, outward); a table instead of
-        // branches, since both conditions are unpredictable.
-        const ORDER: [[usize; 4]; 4] = [
-            [1, 0, 2, 3], // long, inward:   v2 v1 v3 v4
-            [1, 3, 2, 0], // long, outward:  v2 v4 v3 v1
-            [0, 2, 3, 1], // short, inward:  v1 v3 v4 v2
-            [0, 1, 3, 2], // short, outward: v1 v2 v4 v3
-        ];
-        let [v1, v2, v3, v4] = self.v;
-        let short_14 = dist2(v1, v4) < dist2(v2, v3);
-        let order = ORDER[usize::from(short_14) * 2 + usize::from(self.outward)];
+        let order = ORDER[self.order(dist2)];
         order.map(|i| self.v[i])
+    }
+
+    /// [`corners`](Self::corners) and the compact record fields of a SurfaceNets quad, whose
+    /// vertices are numbered in cell scan order: `v1` has the largest index, and the cell one
+    /// step back along x has the index just below its neighbour's, so along y the step is at
+    /// most a row of cells. With a table per axis instead of the general encoder's search.
+    #[inline(always)]
+    pub(crate) fn paired<D: PartialOrd>(self, dist2: impl Fn(u32, u32) -> D) -> PairedQuad {
+        let o = self.order(dist2);
+        let [v1, v2, v3, v4] = self.v;
+        let y_edge = self.axis == 1;
+        let (first_back, b) = if y_edge { (v3, v2) } else { (v2, v3) };
+        PairedQuad {
+            corners: ORDER[o].map(|i| self.v[i]),
+            a: v1,
+            da: v1.wrapping_sub(first_back),
+            b,
+            db: b.wrapping_sub(v4),
+            code: PAIRED_CODES[usize::from(y_edge)][o],
+        }
+    }
+}
+
+#[cfg(test)]
+mod quad_tests {
+    use voxel_core::formats::compact_quad_decode;
+
+    use super::*;
+
+    #[test]
+    fn paired_quads_give_records_of_their_corners() {
+        for axis in 0..3u8 {
+            for outward in [false, true] {
+                for short_14 in [false, true] {
+                    for (da, db) in [(1, 1), (63, 1), (1, 63), (63, 63)] {
+                        // v1 and its step back along the first pair's axis, and the other pair.
+                        let (a, b) = (5000, 3000);
+                        let v = if axis == 1 {
+                            [a, b, a - da, b - db]
+                        } else {
+                            [a, a - da, b, b - db]
+                        };
+                        let quad = Quad::new(axis, outward, v);
+                        let dist2 = |p: u32, q: u32| {
+                            let diagonal_14 = (p, q) == (v[0], v[3]);
+                            if diagonal_14 == short_14 { 1 } else { 2 }
+                        };
+                        let paired = quad.paired(dist2);
+                        assert_eq!(paired.corners, quad.corners(dist2));
+                        assert_eq!((paired.a, paired.da, paired.b, paired.db), (a, da, b, db));
+                        let record = [a, b, da | db << 6 | paired.code << 12].map(|x| x as u16);
+                        assert_eq!(compact_quad_decode(record), Ok(paired.corners));
+                    }
+                }
+            }
+        }
     }
 }

@@ -23,7 +23,7 @@ use crate::MeshError;
 /// empty mesh right after that check.
 ///
 /// ```
-/// use mesher::smooth::{GridShape, SmoothMesh, SurfaceNets};
+/// use mesher::smooth::{GridShape, SmoothMesh, SmoothQuads, SurfaceNets};
 /// use voxel_core::{BlockId, ChunkSize};
 ///
 /// // A sphere of radius 6 in the padded grid of a 16^3 chunk.
@@ -38,8 +38,10 @@ use crate::MeshError;
 /// let mut mesh = SmoothMesh::new();
 /// mesher.mesh_f32(&samples, shape, BlockId(1), &mut mesh).unwrap();
 /// assert!(mesh.quad_count() > 100);
-/// // 16 B per vertex + 8 B per quad; a closed sphere has 2 more vertices than quads.
-/// assert!(mesh.bytes_per_quad() < 24.5);
+/// // Chunk grids (at most 64 samples a row) keep the 6-byte compact quads.
+/// assert!(matches!(mesh.quads(), SmoothQuads::Compact(_)));
+/// // 16 B per vertex + 6 B per quad; a closed sphere has 2 more vertices than quads.
+/// assert!(mesh.bytes_per_quad() < 22.5);
 /// ```
 #[derive(Clone, Debug, Default)]
 pub struct SurfaceNets {
@@ -194,11 +196,11 @@ impl Sink for PackedSink<'_> {
         self.mesh.extend_vertices(&packed[..n])
     }
 
-    #[inline]
+    #[inline(always)]
     fn push_quad(&mut self, quad: Quad) {
         let p = &self.positions;
-        let q = quad.corners(|a, b| p[a as usize].distance_squared(p[b as usize]));
-        self.mesh.push_quad(q);
+        let q = quad.paired(|a, b| p[a as usize].distance_squared(p[b as usize]));
+        self.mesh.push_paired_quad(q);
     }
 }
 
@@ -579,7 +581,7 @@ fn extract<D: Density, S: Sink, const NARROW: bool>(
                 }
                 // Edge along x: the cells around it step back along y and z.
                 let q = [cur_row[x], cur_back[x], prev_row[x], prev_back[x]];
-                sink.push_quad(Quad::new(outward(x), q));
+                sink.push_quad(Quad::new(0, outward(x), q));
             }
             let mut bits = qy;
             while bits != 0 {
@@ -589,7 +591,7 @@ fn extract<D: Density, S: Sink, const NARROW: bool>(
                     break;
                 }
                 let q = [cur_row[x], prev_row[x], cur_row[x - 1], prev_row[x - 1]];
-                sink.push_quad(Quad::new(outward(x), q));
+                sink.push_quad(Quad::new(1, outward(x), q));
             }
             let mut bits = qz;
             while bits != 0 {
@@ -599,7 +601,7 @@ fn extract<D: Density, S: Sink, const NARROW: bool>(
                     break;
                 }
                 let q = [cur_row[x], cur_row[x - 1], cur_back[x], cur_back[x - 1]];
-                sink.push_quad(Quad::new(outward(x), q));
+                sink.push_quad(Quad::new(2, outward(x), q));
             }
         }
     }

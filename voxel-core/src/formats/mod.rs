@@ -9,6 +9,7 @@
 //! | [`ChunkDrawInfo`]      | 24 B  | a loaded chunk as the cull pass sees it                 |
 //! | [`MeshedChunkInfo`]    | 112 B | a meshed chunk's bounds and layer ranges                |
 //! | [`ChunkDrawIndirect`]  | 32 B  | one indexed indirect draw plus its chunk                |
+//! | [compact quad]         | 6 B   | one smooth-mesh quad: 4 vertex indices as `[u16; 3]`    |
 //!
 //! Each format is a `#[repr(C)]` [`bytemuck::Pod`] struct whose docs give the bit layout, with
 //! a size pinned at compile time, and a `...Fields` struct of plain values. `encode` checks
@@ -24,6 +25,13 @@
 //!
 //! Every format has a WGSL twin in [`FORMATS_WGSL`], and a `WGSL_LAYOUT` table that a test
 //! checks against naga's reflection of that source.
+//!
+//! The [compact quad] is the exception to the struct rule: a plain `[u16; 3]` record, since a
+//! 6-byte stride is what makes it small and no WGSL struct can have it (shaders read it from
+//! an `array<u32>`, as its docs show). It has [`compact_quad_encode`] and
+//! [`compact_quad_decode`] instead of a `Fields` struct.
+//!
+//! [compact quad]: compact_quad
 //!
 //! ```
 //! use voxel_core::BlockId;
@@ -48,6 +56,7 @@ mod block_vertex;
 mod chunk_draw_indirect;
 mod chunk_draw_info;
 mod clutter_unit;
+pub mod compact_quad;
 mod draw_block;
 mod error;
 mod face_direction;
@@ -62,6 +71,9 @@ pub use block_vertex::{BlockVertex, BlockVertexFields};
 pub use chunk_draw_indirect::{ChunkDrawIndirect, ChunkDrawIndirectFields};
 pub use chunk_draw_info::{ChunkDrawInfo, ChunkDrawInfoFields, ChunkKind};
 pub use clutter_unit::{ClutterUnit, ClutterUnitFields};
+pub use compact_quad::{
+    COMPACT_QUAD_BYTES, COMPACT_QUAD_MAX_DELTA, compact_quad_decode, compact_quad_encode,
+};
 pub use draw_block::{DrawBlock, DrawBlockFields, DrawBlockFlags};
 pub use error::FormatError;
 pub use face_direction::FaceDirection;
