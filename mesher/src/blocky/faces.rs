@@ -201,3 +201,35 @@ impl<const D: usize> SliceFaces<'_, D> {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use alloc::vec;
+
+    use super::*;
+
+    /// The one-add trick at its edges: word 0 of bit 1 is 0 (the subtraction borrows from the
+    /// key), the highest key and word bits, and both bit shifts the bulk paths use.
+    #[test]
+    fn extend_units_keeps_key_and_word_apart() {
+        let cases = [
+            (0u32, 0u32, 0u32),
+            (0, 6, 0x0123_4567),
+            (0x3FFF_FFC0, 0, u32::MAX),
+            (0x0003_F000, 6, 1 << 11),
+        ];
+        for (first, shift, key) in cases {
+            let bits = 0x8000_0000_0000_0002u64 | 0x0F0F << 20;
+            let mut out = vec![PackedQuad::default()];
+            extend_units(&mut out, bits, first, shift, key);
+            let want: Vec<PackedQuad> = (1..64u32)
+                .filter(|b| bits >> b & 1 == 1)
+                .map(|b| PackedQuad {
+                    position_size: first.wrapping_add((b - 1) << shift),
+                    face_ao_block: key,
+                })
+                .collect();
+            assert_eq!(out[1..], want[..], "first {first:#x} shift {shift}");
+        }
+    }
+}
