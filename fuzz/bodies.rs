@@ -21,6 +21,11 @@
 //!   code of `BlockVertex` / `ClutterUnit`, which is not a bijection: there the decoded normal
 //!   must be unit length and re-encode to a code that decodes to the same vector within
 //!   [`NORMAL_TOLERANCE`] per component.
+//! - `compact_quad` (6 bytes, `[u16; 3]`, no struct): decodes exactly when both deltas are in
+//!   `1..=` their base index, to the corners the layout table gives; re-encoding those corners
+//!   decodes to them again. Optional bytes `6..22` are 4 `u32` corners to encode: encoded
+//!   exactly when they fit by the definition (all `<= 65535`, and the neighbouring pairs
+//!   (0, 1), (2, 3) or (1, 2), (3, 0) each differ by `1..=63`), then decoded back unchanged.
 //! - `block_vertex` and `clutter_unit` read optional trailing bytes (see each body) for the
 //!   quantization extent, a value to check the stated unorm error bound on, an `oct32` code, and
 //!   directions to check the stated octahedral error bounds on.
@@ -29,14 +34,15 @@
 use std::mem::size_of;
 
 use glam::Vec3;
+use voxel_core::formats::compact_quad::COMPACT_QUAD_FORMS;
 use voxel_core::formats::quantize::{
     UNORM8_MAX, UNORM16_MAX, unorm8_decode, unorm8_encode, unorm16_decode, unorm16_encode,
 };
 use voxel_core::formats::{
-    BlockVertex, ChunkDrawIndirect, ChunkDrawInfo, ChunkKind, ClutterUnit, DrawBlock,
-    DrawBlockFlags, FaceDirection, FormatError, MeshedChunkInfo, OCT16_MAX_ERROR_DEGREES,
-    OCT32_MAX_ERROR_DEGREES, PackedQuad, UnormExtent, oct16_decode, oct16_encode, oct32_decode,
-    oct32_encode,
+    BlockVertex, COMPACT_QUAD_MAX_DELTA, ChunkDrawIndirect, ChunkDrawInfo, ChunkKind, ClutterUnit,
+    DrawBlock, DrawBlockFlags, FaceDirection, FormatError, MeshedChunkInfo,
+    OCT16_MAX_ERROR_DEGREES, OCT32_MAX_ERROR_DEGREES, PackedQuad, UnormExtent, compact_quad_decode,
+    compact_quad_encode, oct16_decode, oct16_encode, oct32_decode, oct32_encode,
 };
 use voxel_core::storage::{
     CODEC_VERSION, CodecError, DenseChunk, HEADER_LEN, MAGIC, VoxelStorage, decode_chunk,
@@ -977,4 +983,65 @@ pub fn chunk_draw_indirect(data: &[u8]) {
         packed,
         "encode(decode(x)) == x"
     );
+}
+
+/// Compact quad (6 bytes, three little-endian `u16`): decodes exactly when `1 <= da <= a` and
+/// `1 <= db <= b`, to the corners of the layout table (form and rotation), and those corners
+/// re-encode to a record that decodes to them; bytes `6..22`, when present, are 4 little-endian
+/// `u32` corners that encode exactly when they fit and then decode back unchanged.
+pub fn compact_quad(data: &[u8]) {
+    let Some(bytes) = read::<[u8; 6]>(data) else {
+        return;
+    };
+    let record = [0, 2, 4].map(|i| u16::from_le_bytes([bytes[i], bytes[i + 1]]));
+    let [a, b, info] = record.map(u32::from);
+    let (da, db) = (info & 63, (info >> 6) & 63);
+    let (form, rotation) = ((info >> 12) & 3, info >> 14);
+    match compact_quad_decode(record) {
+        Ok(corners) => {
+            assert!((1..=a).contains(&da) && (1..=b).contains(&db), "{record:?}");
+            // The layout table: corner i is the selector at (i + rotation) % 4 of the form.
+            let values = [a, a - da, b, b - db];
+            for (i, &c) in corners.iter().enumerate() {
+                let s = COMPACT_QUAD_FORMS[form as usize][(i + rotation as usize) % 4];
+                assert_eq!(c, values[usize::from(s)], "corner {i} of {record:?}");
+            }
+            let again = compact_quad_encode(corners).expect("decoded corners must encode");
+            assert_eq!(compact_quad_decode(again), Ok(corners), "{record:?}");
+        }
+        Err(err) => match err {
+            FormatError::IntegerOutOfRange {
+                field: "CompactQuad.da",
+                value,
+                ..
+            } => assert!(value == i64::from(da) && (da == 0 || da > a), "{err:?}"),
+            FormatError::IntegerOutOfRange {
+                field: "CompactQuad.db",
+                value,
+                ..
+            } => {
+                assert!((1..=a).contains(&da), "da is checked first: {err:?}");
+                assert!(value == i64::from(db) && (db == 0 || db > b), "{err:?}");
+            }
+            other => panic!("unexpected compact quad error {other:?}"),
+        },
+    }
+
+    // Optional corners to encode.
+    let corners: Vec<u32> = (0..4).filter_map(|k| u32_at(data, 6 + 4 * k)).collect();
+    let Ok(corners) = <[u32; 4]>::try_from(corners) else {
+        return;
+    };
+    let near = |i: usize, j: usize| {
+        (1..=COMPACT_QUAD_MAX_DELTA).contains(&corners[i].abs_diff(corners[j]))
+    };
+    let fits = corners.iter().all(|&c| c <= 0xFFFF)
+        && ((near(0, 1) && near(2, 3)) || (near(1, 2) && near(3, 0)));
+    match compact_quad_encode(corners) {
+        Some(r) => {
+            assert!(fits, "encoded {corners:?}, which does not fit");
+            assert_eq!(compact_quad_decode(r), Ok(corners), "{corners:?}");
+        }
+        None => assert!(!fits, "refused {corners:?}, which fits"),
+    }
 }

@@ -21,7 +21,7 @@ use voxel_core::formats::{
     BlockVertex, BlockVertexFields, ChunkDrawIndirect, ChunkDrawIndirectFields, ChunkDrawInfo,
     ChunkDrawInfoFields, ChunkKind, ClutterUnit, ClutterUnitFields, DrawBlock, DrawBlockFields,
     DrawBlockFlags, FaceDirection, FaceLayerRange, LayerRange, MeshedChunkInfo,
-    MeshedChunkInfoFields, PackedQuad, PackedQuadFields, UnormExtent,
+    MeshedChunkInfoFields, PackedQuad, PackedQuadFields, UnormExtent, compact_quad_encode,
 };
 use voxel_core::storage::{DenseChunk, HEADER_LEN, MAGIC, PaletteChunk, encode_chunk};
 use voxel_core::{BlockId, ChunkCoord, ChunkSize, LocalPos, VoxelStorage};
@@ -30,7 +30,7 @@ use voxel_core::{BlockId, ChunkCoord, ChunkSize, LocalPos, VoxelStorage};
 type Target = (&'static str, fn(&[u8]));
 
 /// Every fuzz target, in the order of `fuzz/Cargo.toml`.
-const TARGETS: [Target; 8] = [
+const TARGETS: [Target; 9] = [
     ("chunk_codec", bodies::chunk_codec),
     ("draw_block", bodies::draw_block),
     ("packed_quad", bodies::packed_quad),
@@ -39,6 +39,7 @@ const TARGETS: [Target; 8] = [
     ("chunk_draw_info", bodies::chunk_draw_info),
     ("meshed_chunk_info", bodies::meshed_chunk_info),
     ("chunk_draw_indirect", bodies::chunk_draw_indirect),
+    ("compact_quad", bodies::compact_quad),
 ];
 
 fn fuzz_dir() -> PathBuf {
@@ -131,6 +132,7 @@ replay_tests!(
     chunk_draw_info,
     meshed_chunk_info,
     chunk_draw_indirect,
+    compact_quad,
 );
 
 #[test]
@@ -165,6 +167,7 @@ fn seeds() -> Vec<(&'static str, Seeds)> {
         ("chunk_draw_info", chunk_draw_info_seeds()),
         ("meshed_chunk_info", meshed_chunk_info_seeds()),
         ("chunk_draw_indirect", chunk_draw_indirect_seeds()),
+        ("compact_quad", compact_quad_seeds()),
     ]
 }
 
@@ -581,5 +584,40 @@ fn chunk_draw_indirect_seeds() -> Seeds {
         ("valid-typical", bytes_of(&typical)),
         ("valid-all-ones", vec![0xFF; 32]),
         ("bad-truncated", bytes_of(&typical)[..31].to_vec()),
+    ]
+}
+
+fn compact_quad_seeds() -> Seeds {
+    let record = |r: [u16; 3]| bytemuck::cast_slice::<u16, u8>(&r).to_vec();
+    let with_corners = |mut bytes: Vec<u8>, corners: [u32; 4]| {
+        bytes.extend(corners.iter().flat_map(|c| c.to_le_bytes()));
+        bytes
+    };
+    // A SurfaceNets z-edge quad (form 1, rotation 0) and an x-edge quad of a 64-wide grid.
+    let typical = compact_quad_encode([500, 499, 437, 438]).expect("fits");
+    let wide_step = compact_quad_encode([9000, 8937, 5000, 4937]).expect("fits");
+    vec![
+        ("valid-typical", record(typical)),
+        ("valid-deltas-63", record(wide_step)),
+        (
+            "valid-max",
+            record([u16::MAX, u16::MAX, 63 | 63 << 6 | 0xf << 12]),
+        ),
+        (
+            "valid-with-fitting-corners",
+            with_corners(record(typical), [7, 70, 69, 6]),
+        ),
+        (
+            "valid-with-misfit-corners",
+            with_corners(record(typical), [1000, 936, 100, 99]),
+        ),
+        (
+            "valid-with-wide-corners",
+            with_corners(record(typical), [65_536, 65_535, 3, 2]),
+        ),
+        ("bad-zero", vec![0; 6]),
+        ("bad-da-past-a", record([5, 100, 6 | 1 << 6])),
+        ("bad-db-zero", record([100, 100, 1])),
+        ("bad-truncated", record(typical)[..5].to_vec()),
     ]
 }
