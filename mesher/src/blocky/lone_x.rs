@@ -158,15 +158,15 @@ fn emit_row<const D: usize>(
             code | (((plane >> x) & 1) as usize) << k
         })
     };
-    let key = |x: usize| {
-        let id = u32::from(ids.get(x).copied().unwrap_or(0));
+    let key_of = |id: u16, code: usize| {
         let ao = if ao {
-            u32::from(Direction::<D>::AO_TABLE[code(x) & 511])
+            u32::from(Direction::<D>::AO_TABLE[code & 511])
         } else {
             0xFF
         };
-        id << 11 | ao << 3 | D as u32
+        u32::from(id) << 11 | ao << 3 | D as u32
     };
+    let key = |x: usize| key_of(ids.get(x).copied().unwrap_or(0), code(x));
     let check = |key: u32, x: usize, known: &mut u64| {
         let id = key >> 11;
         if id < 64 && (*known >> id) & 1 != 0 {
@@ -187,17 +187,22 @@ fn emit_row<const D: usize>(
     let word = (((y - 1) << 6) | ((z - 1) << 12)) as u32;
     let mut rest = bits;
     {
-        // Faces with the first face's front neighbourhood and id share its key.
+        // Faces with the first face's front neighbourhood and id share its key. One pass over
+        // the planes gives both the first face's neighbourhood code and the faces that share it.
         let x0 = bits.trailing_zeros() as usize & 63;
-        let key0 = key(x0);
         let mut same = bits;
-        if ao {
-            for &plane in planes {
-                let want = 0u64.wrapping_sub((plane >> x0) & 1);
-                same &= !(plane ^ want);
-            }
+        let mut code0 = 0;
+        for (k, &plane) in planes.iter().enumerate() {
+            let bit = (plane >> x0) & 1;
+            code0 |= (bit as usize) << k;
+            same &= !(plane ^ 0u64.wrapping_sub(bit));
         }
-        same &= row_equal(ids, ids.get(x0).copied().unwrap_or(0));
+        if !ao {
+            same = bits;
+        }
+        let id0 = ids.get(x0).copied().unwrap_or(0);
+        let key0 = key_of(id0, code0);
+        same &= row_equal(ids, id0);
         check(key0, x0, known)?;
         extend_units(out, same, word, 0, key0);
         rest &= !same;
