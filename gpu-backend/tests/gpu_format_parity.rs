@@ -29,7 +29,8 @@ use parity::expected::{self, Word};
 use parity::harness::{Entry, Harness};
 use parity::inputs;
 use voxel_core::ChunkSize;
-use voxel_core::formats::UnormExtent;
+use voxel_core::formats::compact_quad::COMPACT_QUAD_FORMS;
+use voxel_core::formats::{SmoothQuads, UnormExtent, compact_quad_decode};
 
 /// Largest accepted distance, in units in the last place, between a GPU and a CPU normal
 /// component. Measured: 0 on lavapipe (Mesa 22.3.6, llvmpipe), 3 on an NVIDIA H200 (Vulkan,
@@ -135,6 +136,9 @@ const CHUNK_DRAW_INDIRECT: Entry = entry!("decode_chunk_draw_indirect", 8, 8, fa
 const OCT16: Entry = entry!("decode_oct16", 9, 3, false);
 const OCT32: Entry = entry!("decode_oct32", 9, 3, false);
 const UNORM: Entry = entry!("decode_unorm", 9, 2, true);
+const COMPACT_QUADS: Entry = entry!("decode_compact_quads", 9, 4, false);
+const U16_QUADS: Entry = entry!("decode_u16_quads", 9, 4, false);
+const U32_QUADS: Entry = entry!("decode_u32_quads", 9, 4, false);
 
 /// A fresh seed and its generator, or `None` when there is no adapter.
 fn setup() -> Option<(u64, Rng)> {
@@ -373,5 +377,65 @@ fn broken_twins_are_caught() {
         };
         eprintln!("{what}: {} mismatching words", found.mismatches);
         assert!(found.mismatches > 0, "{what} went unnoticed");
+    }
+}
+
+/// Smooth quads in all three forms, read from their padded words by the WGSL twins
+/// (`smooth_quad_word`, `smooth_quad_corner`, `compact_quad_corner`) exactly as `SmoothQuads::get`
+/// decodes them: random compact records of every form and rotation (an odd count, so the
+/// compact buffer ends in a padded half word) with deltas 1..=63 and indices up to 65,535, the
+/// same quads as u16 indices, and as u32 indices shifted past 65,535.
+#[test]
+fn smooth_quads_in_every_form() {
+    let Some((seed, mut rng)) = setup() else {
+        return;
+    };
+    let mut records: Vec<[u16; 3]> = Vec::new();
+    for k in 0..4097u32 {
+        let (form, rotation) = (k % 4, (k / 4) % 4);
+        let edge = k < 16;
+        let delta = |rng: &mut Rng| if edge { 63 } else { 1 + rng.below(63) };
+        let base = |rng: &mut Rng| {
+            if edge {
+                65_535
+            } else {
+                63 + rng.below(65_536 - 63)
+            }
+        };
+        let (a, da, b, db) = (
+            base(&mut rng),
+            delta(&mut rng),
+            base(&mut rng),
+            delta(&mut rng),
+        );
+        let record = [a, b, da | db << 6 | form << 12 | rotation << 14].map(|v| v as u16);
+        assert!(compact_quad_decode(record).is_ok());
+        records.push(record);
+    }
+    assert_eq!(COMPACT_QUAD_FORMS.len(), 4);
+    let corners: Vec<[u32; 4]> = SmoothQuads::Compact(&records).iter().collect();
+    let narrow: Vec<[u16; 4]> = corners.iter().map(|q| q.map(|i| i as u16)).collect();
+    let wide: Vec<[u32; 4]> = corners.iter().map(|q| q.map(|i| i + 70_000)).collect();
+    let harness = harness().expect("set up");
+    for (entry, quads) in [
+        (COMPACT_QUADS, SmoothQuads::Compact(&records)),
+        (U16_QUADS, SmoothQuads::U16(&narrow)),
+        (U32_QUADS, SmoothQuads::U32(&wide)),
+    ] {
+        let mut words = quads.bytes().to_vec();
+        words.resize(4 * quads.word_len(), 0);
+        let got = harness.run(entry, &words, quads.len(), 1.0);
+        let expected: Vec<Word> = quads.iter().flatten().map(Word::Exact).collect();
+        assert_eq!(expected.len(), 4 * quads.len());
+        let outcome = compare(&got, &expected, 4, 0, |i| format!("{:?}", quads.get(i)));
+        assert!(
+            outcome.mismatches == 0,
+            "{}: {} of {} corners differ from SmoothQuads::get (seed {seed}; adapter {}):\n{}",
+            entry.name,
+            outcome.mismatches,
+            expected.len(),
+            harness.ctx.capabilities.adapter,
+            outcome.report
+        );
     }
 }

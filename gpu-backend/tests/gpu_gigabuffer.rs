@@ -10,7 +10,10 @@ use gpu_backend::gigabuffer::{
 };
 use gpu_backend::test_support::headless_or_skip;
 use gpu_backend::{DeviceOptions, GpuContext};
-use voxel_core::formats::{BlockVertex, ClutterUnit, DrawBlock, MeshedChunkInfoFields, PackedQuad};
+use voxel_core::formats::{
+    BlockVertex, ClutterUnit, DrawBlock, MeshedChunkInfoFields, PackedQuad, SmoothQuadForm,
+    SmoothQuads,
+};
 
 /// One chunk's layers, owned.
 #[derive(Clone, Debug, Default)]
@@ -18,7 +21,11 @@ struct Owned {
     opaque: [Vec<PackedQuad>; 6],
     transparent: [Vec<PackedQuad>; 6],
     smooth_vertices: Vec<BlockVertex>,
-    smooth_quads: Vec<[u32; 4]>,
+    /// The smooth quads in one of the three forms (the other two stay empty).
+    smooth_form: SmoothQuadForm,
+    compact: Vec<[u16; 3]>,
+    quads16: Vec<[u16; 4]>,
+    quads32: Vec<[u32; 4]>,
     clutter: Vec<ClutterUnit>,
     draw_blocks: Vec<DrawBlock>,
 }
@@ -43,9 +50,36 @@ impl Owned {
         o.smooth_vertices = rng.bytes(vertices);
         if vertices > 0 {
             let quads = n(rng);
-            o.smooth_quads = (0..quads)
+            let form = rng.below(3);
+            let corners: Vec<[u32; 4]> = (0..quads)
                 .map(|_| std::array::from_fn(|_| rng.below(vertices as u32)))
                 .collect();
+            let corners = corners.into_iter();
+            match form {
+                0 => o.quads32 = corners.collect(),
+                1 => {
+                    o.smooth_form = SmoothQuadForm::U16;
+                    o.quads16 = corners.map(|q: [u32; 4]| q.map(|i| i as u16)).collect();
+                }
+                _ if vertices >= 2 => {
+                    // Compact records of every form and rotation naming the chunk's vertices
+                    // (an odd count leaves a padded half word).
+                    o.smooth_form = SmoothQuadForm::Compact;
+                    let v = vertices as u32;
+                    o.compact = (0..quads)
+                        .map(|_| {
+                            let (a, b) = (1 + rng.below(v - 1), 1 + rng.below(v - 1));
+                            let (da, db) = (1 + rng.below(a.min(63)), 1 + rng.below(b.min(63)));
+                            let code = rng.below(16);
+                            [a, b, da | db << 6 | code << 12].map(|x| x as u16)
+                        })
+                        .collect();
+                }
+                _ => o.quads32 = corners.collect(),
+            }
+            if o.smooth_form == SmoothQuadForm::Compact && o.compact.is_empty() {
+                o.smooth_form = SmoothQuadForm::U32;
+            }
         }
         let clutter = n(rng);
         o.clutter = rng.bytes(clutter);
@@ -59,9 +93,17 @@ impl Owned {
             opaque_quads: std::array::from_fn(|f| self.opaque[f].as_slice()),
             transparent_quads: std::array::from_fn(|f| self.transparent[f].as_slice()),
             smooth_vertices: &self.smooth_vertices,
-            smooth_quads: &self.smooth_quads,
+            smooth_quads: self.smooth_quads(),
             clutter_units: &self.clutter,
             draw_blocks: &self.draw_blocks,
+        }
+    }
+
+    fn smooth_quads(&self) -> SmoothQuads<'_> {
+        match self.smooth_form {
+            SmoothQuadForm::Compact => SmoothQuads::Compact(&self.compact),
+            SmoothQuadForm::U16 => SmoothQuads::U16(&self.quads16),
+            SmoothQuadForm::U32 => SmoothQuads::U32(&self.quads32),
         }
     }
 
@@ -76,7 +118,13 @@ impl Owned {
                 .flat_map(|f| bytemuck::cast_slice::<_, u8>(f).to_vec())
                 .collect(),
             DataKind::SmoothVertices => bytes(bytemuck::cast_slice(&self.smooth_vertices)),
-            DataKind::SmoothQuads => bytes(bytemuck::cast_slice(&self.smooth_quads)),
+            DataKind::SmoothQuads => {
+                // The mesher's bytes, zero-padded to whole words.
+                let quads = self.smooth_quads();
+                let mut b = bytes(quads.bytes());
+                b.resize(4 * quads.word_len(), 0);
+                b
+            }
             DataKind::Clutter => bytes(bytemuck::cast_slice(&self.clutter)),
             DataKind::DrawBlocks => bytes(bytemuck::cast_slice(&self.draw_blocks)),
         }
@@ -104,6 +152,13 @@ fn check_resident(
     ranges: &ChunkRanges,
     seed: u64,
 ) {
+    let quads = chunk.smooth_quads();
+    assert_eq!(
+        ranges.smooth_quad_count as usize,
+        quads.len(),
+        "seed {seed}"
+    );
+    assert_eq!(ranges.smooth_quad_form, quads.form(), "seed {seed}");
     for kind in DataKind::ALL {
         let range = ranges.range_of(kind);
         let expected = chunk.expected(kind);
@@ -284,7 +339,7 @@ fn invalid_input_is_an_error() {
     let bad = [[0, 1, 2, 0], [0, 1, 2, 3]];
     let layers = ChunkLayersData {
         smooth_vertices: &vertices,
-        smooth_quads: &bad,
+        smooth_quads: SmoothQuads::U32(&bad),
         ..Default::default()
     };
     let e = gb.upload(&layers).unwrap_err();
@@ -296,6 +351,30 @@ fn invalid_input_is_an_error() {
             vertices: 3
         }
     );
+    // In every form: a compact record naming vertex 3 (a = 3, b = 2), and one that does not
+    // decode (da = 0).
+    let (fine, past) = ([2, 2, 1 | 1 << 6], [3, 2, 1 | 1 << 6]);
+    for (records, expected) in [
+        (
+            [fine, past],
+            GigabufferError::SmoothIndexOutOfRange {
+                quad: 1,
+                index: 3,
+                vertices: 3,
+            },
+        ),
+        (
+            [fine, [2, 2, 1 << 6]],
+            GigabufferError::BadCompactQuad { quad: 1 },
+        ),
+    ] {
+        let layers = ChunkLayersData {
+            smooth_vertices: &vertices,
+            smooth_quads: SmoothQuads::Compact(&records),
+            ..Default::default()
+        };
+        assert_eq!(gb.upload(&layers).unwrap_err(), expected);
+    }
     assert_eq!(gb.resident().used_bytes(), 0);
     assert_eq!(gb.pending_bytes(), 0, "nothing queued for a rejected chunk");
 }

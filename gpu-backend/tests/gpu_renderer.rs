@@ -1,11 +1,16 @@
 //! The renderer's API on a real device: uploads appear, frees disappear, bad input is an
-//! error naming the problem (never a panic), and a frame is timed pass by pass.
+//! error naming the problem (never a panic), a frame is timed pass by pass, and smooth quads
+//! render the same in each of their three forms.
 
+use glam::{Vec2, Vec3};
 use gpu_backend::DeviceOptions;
 use gpu_backend::gigabuffer::ChunkLayersData;
 use gpu_backend::render::{ChunkMeshData, RenderCamera, RenderError, Renderer, RendererConfig};
 use gpu_backend::test_support::headless_or_skip;
-use voxel_core::formats::{PackedQuad, PackedQuadFields};
+use voxel_core::formats::{
+    BlockVertex, BlockVertexFields, PackedQuad, PackedQuadFields, SmoothQuads, UnormExtent,
+    compact_quad_encode,
+};
 use voxel_core::{
     BlockId, ChunkCoord, ChunkSize, FaceDirection, Material, MaterialPalette, WorldPos,
 };
@@ -146,4 +151,112 @@ fn bad_input_is_an_error() {
     ));
     // Still renders.
     renderer.render().unwrap();
+}
+
+/// A smooth mesh's vertices and its quads in the three forms: compact records, u16 and u32
+/// indices.
+struct SmoothFloor {
+    vertices: Vec<BlockVertex>,
+    compact: Vec<[u16; 3]>,
+    narrow: Vec<[u16; 4]>,
+    wide: Vec<[u32; 4]>,
+}
+
+/// A wavy smooth floor over chunk (0, 0, 0) with 15 x 15 quads (an odd count), its vertices in
+/// scan order.
+fn wavy_floor() -> SmoothFloor {
+    let n = 16u32;
+    let extent = UnormExtent::padded_chunk(ChunkSize::S16);
+    let mut vertices = Vec::new();
+    for z in 0..n {
+        for x in 0..n {
+            let y = 2.0 + 0.8 * ((x as f32) * 0.7).sin() * ((z as f32) * 0.5).cos();
+            let fields = BlockVertexFields {
+                // Decoded positions are chunk-local + 1 (the NoCubes frame).
+                position: Vec3::new(x as f32 + 1.0, y + 1.0, z as f32 + 1.0),
+                normal: Vec3::Y,
+                uv: Vec2::ZERO,
+                block: BlockId(1),
+                extra: 0,
+            };
+            vertices.push(BlockVertex::encode(&fields, extent).expect("in the extent"));
+        }
+    }
+    let mut quads = Vec::new();
+    for z in 0..n - 1 {
+        for x in 0..n - 1 {
+            let i = |dx: u32, dz: u32| x + dx + (z + dz) * n;
+            // Counter-clockwise seen from above; every other quad starts at another corner.
+            let q = [i(0, 0), i(0, 1), i(1, 1), i(1, 0)];
+            let k = ((x + z) % 4) as usize;
+            quads.push(std::array::from_fn(|c| q[(c + k) % 4]));
+        }
+    }
+    let compact = quads
+        .iter()
+        .map(|&q| compact_quad_encode(q).expect("neighbouring rows of 16 vertices fit"))
+        .collect();
+    let narrow = quads.iter().map(|q| q.map(|i| i as u16)).collect();
+    SmoothFloor {
+        vertices,
+        compact,
+        narrow,
+        wide: quads,
+    }
+}
+
+#[test]
+fn smooth_quads_render_alike_in_every_form() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let SmoothFloor {
+        vertices,
+        compact,
+        narrow,
+        wide,
+    } = wavy_floor();
+    assert_eq!(
+        compact.len() % 2,
+        1,
+        "an odd count: the compact buffer ends in a pad"
+    );
+    let mut images = Vec::new();
+    for quads in [
+        SmoothQuads::Compact(&compact),
+        SmoothQuads::U16(&narrow),
+        SmoothQuads::U32(&wide),
+    ] {
+        let config = RendererConfig::new(SIZE, SIZE, ChunkSize::S16);
+        let mut renderer = Renderer::new(&ctx, &config, &palette()).unwrap();
+        renderer.set_camera(&camera_above());
+        let mesh = ChunkMeshData {
+            coord: ChunkCoord::new(0, 0, 0),
+            layers: ChunkLayersData {
+                smooth_vertices: &vertices,
+                smooth_quads: quads,
+                ..Default::default()
+            },
+        };
+        renderer.upload_chunk(&mesh).unwrap();
+        assert_eq!(renderer.smooth_quad_count(), quads.len() as u64);
+        assert_eq!(
+            renderer.gigabuffer().resident().used_bytes(),
+            (16 * vertices.len() + 4 * quads.word_len()) as u64,
+            "{:?}: the mesher's bytes, padded to whole words",
+            quads.form()
+        );
+        renderer.render().unwrap();
+        let image = renderer.read_image().unwrap();
+        // The floor fills the view (nothing is sky).
+        assert!(image.depth.iter().all(|&d| d > 0.0), "{:?}", quads.form());
+        images.push((quads.form(), image));
+    }
+    let (_, first) = &images[0];
+    for (form, image) in &images[1..] {
+        assert!(
+            image.rgba == first.rgba && image.depth == first.depth,
+            "{form:?} renders differently from the compact quads"
+        );
+    }
 }

@@ -53,12 +53,12 @@ pub fn render_camera(camera: &Camera, size: ChunkSize) -> RenderCamera {
     )
 }
 
-/// The upload view of a meshed chunk's layers; `smooth_quads` are the mesh's smooth quads
-/// widened to `u32` ([`smooth_quads_u32`]).
-pub fn layers_of<'a>(mesh: &'a ChunkMesh, smooth_quads: &'a [[u32; 4]]) -> ChunkLayersData<'a> {
+/// The upload view of a meshed chunk's layers: the mesher's buffers as they are (the smooth
+/// quads in the form the mesh chose, compact where it fits).
+pub fn layers_of(mesh: &ChunkMesh) -> ChunkLayersData<'_> {
     let mut layers = ChunkLayersData {
         smooth_vertices: mesh.smooth.vertices(),
-        smooth_quads,
+        smooth_quads: mesh.smooth.quads(),
         ..Default::default()
     };
     for face in FaceDirection::ALL {
@@ -67,11 +67,6 @@ pub fn layers_of<'a>(mesh: &'a ChunkMesh, smooth_quads: &'a [[u32; 4]]) -> Chunk
         layers.transparent_quads[i] = mesh.blocky.transparent.face(face);
     }
     layers
-}
-
-/// The smooth layer's quads of `mesh`, widened to `u32` (the gigabuffer's element).
-pub fn smooth_quads_u32(mesh: &ChunkMesh) -> Vec<[u32; 4]> {
-    mesh.smooth.quads().iter().collect()
 }
 
 /// Meshes every stored chunk of `world` (greedy quads with AO, in parallel) and uploads the
@@ -102,10 +97,9 @@ pub fn upload_world_with<C: VoxelStorage + Sync>(
         .iter()
         .filter(|m| !m.blocky.is_empty() || !m.smooth.is_empty())
     {
-        let smooth_quads = smooth_quads_u32(mesh);
         let data = ChunkMeshData {
             coord: mesh.coord,
-            layers: layers_of(mesh, &smooth_quads),
+            layers: layers_of(mesh),
         };
         let handle = renderer
             .upload_chunk(&data)

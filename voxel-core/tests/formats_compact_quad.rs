@@ -1,11 +1,12 @@
 //! Compact quads: every record decodes without panicking, encoding gives back the exact
-//! corners of every quad that fits, and exactly the quads that fit are encoded.
+//! corners of every quad that fits, and exactly the quads that fit are encoded; `SmoothQuads`
+//! in its three forms.
 
 use proptest::prelude::*;
 use voxel_core::formats::compact_quad::{COMPACT_QUAD_FORMS, COMPACT_QUAD_SELECTORS};
 use voxel_core::formats::{
-    COMPACT_QUAD_BYTES, COMPACT_QUAD_MAX_DELTA, FormatError, compact_quad_decode,
-    compact_quad_encode,
+    COMPACT_QUAD_BYTES, COMPACT_QUAD_MAX_DELTA, FormatError, SmoothQuadForm, SmoothQuads,
+    compact_quad_decode, compact_quad_encode,
 };
 
 /// The record with the given fields (the documented layout).
@@ -143,4 +144,40 @@ proptest! {
             None => prop_assert!(!fits(corners)),
         }
     }
+}
+
+#[test]
+fn smooth_quads_in_every_form() {
+    let records = [[5u16, 9, 1 | 2 << 6 | 2 << 12], [70, 64, 63 | 1 << 6]];
+    let narrow = [[0u16, 1, 2, 3], [7, 6, 5, 4]];
+    let wide = [[0u32, 1, 2, 70_000]];
+    let compact = SmoothQuads::Compact(&records);
+    assert_eq!(compact.get(0), Some([5, 4, 9, 7]));
+    assert_eq!(compact.get(2), None);
+    assert_eq!((compact.bytes().len(), compact.word_len()), (12, 3));
+    let odd = SmoothQuads::Compact(&records[..1]);
+    assert_eq!((odd.bytes().len(), odd.word_len()), (6, 2));
+    let u16s = SmoothQuads::U16(&narrow);
+    assert_eq!(
+        u16s.iter().collect::<Vec<_>>(),
+        [[0, 1, 2, 3], [7, 6, 5, 4]]
+    );
+    assert_eq!((u16s.word_len(), u16s.quad_bytes()), (4, 8));
+    let u32s = SmoothQuads::U32(&wide);
+    assert_eq!(u32s.get(0), Some([0, 1, 2, 70_000]));
+    assert_eq!((u32s.word_len(), u32s.quad_bytes()), (4, 16));
+    for (quads, form) in [
+        (compact, SmoothQuadForm::Compact),
+        (u16s, SmoothQuadForm::U16),
+        (u32s, SmoothQuadForm::U32),
+    ] {
+        assert_eq!(quads.form(), form);
+        assert_eq!(quads.bytes().len(), form.quad_bytes() * quads.len());
+    }
+    // A record that does not decode is skipped, not a panic.
+    let bad = [[5u16, 9, 0]];
+    assert_eq!(SmoothQuads::Compact(&bad).get(0), None);
+    assert_eq!(SmoothQuads::Compact(&bad).iter().count(), 0);
+    assert!(SmoothQuads::default().is_empty());
+    assert_eq!(SmoothQuads::default().form(), SmoothQuadForm::Compact);
 }

@@ -8,12 +8,13 @@ use std::mem::size_of;
 use naga::proc::Layouter;
 use naga::valid::{Capabilities, ValidationFlags, Validator};
 use naga::{Expression, Literal, Module, Scalar, TypeInner};
+use voxel_core::formats::compact_quad::COMPACT_QUAD_SELECTORS;
 use voxel_core::formats::octahedral::{SNORM8_STEP, SNORM16_STEP};
 use voxel_core::formats::quantize::{UNORM8_STEP, UNORM16_STEP};
 use voxel_core::formats::{
     ALL_WGSL_STRUCTS, BlockVertex, ChunkDrawIndirect, ChunkDrawInfo, ChunkKind, ClutterUnit,
     DrawBlock, DrawBlockFlags, FORMATS_WGSL, FaceDirection, FaceLayerRange, LayerRange,
-    MeshedChunkInfo, PackedQuad, WgslStruct, WgslType,
+    MeshedChunkInfo, PackedQuad, SmoothQuadForm, WgslStruct, WgslType,
 };
 
 fn parse(source: &str) -> Module {
@@ -267,6 +268,10 @@ fn wgsl_constants_equal_the_rust_constants() {
         ("CHUNK_KIND_EMPTY", ChunkKind::Empty as u32),
         ("CHUNK_KIND_MESH", ChunkKind::Mesh as u32),
         ("CHUNK_KIND_SPRITE", ChunkKind::Sprite as u32),
+        ("SMOOTH_QUADS_COMPACT", SmoothQuadForm::Compact as u32),
+        ("SMOOTH_QUADS_U16", SmoothQuadForm::U16 as u32),
+        ("SMOOTH_QUADS_U32", SmoothQuadForm::U32 as u32),
+        ("COMPACT_QUAD_SELECTORS", COMPACT_QUAD_SELECTORS),
     ];
     let face_names = [
         "FACE_POS_X",

@@ -63,6 +63,11 @@ pub enum GigabufferError {
         /// Vertices in the chunk.
         vertices: usize,
     },
+    /// A compact smooth quad record does not decode (a delta of 0 or past its base index).
+    BadCompactQuad {
+        /// Quad index.
+        quad: usize,
+    },
 }
 
 impl fmt::Display for GigabufferError {
@@ -118,6 +123,9 @@ impl fmt::Display for GigabufferError {
                 f,
                 "smooth quad {quad} names vertex {index}, but the chunk has {vertices} vertices"
             ),
+            GigabufferError::BadCompactQuad { quad } => {
+                write!(f, "compact smooth quad {quad} does not decode")
+            }
         }
     }
 }

@@ -13,8 +13,10 @@ pub enum DataKind {
     Quads,
     /// Smooth-surface vertices, [`BlockVertex`], 16 bytes.
     SmoothVertices,
-    /// Smooth-surface quads, `[u32; 4]` (16 bytes): 4 vertex indices relative to the chunk's
-    /// first smooth vertex, counter-clockwise from outside (the mesher's `SmoothMesh` quads).
+    /// Smooth-surface quads, as `u32` words (4 bytes): a chunk's quads are the bytes of the
+    /// mesher's [`SmoothQuads`](voxel_core::formats::SmoothQuads) (compact 6-byte records, or 4
+    /// `u16` / `u32` vertex indices per quad, relative to the chunk's first smooth vertex),
+    /// zero-padded to a whole word; the draw record carries the form.
     SmoothQuads,
     /// Clutter instances, [`ClutterUnit`], 20 bytes.
     Clutter,
@@ -46,7 +48,7 @@ impl DataKind {
         (match self {
             DataKind::Quads => size_of::<PackedQuad>(),
             DataKind::SmoothVertices => size_of::<BlockVertex>(),
-            DataKind::SmoothQuads => size_of::<[u32; 4]>(),
+            DataKind::SmoothQuads => size_of::<u32>(),
             DataKind::Clutter => size_of::<ClutterUnit>(),
             DataKind::DrawBlocks => size_of::<DrawBlock>(),
         }) as u32

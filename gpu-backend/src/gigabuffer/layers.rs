@@ -2,7 +2,7 @@
 
 use voxel_core::formats::{
     BlockVertex, ClutterUnit, DrawBlock, FaceLayerRange, LayerRange, MeshedChunkInfoFields,
-    PackedQuad,
+    PackedQuad, SmoothQuadForm, SmoothQuads,
 };
 
 use super::{DataKind, PerKind};
@@ -30,8 +30,9 @@ pub struct ChunkLayersData<'a> {
     pub transparent_quads: [&'a [PackedQuad]; 6],
     /// Smooth-surface vertices.
     pub smooth_vertices: &'a [BlockVertex],
-    /// Smooth-surface quads: 4 indices into `smooth_vertices` each (checked on upload).
-    pub smooth_quads: &'a [[u32; 4]],
+    /// Smooth-surface quads in the mesher's form (`SmoothMesh::quads`): 4 indices into
+    /// `smooth_vertices` each (checked on upload), uploaded byte for byte.
+    pub smooth_quads: SmoothQuads<'a>,
     /// Clutter instances.
     pub clutter_units: &'a [ClutterUnit],
     /// Surface blocks (far-field raycast data).
@@ -68,7 +69,7 @@ impl<'a> ChunkLayersData<'a> {
         let mut counts = PerKind::default();
         *counts.get_mut(DataKind::Quads) = self.quad_count();
         *counts.get_mut(DataKind::SmoothVertices) = self.smooth_vertices.len() as u64;
-        *counts.get_mut(DataKind::SmoothQuads) = self.smooth_quads.len() as u64;
+        *counts.get_mut(DataKind::SmoothQuads) = self.smooth_quads.word_len() as u64;
         *counts.get_mut(DataKind::Clutter) = self.clutter_units.len() as u64;
         *counts.get_mut(DataKind::DrawBlocks) = self.draw_blocks.len() as u64;
         counts
@@ -98,8 +99,14 @@ pub struct ChunkRanges {
     /// Smooth vertices, in the smooth-vertex gigabuffer.
     pub smooth_vertices: LayerRange,
     /// Smooth quads (indices relative to `smooth_vertices.offset`), in the smooth-quad
-    /// gigabuffer. `MeshedChunkInfo` has no field for it yet.
+    /// gigabuffer: its words (`DataKind::SmoothQuads` elements), in the form
+    /// `smooth_quad_form`, holding `smooth_quad_count` quads. `MeshedChunkInfo` has no field
+    /// for it yet.
     pub smooth_quads: LayerRange,
+    /// Number of smooth quads.
+    pub smooth_quad_count: u32,
+    /// The form of the smooth quads' words.
+    pub smooth_quad_form: SmoothQuadForm,
     /// Clutter units, in the clutter gigabuffer.
     pub clutter_units: LayerRange,
     /// Surface blocks, in the draw-block gigabuffer.
@@ -159,5 +166,13 @@ mod tests {
         assert_eq!(*counts.get(DataKind::Quads), 4);
         assert_eq!(*counts.get(DataKind::SmoothVertices), 3);
         assert_eq!(layers.byte_len(), 4 * 8 + 3 * 16);
+        // Smooth quads take whole words: 3 compact records (18 bytes) take 5.
+        let records = [[2, 1, 1 | 1 << 6]; 3];
+        layers.smooth_quads = SmoothQuads::Compact(&records);
+        assert_eq!(*layers.element_counts().get(DataKind::SmoothQuads), 5);
+        assert_eq!(layers.byte_len(), 4 * 8 + 3 * 16 + 20);
+        let wide = [[0u32, 1, 2, 0]; 2];
+        layers.smooth_quads = SmoothQuads::U32(&wide);
+        assert_eq!(*layers.element_counts().get(DataKind::SmoothQuads), 8);
     }
 }

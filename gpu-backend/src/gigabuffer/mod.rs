@@ -239,6 +239,9 @@ impl Gigabuffer {
                 DataKind::SmoothQuads,
                 &allocations[DataKind::SmoothQuads.index()],
             ),
+            // At most the word count, which the allocation checked against u32.
+            smooth_quad_count: layers.smooth_quads.len() as u32,
+            smooth_quad_form: layers.smooth_quads.form(),
             clutter_units: self.global(DataKind::Clutter, &allocations[DataKind::Clutter.index()]),
             draw_blocks: self.global(
                 DataKind::DrawBlocks,
@@ -273,9 +276,15 @@ impl Gigabuffer {
             DataKind::SmoothVertices,
             &[bytemuck::cast_slice(layers.smooth_vertices)],
         );
+        // The mesher's bytes, zero-padded to whole words (compact records are 6 bytes).
+        let smooth_quads = layers.smooth_quads.bytes();
+        let pad = [0u8; 4];
         push(
             DataKind::SmoothQuads,
-            &[bytemuck::cast_slice(layers.smooth_quads)],
+            &[
+                smooth_quads,
+                &pad[..smooth_quads.len().next_multiple_of(4) - smooth_quads.len()],
+            ],
         );
         push(
             DataKind::Clutter,
@@ -376,7 +385,11 @@ impl Gigabuffer {
 
 fn check_smooth_indices(layers: &ChunkLayersData<'_>) -> Result<(), GigabufferError> {
     let vertices = layers.smooth_vertices.len();
-    for (quad, indices) in layers.smooth_quads.iter().enumerate() {
+    let quads = layers.smooth_quads;
+    for quad in 0..quads.len() {
+        let Some(indices) = quads.get(quad) else {
+            return Err(GigabufferError::BadCompactQuad { quad });
+        };
         if let Some(&index) = indices.iter().find(|&&i| i as usize >= vertices) {
             return Err(GigabufferError::SmoothIndexOutOfRange {
                 quad,

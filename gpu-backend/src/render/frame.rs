@@ -79,12 +79,14 @@ pub struct SmoothDraw {
     pub chunk: [i32; 3],
     /// First vertex in the smooth-vertex page (quad indices are relative to it).
     pub vertex_offset: u32,
-    /// First quad in the smooth-quad page.
+    /// First word of the chunk's quads in the smooth-quad page.
     pub quad_offset: u32,
     /// Quads.
     pub quad_count: u32,
+    /// The quads' form: a `SmoothQuadForm` tag (`SMOOTH_QUADS_*` in WGSL).
+    pub quad_form: u32,
     /// Zero.
-    pub pad: [u32; 2],
+    pub pad: u32,
 }
 
 const _: () = assert!(size_of::<SmoothDraw>() == 32);
@@ -164,8 +166,8 @@ mod tests {
                 ("vertex_offset", offset_of!(SmoothDraw, vertex_offset)),
                 ("quad_offset", offset_of!(SmoothDraw, quad_offset)),
                 ("quad_count", offset_of!(SmoothDraw, quad_count)),
-                ("pad0", offset_of!(SmoothDraw, pad)),
-                ("pad1", offset_of!(SmoothDraw, pad) + 4),
+                ("quad_form", offset_of!(SmoothDraw, quad_form)),
+                ("pad", offset_of!(SmoothDraw, pad)),
             ],
         );
     }

@@ -29,7 +29,13 @@
 //! The AO diagonal flip of the mesher (`mesher::blocky::triangle_indices`) is applied by
 //! renaming slot `k` to corner `(k + flip) & 3`. Smooth quads (4 indices into the chunk's
 //! [`BlockVertex`]es) are expanded with `vertex_index / 6` = quad and
-//! `[0, 1, 2, 0, 2, 3][vertex_index % 6]` = corner.
+//! `[0, 1, 2, 0, 2, 3][vertex_index % 6]` = corner. They are uploaded as the mesher wrote them
+//! (`voxel_core::formats::SmoothQuads`: 6-byte compact records where every quad of the chunk
+//! fits, else 4 x u16 or 4 x u32 indices), zero-padded to whole words; the chunk's
+//! [`SmoothDraw`] carries the form, and `vs_smooth` reads the corner's index with
+//! FORMATS_WGSL's `smooth_quad_word` / `smooth_quad_corner` (a parity test checks them against
+//! `SmoothQuads::get` in all three forms). So the GPU holds the bytes the mesher measured: a
+//! NoCubes or SurfaceNets chunk costs 16 B per vertex + 6, 8 or 16 B per quad.
 //!
 //! **T-junctions.** Greedy quads of different sizes meet at T-junctions, where the rasterizer
 //! can leave pinholes (seen on lavapipe: single sky pixels inside terrain). `vs_quad` grows each

@@ -2,7 +2,9 @@
 
 use voxel_core::ChunkCoord;
 use voxel_core::formats::quantize::UnormExtent;
-use voxel_core::formats::{LayerRange, MeshedChunkInfo, MeshedChunkInfoFields, PackedQuad};
+use voxel_core::formats::{
+    LayerRange, MeshedChunkInfo, MeshedChunkInfoFields, PackedQuad, SmoothQuadForm,
+};
 
 use crate::gigabuffer::{ChunkLayersData, ChunkRanges};
 
@@ -21,8 +23,12 @@ pub struct ChunkMeshData<'a> {
 pub struct SmoothRanges {
     /// Vertices in the smooth-vertex gigabuffer.
     pub vertices: LayerRange,
-    /// Quads in the smooth-quad gigabuffer (indices relative to the first vertex).
+    /// The quads' words in the smooth-quad gigabuffer (indices relative to the first vertex).
     pub quads: LayerRange,
+    /// Number of quads.
+    pub quad_count: u32,
+    /// The form of the quads' words.
+    pub form: SmoothQuadForm,
 }
 
 /// How smooth vertex positions map to chunk-local blocks: decode over `0..=extent`, then

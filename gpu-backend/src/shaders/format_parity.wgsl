@@ -28,6 +28,7 @@ const CHUNK_DRAW_INFO_STRIDE: u32 = 8u;
 const MESHED_CHUNK_INFO_STRIDE: u32 = 43u;
 const CHUNK_DRAW_INDIRECT_STRIDE: u32 = 8u;
 const OCT_STRIDE: u32 = 3u;
+const SMOOTH_QUAD_STRIDE: u32 = 4u;
 const UNORM_STRIDE: u32 = 2u;
 
 fn put_u(at: u32, v: u32) {
@@ -248,4 +249,32 @@ fn decode_unorm(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     put_f(i * UNORM_STRIDE, unorm16_decode(codes[i], params.extent));
     put_f(i * UNORM_STRIDE + 1u, unorm8_decode(codes[i]));
+}
+
+// Smooth quads in `form` (`codes` holds the words): corners 0..4 of quad i, read with
+// smooth_quad_word / smooth_quad_corner as the smooth draw reads them.
+fn put_smooth_quad(form: u32, i: u32) {
+    if i >= arrayLength(&out) / SMOOTH_QUAD_STRIDE {
+        return;
+    }
+    for (var c = 0u; c < 4u; c++) {
+        let w = smooth_quad_word(form, i, c);
+        let next = min(w + 1u, arrayLength(&codes) - 1u);
+        put_u(i * SMOOTH_QUAD_STRIDE + c, smooth_quad_corner(form, i, c, codes[w], codes[next]));
+    }
+}
+
+@compute @workgroup_size(64)
+fn decode_compact_quads(@builtin(global_invocation_id) id: vec3<u32>) {
+    put_smooth_quad(SMOOTH_QUADS_COMPACT, id.x);
+}
+
+@compute @workgroup_size(64)
+fn decode_u16_quads(@builtin(global_invocation_id) id: vec3<u32>) {
+    put_smooth_quad(SMOOTH_QUADS_U16, id.x);
+}
+
+@compute @workgroup_size(64)
+fn decode_u32_quads(@builtin(global_invocation_id) id: vec3<u32>) {
+    put_smooth_quad(SMOOTH_QUADS_U32, id.x);
 }

@@ -20,14 +20,16 @@ struct SmoothDraw {
     chunk_y: i32,
     chunk_z: i32,
     vertex_offset: u32,
+    // The chunk's first word in the smooth-quad page, and its form (SMOOTH_QUADS_*).
     quad_offset: u32,
     quad_count: u32,
-    pad0: u32,
-    pad1: u32,
+    quad_form: u32,
+    pad: u32,
 }
 
 @group(1) @binding(2) var<storage, read> smooth_vertices: array<BlockVertex>;
-@group(1) @binding(3) var<storage, read> smooth_quads: array<vec4<u32>>;
+// Smooth quads as the mesher wrote them (compact records, u16 or u32 indices), as words.
+@group(1) @binding(3) var<storage, read> smooth_quads: array<u32>;
 @group(1) @binding(4) var<storage, read> smooth_draws: array<SmoothDraw>;
 
 // How far vs_quad grows a quad in its plane, relative to its distance from the eye, and the
@@ -93,10 +95,15 @@ fn vs_quad_transparent(@builtin(vertex_index) vertex: u32, @builtin(instance_ind
 @vertex
 fn vs_smooth(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> SurfaceVaryings {
     let draw = smooth_draws[instance];
-    let quad = smooth_quads[draw.quad_offset + vertex / 6u];
+    let q = vertex / 6u;
     // Triangles (a, b, c) and (a, c, d) of the quad's corners.
     let slot = array<u32, 6>(0u, 1u, 2u, 0u, 2u, 3u)[vertex % 6u];
-    let v = smooth_vertices[draw.vertex_offset + quad[slot]];
+    // The corner's words (FORMATS_WGSL): the second is read for compact records only, and
+    // clamped to the page in case the chunk ends it.
+    let w = draw.quad_offset + smooth_quad_word(draw.quad_form, q, slot);
+    let next = min(w + 1u, arrayLength(&smooth_quads) - 1u);
+    let index = smooth_quad_corner(draw.quad_form, q, slot, smooth_quads[w], smooth_quads[next]);
+    let v = smooth_vertices[draw.vertex_offset + index];
     let local = block_vertex_position(v, frame.smooth_extent) - vec3<f32>(frame.smooth_origin);
     let n = block_vertex_normal(v);
     var out: SurfaceVaryings;

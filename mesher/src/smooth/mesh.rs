@@ -3,6 +3,7 @@
 
 use alloc::vec::Vec;
 
+pub use voxel_core::formats::SmoothQuads;
 use voxel_core::formats::quantize::UnormExtent;
 use voxel_core::formats::{
     BlockVertex, COMPACT_QUAD_MAX_DELTA, compact_quad_decode, compact_quad_encode,
@@ -21,8 +22,8 @@ pub const U16_INDEX_LIMIT: usize = 1 << 16;
 /// quads on the GPU (vertex pulling: vertex `i` of the draw reads quad `i / 6`, corner
 /// `[0, 1, 2, 0, 2, 3][i % 6]`) or calls [`triangles`](Self::triangles).
 ///
-/// **Quad forms.** The quads are stored in one of three forms per mesh ([`SmoothQuads`]),
-/// chosen while they are written:
+/// **Quad forms.** The quads are stored in one of three forms per mesh ([`SmoothQuads`],
+/// defined in voxel-core, whose bytes a GPU reads as they are), chosen while they are written:
 ///
 /// | form | bytes per quad | holds |
 /// | --- | ---: | --- |
@@ -41,7 +42,10 @@ pub const U16_INDEX_LIMIT: usize = 1 << 16;
 ///
 /// **Bytes.** 16 per vertex plus 6 per quad (8 or 16 in the wider forms). On a closed surface
 /// there is about one vertex per quad, so about 22 bytes per quad;
-/// [`bytes_per_quad`](Self::bytes_per_quad) reports the exact figure of a mesh.
+/// [`bytes_per_quad`](Self::bytes_per_quad) reports the exact figure of a mesh. The GPU
+/// backend uploads [`vertex_bytes`](Self::vertex_bytes) and the quads'
+/// [`bytes`](SmoothQuads::bytes) as they are (padded to whole words), so these are the bytes a
+/// chunk occupies on the GPU too.
 ///
 /// Positions are packed over [`extent`](Self::extent) (decode with
 /// [`BlockVertex::decode`]). [`clear`](Self::clear) keeps every buffer's capacity.
@@ -66,70 +70,6 @@ enum QuadForm {
 impl Default for SmoothMesh {
     fn default() -> Self {
         SmoothMesh::new()
-    }
-}
-
-/// The quads of a [`SmoothMesh`], in the form the mesh uses (see its docs).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SmoothQuads<'a> {
-    /// 6 bytes per quad: compact records, decoded by
-    /// [`compact_quad_decode`](voxel_core::formats::compact_quad_decode).
-    Compact(&'a [[u16; 3]]),
-    /// 8 bytes per quad: 4 `u16` indices.
-    U16(&'a [[u16; 4]]),
-    /// 16 bytes per quad: 4 `u32` indices.
-    U32(&'a [[u32; 4]]),
-}
-
-impl SmoothQuads<'_> {
-    /// Number of quads.
-    pub fn len(&self) -> usize {
-        match self {
-            SmoothQuads::Compact(q) => q.len(),
-            SmoothQuads::U16(q) => q.len(),
-            SmoothQuads::U32(q) => q.len(),
-        }
-    }
-
-    /// True when there are no quads.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// Bytes per quad of this form: 6, 8 or 16.
-    pub fn quad_bytes(&self) -> usize {
-        match self {
-            SmoothQuads::Compact(_) => 6,
-            SmoothQuads::U16(_) => 8,
-            SmoothQuads::U32(_) => 16,
-        }
-    }
-
-    /// Quad `i`'s 4 corners as `u32`, or `None` past the end (and for a compact record that
-    /// does not decode, which a [`SmoothMesh`] never holds).
-    #[inline]
-    pub fn get(&self, i: usize) -> Option<[u32; 4]> {
-        match self {
-            SmoothQuads::Compact(q) => q.get(i).and_then(|&r| compact_quad_decode(r).ok()),
-            SmoothQuads::U16(q) => q.get(i).map(|q| q.map(u32::from)),
-            SmoothQuads::U32(q) => q.get(i).copied(),
-        }
-    }
-
-    /// Every quad's 4 corners as `u32`.
-    pub fn iter(&self) -> impl Iterator<Item = [u32; 4]> + '_ {
-        (0..self.len()).filter_map(|i| self.get(i))
-    }
-
-    /// The quad buffer's bytes as a GPU would upload them, little-endian: 3 `u16` per compact
-    /// record (6 bytes, so a buffer of an odd count is not a multiple of 4), or 4 indices per
-    /// quad.
-    pub fn bytes(&self) -> &[u8] {
-        match self {
-            SmoothQuads::Compact(q) => bytemuck::cast_slice(q),
-            SmoothQuads::U16(q) => bytemuck::cast_slice(q),
-            SmoothQuads::U32(q) => bytemuck::cast_slice(q),
-        }
     }
 }
 

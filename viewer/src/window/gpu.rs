@@ -208,7 +208,7 @@ fn scene_counts(renderer: &Renderer) -> SceneCounts {
     SceneCounts {
         chunks: renderer.chunk_count(),
         quads: elements(DataKind::Quads),
-        smooth_quads: elements(DataKind::SmoothQuads),
+        smooth_quads: renderer.smooth_quad_count(),
         bytes: report.used_bytes(),
     }
 }

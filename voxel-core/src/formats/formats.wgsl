@@ -397,3 +397,58 @@ struct ChunkDrawIndirect {
 fn chunk_draw_indirect_chunk(d: ChunkDrawIndirect) -> vec3<i32> {
     return vec3<i32>(d.chunk_x, d.chunk_y, d.chunk_z);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Smooth-mesh quads (smooth_quads.rs, compact_quad.rs)
+//
+// A chunk's smooth quads are an array<u32> of words (the CPU bytes, zero-padded to a multiple
+// of 4) in one of three forms, tagged SMOOTH_QUADS_*: compact 6-byte records, 4 x u16 or
+// 4 x u32 vertex indices per quad. Corner `corner` of quad `q`: read the word at index
+// `smooth_quad_word(form, q, corner)` (relative to the chunk's first word) and the word after
+// it, and pass both to `smooth_quad_corner`. The second word is read only for compact records;
+// clamp its index to the buffer when the chunk may end the buffer.
+
+const SMOOTH_QUADS_COMPACT: u32 = 0u;
+const SMOOTH_QUADS_U16: u32 = 1u;
+const SMOOTH_QUADS_U32: u32 = 2u;
+// compact_quad::COMPACT_QUAD_SELECTORS: 2 bits per (form, position), selector 0 = a,
+// 1 = a - da, 2 = b, 3 = b - db.
+const COMPACT_QUAD_SELECTORS: u32 = 0x6ce4b478u;
+
+// Corner `corner` of the compact record (a, b, info): compact_quad_decode, without its checks.
+fn compact_quad_corner(a: u32, b: u32, info: u32, corner: u32) -> u32 {
+    let form = (info >> 12u) & 3u;
+    let p = (corner + (info >> 14u)) & 3u;
+    let s = (COMPACT_QUAD_SELECTORS >> (2u * (4u * form + p))) & 3u;
+    let second = s >= 2u;
+    let base = select(a, b, second);
+    let delta = select(info & 63u, (info >> 6u) & 63u, second);
+    return base - select(0u, delta, (s & 1u) == 1u);
+}
+
+// The index of the first word quad `q`'s corner `corner` is read from.
+fn smooth_quad_word(form: u32, q: u32, corner: u32) -> u32 {
+    if form == SMOOTH_QUADS_COMPACT {
+        return (3u * q) >> 1u;
+    }
+    if form == SMOOTH_QUADS_U16 {
+        return 2u * q + (corner >> 1u);
+    }
+    return 4u * q + corner;
+}
+
+// Corner `corner` of quad `q` from the word at smooth_quad_word(form, q, corner) and the next.
+fn smooth_quad_corner(form: u32, q: u32, corner: u32, word: u32, next: u32) -> u32 {
+    if form == SMOOTH_QUADS_COMPACT {
+        // The record's u16s start in the low half of `word` for even q, in the high half
+        // for odd q: `ab` holds a and b, `info` is the next u16.
+        let odd = (q & 1u) == 1u;
+        let ab = select(word, (word >> 16u) | (next << 16u), odd);
+        let info = select(next & 0xffffu, next >> 16u, odd);
+        return compact_quad_corner(ab & 0xffffu, ab >> 16u, info, corner);
+    }
+    if form == SMOOTH_QUADS_U16 {
+        return (word >> (16u * (corner & 1u))) & 0xffffu;
+    }
+    return word;
+}

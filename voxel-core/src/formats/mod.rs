@@ -11,6 +11,9 @@
 //! | [`ChunkDrawIndirect`]  | 32 B  | one indexed indirect draw plus its chunk                |
 //! | [compact quad]         | 6 B   | one smooth-mesh quad: 4 vertex indices as `[u16; 3]`    |
 //!
+//! [`SmoothQuads`] is a smooth mesh's quad buffer in one of three forms (compact records,
+//! 4 x `u16`, 4 x `u32`), tagged by [`SmoothQuadForm`] for the GPU.
+//!
 //! Each format is a `#[repr(C)]` [`bytemuck::Pod`] struct whose docs give the bit layout, with
 //! a size pinned at compile time, and a `...Fields` struct of plain values. `encode` checks
 //! every field and names the one that does not fit ([`FormatError`]); `decode` accepts any bit
@@ -65,6 +68,7 @@ mod meshed_chunk_info;
 pub mod octahedral;
 mod packed_quad;
 pub mod quantize;
+mod smooth_quads;
 mod wgsl;
 
 pub use block_vertex::{BlockVertex, BlockVertexFields};
@@ -85,4 +89,5 @@ pub use octahedral::{
 };
 pub use packed_quad::{PackedQuad, PackedQuadFields};
 pub use quantize::UnormExtent;
+pub use smooth_quads::{SmoothQuadForm, SmoothQuads};
 pub use wgsl::{ALL_WGSL_STRUCTS, FORMATS_WGSL, WgslMember, WgslStruct, WgslType};

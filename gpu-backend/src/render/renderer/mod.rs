@@ -208,6 +208,15 @@ impl Renderer {
         self.chunks.len()
     }
 
+    /// Smooth quads of the resident chunks.
+    pub fn smooth_quad_count(&self) -> u64 {
+        self.chunks
+            .values()
+            .filter_map(|r| r.smooth)
+            .map(|s| u64::from(s.quad_count))
+            .sum()
+    }
+
     /// Uploads a chunk's mesh (its bytes reach the GPU with the next recorded frame) and
     /// returns its handle. On error nothing stays allocated.
     pub fn upload_chunk(&mut self, mesh: &ChunkMeshData<'_>) -> Result<ChunkHandle, RenderError> {
@@ -225,9 +234,11 @@ impl Renderer {
             }
         };
         let ranges = uploaded.ranges;
-        let smooth = (ranges.smooth_quads.count > 0).then_some(SmoothRanges {
+        let smooth = (ranges.smooth_quad_count > 0).then_some(SmoothRanges {
             vertices: ranges.smooth_vertices,
             quads: ranges.smooth_quads,
+            quad_count: ranges.smooth_quad_count,
+            form: ranges.smooth_quad_form,
         });
         if smooth.is_some() {
             self.smooth_chunks.insert(uploaded.handle);

@@ -138,8 +138,9 @@ impl Renderer {
                 ],
                 vertex_offset: smooth.vertices.offset % vertices,
                 quad_offset: smooth.quads.offset % quads,
-                quad_count: smooth.quads.count,
-                pad: [0; 2],
+                quad_count: smooth.quad_count,
+                quad_form: smooth.form as u32,
+                pad: 0,
             });
         }
         let mut batches = Vec::new();
