@@ -22,6 +22,7 @@ use voxel_core::formats::PackedQuad;
 
 use super::ao::AO_TABLES;
 use super::faces::{Quads, SliceFaces, SliceQuads};
+use super::line_units::many;
 use super::lone_x::drop_handled;
 use super::masks::{Layouts, Slice};
 use super::merge::{Keys, greedy, rows_of, unit_quads};
@@ -221,9 +222,13 @@ fn emit<const D: usize>(
 ) -> Result<(), MeshError> {
     let mut quads = Quads { buf, len: 0, out };
     let rows = rows_of(faces);
-    match (input.merge, input.ao) {
+    // Faces none of which touches another are their own greedy quads: no merging to do.
+    let merge = input.merge && !isolated_faces(faces, rows);
+    match (merge, input.ao) {
         (false, true) => unit_quads::<D, true>(slice, faces, rows, &mut keys.known, &mut quads)?,
-        (false, false) => unit_quads::<D, false>(slice, faces, rows, &mut keys.known, &mut quads)?,
+        (false, false) => {
+            unit_quads::<D, false>(slice, faces, rows, &mut keys.known, &mut quads)?;
+        }
         (true, true) => greedy::<D, true>(slice, faces, rows, e, keys, &mut quads)?,
         (true, false) => greedy::<D, false>(slice, faces, rows, e, keys, &mut quads)?,
     }
@@ -231,4 +236,25 @@ fn emit<const D: usize>(
         .out
         .extend_from_slice(&quads.buf[..quads.len.min(4096)]);
     Ok(())
+}
+
+/// True when no face of the slice (lines `rows`, not empty) has a neighbouring face, as on a
+/// checkerboard: then every face is a 1 x 1 greedy quad, and the greedy pass's per-line
+/// bookkeeping can be skipped. Only slices whose first line with faces has [`many`] such
+/// faces are scanned, so that slices of other shapes (terrain) pay a handful of operations.
+#[inline]
+fn isolated_faces(faces: &Slice, rows: u64) -> bool {
+    // Line l - 1 has no face: l is the first line with one.
+    let l = rows.trailing_zeros() as usize;
+    let f = faces[l & 63];
+    if !many(f) || f & ((f << 1) | (f >> 1) | faces[(l + 1) & 63]) != 0 {
+        return false;
+    }
+    // Lines 0 and 63 never hold faces (padding).
+    let mut touching = 0;
+    for l in 1..63 {
+        let f = faces[l];
+        touching |= f & ((f << 1) | (f >> 1) | faces[l - 1] | faces[l + 1]);
+    }
+    touching == 0
 }
