@@ -199,3 +199,64 @@ fn an_unknown_id_in_a_checkerboard_is_an_error() {
         }
     }
 }
+
+/// A slab of stone with one unknown voxel in its top layer, `width` voxels wide: its top face
+/// lies in a line of a few faces (the listed faces of the greedy pass, width 3) or of many
+/// faces with neighbours (dense lines, width 16), and the ids below 64 and above are checked
+/// through a cache filled per chunk. Either way the unknown id is an error naming it and its
+/// position, in every mode, also after a chunk that filled the cache with known ids.
+#[test]
+fn an_unknown_id_in_a_floor_is_an_error() {
+    let classes = BlockClasses::from_palette(&palette(true));
+    let size = ChunkSize::S16;
+    for unknown in [UNKNOWN, 64, 4000] {
+        for width in [3u32, 16] {
+            let at = [1 + width / 2, 2, 8];
+            let inside = |v: u32| (1..=width).contains(&v);
+            let padded = PaddedChunk::from_fn(size, |x, y, z| {
+                if [x, y, z] == at {
+                    BlockId(unknown)
+                } else if (1..=2).contains(&y) && inside(x) && (1..=16).contains(&z) {
+                    BlockId(if (x + z) % 5 == 0 { DIRT } else { STONE })
+                } else {
+                    BlockId::AIR
+                }
+            });
+            let known = PaddedChunk::from_fn(size, |x, y, z| {
+                BlockId(if y == 1 && inside(x) && z > 3 {
+                    STONE
+                } else {
+                    0
+                })
+            });
+            let want = MeshError::UnknownBlock {
+                id: BlockId(unknown),
+                position: at,
+            };
+            let mut mesh = BlockyMesh::new();
+            let voxels: &[u16] = bytemuck::cast_slice(padded.voxels());
+            for ao in [true, false] {
+                let mut mesher = GreedyMesher::new().with_ambient_occlusion(ao);
+                mesher.mesh(&known, &classes, &mut mesh).unwrap();
+                assert!(!mesh.is_empty());
+                let label = format!("id {unknown}, width {width}, ao {ao}");
+                assert_eq!(
+                    mesher.mesh(&padded, &classes, &mut mesh),
+                    Err(want.clone()),
+                    "{label}"
+                );
+                assert!(mesh.is_empty(), "{label}");
+                assert_eq!(
+                    mesher.mesh_u16(voxels, &classes, &mut mesh),
+                    Err(want.clone()),
+                    "{label}"
+                );
+                assert_eq!(
+                    mesher.visible_faces(&padded, &classes, &mut mesh),
+                    Err(want.clone()),
+                    "{label}"
+                );
+            }
+        }
+    }
+}

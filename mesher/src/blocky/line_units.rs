@@ -79,6 +79,10 @@ impl<const D: usize> SliceFaces<'_, D> {
         // The end in a local: the buffer's end is stored once, not once per quad (on an error
         // the whole output is dropped).
         let mut n = out.len;
+        // The ids seen (below 64, one bit each) and whether one was 64 or more: checked
+        // against the cache of known ids once, after the line, instead of once per face.
+        let mut seen = 0u64;
+        let mut wide = 0u32;
         let mut m = bits;
         while m != 0 {
             let b = m.trailing_zeros() as usize;
@@ -87,15 +91,32 @@ impl<const D: usize> SliceFaces<'_, D> {
                 Some(row) => u32::from(row[b & 63]),
                 None => self.id(l, b),
             };
+            seen |= 1 << (id & 63);
+            wide |= id;
             let key = id << 11 | self.ao::<AO>((f0, f1, f2), b) << 3;
-            self.check(key, known, l, b)?;
             out.buf[n & 4095] = PackedQuad {
                 position_size: word | ((b as u32 - 1) << Direction::<D>::SHIFT_B),
                 face_ao_block: key | D as u32,
             };
             n += 1;
         }
+        if seen & !*known != 0 || wide >= 64 {
+            self.check_line(l, bits, known)?;
+        }
         out.len = n;
+        Ok(())
+    }
+
+    /// [`check`](Self::check)s the id of every face of `bits` in line `l`: the slow path of a
+    /// line with an id the cache does not hold yet.
+    #[cold]
+    fn check_line(&self, l: usize, bits: u64, known: &mut u64) -> Result<(), MeshError> {
+        let mut m = bits;
+        while m != 0 {
+            let b = m.trailing_zeros() as usize;
+            m &= m - 1;
+            self.check(self.id(l, b) << 11, known, l, b)?;
+        }
         Ok(())
     }
 

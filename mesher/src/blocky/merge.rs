@@ -23,9 +23,12 @@
 //! ([`Positions`]), not by looping over the bits of each line: a surface of a few faces per
 //! line would otherwise cost a mispredicted loop exit per line and per pass.
 //!
-//! Unknown ids are checked once per face (greedy) or quad (one quad per face) of the opaque
-//! layer; ids below 64 that passed are cached as bits, a test that stays predictable when
-//! neighbouring faces alternate ids.
+//! Unknown ids of the opaque layer are caught through a cache of the ids below 64 that passed,
+//! one bit each, kept for the whole chunk: the passes that write 1 x 1 quads only OR each
+//! face's id bit into a mask (and note an id of 64 or more), and compare it with the cache once
+//! per slice or line; only a mask with a bit the cache lacks (or a large id) sends the faces
+//! through the per-face check, which names the first unknown id and its position. Grown quads
+//! are checked one by one.
 
 use super::bits::nonzero_lines;
 use super::faces::{Quads, SliceFaces};
@@ -201,10 +204,16 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
         faces[l & 63] = here & !alone;
         left &= !(u64::from(here == alone) << l);
     }
+    // Ids seen (below 64, one bit each) and any of 64 or more, of every listed face and the
+    // alone faces of dense lines: checked against the cache of known ids once, after both
+    // loops, instead of once per face (every listed face shows, alone or in a grown quad).
+    let mut seen = 0u64;
+    let mut wide = 0u32;
     for &pos in keys.list.as_slice() {
         let (l, b) = line_bit(pos);
         let key = keys.keys[l][b];
-        s.check(key, &mut known, l, b)?;
+        seen |= 1 << ((key >> 11) & 63);
+        wide |= key >> 17;
         out.push_if(s.unit(l, b, key), (keys.alone[l] >> b) & 1 != 0);
     }
     let mut rest = dense;
@@ -215,8 +224,14 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
         while m != 0 {
             let b = m.trailing_zeros() as usize;
             m &= m - 1;
-            s.push(out, &mut known, (l, b, 1, 1), keys.keys[l & 63][b])?;
+            let key = keys.keys[l & 63][b];
+            seen |= 1 << ((key >> 11) & 63);
+            wide |= key >> 17;
+            out.push(s.unit(l, b, key));
         }
+    }
+    if seen & !known != 0 || wide != 0 {
+        check_alone(s, keys, dense, &mut known)?;
     }
     let grown = if Direction::<D>::LINES_FIRST {
         greedy_lines_first(s, faces, e, left, keys, &mut known, out)
@@ -225,6 +240,33 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
     };
     keys.known = known;
     grown
+}
+
+/// Checks the id of every listed face, then of the alone faces of the `dense` lines: the slow
+/// path of a slice with an id the cache of known ids does not hold yet.
+#[cold]
+fn check_alone<const D: usize>(
+    s: &SliceFaces<'_, D>,
+    keys: &Keys,
+    dense: u64,
+    known: &mut u64,
+) -> Result<(), MeshError> {
+    for &pos in keys.list.as_slice() {
+        let (l, b) = line_bit(pos);
+        s.check(keys.keys[l][b], known, l, b)?;
+    }
+    let mut rest = dense;
+    while rest != 0 {
+        let l = rest.trailing_zeros() as usize;
+        rest &= rest - 1;
+        let mut m = keys.alone[l & 63];
+        while m != 0 {
+            let b = m.trailing_zeros() as usize;
+            m &= m - 1;
+            s.check(keys.keys[l & 63][b], known, l, b)?;
+        }
+    }
+    Ok(())
 }
 
 /// Keys of the faces `f` of dense line `l` into the table, and their comparisons with the
