@@ -62,13 +62,6 @@ impl Quads<'_> {
     pub(crate) fn push_bits(&mut self, bits: u64, first: u32, shift: u32, key: u32) {
         extend_units(self.out, bits, first, shift, key);
     }
-
-    /// Writes `q` past the end, and keeps it (moves the end) only if `keep`: no branch.
-    #[inline(always)]
-    pub(crate) fn push_if(&mut self, q: PackedQuad, keep: bool) {
-        self.buf[self.len & 4095] = q;
-        self.len += usize::from(keep);
-    }
 }
 
 /// Appends to `out` a 1 x 1 quad for every set bit `b` (at least 1) of `bits`, all with word 1
@@ -173,15 +166,6 @@ impl<const D: usize> SliceFaces<'_, D> {
         position[(Direction::<D>::SHIFT_L / 6) as usize] = l as u32;
         position[(Direction::<D>::SHIFT_B / 6) as usize] = b as u32;
         Err(MeshError::UnknownBlock { id, position })
-    }
-
-    /// The 1 x 1 quad of the face at line `l`, bit `b`, with `key`.
-    #[inline(always)]
-    pub(crate) fn unit(&self, l: usize, b: usize, key: u32) -> PackedQuad {
-        PackedQuad {
-            position_size: self.position_size(l, b, 1, 1),
-            face_ao_block: key | D as u32,
-        }
     }
 
     /// Pushes the quad at line `l`, bit `b`, spanning `lines` lines and `bits` bits.

@@ -19,9 +19,9 @@ use crate::{BlockClasses, MeshError};
 /// A reusable blocky mesher: greedy quads (or one quad per face) with per-vertex ambient
 /// occlusion, written as [`PackedQuad`](voxel_core::formats::PackedQuad)s into a [`BlockyMesh`].
 ///
-/// It holds its scratch (the masks in three layouts, 6 x 32 KiB at most, plus a 26 KiB table
-/// of keys, equal-key masks and face list, and a 32 KiB quad buffer for one slice), so meshing many chunks
-/// with one mesher allocates nothing after the first chunk of the largest size.
+/// It holds its scratch (the masks in three layouts, 6 x 32 KiB at most, plus 26 KiB of keys,
+/// equal-key masks and quad places, and a 32 KiB quad buffer for one slice), so meshing many
+/// chunks with one mesher allocates nothing after the first chunk of the largest size.
 ///
 /// # How
 ///
@@ -35,7 +35,8 @@ use crate::{BlockClasses, MeshError};
 /// 3. Faces merge when their block id and their 4 corner AO values are equal, growing quads in
 ///    `block-mesh`'s order; AO comes from the opaque bits of the front slice through a
 ///    512-entry table per direction. Faces none of whose neighbours has an equal key are
-///    1 x 1 quads in any order, and are emitted without growing anything.
+///    1 x 1 quads in any order: every face is written as one while its key is computed, and
+///    only the quads of faces with an equal neighbour are taken back out and grown.
 /// 4. Lines (and ±X occupancy rows) of many faces with no neighbouring face, as on a
 ///    checkerboard, take a bulk path: the faces that share the first face's key are found
 ///    with whole-line bit operations and a SIMD compare of the ids, and cost an add and a

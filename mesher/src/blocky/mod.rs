@@ -39,7 +39,6 @@ mod masks;
 mod merge;
 mod mesh;
 mod plain;
-mod positions;
 mod slices;
 mod visible;
 
