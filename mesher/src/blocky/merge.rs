@@ -19,9 +19,9 @@
 //! removing them changes no other quad. On terrain they are most faces (73 %), on random fills
 //! nearly all. So [`greedy`] first writes *every* face as a 1 x 1 quad while it computes the
 //! keys (the loop of the one-quad-per-face mesher, plus a key store and two compares per face),
-//! then finds the faces that do have an equal neighbour, takes their quads back out (each hole
-//! filled with the last quad: the order of quads carries no meaning), and grows quads from
-//! those faces only.
+//! then finds the faces that do have an equal neighbour, takes their quads back out (the order
+//! of quads carries no meaning, so a hole can be filled with the last quad), and grows quads
+//! from those faces only.
 //!
 //! Unknown ids of the opaque layer are caught through a cache of the ids below 64 that passed,
 //! one bit each, kept for the whole chunk: the passes that write 1 x 1 quads only OR each
@@ -115,7 +115,9 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool>(
 ///    for the slice.
 /// 2. Per line: the faces with no neighbour of an equal key (`alone`) keep their quads and
 ///    leave `faces`.
-/// 3. The quads of the other faces are taken back out, each hole filled with the last quad.
+/// 3. The quads of the other faces are taken back out: each hole filled with the last quad
+///    when few lines have such faces (terrain, random fills), else by one pass that keeps the
+///    alone faces' quads (flat ground without AO, where most faces merge).
 /// 4. Those faces grow quads with bit operations on the masks: a run of equal keys is a run of
 ///    ones.
 pub(crate) fn greedy<const D: usize, const AO: bool>(
@@ -169,26 +171,39 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
     if left == 0 {
         return Ok(());
     }
-    // Drop the 1 x 1 quads of the faces left to grow: each hole is filled with the last quad.
-    let mut len = out.len;
-    let mut rest = left;
-    while rest != 0 {
-        let l = rest.trailing_zeros() as usize;
-        rest &= rest - 1;
-        let mut m = faces[l & 63];
-        while m != 0 {
-            let b = m.trailing_zeros() as usize;
-            m &= m - 1;
-            let hole = keys.at[l & 63][b & 63];
-            len -= 1;
-            let last = out.buf[len & 4095];
-            out.buf[usize::from(hole) & 4095] = last;
-            let ll = (last.position_size >> Direction::<D>::SHIFT_L) as usize + 1;
-            let lb = (last.position_size >> Direction::<D>::SHIFT_B) as usize + 1;
-            keys.at[ll & 63][lb & 63] = hole;
+    if 2 * left.count_ones() > rows.count_ones() {
+        // Most lines have faces to grow: keep the quads of alone faces, in one pass.
+        let mut kept = first;
+        for i in first..out.len {
+            let q = out.buf[i & 4095];
+            let l = (q.position_size >> Direction::<D>::SHIFT_L) as usize + 1;
+            let b = (q.position_size >> Direction::<D>::SHIFT_B) as usize + 1;
+            out.buf[kept & 4095] = q;
+            kept += ((keys.alone[l & 63] >> (b & 63)) & 1) as usize;
         }
+        out.len = kept;
+    } else {
+        // Few faces to grow: take their quads out, each hole filled with the last quad.
+        let mut len = out.len;
+        let mut rest = left;
+        while rest != 0 {
+            let l = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            let mut m = faces[l & 63];
+            while m != 0 {
+                let b = m.trailing_zeros() as usize;
+                m &= m - 1;
+                let hole = keys.at[l & 63][b & 63];
+                len -= 1;
+                let last = out.buf[len & 4095];
+                out.buf[usize::from(hole) & 4095] = last;
+                let ll = (last.position_size >> Direction::<D>::SHIFT_L) as usize + 1;
+                let lb = (last.position_size >> Direction::<D>::SHIFT_B) as usize + 1;
+                keys.at[ll & 63][lb & 63] = hole;
+            }
+        }
+        out.len = len;
     }
-    out.len = len;
     let mut known = keys.known;
     let grown = if Direction::<D>::LINES_FIRST {
         greedy_lines_first(s, faces, e, left, keys, &mut known, out)
