@@ -130,6 +130,7 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
 ) -> Result<(), MeshError> {
     let mut known = keys.known;
     let first = out.len;
+    let mut lone_lines = 0u64;
     let mut seen = 0u64;
     let mut wide = 0u32;
     let mut rest = rows;
@@ -140,8 +141,12 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
         if many(f) {
             let near = (f << 1) | (f >> 1) | faces[(l - 1) & 63] | faces[(l + 1) & 63];
             if f & near == 0 {
+                // All alone: some of their quads may be in the buffer (faces whose key is not
+                // the line's first), which step 3 must keep.
                 s.line_units::<AO>(l, f, &mut known, out)?;
                 faces[l & 63] = 0;
+                keys.alone[l & 63] = f;
+                lone_lines |= 1 << l;
                 continue;
             }
         }
@@ -152,7 +157,7 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
     }
     keys.known = known;
     let mut left = 0u64;
-    let mut rest = rows;
+    let mut rest = rows & !lone_lines;
     while rest != 0 {
         let l = rest.trailing_zeros() as usize;
         rest &= rest - 1;
