@@ -260,3 +260,41 @@ fn an_unknown_id_in_a_floor_is_an_error() {
         }
     }
 }
+
+/// Stairs of flat steps: after a slice whose faces mostly merge, the next slices of that
+/// direction are keyed without writing their faces first (a second path through the greedy
+/// pass); an unknown id on a later step is still an error naming it and its position.
+#[test]
+fn an_unknown_id_on_a_later_step_is_an_error() {
+    let classes = BlockClasses::from_palette(&palette(true));
+    let size = ChunkSize::S16;
+    // Steps 4 voxels wide along x; the top of step k is at padded y = 1 + k.
+    let top = |x: u32| 1 + (x - 1) / 4;
+    for unknown in [UNKNOWN, 4000] {
+        let at = [10, top(10), 7];
+        let padded = PaddedChunk::from_fn(size, |x, y, z| {
+            let inside = (1..=16).contains(&x) && (1..=16).contains(&z);
+            if [x, y, z] == at {
+                BlockId(unknown)
+            } else if inside && y >= 1 && y <= top(x) {
+                BlockId(STONE)
+            } else {
+                BlockId::AIR
+            }
+        });
+        let want = MeshError::UnknownBlock {
+            id: BlockId(unknown),
+            position: at,
+        };
+        let mut mesh = BlockyMesh::new();
+        for ao in [true, false] {
+            let mut mesher = GreedyMesher::new().with_ambient_occlusion(ao);
+            assert_eq!(
+                mesher.mesh(&padded, &classes, &mut mesh),
+                Err(want.clone()),
+                "id {unknown}, ao {ao}"
+            );
+            assert!(mesh.is_empty());
+        }
+    }
+}

@@ -202,6 +202,7 @@ fn run(
 ) -> Result<(), MeshError> {
     out.clear();
     keys.known = 0;
+    keys.speculate = [true; 6];
     if masks.build(p, voxels, columns, classes) != Content::Surface {
         return Ok(());
     }

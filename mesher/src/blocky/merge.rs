@@ -21,7 +21,9 @@
 //! keys (the loop of the one-quad-per-face mesher, plus a key store and two compares per face),
 //! then finds the faces that do have an equal neighbour, takes their quads back out (the order
 //! of quads carries no meaning, so a hole can be filled with the last quad), and grows quads
-//! from those faces only.
+//! from those faces only. Where most faces merge (flat models, no AO) that first write is
+//! wasted: after a slice in which most lines had faces to grow, the next slice of that
+//! direction computes keys only and writes the alone faces afterwards.
 //!
 //! Unknown ids of the opaque layer are caught through a cache of the ids below 64 that passed,
 //! one bit each, kept for the whole chunk: the passes that write 1 x 1 quads only OR each
@@ -29,6 +31,8 @@
 //! per slice or line; only a mask with a bit the cache lacks (or a large id) sends the faces
 //! through the per-face check, which names the first unknown id and its position. Grown quads
 //! are checked one by one.
+
+use voxel_core::formats::PackedQuad;
 
 use super::bits::nonzero_lines;
 use super::faces::{Quads, SliceFaces};
@@ -54,6 +58,9 @@ pub(crate) struct Keys {
     alone: Slice,
     /// Where the 1 x 1 quad of the face at `(l, b)` is in the slice's quad buffer.
     at: [[u16; 64]; 64],
+    /// Per direction: write every face of the next slice as a 1 x 1 quad before knowing
+    /// whether it merges (see [`greedy`]); reset for every chunk.
+    pub(crate) speculate: [bool; 6],
     /// Ids below 64 known to the classes, one bit each (see [`SliceFaces::check`]); kept for a
     /// whole chunk, so a slice's first face does not miss the cache.
     pub(crate) known: u64,
@@ -68,6 +75,7 @@ impl Keys {
             across: [0; 64],
             alone: [0; 64],
             at: [[0; 64]; 64],
+            speculate: [true; 6],
             known: 0,
         }
     }
@@ -109,15 +117,15 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool>(
 /// Greedy quads for one slice whose faces lie in the lines of `rows`; leaves `faces` empty.
 ///
 /// 1. Per line: a line of [`many`] faces none of which has a neighbouring face (a checkerboard
-///    stripe) is emitted through the bulk path; every other face is written as a 1 x 1 quad,
-///    its key stored and compared with the faces before it in its line and in the line before
-///    (`along`, `across`: stale where there is no face, masked in step 2). Ids are checked once
-///    for the slice.
+///    stripe) is emitted through the bulk path; every other face is written as a 1 x 1 quad
+///    (unless the previous slice of this direction mostly merged), its key stored and compared
+///    with the faces before it in its line and in the line before (`along`, `across`: stale
+///    where there is no face, masked in step 2). Ids are checked once for the slice.
 /// 2. Per line: the faces with no neighbour of an equal key (`alone`) keep their quads and
 ///    leave `faces`.
 /// 3. The quads of the other faces are taken back out: each hole filled with the last quad
 ///    when few lines have such faces (terrain, random fills), else by one pass that keeps the
-///    alone faces' quads (flat ground without AO, where most faces merge).
+///    alone faces' quads. Without quads written in step 1, the alone faces are written now.
 /// 4. Those faces grow quads with bit operations on the masks: a run of equal keys is a run of
 ///    ones.
 pub(crate) fn greedy<const D: usize, const AO: bool>(
@@ -130,6 +138,7 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
 ) -> Result<(), MeshError> {
     let mut known = keys.known;
     let first = out.len;
+    let speculate = keys.speculate[D];
     let mut lone_lines = 0u64;
     let mut seen = 0u64;
     let mut wide = 0u32;
@@ -150,10 +159,14 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
                 continue;
             }
         }
-        keyed_units::<D, AO>(s, l, f, keys, out, &mut seen, &mut wide);
+        if speculate {
+            keyed_units::<D, AO, true>(s, l, f, keys, out, &mut seen, &mut wide);
+        } else {
+            keyed_units::<D, AO, false>(s, l, f, keys, out, &mut seen, &mut wide);
+        }
     }
     if seen & !known != 0 || wide >= 64 {
-        check_units(s, &out.buf[..out.len.min(4096)], first, &mut known)?;
+        check_faces(s, faces, rows & !lone_lines, keys, &mut known)?;
     }
     keys.known = known;
     let mut left = 0u64;
@@ -173,10 +186,15 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
         faces[l & 63] = here & !alone;
         left |= u64::from(here != alone) << l;
     }
-    if left == 0 {
+    // Most lines have faces that merge: the next slice probably too, and then writing every
+    // face first costs more than it saves.
+    let mostly_merging = 2 * left.count_ones() > rows.count_ones();
+    keys.speculate[D] = !mostly_merging;
+    if !speculate {
+        emit_alone(s, rows & !lone_lines, keys, out);
+    } else if left == 0 {
         return Ok(());
-    }
-    if 2 * left.count_ones() > rows.count_ones() {
+    } else if mostly_merging {
         // Most lines have faces to grow: keep the quads of alone faces, in one pass.
         let mut kept = first;
         for i in first..out.len {
@@ -223,7 +241,7 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
 /// faces before them in the line and in line `l - 1` (`along[l]`, `across[l - 1]`: stale
 /// entries where there is no face, masked later).
 #[inline(always)]
-fn keyed_units<const D: usize, const AO: bool>(
+fn keyed_units<const D: usize, const AO: bool, const QUADS: bool>(
     s: &SliceFaces<'_, D>,
     l: usize,
     f: u64,
@@ -250,33 +268,61 @@ fn keyed_units<const D: usize, const AO: bool>(
         *wide |= id;
         let key = id << 11 | s.ao::<AO>((f0, f1, f2), b) << 3;
         keys.keys[l & 63][b & 63] = key;
-        keys.at[l & 63][b & 63] = n as u16;
         along |= u64::from(keys.keys[l & 63][(b - 1) & 63] == key) << ((b - 1) & 63);
         below |= u64::from(keys.keys[(l - 1) & 63][b & 63] == key) << (b & 63);
-        out.buf[n & 4095] = voxel_core::formats::PackedQuad {
-            position_size: word | ((b as u32 - 1) << Direction::<D>::SHIFT_B),
-            face_ao_block: key | D as u32,
-        };
-        n += 1;
+        if QUADS {
+            keys.at[l & 63][b & 63] = n as u16;
+            out.buf[n & 4095] = PackedQuad {
+                position_size: word | ((b as u32 - 1) << Direction::<D>::SHIFT_B),
+                face_ao_block: key | D as u32,
+            };
+            n += 1;
+        }
     }
     out.len = n;
     keys.along[l & 63] = along;
     keys.across[(l - 1) & 63] = below;
 }
 
-/// Checks the id of every quad of `quads[first..]` (1 x 1 quads of this slice): the slow path
-/// of a slice with an id the cache of known ids does not hold yet.
+/// Checks the id of every face of the lines `rows` (keys in the table): the slow path of a
+/// slice with an id the cache of known ids does not hold yet.
 #[cold]
-fn check_units<const D: usize>(
+fn check_faces<const D: usize>(
     s: &SliceFaces<'_, D>,
-    quads: &[voxel_core::formats::PackedQuad],
-    first: usize,
+    faces: &Slice,
+    rows: u64,
+    keys: &Keys,
     known: &mut u64,
 ) -> Result<(), MeshError> {
-    for q in quads.get(first..).unwrap_or(&[]) {
-        let l = ((q.position_size >> Direction::<D>::SHIFT_L) & 63) as usize + 1;
-        let b = ((q.position_size >> Direction::<D>::SHIFT_B) & 63) as usize + 1;
-        s.check(q.face_ao_block & !0x7FF, known, l, b)?;
+    let mut rest = rows;
+    while rest != 0 {
+        let l = rest.trailing_zeros() as usize;
+        rest &= rest - 1;
+        let mut m = faces[l & 63];
+        while m != 0 {
+            let b = m.trailing_zeros() as usize;
+            m &= m - 1;
+            s.check(keys.keys[l & 63][b & 63], known, l, b)?;
+        }
     }
     Ok(())
+}
+
+/// The 1 x 1 quads of the alone faces of the lines `rows`, for a slice whose faces were not
+/// written as quads first.
+fn emit_alone<const D: usize>(s: &SliceFaces<'_, D>, rows: u64, keys: &Keys, out: &mut Quads<'_>) {
+    let mut rest = rows;
+    while rest != 0 {
+        let l = rest.trailing_zeros() as usize;
+        rest &= rest - 1;
+        let mut m = keys.alone[l & 63];
+        while m != 0 {
+            let b = m.trailing_zeros() as usize;
+            m &= m - 1;
+            out.push(PackedQuad {
+                position_size: s.position_size(l, b, 1, 1),
+                face_ao_block: keys.keys[l & 63][b & 63] | D as u32,
+            });
+        }
+    }
 }
