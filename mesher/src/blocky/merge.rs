@@ -208,23 +208,16 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
     } else {
         // Few faces to grow: take their quads out, each hole filled with the last quad.
         let mut len = out.len;
-        let mut rest = left;
-        while rest != 0 {
-            let l = rest.trailing_zeros() as usize;
-            rest &= rest - 1;
-            let mut m = faces[l & 63];
-            while m != 0 {
-                let b = m.trailing_zeros() as usize;
-                m &= m - 1;
-                let hole = keys.at[l & 63][b & 63];
-                len -= 1;
-                let last = out.buf[len & 4095];
-                out.buf[usize::from(hole) & 4095] = last;
-                let ll = (last.position_size >> Direction::<D>::SHIFT_L) as usize + 1;
-                let lb = (last.position_size >> Direction::<D>::SHIFT_B) as usize + 1;
-                keys.at[ll & 63][lb & 63] = hole;
-            }
-        }
+        let at = &mut keys.at;
+        each_face(left, faces, |l, b| {
+            let hole = at[l & 63][b & 63];
+            len -= 1;
+            let last = out.buf[len & 4095];
+            out.buf[usize::from(hole) & 4095] = last;
+            let ll = (last.position_size >> Direction::<D>::SHIFT_L) as usize + 1;
+            let lb = (last.position_size >> Direction::<D>::SHIFT_B) as usize + 1;
+            at[ll & 63][lb & 63] = hole;
+        });
         out.len = len;
     }
     let mut known = keys.known;
@@ -294,35 +287,38 @@ fn check_faces<const D: usize>(
     keys: &Keys,
     known: &mut u64,
 ) -> Result<(), MeshError> {
-    let mut rest = rows;
-    while rest != 0 {
-        let l = rest.trailing_zeros() as usize;
-        rest &= rest - 1;
-        let mut m = faces[l & 63];
-        while m != 0 {
-            let b = m.trailing_zeros() as usize;
-            m &= m - 1;
-            s.check(keys.keys[l & 63][b & 63], known, l, b)?;
+    let mut result = Ok(());
+    each_face(rows, faces, |l, b| {
+        if result.is_ok() {
+            result = s.check(keys.keys[l & 63][b & 63], known, l, b);
         }
-    }
-    Ok(())
+    });
+    result
 }
 
 /// The 1 x 1 quads of the alone faces of the lines `rows`, for a slice whose faces were not
 /// written as quads first.
 fn emit_alone<const D: usize>(s: &SliceFaces<'_, D>, rows: u64, keys: &Keys, out: &mut Quads<'_>) {
+    each_face(rows, &keys.alone, |l, b| {
+        out.push(PackedQuad {
+            position_size: s.position_size(l, b, 1, 1),
+            face_ao_block: keys.keys[l & 63][b & 63] | D as u32,
+        });
+    });
+}
+
+/// Calls `f(l, b)` for every set bit `b` of `masks[l]`, for the lines `l` of `rows` in order.
+#[inline(always)]
+fn each_face(rows: u64, masks: &Slice, mut f: impl FnMut(usize, usize)) {
     let mut rest = rows;
     while rest != 0 {
         let l = rest.trailing_zeros() as usize;
         rest &= rest - 1;
-        let mut m = keys.alone[l & 63];
+        let mut m = masks[l & 63];
         while m != 0 {
             let b = m.trailing_zeros() as usize;
             m &= m - 1;
-            out.push(PackedQuad {
-                position_size: s.position_size(l, b, 1, 1),
-                face_ao_block: keys.keys[l & 63][b & 63] | D as u32,
-            });
+            f(l, b);
         }
     }
 }
