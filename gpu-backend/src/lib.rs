@@ -30,6 +30,7 @@ pub mod chunk_table;
 pub mod cull;
 pub mod device;
 mod dirty_ranges;
+mod fullscreen;
 pub mod gigabuffer;
 pub mod present;
 pub mod readback;

@@ -256,22 +256,11 @@ impl Renderer {
             layout,
             entries: &entries,
         });
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some(if tonemap { "tonemap" } else { "lighting" }),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: target,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = crate::fullscreen::fullscreen_pass(
+            encoder,
+            if tonemap { "tonemap" } else { "lighting" },
+            target,
+        );
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, frame_group, &[]);
         pass.set_bind_group(1, &group, &[]);
