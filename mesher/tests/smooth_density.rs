@@ -226,12 +226,7 @@ proptest! {
             })
     ) {
         prop_assert!(s.dims()[0] <= 64);
-        let mut mesher = SurfaceNets::new();
-        let mut packed = SmoothMesh::new();
-        let mut raw = SmoothMeshF32::default();
-        mesher.mesh_f32(&samples, s, BlockId(1), &mut packed).unwrap();
-        mesher.mesh_f32_unpacked(&samples, s, &mut raw).unwrap();
-        same_quads(&packed, &raw)?;
+        let packed = packed_same_as_unpacked(&samples, s)?;
         if packed.vertices().len() <= U16_INDEX_LIMIT {
             prop_assert!(matches!(packed.quads(), SmoothQuads::Compact(_)));
         } else {
@@ -250,12 +245,7 @@ proptest! {
             (Just(s), proptest::collection::vec(-1.0f32..1.0, s.sample_count()))
         })
     ) {
-        let mut mesher = SurfaceNets::new();
-        let mut packed = SmoothMesh::new();
-        let mut raw = SmoothMeshF32::default();
-        mesher.mesh_f32(&samples, s, BlockId(1), &mut packed).unwrap();
-        mesher.mesh_f32_unpacked(&samples, s, &mut raw).unwrap();
-        same_quads(&packed, &raw)?;
+        let packed = packed_same_as_unpacked(&samples, s)?;
         quad_form_is_the_narrowest(&packed, s)?;
     }
 }
@@ -302,6 +292,20 @@ fn smooth_field() -> impl Strategy<Value = SmoothField> {
 /// order) and the same quads, corner for corner once renumbered (both paths choose each
 /// diagonal on the same unquantized positions), whatever form the packed quads are stored in.
 /// Returns the unpacked index of each packed vertex.
+/// Meshes `samples` packed and unpacked, checks that both have the same quads
+/// ([`same_quads`]) and returns the packed mesh.
+fn packed_same_as_unpacked(samples: &[f32], s: GridShape) -> Result<SmoothMesh, TestCaseError> {
+    let mut mesher = SurfaceNets::new();
+    let mut packed = SmoothMesh::new();
+    let mut raw = SmoothMeshF32::default();
+    mesher
+        .mesh_f32(samples, s, BlockId(1), &mut packed)
+        .unwrap();
+    mesher.mesh_f32_unpacked(samples, s, &mut raw).unwrap();
+    same_quads(&packed, &raw)?;
+    Ok(packed)
+}
+
 fn same_quads(packed: &SmoothMesh, raw: &SmoothMeshF32) -> Result<Vec<usize>, TestCaseError> {
     let mut used = vec![false; raw.positions.len()];
     raw.quads
