@@ -101,12 +101,9 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool>(
         rest &= rest - 1;
         let f = faces[l & 63];
         // Many faces and none with a neighbouring face (a checkerboard): most share one key.
-        if many(f) {
-            let near = (f << 1) | (f >> 1) | faces[(l - 1) & 63] | faces[(l + 1) & 63];
-            if f & near == 0 {
-                s.line_units::<AO>(l, f, known, out)?;
-                continue;
-            }
+        if many_lone(faces, l) {
+            s.line_units::<AO>(l, f, known, out)?;
+            continue;
         }
         s.units::<AO>(l, f, known, out)?;
     }
@@ -147,17 +144,14 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
         let l = rest.trailing_zeros() as usize;
         rest &= rest - 1;
         let f = faces[l & 63];
-        if many(f) {
-            let near = (f << 1) | (f >> 1) | faces[(l - 1) & 63] | faces[(l + 1) & 63];
-            if f & near == 0 {
-                // All alone: some of their quads may be in the buffer (faces whose key is not
-                // the line's first), which step 3 must keep.
-                s.line_units::<AO>(l, f, &mut known, out)?;
-                faces[l & 63] = 0;
-                keys.alone[l & 63] = f;
-                lone_lines |= 1 << l;
-                continue;
-            }
+        if many_lone(faces, l) {
+            // All alone: some of their quads may be in the buffer (faces whose key is not the
+            // line's first), which step 3 must keep.
+            s.line_units::<AO>(l, f, &mut known, out)?;
+            faces[l & 63] = 0;
+            keys.alone[l & 63] = f;
+            lone_lines |= 1 << l;
+            continue;
         }
         if speculate {
             keyed_units::<D, AO, true>(s, l, f, keys, out, &mut seen, &mut wide);
@@ -305,6 +299,14 @@ fn emit_alone<const D: usize>(s: &SliceFaces<'_, D>, rows: u64, keys: &Keys, out
             face_ao_block: keys.keys[l & 63][b & 63] | D as u32,
         });
     });
+}
+
+/// True when line `l` has [`many`] faces and none of them has a neighbouring face in the
+/// slice (a checkerboard stripe): the lines the bulk path takes.
+#[inline(always)]
+fn many_lone(faces: &Slice, l: usize) -> bool {
+    let f = faces[l & 63];
+    many(f) && f & ((f << 1) | (f >> 1) | faces[(l - 1) & 63] | faces[(l + 1) & 63]) == 0
 }
 
 /// Calls `f(l, b)` for every set bit `b` of `masks[l]`, for the lines `l` of `rows` in order.
