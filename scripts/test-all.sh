@@ -13,6 +13,9 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
     export XDG_RUNTIME_DIR
 fi
 
+# Incremental caches double the size of target/ and a one-shot run never reuses them.
+export CARGO_INCREMENTAL="${CARGO_INCREMENTAL:-0}"
+
 echo "== format"
 cargo fmt --all -- --check
 
