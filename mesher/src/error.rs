@@ -5,6 +5,8 @@ use core::fmt;
 use voxel_core::BlockId;
 use voxel_core::formats::FormatError;
 
+use crate::InstructionSet;
+
 /// Why a mesher could not mesh its input. Meshers check their input and report the first
 /// problem; they never panic and never emit a partial mesh as if it were whole.
 #[derive(Clone, Debug, PartialEq)]
@@ -32,6 +34,8 @@ pub enum MeshError {
     },
     /// A value did not fit its packed format.
     Format(FormatError),
+    /// A mesher was asked to run on an instruction set this CPU lacks.
+    UnsupportedInstructionSet(InstructionSet),
 }
 
 impl fmt::Display for MeshError {
@@ -49,6 +53,9 @@ impl fmt::Display for MeshError {
             }
             MeshError::BadShape { reason, value } => write!(f, "{reason} (got {value})"),
             MeshError::Format(e) => write!(f, "packing failed: {e}"),
+            MeshError::UnsupportedInstructionSet(set) => {
+                write!(f, "this CPU cannot run the {set:?} instruction set")
+            }
         }
     }
 }

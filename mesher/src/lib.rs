@@ -19,6 +19,7 @@ pub mod blocky;
 mod classes;
 pub mod clutter;
 mod error;
+mod instruction_set;
 pub mod lod;
 mod quad_layer;
 pub mod shells;
@@ -33,6 +34,7 @@ pub use clutter::{
     ClutterLayer, ClutterParams, InvalidClutterDensity, clutter_extent, clutter_hash, place_clutter,
 };
 pub use error::MeshError;
+pub use instruction_set::InstructionSet;
 pub use quad_layer::QuadLayer;
 pub use shells::{ShellRun, ShellRuns, vertical_shells};
 pub use surface_blocks::{SUB_BLOCK_EDGE, SubBlockRange, SurfaceBlocks, surface_blocks};

@@ -6,8 +6,8 @@
 mod blocky_support;
 
 use blocky_support::*;
-use mesher::BlockClasses;
 use mesher::blocky::{BlockyMesh, GreedyMesher, visible_faces};
+use mesher::{BlockClasses, InstructionSet};
 use proptest::prelude::*;
 
 const IDS: &[u16] = &[STONE, DIRT, WATER, GLASS, GRASS, SAND];
@@ -35,6 +35,23 @@ fn check_all(size: voxel_core::ChunkSize, seed: u64, fill: Fill, transparent: bo
         plain, mesh,
         "the u16 entry point meshes like the PaddedChunk one"
     );
+
+    // Every instruction set this CPU runs gives the same quads, visible and greedy.
+    for set in InstructionSet::ALL.into_iter().filter(|s| s.is_supported()) {
+        let mut pinned = GreedyMesher::new()
+            .with_ambient_occlusion(ao)
+            .with_instruction_set(set)
+            .unwrap();
+        let mut other = BlockyMesh::new();
+        pinned.mesh(&padded, &classes, &mut other).unwrap();
+        assert_eq!(other, mesh, "greedy on {set:?}");
+        pinned.visible_faces(&padded, &classes, &mut other).unwrap();
+        let mut visible = BlockyMesh::new();
+        mesher
+            .visible_faces(&padded, &classes, &mut visible)
+            .unwrap();
+        assert_eq!(other, visible, "visible faces on {set:?}");
+    }
 
     if ao {
         let mut fresh = BlockyMesh::new();

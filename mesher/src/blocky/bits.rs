@@ -48,7 +48,7 @@ fn row_mask(row: &[u16], pred: impl Fn(u16) -> bool) -> u64 {
 ///
 /// Like [`row_mask`]: one vectorised compare into 64 bytes of `0` / `1`, then 8 gathers, about
 /// 6x fewer instructions than shifting one flag per line into place.
-#[inline]
+#[inline(always)]
 pub(crate) fn nonzero_lines(lines: &[u64; 64]) -> u64 {
     let bytes: [u8; 64] = core::array::from_fn(|l| u8::from(lines[l] != 0));
     let mut mask = 0u64;
@@ -60,20 +60,20 @@ pub(crate) fn nonzero_lines(lines: &[u64; 64]) -> u64 {
 }
 
 /// Occupancy of a row: bit `i` set iff `row[i]` is not air (`0`). `row.len() <= 64`.
-#[inline]
+#[inline(always)]
 pub(crate) fn row_non_air(row: &[u16]) -> u64 {
     row_mask(row, |v| v != 0)
 }
 
 /// Bit `i` set iff `row[i] == id`. `row.len() <= 64`.
-#[inline]
+#[inline(always)]
 pub(crate) fn row_equal(row: &[u16], id: u16) -> u64 {
     row_mask(row, |v| v == id)
 }
 
 /// True if `row` holds `id` anywhere: a compare-and-OR over the row that vectorises without
 /// any bit packing, much cheaper than [`row_equal`] when (as usual) the answer is no.
-#[inline]
+#[inline(always)]
 pub(crate) fn row_contains(row: &[u16], id: u16) -> bool {
     row.iter().fold(0u16, |acc, &v| acc | u16::from(v == id)) != 0
 }
@@ -81,6 +81,7 @@ pub(crate) fn row_contains(row: &[u16], id: u16) -> bool {
 /// Transposes a 64 x 64 bit matrix in place: afterwards bit `c` of word `r` is what bit `r` of
 /// word `c` was. Six rounds of block swaps (32, 16, ..., 1), each a masked exchange between
 /// word pairs, so the cost is fixed (about 1,200 simple operations) whatever the bits are.
+#[inline(always)]
 pub(crate) fn transpose64(m: &mut [u64; 64]) {
     let mut width = 32usize;
     let mut mask: u64 = 0x0000_0000_FFFF_FFFF;

@@ -28,6 +28,39 @@ pub(crate) struct SliceFaces<'a, const D: usize> {
     pub check: Option<&'a BlockClasses>,
 }
 
+/// Where the ids of one line of faces are: a contiguous row (bits along x, the ±Y and ±Z faces)
+/// or one voxel every `stride` (the ±X faces). Which one is known from the direction at compile
+/// time, so the per-face loops carry no branch for it.
+#[derive(Clone, Copy)]
+pub(crate) enum LineIds<'a> {
+    /// The 64 ids of the row, bit `b` at index `b`.
+    Row(&'a [u16; 64]),
+    /// Bit `b` at `voxels[start + b * stride]`.
+    Strided {
+        /// Padded ids.
+        voxels: &'a [u16],
+        /// Index of bit 0.
+        start: usize,
+        /// Index step of one bit.
+        stride: usize,
+    },
+}
+
+impl LineIds<'_> {
+    /// The id at bit `b`.
+    #[inline(always)]
+    pub(crate) fn id(self, b: usize) -> u32 {
+        match self {
+            LineIds::Row(row) => u32::from(row[b & 63]),
+            LineIds::Strided {
+                voxels,
+                start,
+                stride,
+            } => u32::from(voxels.get(start + b * stride).copied().unwrap_or(0)),
+        }
+    }
+}
+
 /// The opaque lines of the front slice around line `l`.
 pub(crate) type Front = (u64, u64, u64);
 
@@ -109,6 +142,37 @@ impl<const D: usize> SliceFaces<'_, D> {
         u32::from(self.voxels.get(i).copied().unwrap_or(0))
     }
 
+    /// The ids of line `l`, as the per-face loops read them (see [`LineIds::id`]).
+    #[inline(always)]
+    pub(crate) fn line_ids(&self, l: usize) -> LineIds<'_> {
+        let start = self.base + l * self.stride_l;
+        if Direction::<D>::LAYOUT == 2 {
+            return LineIds::Strided {
+                voxels: self.voxels,
+                start,
+                stride: self.stride_b,
+            };
+        }
+        // Past the padded edge a 64-id row holds the next row's ids, never read as faces;
+        // only the array's last rows can fall short, and they hold no face either.
+        const AIR: [u16; 64] = [0; 64];
+        let row = self
+            .voxels
+            .get(start..start + 64)
+            .and_then(|r| <&[u16; 64]>::try_from(r).ok())
+            .unwrap_or(&AIR);
+        LineIds::Row(row)
+    }
+
+    /// The bit that marks `id` in a mask of ids seen, checked against the cache of known ids
+    /// (see [`check`](Self::check)): bit `id` for ids below 64, bit 0 for all larger ones.
+    /// Air (id 0) never has a face and bit 0 is never in the cache, so one mask tells both
+    /// "an id the cache lacks" and "an id too large for it".
+    #[inline(always)]
+    pub(crate) fn seen_bit(id: u32) -> u64 {
+        1u64 << if id < 64 { id } else { 0 }
+    }
+
     /// The key of the face at line `l`, bit `b`: its id and, with `AO`, its 4 corner values.
     #[inline(always)]
     pub(crate) fn key<const AO: bool>(&self, l: usize, b: usize) -> u32 {
@@ -157,7 +221,8 @@ impl<const D: usize> SliceFaces<'_, D> {
         let id = BlockId(id as u16);
         if classes.class(id).is_some() {
             if id.0 < 64 {
-                *known |= 1 << id.0;
+                // Bit 0 stays clear: it marks large ids in `seen_bit` masks.
+                *known |= (1 << id.0) & !1;
             }
             return Ok(());
         }

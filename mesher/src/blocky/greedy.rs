@@ -14,13 +14,13 @@ use super::masks::{Content, Masks};
 use super::merge::Keys;
 use super::plain::{build_columns, padded_edge_of};
 use super::slices::{Input, mesh_direction};
-use crate::{BlockClasses, MeshError};
+use crate::{BlockClasses, InstructionSet, MeshError};
 
 /// A reusable blocky mesher: greedy quads (or one quad per face) with per-vertex ambient
 /// occlusion, written as [`PackedQuad`](voxel_core::formats::PackedQuad)s into a [`BlockyMesh`].
 ///
-/// It holds its scratch (the masks in three layouts, 6 x 32 KiB at most, plus 26 KiB of keys,
-/// equal-key masks and quad places, and a 32 KiB quad buffer for one slice), so meshing many
+/// It holds its scratch (the masks in three layouts, 6 x 32 KiB at most, plus 18 KiB of keys
+/// and equal-key masks, and a 32 KiB quad buffer for one slice), so meshing many
 /// chunks with one mesher allocates nothing after the first chunk of the largest size.
 ///
 /// # How
@@ -35,12 +35,16 @@ use crate::{BlockClasses, MeshError};
 /// 3. Faces merge when their block id and their 4 corner AO values are equal, growing quads in
 ///    `block-mesh`'s order; AO comes from the opaque bits of the front slice through a
 ///    512-entry table per direction. Faces none of whose neighbours has an equal key are
-///    1 x 1 quads in any order: every face is written as one while its key is computed, and
-///    only the quads of faces with an equal neighbour are taken back out and grown.
+///    1 x 1 quads in any order: they are written in one tight loop, and only the faces with
+///    an equal neighbour grow quads.
 /// 4. Lines (and ±X occupancy rows) of many faces with no neighbouring face, as on a
 ///    checkerboard, take a bulk path: the faces that share the first face's key are found
 ///    with whole-line bit operations and a SIMD compare of the ids, and cost an add and a
 ///    store each.
+///
+/// All of it is compiled twice: for the compilation target and, on x86-64, for the AVX2 and
+/// BMI2 level most CPUs have ([`InstructionSet`]); a new mesher runs the best one the CPU
+/// supports, and both give the same quads.
 ///
 /// ```
 /// use mesher::blocky::{BlockyMesh, GreedyMesher};
@@ -63,14 +67,36 @@ use crate::{BlockClasses, MeshError};
 /// ```
 #[derive(Clone, Debug)]
 pub struct GreedyMesher {
+    scratch: Scratch,
+    ambient_occlusion: bool,
+    instruction_set: InstructionSet,
+}
+
+/// What a [`GreedyMesher`] keeps between chunks.
+#[derive(Clone, Debug)]
+struct Scratch {
     masks: Masks,
     /// Face keys of the slice being merged.
     keys: Box<Keys>,
     /// Quads of the slice being meshed.
     quads: Box<SliceQuads>,
-    /// Occupancy columns built by [`mesh_u16`](Self::mesh_u16).
+    /// Occupancy columns built by [`GreedyMesher::mesh_u16`].
     columns: Vec<u64>,
-    ambient_occlusion: bool,
+}
+
+/// One chunk to mesh, and how.
+#[derive(Clone, Copy)]
+struct Job<'a> {
+    /// Padded edge.
+    p: usize,
+    /// The `p^3` padded ids, x fastest.
+    voxels: &'a [u16],
+    /// The occupancy columns (`y + p * z`), or `None` to build them from `voxels` first.
+    columns: Option<&'a [u64]>,
+    classes: &'a BlockClasses,
+    ao: bool,
+    /// Greedy quads (else one quad per face).
+    merge: bool,
 }
 
 impl Default for GreedyMesher {
@@ -80,14 +106,17 @@ impl Default for GreedyMesher {
 }
 
 impl GreedyMesher {
-    /// A mesher with ambient occlusion on.
+    /// A mesher with ambient occlusion on, running on the best [`InstructionSet`] of this CPU.
     pub fn new() -> Self {
         GreedyMesher {
-            masks: Masks::default(),
-            keys: Box::new(Keys::new()),
-            quads: Box::new([PackedQuad::default(); 4096]),
-            columns: Vec::new(),
+            scratch: Scratch {
+                masks: Masks::default(),
+                keys: Box::new(Keys::new()),
+                quads: Box::new([PackedQuad::default(); 4096]),
+                columns: Vec::new(),
+            },
             ambient_occlusion: true,
+            instruction_set: InstructionSet::detect(),
         }
     }
 
@@ -102,6 +131,22 @@ impl GreedyMesher {
     /// Whether ambient occlusion is computed.
     pub fn ambient_occlusion(&self) -> bool {
         self.ambient_occlusion
+    }
+
+    /// Runs on `set` instead of the detected best one (to compare them, or to test the
+    /// portable code on any machine). Fails with [`MeshError::UnsupportedInstructionSet`] if
+    /// this CPU cannot run it.
+    pub fn with_instruction_set(mut self, set: InstructionSet) -> Result<Self, MeshError> {
+        if !set.is_supported() {
+            return Err(MeshError::UnsupportedInstructionSet(set));
+        }
+        self.instruction_set = set;
+        Ok(self)
+    }
+
+    /// The instruction set the mesher runs on.
+    pub fn instruction_set(&self) -> InstructionSet {
+        self.instruction_set
     }
 
     /// Greedy-meshes `padded` into `out` (cleared first): opaque faces into `out.opaque`,
@@ -139,19 +184,15 @@ impl GreedyMesher {
         merge: bool,
         out: &mut BlockyMesh,
     ) -> Result<(), MeshError> {
-        let voxels: &[u16] = bytemuck::cast_slice(padded.voxels());
-        run(
-            &mut self.masks,
-            &mut self.keys,
-            &mut self.quads,
-            padded.padded_edge(),
-            voxels,
-            padded.columns(),
+        let job = Job {
+            p: padded.padded_edge(),
+            voxels: bytemuck::cast_slice(padded.voxels()),
+            columns: Some(padded.columns()),
             classes,
-            self.ambient_occlusion,
+            ao: self.ambient_occlusion,
             merge,
-            out,
-        )
+        };
+        self.run(&job, out)
     }
 
     /// Greedy-meshes a plain padded array of block ids, the input other meshers take: `p^3`
@@ -166,80 +207,109 @@ impl GreedyMesher {
         classes: &BlockClasses,
         out: &mut BlockyMesh,
     ) -> Result<(), MeshError> {
-        let p = padded_edge_of(voxels.len())?;
-        build_columns(p, voxels, &mut self.columns);
-        run(
-            &mut self.masks,
-            &mut self.keys,
-            &mut self.quads,
-            p,
+        let job = Job {
+            p: padded_edge_of(voxels.len())?,
             voxels,
-            &self.columns,
+            columns: None,
             classes,
-            self.ambient_occlusion,
-            true,
-            out,
-        )
+            ao: self.ambient_occlusion,
+            merge: true,
+        };
+        self.run(&job, out)
+    }
+
+    /// Meshes `job` into `out` on the mesher's instruction set; on an error `out` is empty.
+    fn run(&mut self, job: &Job<'_>, out: &mut BlockyMesh) -> Result<(), MeshError> {
+        out.clear();
+        let scratch = &mut self.scratch;
+        let result = match self.instruction_set {
+            InstructionSet::Baseline => mesh_chunk(scratch, job, out),
+            #[cfg(target_arch = "x86_64")]
+            InstructionSet::X86V3 => {
+                #[expect(
+                    unsafe_code,
+                    reason = "calls code compiled for CPU features that were checked at run time"
+                )]
+                // SAFETY: a mesher holds `X86V3` only if `InstructionSet::is_supported` found
+                // every feature `mesh_chunk_x86_v3` is compiled for (`new` takes the detected
+                // set, `with_instruction_set` checks it).
+                unsafe {
+                    mesh_chunk_x86_v3(scratch, job, out)
+                }
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            InstructionSet::X86V3 => mesh_chunk(scratch, job, out),
+        };
+        if result.is_err() {
+            out.clear();
+        }
+        result
     }
 }
 
-/// Meshes one padded chunk of edge `p`.
-#[expect(
-    clippy::too_many_arguments,
-    reason = "one internal entry shared by the three public ones"
-)]
-fn run(
-    masks: &mut Masks,
-    keys: &mut Keys,
-    quads: &mut SliceQuads,
-    p: usize,
-    voxels: &[u16],
-    columns: &[u64],
-    classes: &BlockClasses,
-    ao: bool,
-    merge: bool,
+/// [`mesh_chunk`] compiled for x86-64 with AVX2, BMI1, BMI2, LZCNT and POPCNT: everything it
+/// calls is `#[inline(always)]` (and no closure runs a hot loop), so the whole mesher is
+/// compiled a second time for these features.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+fn mesh_chunk_x86_v3(
+    scratch: &mut Scratch,
+    job: &Job<'_>,
     out: &mut BlockyMesh,
 ) -> Result<(), MeshError> {
-    out.clear();
+    mesh_chunk(scratch, job, out)
+}
+
+/// Meshes one padded chunk into `out` (empty on entry; partly written on an error).
+///
+/// Everything below is inlined into the entry that calls it, one per [`InstructionSet`]; a
+/// direction is a plain call rather than a closure, since a closure would be compiled once,
+/// outside any entry's instruction set.
+#[inline(always)]
+fn mesh_chunk(scratch: &mut Scratch, job: &Job<'_>, out: &mut BlockyMesh) -> Result<(), MeshError> {
+    let Scratch {
+        masks,
+        keys,
+        quads,
+        columns: built,
+    } = scratch;
+    let columns = match job.columns {
+        Some(columns) => columns,
+        None => {
+            build_columns(job.p, job.voxels, built);
+            built.as_slice()
+        }
+    };
+    let classes = job.classes;
     keys.known = 0;
-    keys.speculate = [true; 6];
-    if masks.build(p, voxels, columns, classes) != Content::Surface {
+    if masks.build(job.p, job.voxels, columns, classes) != Content::Surface {
         return Ok(());
     }
     let mut input = Input {
-        voxels,
-        p,
+        voxels: job.voxels,
+        p: job.p,
         opaque: masks.opaque(columns),
         transparent: masks.transparent(),
         mixed_transparent: masks.mixed_transparent,
-        ao,
-        merge,
+        ao: job.ao,
+        merge: job.merge,
         handled: [[0; 64]; 2],
         lone_x_rows: false,
     };
     let [o0, o1, ..] = &mut out.opaque.faces;
     let mut handled = [[0; 64]; 2];
-    let lone = lone_x::<0>(&input, classes, o0, &mut handled[0])
-        .and_then(|()| lone_x::<1>(&input, classes, o1, &mut handled[1]));
-    if let Err(e) = lone {
-        out.clear();
-        return Err(e);
-    }
+    lone_x::<0>(&input, classes, o0, &mut handled[0])?;
+    lone_x::<1>(&input, classes, o1, &mut handled[1])?;
     input.lone_x_rows = handled.iter().flatten().any(|&rows| rows != 0);
     input.handled = handled;
     let [o0, o1, o2, o3, o4, o5] = &mut out.opaque.faces;
     let [t0, t1, t2, t3, t4, t5] = &mut out.transparent.faces;
-    let result = mesh_direction::<0>(&input, classes, keys, quads, o0, t0)
-        .and_then(|()| mesh_direction::<1>(&input, classes, keys, quads, o1, t1))
-        .and_then(|()| mesh_direction::<2>(&input, classes, keys, quads, o2, t2))
-        .and_then(|()| mesh_direction::<3>(&input, classes, keys, quads, o3, t3))
-        .and_then(|()| mesh_direction::<4>(&input, classes, keys, quads, o4, t4))
-        .and_then(|()| mesh_direction::<5>(&input, classes, keys, quads, o5, t5));
-    if let Err(e) = result {
-        out.clear();
-        return Err(e);
-    }
-    Ok(())
+    mesh_direction::<0>(&input, classes, keys, quads, o0, t0)?;
+    mesh_direction::<1>(&input, classes, keys, quads, o1, t1)?;
+    mesh_direction::<2>(&input, classes, keys, quads, o2, t2)?;
+    mesh_direction::<3>(&input, classes, keys, quads, o3, t3)?;
+    mesh_direction::<4>(&input, classes, keys, quads, o4, t4)?;
+    mesh_direction::<5>(&input, classes, keys, quads, o5, t5)
 }
 
 #[cfg(test)]
@@ -247,6 +317,26 @@ mod tests {
     use voxel_core::{BlockId, ChunkSize, FaceDirection, Material, MaterialPalette, PaddedChunk};
 
     use super::*;
+
+    #[test]
+    fn a_mesher_takes_exactly_the_instruction_sets_this_cpu_runs() {
+        assert_eq!(
+            GreedyMesher::new().instruction_set(),
+            InstructionSet::detect()
+        );
+        for set in InstructionSet::ALL {
+            match GreedyMesher::new().with_instruction_set(set) {
+                Ok(mesher) => {
+                    assert!(set.is_supported());
+                    assert_eq!(mesher.instruction_set(), set);
+                }
+                Err(e) => {
+                    assert!(!set.is_supported());
+                    assert_eq!(e, MeshError::UnsupportedInstructionSet(set));
+                }
+            }
+        }
+    }
 
     /// A floor whose diagonal is another id: its top faces have no neighbour with an equal key
     /// (the pass that emits such faces before growing quads), the others merge (the passes

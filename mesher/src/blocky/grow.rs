@@ -8,6 +8,7 @@ use crate::MeshError;
 
 /// Greedy quads growing along bits first, then lines (the ±Z faces), starting from the lines
 /// of `left`; leaves `faces` empty.
+#[inline(always)]
 pub(crate) fn greedy_bits_first<const D: usize>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
@@ -22,10 +23,9 @@ pub(crate) fn greedy_bits_first<const D: usize>(
         left &= left - 1;
         let mut here = faces[l & 63];
         let along = keys.along[l & 63];
-        let row = &keys.keys[l & 63];
         while here != 0 {
             let b = here.trailing_zeros() as usize;
-            let key = row[b & 63];
+            let key = keys.key(l, b);
             // Faces still present from b on with the same key.
             let chain = (along & here & (here >> 1)) >> b;
             let bits = 1 + chain.trailing_ones() as usize;
@@ -48,6 +48,7 @@ pub(crate) fn greedy_bits_first<const D: usize>(
 
 /// Greedy quads growing along lines first, then bits (the ±X and ±Y faces), starting from the
 /// lines of `left`; leaves `faces` empty.
+#[inline(always)]
 pub(crate) fn greedy_lines_first<const D: usize>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
@@ -64,7 +65,7 @@ pub(crate) fn greedy_lines_first<const D: usize>(
         let along = keys.along[l & 63];
         while here != 0 {
             let b = here.trailing_zeros() as usize;
-            let key = keys.keys[l & 63][b & 63];
+            let key = keys.key(l, b);
             let bit = 1u64 << b;
             let mut lines = 1;
             // Bit j: faces b + j and b + j + 1 present with equal keys in every line so far.

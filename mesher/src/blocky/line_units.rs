@@ -73,34 +73,29 @@ impl<const D: usize> SliceFaces<'_, D> {
         known: &mut u64,
         out: &mut Quads<'_>,
     ) -> Result<(), MeshError> {
-        let row = self.row(l);
-        let (f0, f1, f2) = self.front_lines(l);
+        let ids = self.line_ids(l);
+        let front = self.front_lines(l);
         let word = self.position_size(l, 1, 1, 1);
         // The end in a local: the buffer's end is stored once, not once per quad (on an error
         // the whole output is dropped).
         let mut n = out.len;
-        // The ids seen (below 64, one bit each) and whether one was 64 or more: checked
-        // against the cache of known ids once, after the line, instead of once per face.
+        // The ids seen: checked against the cache of known ids once, after the line, instead
+        // of once per face.
         let mut seen = 0u64;
-        let mut wide = 0u32;
         let mut m = bits;
         while m != 0 {
             let b = m.trailing_zeros() as usize;
             m &= m - 1;
-            let id = match row {
-                Some(row) => u32::from(row[b & 63]),
-                None => self.id(l, b),
-            };
-            seen |= 1 << (id & 63);
-            wide |= id;
-            let key = id << 11 | self.ao::<AO>((f0, f1, f2), b) << 3;
+            let id = ids.id(b);
+            seen |= Self::seen_bit(id);
+            let key = id << 11 | self.ao::<AO>(front, b) << 3;
             out.buf[n & 4095] = PackedQuad {
                 position_size: word | ((b as u32 - 1) << Direction::<D>::SHIFT_B),
                 face_ao_block: key | D as u32,
             };
             n += 1;
         }
-        if seen & !*known != 0 || wide >= 64 {
+        if seen & !*known != 0 {
             self.check_line(l, bits, known)?;
         }
         out.len = n;
@@ -122,7 +117,7 @@ impl<const D: usize> SliceFaces<'_, D> {
 
     /// Appends a 1 x 1 quad for every face of `bits` (not empty) in line `l`, a line with
     /// [`many`] faces: faces that share the first face's key cost one add and one store each.
-    #[inline(never)]
+    #[inline(always)]
     pub(crate) fn line_units<const AO: bool>(
         &self,
         l: usize,

@@ -32,7 +32,7 @@ use crate::{BlockClasses, MeshError};
 
 /// Removes, in place, the faces of a slice that `lone_x` emitted: those with no neighbouring
 /// face whose line `l` and bit are set in `handled` (its rows of many lone faces, by z and y).
-#[inline]
+#[inline(always)]
 pub(crate) fn drop_handled(faces: &mut Slice, handled: &Slice) {
     let old = *faces;
     for (l, f) in faces.iter_mut().enumerate() {
@@ -63,6 +63,7 @@ fn slab_faces<const D: usize>(slab: &Slice, inner: u64, e: usize, inside: bool, 
 /// rows of [`many`] such faces, as 1 x 1 quads with AO, into `out`; marks those rows in
 /// `handled` (bit y of line z). Does nothing unless the middle slab has a row of many faces
 /// that are all lone.
+#[inline(always)]
 pub(crate) fn lone_x<const D: usize>(
     input: &Input<'_>,
     classes: &BlockClasses,
@@ -142,7 +143,7 @@ pub(crate) fn lone_x<const D: usize>(
     clippy::too_many_arguments,
     reason = "the row's parts, computed once by the caller"
 )]
-#[inline]
+#[inline(always)]
 fn emit_row<const D: usize>(
     ao: bool,
     classes: &BlockClasses,

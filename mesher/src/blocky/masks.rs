@@ -87,6 +87,7 @@ pub(crate) struct Layouts<'a> {
 
 /// Which slices of each layout have a set bit, from layout A alone: slab `z` of A (layout A's
 /// slice), line `y` of any slab (layout B's slice `y`), bit `x` of any line (layout C's slice).
+#[inline(always)]
 fn occupied_slices(a: &[Slice]) -> [u64; 3] {
     let mut any_line = [0u64; 64];
     let mut slabs = 0u64;
@@ -117,6 +118,7 @@ impl Masks {
     /// Builds the masks of a padded chunk of edge `p` from its ids (x fastest) and occupancy
     /// columns (index `y + p * z`). Returns [`Content::Empty`] or [`Content::Buried`] without
     /// building anything when the columns already say there is no face.
+    #[inline(always)]
     pub fn build(
         &mut self,
         p: usize,
@@ -174,6 +176,7 @@ impl Masks {
     }
 
     /// Fills `trans_a` (layout A) and the two flags.
+    #[inline(always)]
     fn derive_transparent(
         &mut self,
         p: usize,
@@ -247,6 +250,7 @@ impl Masks {
 }
 
 /// Layout B from layout A: `out[y][z] = a[z][y]`.
+#[inline(always)]
 fn word_transpose(p: usize, a: &[Slice], out: &mut Vec<Slice>) {
     slices(out, p);
     // Slice by slice of the output: 64 strided reads, one contiguous 512-byte write.
@@ -259,6 +263,7 @@ fn word_transpose(p: usize, a: &[Slice], out: &mut Vec<Slice>) {
 
 /// Layout C from layout A: for each z-slab, transpose the bit matrix (lines y, bits x) into
 /// lines x, bits y, stored at `out[x][z]`.
+#[inline(always)]
 fn bit_transpose(p: usize, a: &[Slice], out: &mut Vec<Slice>) {
     slices(out, p);
     for (z, slab) in a.iter().enumerate() {

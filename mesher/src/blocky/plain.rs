@@ -22,6 +22,7 @@ pub(crate) fn padded_edge_of(len: usize) -> Result<usize, MeshError> {
 
 /// Occupancy columns of a padded array of edge `p`: `out[y + p * z]` has bit `x` set iff the id
 /// at `(x, y, z)` is not air.
+#[inline(always)]
 pub(crate) fn build_columns(p: usize, voxels: &[u16], out: &mut Vec<u64>) {
     out.clear();
     out.extend(voxels.chunks_exact(p).map(row_non_air));

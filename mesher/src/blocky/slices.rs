@@ -96,6 +96,7 @@ fn slice(layout: &[Slice], n: usize) -> &Slice {
 
 /// Meshes direction `D`: every slice, opaque faces into `opaque`, transparent ones into
 /// `transparent`.
+#[inline(always)]
 pub(crate) fn mesh_direction<const D: usize>(
     input: &Input<'_>,
     classes: &BlockClasses,
@@ -210,7 +211,7 @@ fn differing_ids(voxels: &[u16], at: [usize; 3], strides: [usize; 3], mut both: 
 }
 
 /// Turns the face lines of one slice into quads, leaving `faces` all zero.
-#[inline]
+#[inline(always)]
 fn emit<const D: usize>(
     input: &Input<'_>,
     slice: &SliceFaces<'_, D>,
@@ -242,7 +243,7 @@ fn emit<const D: usize>(
 /// checkerboard: then every face is a 1 x 1 greedy quad, and the greedy pass's per-line
 /// bookkeeping can be skipped. Only slices whose first line with faces has [`many`] such
 /// faces are scanned, so that slices of other shapes (terrain) pay a handful of operations.
-#[inline]
+#[inline(always)]
 fn isolated_faces(faces: &Slice, rows: u64) -> bool {
     // Line l - 1 has no face: l is the first line with one.
     let l = rows.trailing_zeros() as usize;

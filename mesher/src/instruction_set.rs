@@ -1,0 +1,76 @@
+//! [`InstructionSet`]: which compiled copy of the blocky mesher's loops runs.
+//!
+//! The blocky mesher is bit twiddling in tight loops (bit scans, variable shifts, popcounts,
+//! 64-line mask operations). The portable x86-64 target has none of BMI1 / BMI2 / POPCNT and
+//! only 128-bit vectors, so its loops spend two instructions where one would do; yet the
+//! library cannot be built for a newer CPU level without excluding older machines. So the
+//! mesher is compiled twice and picks a copy at run time, once per mesher, with `std`'s CPU
+//! feature detection. Without the `std` feature there is no detection: the portable copy runs,
+//! compiled for whatever target features the build enables.
+
+/// The instruction set a [`GreedyMesher`](crate::blocky::GreedyMesher) runs on. Every set
+/// gives the same quads, bit for bit; only the speed differs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum InstructionSet {
+    /// The compilation target's own features (on x86-64 without `-C target-cpu`: SSE2).
+    Baseline,
+    /// x86-64 with AVX2, BMI1, BMI2, LZCNT and POPCNT: the integer and vector features of the
+    /// x86-64-v3 level, which every x86-64 CPU since 2015 has (Intel Haswell, AMD Zen).
+    X86V3,
+}
+
+impl InstructionSet {
+    /// Every instruction set, the portable one first.
+    pub const ALL: [InstructionSet; 2] = [InstructionSet::Baseline, InstructionSet::X86V3];
+
+    /// The fastest instruction set this CPU runs.
+    pub fn detect() -> InstructionSet {
+        if InstructionSet::X86V3.is_supported() {
+            InstructionSet::X86V3
+        } else {
+            InstructionSet::Baseline
+        }
+    }
+
+    /// Whether this CPU runs `self` (always true for [`Baseline`](Self::Baseline)).
+    pub fn is_supported(self) -> bool {
+        match self {
+            InstructionSet::Baseline => true,
+            InstructionSet::X86V3 => x86_v3_supported(),
+        }
+    }
+}
+
+/// The features of [`InstructionSet::X86V3`], asked of the CPU.
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+fn x86_v3_supported() -> bool {
+    std::is_x86_feature_detected!("avx2")
+        && std::is_x86_feature_detected!("bmi1")
+        && std::is_x86_feature_detected!("bmi2")
+        && std::is_x86_feature_detected!("lzcnt")
+        && std::is_x86_feature_detected!("popcnt")
+}
+
+/// Without `std` nothing asks the CPU: only a build for these features has them.
+#[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+fn x86_v3_supported() -> bool {
+    cfg!(all(
+        target_arch = "x86_64",
+        target_feature = "avx2",
+        target_feature = "bmi1",
+        target_feature = "bmi2",
+        target_feature = "lzcnt",
+        target_feature = "popcnt"
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_detected_set_is_supported_and_baseline_always_is() {
+        assert!(InstructionSet::detect().is_supported());
+        assert!(InstructionSet::Baseline.is_supported());
+    }
+}
