@@ -12,6 +12,30 @@ fn gather8(bytes: [u8; 8]) -> u64 {
     (u64::from_le_bytes(bytes).wrapping_mul(0x0102_0408_1020_4080)) >> 56
 }
 
+/// Bit `i` set iff `row[i] == id`, for a full row of 64 ids, with SSE2: compares of 8 ids at a
+/// time, packed to bytes, 16 mask bits per `pmovmskb` (31 instructions). Compilers do not
+/// find `pmovmskb` in portable code, and the portable [`row_mask`] compiles badly for AVX2
+/// (its byte gathers become emulated 64-bit vector multiplies).
+#[cfg(target_feature = "sse2")]
+#[inline(always)]
+fn row_equal_64(row: &[u16; 64], id: u16) -> u64 {
+    use safe_arch::{
+        cmp_eq_mask_i16_m128i, m128i, move_mask_i8_m128i, pack_i16_to_i8_m128i, set_splat_i16_m128i,
+    };
+    let want = set_splat_i16_m128i(id as i16);
+    let mut mask = 0u64;
+    for (k, sixteen) in row.chunks_exact(16).enumerate() {
+        let low: [u16; 8] = core::array::from_fn(|j| sixteen[j]);
+        let high: [u16; 8] = core::array::from_fn(|j| sixteen[8 + j]);
+        let bytes = pack_i16_to_i8_m128i(
+            cmp_eq_mask_i16_m128i(m128i::from(low), want),
+            cmp_eq_mask_i16_m128i(m128i::from(high), want),
+        );
+        mask |= u64::from(move_mask_i8_m128i(bytes) as u16) << ((16 * k) & 63);
+    }
+    mask
+}
+
 /// Bit `i` set iff `pred(row[i])`, for rows of at most 64 ids.
 ///
 /// A full row of 64 is turned into 64 bytes of `0` / `1` first (one vectorised compare over the
@@ -62,12 +86,20 @@ pub(crate) fn nonzero_lines(lines: &[u64; 64]) -> u64 {
 /// Occupancy of a row: bit `i` set iff `row[i]` is not air (`0`). `row.len() <= 64`.
 #[inline(always)]
 pub(crate) fn row_non_air(row: &[u16]) -> u64 {
+    #[cfg(target_feature = "sse2")]
+    if let Ok(full) = <&[u16; 64]>::try_from(row) {
+        return !row_equal_64(full, 0);
+    }
     row_mask(row, |v| v != 0)
 }
 
 /// Bit `i` set iff `row[i] == id`. `row.len() <= 64`.
 #[inline(always)]
 pub(crate) fn row_equal(row: &[u16], id: u16) -> u64 {
+    #[cfg(target_feature = "sse2")]
+    if let Ok(full) = <&[u16; 64]>::try_from(row) {
+        return row_equal_64(full, id);
+    }
     row_mask(row, |v| v == id)
 }
 
@@ -146,6 +178,29 @@ mod tests {
             }
             assert_eq!(row_non_air(row), non_air, "len {len}");
             assert_eq!(row_equal(row, 3), threes, "len {len}");
+        }
+    }
+
+    /// Ids at the ends of the 16-bit range, where a signed compare or a saturating pack could
+    /// go wrong (the SSE2 path compares and packs signed lanes).
+    #[test]
+    fn row_masks_hold_at_the_ends_of_the_id_range() {
+        let values = [0u16, 1, 0x7FFF, 0x8000, 0x8001, 0xFFFE, 0xFFFF];
+        for len in [10usize, 64] {
+            let row: [u16; 64] = core::array::from_fn(|i| values[(i * 3) % values.len()]);
+            let row = &row[..len];
+            for id in values {
+                let want = row
+                    .iter()
+                    .enumerate()
+                    .fold(0u64, |m, (i, &v)| m | u64::from(v == id) << i);
+                assert_eq!(row_equal(row, id), want, "len {len} id {id:#x}");
+            }
+            let non_air = row
+                .iter()
+                .enumerate()
+                .fold(0u64, |m, (i, &v)| m | u64::from(v != 0) << i);
+            assert_eq!(row_non_air(row), non_air, "len {len}");
         }
     }
 }

@@ -8,7 +8,7 @@ use voxel_core::PaddedChunk;
 use voxel_core::formats::PackedQuad;
 
 use super::BlockyMesh;
-use super::faces::SliceQuads;
+use super::faces::{Quads, SliceQuads};
 use super::lone_x::lone_x;
 use super::masks::{Content, Masks};
 use super::merge::Keys;
@@ -298,8 +298,8 @@ fn mesh_chunk(scratch: &mut Scratch, job: &Job<'_>, out: &mut BlockyMesh) -> Res
     };
     let [o0, o1, ..] = &mut out.opaque.faces;
     let mut handled = [[0; 64]; 2];
-    lone_x::<0>(&input, classes, o0, &mut handled[0])?;
-    lone_x::<1>(&input, classes, o1, &mut handled[1])?;
+    lone_x::<0>(&input, classes, &mut Quads::new(quads, o0), &mut handled[0])?;
+    lone_x::<1>(&input, classes, &mut Quads::new(quads, o1), &mut handled[1])?;
     input.lone_x_rows = handled.iter().flatten().any(|&rows| rows != 0);
     input.handled = handled;
     let [o0, o1, o2, o3, o4, o5] = &mut out.opaque.faces;

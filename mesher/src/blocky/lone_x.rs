@@ -18,13 +18,11 @@
 //! when a sample slab, the middle one, has a row of many faces that are all lone. Either way
 //! the output is the same.
 
-use alloc::vec::Vec;
-
 use voxel_core::BlockId;
 use voxel_core::formats::PackedQuad;
 
 use super::bits::row_equal;
-use super::faces::extend_units;
+use super::faces::Quads;
 use super::line_units::many;
 use super::masks::Slice;
 use super::slices::{Direction, Input};
@@ -60,14 +58,15 @@ fn slab_faces<const D: usize>(slab: &Slice, inner: u64, e: usize, inside: bool, 
 }
 
 /// Emits the opaque ±X faces (direction `D`, 0 or 1) that have no neighbouring face and lie in
-/// rows of [`many`] such faces, as 1 x 1 quads with AO, into `out`; marks those rows in
+/// rows of [`many`] such faces, as 1 x 1 quads with AO, into `out` (flushed slab by slab: a
+/// slab has at most 62 x 31 such faces); marks those rows in
 /// `handled` (bit y of line z). Does nothing unless the middle slab has a row of many faces
 /// that are all lone.
 #[inline(always)]
 pub(crate) fn lone_x<const D: usize>(
     input: &Input<'_>,
     classes: &BlockClasses,
-    out: &mut Vec<PackedQuad>,
+    out: &mut Quads<'_>,
     handled: &mut Slice,
 ) -> Result<(), MeshError> {
     const ZERO: Slice = [0; 64];
@@ -131,6 +130,7 @@ pub(crate) fn lone_x<const D: usize>(
                 out,
             )?;
         }
+        out.flush();
         below = here;
         here = above;
     }
@@ -152,7 +152,7 @@ fn emit_row<const D: usize>(
     planes: &[u64; 9],
     ids: &[u16],
     known: &mut u64,
-    out: &mut Vec<PackedQuad>,
+    out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
     let code = |x: usize| {
         planes.iter().enumerate().fold(0usize, |code, (k, &plane)| {
@@ -205,7 +205,7 @@ fn emit_row<const D: usize>(
         let key0 = key_of(id0, code0);
         same &= row_equal(ids, id0);
         check(key0, x0, known)?;
-        extend_units(out, same, word, 0, key0);
+        out.push_bits(same, word, 0, key0);
         rest &= !same;
     }
     while rest != 0 {

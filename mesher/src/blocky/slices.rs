@@ -221,7 +221,7 @@ fn emit<const D: usize>(
     buf: &mut SliceQuads,
     out: &mut Vec<PackedQuad>,
 ) -> Result<(), MeshError> {
-    let mut quads = Quads { buf, len: 0, out };
+    let mut quads = Quads::new(buf, out);
     let rows = rows_of(faces);
     // Faces none of which touches another are their own greedy quads: no merging to do.
     let merge = input.merge && !isolated_faces(faces, rows);
@@ -233,9 +233,7 @@ fn emit<const D: usize>(
         (true, true) => greedy::<D, true>(slice, faces, rows, e, keys, &mut quads)?,
         (true, false) => greedy::<D, false>(slice, faces, rows, e, keys, &mut quads)?,
     }
-    quads
-        .out
-        .extend_from_slice(&quads.buf[..quads.len.min(4096)]);
+    quads.flush();
     Ok(())
 }
 
