@@ -23,6 +23,8 @@ pub struct BlockClasses {
     any_smoothable: bool,
     /// Every transparent id, ascending.
     transparent_ids: Vec<BlockId>,
+    /// Bit `id` set for every known id from 1 to 63 (bit 0, air, stays clear).
+    known_below_64: u64,
 }
 
 const CLASSES: [MaterialClass; 5] = [
@@ -56,6 +58,9 @@ impl BlockClasses {
             any_smoothable |= material.class == MaterialClass::Smoothable;
             emissive[id / 64] |= u64::from(material.emission > 0) << (id % 64);
         }
+        let known_below_64 = (1..64)
+            .filter(|&id| codes.get(id).is_some_and(|&c| c != UNKNOWN))
+            .fold(0u64, |mask, id| mask | 1 << id);
         BlockClasses {
             codes,
             any_transparent,
@@ -63,7 +68,16 @@ impl BlockClasses {
             any_clutter_bearing,
             any_smoothable,
             transparent_ids,
+            known_below_64,
         }
+    }
+
+    /// Bit `id` set for every known id from 1 to 63; bit 0 (air) is always clear. The blocky
+    /// mesher's cache of known ids starts from it, so the ids of a palette never take the slow
+    /// path that names an unknown id.
+    #[inline]
+    pub(crate) fn known_below_64(&self) -> u64 {
+        self.known_below_64
     }
 
     /// The class of `id`, or `None` for an id the palette does not know.

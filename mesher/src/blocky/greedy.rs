@@ -281,7 +281,7 @@ fn mesh_chunk(scratch: &mut Scratch, job: &Job<'_>, out: &mut BlockyMesh) -> Res
         }
     };
     let classes = job.classes;
-    keys.known = 0;
+    keys.known = classes.known_below_64();
     if masks.build(job.p, job.voxels, columns, classes) != Content::Surface {
         return Ok(());
     }

@@ -99,7 +99,7 @@ pub(crate) fn lone_x<const D: usize>(
     }
     below = [0; 64];
     slab_faces::<D>(slab(1), inner, e, true, &mut here);
-    let mut known = 0u64;
+    let mut known = classes.known_below_64();
     for z in 1..=e {
         slab_faces::<D>(slab(z + 1), inner, e, z < e, &mut above);
         for y in 1..=e {

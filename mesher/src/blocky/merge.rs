@@ -46,8 +46,8 @@ use crate::MeshError;
 /// between slices.
 #[derive(Clone, Debug)]
 pub(crate) struct Keys {
-    /// Key by face: index `64 * l + b` (see [`face_index`]).
-    keys: [u32; 4096],
+    /// Key by line and bit.
+    keys: [[u32; 64]; 64],
     /// `along[l]` bit `b`: the faces at `(l, b)` and `(l, b + 1)` merge and have equal keys.
     pub(crate) along: Slice,
     /// `across[l]` bit `b`: the faces at `(l, b)` and `(l + 1, b)` merge and have equal keys.
@@ -63,7 +63,7 @@ impl Keys {
     /// Zeroed scratch.
     pub(crate) fn new() -> Self {
         Keys {
-            keys: [0; 4096],
+            keys: [[0; 64]; 64],
             along: [0; 64],
             across: [0; 64],
             alone: [0; 64],
@@ -72,20 +72,11 @@ impl Keys {
     }
 }
 
-/// Index of the face at line `l`, bit `b` in the flat per-face tables of [`Keys`]: one base
-/// register serves a face, the face before it in the line and the face in the line before.
-/// Only the low 6 bits of each count (callers may pass a coordinate read back from a quad
-/// word with the fields above it).
-#[inline(always)]
-fn face_index(l: usize, b: usize) -> usize {
-    (l & 63) << 6 | (b & 63)
-}
-
 impl Keys {
     /// The key of the face at line `l`, bit `b` (meaningful only where a face was keyed).
     #[inline(always)]
     pub(crate) fn key(&self, l: usize, b: usize) -> u32 {
-        self.keys[face_index(l, b)]
+        self.keys[l & 63][b & 63]
     }
 }
 
@@ -193,8 +184,9 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
 /// face before it; `across[l - 1]`: stale entries where there is no face, masked later). The
 /// ids seen go into `seen` (see [`SliceFaces::seen_bit`]).
 ///
-/// Written for few live values (one base index for the key table, the previous key in a
-/// register), so that the loop runs without spilling: it is most of the greedy mesher's time.
+/// Written for few live values (two row pointers and one bit index for the key table, the
+/// previous key in a register), so that the loop runs with few spills: it is most of the
+/// greedy mesher's time.
 #[inline(always)]
 fn keyed_line<const D: usize, const AO: bool>(
     s: &SliceFaces<'_, D>,
@@ -205,7 +197,10 @@ fn keyed_line<const D: usize, const AO: bool>(
 ) {
     let ids = s.line_ids(l);
     let front = s.front_lines(l);
-    let line = face_index(l, 0);
+    // Two row pointers: the line's keys and the line before's, one bit index into both.
+    let (before, here) = keys.keys.split_at_mut(l & 63);
+    let here = &mut here[0];
+    let before = before.last().unwrap_or(&[0; 64]);
     let mut along = 0u64;
     let mut below = 0u64;
     // No key is all ones (ids have 16 bits): the line's first face equals no previous one.
@@ -218,11 +213,10 @@ fn keyed_line<const D: usize, const AO: bool>(
         let id = ids.id(b);
         seen_here |= SliceFaces::<D>::seen_bit(id);
         let key = id << 11 | s.ao::<AO>(front, b) << 3;
-        let i = line + b;
-        keys.keys[i & 4095] = key;
+        here[b & 63] = key;
         along |= u64::from(previous == key) << b;
         previous = key;
-        below |= u64::from(keys.keys[i.wrapping_sub(64) & 4095] == key) << b;
+        below |= u64::from(before[b & 63] == key) << b;
     }
     *seen |= seen_here;
     keys.along[l & 63] = along;
@@ -257,14 +251,14 @@ fn emit_alone<const D: usize>(s: &SliceFaces<'_, D>, rows: u64, keys: &Keys, out
         let l = rest.trailing_zeros() as usize;
         rest &= rest - 1;
         let word = s.position_size(l, 1, 1, 1);
-        let line = face_index(l, 0);
+        let row = &keys.keys[l & 63];
         let mut m = keys.alone[l & 63];
         while m != 0 {
             let b = m.trailing_zeros() as usize;
             m &= m - 1;
             out.buf[n & 4095] = PackedQuad {
                 position_size: word | ((b as u32 - 1) << Direction::<D>::SHIFT_B),
-                face_ao_block: keys.keys[(line + b) & 4095] | D as u32,
+                face_ao_block: row[b & 63] | D as u32,
             };
             n += 1;
         }
