@@ -6,11 +6,13 @@
 //!
 //! | id | what is timed |
 //! | --- | --- |
-//! | `ours greedy` | `GreedyMesher::mesh` from a `PaddedChunk` (occupancy columns already there), AO on |
+//! | `ours greedy` | `GreedyMesher::mesh` from a `PaddedChunk` (occupancy columns already there), AO on, on the instruction set detected at run time (`InstructionSet::detect`) |
+//! | `ours greedy baseline-isa` | the same pinned to `InstructionSet::Baseline` (the compilation target's features only) |
 //! | `ours greedy no-ao` | the same with AO off (merges on id alone, as the peers do) |
 //! | `ours greedy u16` | `GreedyMesher::mesh_u16` from the plain padded `u16` array: mask build included, AO on |
 //! | `ours greedy u16 no-ao` | the same with AO off |
 //! | `ours visible` | `GreedyMesher::visible_faces`: one quad per face, AO on |
+//! | `ours visible baseline-isa` | the same pinned to `InstructionSet::Baseline` |
 //! | `block-mesh visible` | `block_mesh::visible_block_faces` |
 //! | `block-mesh greedy` | `block_mesh::greedy_quads` |
 //! | `bgm fast_mesh+masks` | `binary_greedy_meshing`: `compute_opaque_mask` + `compute_transparent_mask` + `Mesher::fast_mesh` |
@@ -34,8 +36,8 @@ use block_mesh::{
 use block_mesh_bgm::{BinaryGreedyQuadsBuffer, binary_greedy_quads, binary_greedy_quads_ao_safe};
 use criterion::measurement::Measurement;
 use criterion::{BenchmarkGroup, Criterion};
-use mesher::BlockClasses;
 use mesher::blocky::{BlockyMesh, GreedyMesher};
+use mesher::{BlockClasses, InstructionSet};
 use voxel_core::{ChunkSize, MaterialClass};
 
 /// `block-mesh`'s voxel: the id plus its visibility, precomputed from the palette.
@@ -103,25 +105,41 @@ fn bench_ours<M: Measurement>(g: &mut BenchmarkGroup<'_, M>, prep: &Prepared<'_>
     let mut out = BlockyMesh::new();
     let mut with_ao = GreedyMesher::new();
     let mut without_ao = GreedyMesher::new().with_ambient_occlusion(false);
+    let mut portable = GreedyMesher::new()
+        .with_instruction_set(InstructionSet::Baseline)
+        .expect("every CPU runs the baseline");
 
     type Run = fn(&mut GreedyMesher, &voxel_core::PaddedChunk, &BlockClasses, &mut BlockyMesh);
-    let runs: [(&str, bool, Run); 5] = [
-        ("ours greedy", true, |m, c, k, o| m.mesh(c, k, o).unwrap()),
-        ("ours greedy no-ao", false, |m, c, k, o| {
+    let runs: [(&str, Option<bool>, Run); 7] = [
+        ("ours greedy", Some(true), |m, c, k, o| {
             m.mesh(c, k, o).unwrap()
         }),
-        ("ours greedy u16", true, |m, c, k, o| {
+        ("ours greedy baseline-isa", None, |m, c, k, o| {
+            m.mesh(c, k, o).unwrap()
+        }),
+        ("ours greedy no-ao", Some(false), |m, c, k, o| {
+            m.mesh(c, k, o).unwrap()
+        }),
+        ("ours greedy u16", Some(true), |m, c, k, o| {
             m.mesh_u16(as_u16(c), k, o).unwrap()
         }),
-        ("ours greedy u16 no-ao", false, |m, c, k, o| {
+        ("ours greedy u16 no-ao", Some(false), |m, c, k, o| {
             m.mesh_u16(as_u16(c), k, o).unwrap()
         }),
-        ("ours visible", true, |m, c, k, o| {
+        ("ours visible", Some(true), |m, c, k, o| {
+            m.visible_faces(c, k, o).unwrap()
+        }),
+        ("ours visible baseline-isa", None, |m, c, k, o| {
             m.visible_faces(c, k, o).unwrap()
         }),
     ];
+    // `Some(ao)`: the detected instruction set with AO on or off; `None`: the baseline, AO on.
     for (name, ao, run) in runs {
-        let mesher = if ao { &mut with_ao } else { &mut without_ao };
+        let mesher = match ao {
+            Some(true) => &mut with_ao,
+            Some(false) => &mut without_ao,
+            None => &mut portable,
+        };
         let quads: usize = chunks
             .iter()
             .map(|c| {
@@ -268,6 +286,10 @@ fn bench_input<M: Measurement>(c: &mut Criterion<M>, input: &MeshInput) {
 }
 
 fn blocky<M: Measurement>(c: &mut Criterion<M>) {
+    eprintln!(
+        "ours: instruction set {:?} (detected at run time)",
+        InstructionSet::detect()
+    );
     for input in synthetic_inputs() {
         bench_input(c, &input);
     }

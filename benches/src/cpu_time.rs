@@ -61,7 +61,7 @@ impl Default for ThreadCpuTime {
 
 /// The calling thread's CPU time since it started.
 #[cfg(unix)]
-fn thread_cpu_now() -> Duration {
+pub fn thread_cpu_now() -> Duration {
     let mut ts = libc::timespec {
         tv_sec: 0,
         tv_nsec: 0,
@@ -79,7 +79,7 @@ fn thread_cpu_now() -> Duration {
 
 /// Elsewhere: wall-clock time since the first call (the same as [`WallTime`]).
 #[cfg(not(unix))]
-fn thread_cpu_now() -> Duration {
+pub fn thread_cpu_now() -> Duration {
     use std::sync::OnceLock;
     use std::time::Instant;
     static EPOCH: OnceLock<Instant> = OnceLock::new();

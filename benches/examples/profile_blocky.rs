@@ -1,0 +1,148 @@
+//! Meshes one blocky bench input over and over, for a profiler (`perf record`, `valgrind
+//! --tool=callgrind --toggle-collect='*mesh_chunk*'`), and prints the time per mesh:
+//!
+//! ```sh
+//! cargo run --release -p benches --example profile_blocky -- "terrain 62" greedy 6000
+//! ```
+//!
+//! Arguments: the start of an input's name (see `benches::mesh_inputs`), a mode (`greedy`,
+//! `visible`, `u16`, `baseline` for greedy on `InstructionSet::Baseline`, or `stats` for faces
+//! per line and direction), and a number of meshes. The time is the thread's CPU time, taken
+//! over 20 batches: the minimum and the median per mesh, since on a shared machine the minimum
+//! is the steadier figure.
+
+use std::hint::black_box;
+
+use benches::cpu_time::thread_cpu_now;
+use benches::mesh_inputs::{MeshInput, as_u16, synthetic_inputs};
+use mesher::blocky::{BlockyMesh, GreedyMesher};
+use mesher::{BlockClasses, InstructionSet};
+use voxel_core::{BlockId, PaddedChunk};
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let want = args.get(1).map_or("terrain 62", String::as_str);
+    let mode = args.get(2).map_or("greedy", String::as_str);
+    let meshes: usize = args.get(3).and_then(|r| r.parse().ok()).unwrap_or(6000);
+    let Some(input) = synthetic_inputs()
+        .into_iter()
+        .find(|i| i.name.starts_with(want))
+    else {
+        eprintln!("no input named {want:?}");
+        std::process::exit(2);
+    };
+    let classes = BlockClasses::from_palette(&input.palette);
+    if mode == "stats" {
+        for chunk in &input.chunks {
+            face_stats(chunk, &classes);
+        }
+        return;
+    }
+    time_meshes(&input, &classes, mode, meshes);
+}
+
+/// Meshes `input` `meshes` times in 20 batches and prints the minimum and median per mesh.
+fn time_meshes(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usize) {
+    let mut mesher = GreedyMesher::new();
+    if mode == "baseline" {
+        mesher = mesher
+            .with_instruction_set(InstructionSet::Baseline)
+            .expect("every CPU runs the baseline");
+    }
+    let mut out = BlockyMesh::new();
+    let mut run = |out: &mut BlockyMesh| {
+        for c in &input.chunks {
+            match mode {
+                "visible" => mesher.visible_faces(black_box(c), classes, out),
+                "u16" => mesher.mesh_u16(black_box(as_u16(c)), classes, out),
+                _ => mesher.mesh(black_box(c), classes, out),
+            }
+            .expect("bench inputs mesh");
+            black_box(&*out);
+        }
+    };
+    let batch = (meshes / 20).max(1);
+    let mut per: Vec<f64> = (0..20)
+        .map(|_| {
+            let start = thread_cpu_now();
+            for _ in 0..batch {
+                run(&mut out);
+            }
+            (thread_cpu_now() - start).as_secs_f64() * 1e6 / batch as f64
+        })
+        .collect();
+    per.sort_by(f64::total_cmp);
+    let opaque: Vec<usize> = out.opaque.faces.iter().map(Vec::len).collect();
+    let transparent: Vec<usize> = out.transparent.faces.iter().map(Vec::len).collect();
+    println!(
+        "{} {mode}: min {:.1} us, median {:.1} us per mesh; {} quads, per direction opaque \
+         {opaque:?}, transparent {transparent:?}",
+        input.name,
+        per[0],
+        per[10],
+        out.len()
+    );
+}
+
+/// Per face direction: opaque faces (against a voxel that is not opaque), how many have an
+/// empty 3 x 3 front neighbourhood (AO all 3) or no neighbouring face in their slice, and how
+/// the faces spread over the lines of the mesher's slice layout (a log2 histogram of faces per
+/// line with faces). Brute force, one voxel at a time.
+fn face_stats(chunk: &PaddedChunk, classes: &BlockClasses) {
+    let p = chunk.padded_edge();
+    let ids = as_u16(chunk);
+    let opaque = |[x, y, z]: [usize; 3]| {
+        let id = ids[x + p * (y + p * z)];
+        id != 0 && !classes.is_transparent(BlockId(id))
+    };
+    // Axes of (slice, line, bit) per direction, as `mesher::blocky` lays them out.
+    let axes = [
+        [0, 2, 1],
+        [0, 2, 1],
+        [1, 2, 0],
+        [1, 2, 0],
+        [2, 1, 0],
+        [2, 1, 0],
+    ];
+    for (d, &[axis_n, axis_l, axis_b]) in axes.iter().enumerate() {
+        let at = |n: usize, l: usize, b: usize| {
+            let mut pos = [0; 3];
+            pos[axis_n] = n;
+            pos[axis_l] = l;
+            pos[axis_b] = b;
+            pos
+        };
+        let front_n = |n: usize| if d % 2 == 0 { n + 1 } else { n - 1 };
+        let is_face = |n: usize, l: usize, b: usize| {
+            (1..p - 1).contains(&l)
+                && (1..p - 1).contains(&b)
+                && opaque(at(n, l, b))
+                && !opaque(at(front_n(n), l, b))
+        };
+        let (mut faces, mut unoccluded, mut isolated, mut lines) = (0, 0, 0, 0);
+        let mut histogram = [0usize; 8];
+        for n in 1..p - 1 {
+            for l in 1..p - 1 {
+                let mut in_line = 0usize;
+                for b in (1..p - 1).filter(|&b| is_face(n, l, b)) {
+                    in_line += 1;
+                    let occluders = (0..9)
+                        .filter(|k| opaque(at(front_n(n), l + k / 3 - 1, b + k % 3 - 1)))
+                        .count();
+                    unoccluded += usize::from(occluders == 0);
+                    let neighbours = [(l - 1, b), (l + 1, b), (l, b - 1), (l, b + 1)];
+                    isolated += usize::from(!neighbours.iter().any(|&(l, b)| is_face(n, l, b)));
+                }
+                if in_line > 0 {
+                    lines += 1;
+                    faces += in_line;
+                    histogram[in_line.ilog2() as usize] += 1;
+                }
+            }
+        }
+        println!(
+            "direction {d}: {faces} faces ({unoccluded} unoccluded, {isolated} isolated) in \
+             {lines} lines; faces per line, log2 histogram {histogram:?}"
+        );
+    }
+}
