@@ -97,8 +97,8 @@ const fn corner_steps(face: FaceDirection) -> [(i32, i32); 4] {
 ///
 /// The neighbourhood is indexed the way the meshers see a slice: `lines` and `bits` (see
 /// [`super::slices`]). Code bit `3 * r + c` is the front voxel at line offset `r - 1` and bit
-/// offset `c - 1`. `bits_are_width` tells whether the bit axis is the face's width axis (true
-/// for the ±Y and ±Z faces) or its height axis (±X).
+/// offset `c - 1`. `bits_are_width` tells whether the bit axis is the face's width axis (as
+/// the meshers lay out every direction) or its height axis.
 pub(crate) const fn ao_table(face: FaceDirection, bits_are_width: bool) -> [u8; 512] {
     let steps = corner_steps(face);
     let mut table = [0u8; 512];
@@ -127,8 +127,8 @@ const fn solid(code: usize, line: i32, bit: i32) -> bool {
 
 /// The AO tables of the six directions, in [`FaceDirection::ALL`] order.
 pub(crate) static AO_TABLES: [[u8; 512]; 6] = [
-    ao_table(FaceDirection::PosX, false),
-    ao_table(FaceDirection::NegX, false),
+    ao_table(FaceDirection::PosX, true),
+    ao_table(FaceDirection::NegX, true),
     ao_table(FaceDirection::PosY, true),
     ao_table(FaceDirection::NegY, true),
     ao_table(FaceDirection::PosZ, true),

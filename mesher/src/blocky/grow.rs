@@ -1,13 +1,16 @@
 //! Growing greedy quads from the equal-key masks, in `block-mesh`'s order: along bits first
-//! (the ±Z faces) or along lines first (the ±X and ±Y faces).
+//! (the ±X and ±Z faces) or along lines first (the ±Y faces), from origins taken line by line
+//! (±Y, ±Z) or bit by bit (±X, whose bits run along `block-mesh`'s slowest scan axis).
 
 use super::faces::{Quads, SliceFaces};
 use super::masks::Slice;
 use super::merge::Keys;
+use super::slices::Direction;
 use crate::MeshError;
 
-/// Greedy quads growing along bits first, then lines (the ±Z faces), starting from the lines
-/// of `left`; leaves `faces` empty.
+/// Greedy quads growing along bits first, then lines (the ±X and ±Z faces), from the faces of
+/// the lines of `left`; leaves `faces` empty. Quads start at the lowest line, then the lowest
+/// bit, or, for [`Direction::BIT_MAJOR`] directions, at the lowest bit, then the lowest line.
 #[inline(always)]
 pub(crate) fn greedy_bits_first<const D: usize>(
     s: &SliceFaces<'_, D>,
@@ -18,36 +21,76 @@ pub(crate) fn greedy_bits_first<const D: usize>(
     known: &mut u64,
     out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
+    if Direction::<D>::BIT_MAJOR {
+        loop {
+            // The lowest bit with a face, then every line with a face there, in order; a quad
+            // grown from one of them may take the faces of the next lines at that bit.
+            let mut any = 0u64;
+            let mut rest = left;
+            while rest != 0 {
+                let l = rest.trailing_zeros() as usize;
+                rest &= rest - 1;
+                any |= faces[l & 63];
+                left &= !(u64::from(faces[l & 63] == 0) << l);
+            }
+            if any == 0 {
+                return Ok(());
+            }
+            let b = any.trailing_zeros() as usize;
+            let mut rest = left;
+            while rest != 0 {
+                let l = rest.trailing_zeros() as usize;
+                rest &= rest - 1;
+                if (faces[l & 63] >> b) & 1 != 0 {
+                    grow_bits_first(s, faces, e, (l, b), keys, known, out)?;
+                }
+            }
+        }
+    }
     while left != 0 {
         let l = left.trailing_zeros() as usize;
         left &= left - 1;
-        let mut here = faces[l & 63];
-        let along = keys.along[l & 63];
-        while here != 0 {
-            let b = here.trailing_zeros() as usize;
-            let key = keys.key(l, b);
-            // Faces still present from b on with the same key.
-            let chain = (along & here & (here >> 1)) >> b;
-            let bits = 1 + chain.trailing_ones() as usize;
-            let mask = (u64::MAX >> ((64 - bits) & 63)) << b;
-            here &= !mask;
-            let mut lines = 1;
-            while l + lines <= e
-                && faces[(l + lines) & 63] & mask == mask
-                && keys.across[(l + lines - 1) & 63] & mask == mask
-            {
-                faces[(l + lines) & 63] &= !mask;
-                lines += 1;
-            }
-            s.push(out, known, (l, b, lines, bits), key)?;
+        while faces[l & 63] != 0 {
+            let b = faces[l & 63].trailing_zeros() as usize;
+            grow_bits_first(s, faces, e, (l, b), keys, known, out)?;
         }
-        faces[l & 63] = 0;
     }
     Ok(())
 }
 
-/// Greedy quads growing along lines first, then bits (the ±X and ±Y faces), starting from the
-/// lines of `left`; leaves `faces` empty.
+/// Grows one quad from the face at line `l`, bit `b`: along bits while the next face is
+/// present with an equal key, then along lines while the whole next row is; takes its faces
+/// out of `faces` and writes it.
+#[inline(always)]
+fn grow_bits_first<const D: usize>(
+    s: &SliceFaces<'_, D>,
+    faces: &mut Slice,
+    e: usize,
+    (l, b): (usize, usize),
+    keys: &Keys,
+    known: &mut u64,
+    out: &mut Quads<'_>,
+) -> Result<(), MeshError> {
+    let key = keys.key(l, b);
+    let here = faces[l & 63];
+    // Faces still present from b on with the same key.
+    let chain = (keys.along[l & 63] & here & (here >> 1)) >> b;
+    let bits = 1 + chain.trailing_ones() as usize;
+    let mask = (u64::MAX >> ((64 - bits) & 63)) << b;
+    faces[l & 63] &= !mask;
+    let mut lines = 1;
+    while l + lines <= e
+        && faces[(l + lines) & 63] & mask == mask
+        && keys.across[(l + lines - 1) & 63] & mask == mask
+    {
+        faces[(l + lines) & 63] &= !mask;
+        lines += 1;
+    }
+    s.push(out, known, (l, b, lines, bits), key)
+}
+
+/// Greedy quads growing along lines first, then bits (the ±Y faces), starting from the lines
+/// of `left`; leaves `faces` empty.
 #[inline(always)]
 pub(crate) fn greedy_lines_first<const D: usize>(
     s: &SliceFaces<'_, D>,

@@ -1,7 +1,7 @@
 //! ±X faces with no neighbouring face, emitted from the occupancy rows (layout `A`: one `u64`
 //! per padded x-row) instead of layout `C`.
 //!
-//! In layout `C` a line of ±X faces runs along y, so the ids of its faces lie a row apart
+//! In layout `C` a line of ±X faces runs along z, so the ids of its faces lie a slab apart
 //! (one cache line each). A face with no neighbouring face in its slice (up, down, left or
 //! right) is a 1 x 1 quad whatever the merge order, and everything it needs is in the rows:
 //!
@@ -9,7 +9,7 @@
 //!   neighbours in the slice are the same bits of the face rows of `(y ± 1, z)`, `(y, z ± 1)`;
 //! - its id is in the row's run of contiguous ids;
 //! - its 9 front voxels (layer x ± 1, y and z ± 1) are bit x ± 1 of 9 occupancy rows: 9 bit
-//!   planes, as [`super::line_units`] builds from layout `C`, with line = z and bit = y.
+//!   planes, as [`super::line_units`] builds from layout `C`, with line = y and bit = z.
 //!
 //! So rows with [`many`] such faces are emitted here (faces sharing a key in bulk), and the
 //! layout-`C` pass leaves those faces out of the opaque layer ([`drop_handled`]). On a
@@ -29,7 +29,7 @@ use super::slices::{Direction, Input};
 use crate::{BlockClasses, MeshError};
 
 /// Removes, in place, the faces of a slice that `lone_x` emitted: those with no neighbouring
-/// face whose line `l` and bit are set in `handled` (its rows of many lone faces, by z and y).
+/// face whose line `l` and bit are set in `handled` (its rows of many lone faces, by y and z).
 #[inline(always)]
 pub(crate) fn drop_handled(faces: &mut Slice, handled: &Slice) {
     let old = *faces;
@@ -60,7 +60,7 @@ fn slab_faces<const D: usize>(slab: &Slice, inner: u64, e: usize, inside: bool, 
 /// Emits the opaque ±X faces (direction `D`, 0 or 1) that have no neighbouring face and lie in
 /// rows of [`many`] such faces, as 1 x 1 quads with AO, into `out` (flushed slab by slab: a
 /// slab has at most 62 x 31 such faces); marks those rows in
-/// `handled` (bit y of line z). Does nothing unless the middle slab has a row of many faces
+/// `handled` (bit z of line y). Does nothing unless the middle slab has a row of many faces
 /// that are all lone.
 #[inline(always)]
 pub(crate) fn lone_x<const D: usize>(
@@ -107,10 +107,11 @@ pub(crate) fn lone_x<const D: usize>(
             if !many(lone) {
                 continue;
             }
-            handled[z & 63] |= 1 << y;
-            // Plane 3r + c, bit x: the front voxel of the face at x, at z + r - 1, y + c - 1.
+            handled[y & 63] |= 1 << z;
+            // Plane 3r + c, bit x: the front voxel of the face at x, at y + r - 1, z + c - 1
+            // (layout C's line and bit offsets, as the AO table reads them).
             let planes: [u64; 9] = core::array::from_fn(|k| {
-                let row = slab(z + k / 3 - 1)[(y + k % 3 - 1) & 63];
+                let row = slab(z + k % 3 - 1)[(y + k / 3 - 1) & 63];
                 if Direction::<D>::POSITIVE {
                     row >> 1
                 } else {

@@ -12,7 +12,7 @@
 //! | ------ | ------ | ----- | ---- | ----------------------------------- |
 //! | `A`    | z      | y     | x    | nothing for 62^3 chunks: it *is* the column order (`y + 64 * z`) |
 //! | `B`    | y      | z     | x    | a word transpose (`B[y][z] = A[z][y]`) |
-//! | `C`    | x      | z     | y    | a 64 x 64 bit transpose of each z-slab of `A` |
+//! | `C`    | x      | y     | z    | a 64 x 64 bit transpose of each slice of `B` (`C[x][y]` bit `z` is `B[y][z]` bit `x`) |
 //!
 //! # Opaque and transparent masks
 //!
@@ -165,11 +165,11 @@ impl Masks {
             &self.opaque_a
         };
         word_transpose(p, opaque_a, &mut self.opaque_b);
-        bit_transpose(p, opaque_a, &mut self.opaque_c);
+        bit_transpose(p, &self.opaque_b, &mut self.opaque_c);
         self.occupied[0] = occupied_slices(opaque_a);
         if self.has_transparent {
             word_transpose(p, &self.trans_a, &mut self.trans_b);
-            bit_transpose(p, &self.trans_a, &mut self.trans_c);
+            bit_transpose(p, &self.trans_b, &mut self.trans_c);
             self.occupied[1] = occupied_slices(&self.trans_a);
         }
         Content::Surface
@@ -261,18 +261,18 @@ fn word_transpose(p: usize, a: &[Slice], out: &mut Vec<Slice>) {
     }
 }
 
-/// Layout C from layout A: for each z-slab, transpose the bit matrix (lines y, bits x) into
-/// lines x, bits y, stored at `out[x][z]`.
+/// Layout C from layout B: for each slice `y`, transpose the bit matrix (lines z, bits x) into
+/// lines x, bits z, stored at `out[x][y]`.
 #[inline(always)]
-fn bit_transpose(p: usize, a: &[Slice], out: &mut Vec<Slice>) {
+fn bit_transpose(p: usize, b: &[Slice], out: &mut Vec<Slice>) {
     slices(out, p);
-    for (z, slab) in a.iter().enumerate() {
-        let mut m = *slab;
+    for (y, slice) in b.iter().enumerate() {
+        let mut m = *slice;
         if m.iter().any(|&line| line != 0) {
             transpose64(&mut m);
         }
         for (x, slot) in out.iter_mut().enumerate() {
-            slot[z & 63] = m[x & 63];
+            slot[y & 63] = m[x & 63];
         }
     }
 }
