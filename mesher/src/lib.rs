@@ -5,7 +5,9 @@
 //! formats from `voxel_core::formats` into a reusable output buffer that keeps its capacity.
 //!
 //! `no_std` + `alloc`; feature `parallel` adds rayon batch meshing, feature `std` the
-//! `std::error::Error` impls.
+//! `std::error::Error` impls and run-time CPU detection: the blocky mesher is compiled twice,
+//! for the build's target and for x86-64 with AVX2 and BMI2, and runs the best copy the CPU
+//! supports ([`InstructionSet`]); both give the same quads.
 //!
 //! [`PaddedChunk`]: voxel_core::PaddedChunk
 #![no_std]

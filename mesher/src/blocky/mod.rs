@@ -23,9 +23,10 @@
 //!
 //! # Padding contract
 //!
-//! The input is a chunk plus a one-voxel border (see [`voxel_core::storage::neighbourhood`]):
-//! faces are emitted for the chunk's voxels only, and the border decides whether a face on the
-//! chunk's boundary is hidden and how its corners are shaded. Quad positions are chunk-local
+//! The input is a chunk plus a one-voxel border (see [`voxel_core::PaddedChunk`] and
+//! [`voxel_core::gather_neighbourhood`]): faces are emitted for the chunk's voxels only, and the
+//! border decides whether a face on the chunk's boundary is hidden and how its corners are
+//! shaded. Quad positions are chunk-local
 //! (padded coordinate - 1).
 
 pub mod ao;
