@@ -5,7 +5,8 @@
 //! cargo run --release -p benches --example profile_blocky -- "terrain 62" greedy 6000
 //! ```
 //!
-//! Arguments: the start of an input's name (see `benches::mesh_inputs`), a mode (`greedy`,
+//! Arguments: the start of an input's name (see `benches::mesh_inputs`; `vox/maze` and the
+//! other sample models when `../shared/data/vox` is there), a mode (`greedy`,
 //! `visible`, `u16`, `baseline` for greedy on `InstructionSet::Baseline`, or `stats` for faces
 //! per line and direction), and a number of meshes. The time is the thread's CPU time, taken
 //! over 20 batches: the minimum and the median per mesh, since on a shared machine the minimum
@@ -14,18 +15,22 @@
 use std::hint::black_box;
 
 use benches::cpu_time::thread_cpu_now;
-use benches::mesh_inputs::{MeshInput, as_u16, synthetic_inputs};
+use benches::mesh_inputs::{MeshInput, as_u16, synthetic_inputs, vox_dir, vox_inputs};
 use mesher::blocky::{BlockyMesh, GreedyMesher};
 use mesher::{BlockClasses, InstructionSet};
-use voxel_core::{BlockId, PaddedChunk};
+use voxel_core::{BlockId, ChunkSize, PaddedChunk};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let want = args.get(1).map_or("terrain 62", String::as_str);
     let mode = args.get(2).map_or("greedy", String::as_str);
     let meshes: usize = args.get(3).and_then(|r| r.parse().ok()).unwrap_or(6000);
+    let models = vox_dir()
+        .map(|dir| vox_inputs(&dir, ChunkSize::S62))
+        .unwrap_or_default();
     let Some(input) = synthetic_inputs()
         .into_iter()
+        .chain(models)
         .find(|i| i.name.starts_with(want))
     else {
         eprintln!("no input named {want:?}");

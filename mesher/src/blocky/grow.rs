@@ -22,21 +22,19 @@ pub(crate) fn greedy_bits_first<const D: usize>(
     out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
     if Direction::<D>::BIT_MAJOR {
-        loop {
-            // The lowest bit with a face, then every line with a face there, in order; a quad
-            // grown from one of them may take the faces of the next lines at that bit.
-            let mut any = 0u64;
-            let mut rest = left;
-            while rest != 0 {
-                let l = rest.trailing_zeros() as usize;
-                rest &= rest - 1;
-                any |= faces[l & 63];
-                left &= !(u64::from(faces[l & 63] == 0) << l);
-            }
-            if any == 0 {
-                return Ok(());
-            }
+        // The lowest bit with a face, then every line with a face there, in order; one pass
+        // over the lines per bit. A quad grown from a line takes faces of later lines only, so
+        // a line is final once visited, and every face at that bit is gone after the pass.
+        let mut any = 0u64;
+        let mut rest = left;
+        while rest != 0 {
+            let l = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            any |= faces[l & 63];
+        }
+        while any != 0 {
             let b = any.trailing_zeros() as usize;
+            any = 0;
             let mut rest = left;
             while rest != 0 {
                 let l = rest.trailing_zeros() as usize;
@@ -44,8 +42,11 @@ pub(crate) fn greedy_bits_first<const D: usize>(
                 if (faces[l & 63] >> b) & 1 != 0 {
                     grow_bits_first(s, faces, e, (l, b), keys, known, out)?;
                 }
+                any |= faces[l & 63];
+                left &= !(u64::from(faces[l & 63] == 0) << l);
             }
         }
+        return Ok(());
     }
     while left != 0 {
         let l = left.trailing_zeros() as usize;

@@ -19,7 +19,7 @@
 use voxel_core::formats::PackedQuad;
 
 use super::bits::row_equal;
-use super::faces::{Quads, SliceFaces};
+use super::faces::{LineIds, Quads, SliceFaces};
 use super::slices::Direction;
 use crate::MeshError;
 
@@ -48,19 +48,6 @@ impl<const D: usize> SliceFaces<'_, D> {
             }
         }
         same
-    }
-
-    /// The 64 ids of line `l` when its bits run along x (±Y and ±Z faces) and the row fits in
-    /// the array (past the padded edge it holds the next row's ids, never read as faces).
-    #[inline(always)]
-    pub(crate) fn row(&self, l: usize) -> Option<&[u16; 64]> {
-        if Direction::<D>::LAYOUT == 2 {
-            return None;
-        }
-        let start = self.base + l * self.stride_l;
-        self.voxels
-            .get(start..start + 64)
-            .and_then(|r| <&[u16; 64]>::try_from(r).ok())
     }
 
     /// Appends a 1 x 1 quad for every face of `bits` in line `l`, the line's id row and front
@@ -132,17 +119,18 @@ impl<const D: usize> SliceFaces<'_, D> {
         } else {
             bits
         };
-        let same_key = match self.row(l) {
-            Some(row) => same_ao & row_equal(row, row[b0]),
+        let ids = self.line_ids(l);
+        let same_key = match ids {
+            LineIds::Row(row) => same_ao & row_equal(row, row[b0]),
             // ±X faces: the ids are strided, read one by one but compared without a branch.
-            None => {
+            LineIds::Strided { .. } => {
                 let id0 = key0 >> 11;
                 let mut differ = 0u64;
                 let mut m = same_ao;
                 while m != 0 {
                     let b = m.trailing_zeros() as usize;
                     m &= m - 1;
-                    differ |= u64::from(self.id(l, b) != id0) << b;
+                    differ |= u64::from(ids.id(b) != id0) << b;
                 }
                 same_ao & !differ
             }

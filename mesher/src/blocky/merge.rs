@@ -70,9 +70,7 @@ impl Keys {
             known: 0,
         }
     }
-}
 
-impl Keys {
     /// The key of the face at line `l`, bit `b` (meaningful only where a face was keyed).
     #[inline(always)]
     pub(crate) fn key(&self, l: usize, b: usize) -> u32 {
