@@ -10,8 +10,8 @@
 //! (buried). Checking that is a few map look-ups.
 //!
 //! With feature `parallel`, [`mesh_chunks`] meshes a list of chunks on rayon's pool with one
-//! `ChunkMesher` per worker; the result is in the order of the list and does not depend on the
-//! number of threads (each chunk's mesh depends only on the world).
+//! `ChunkMesher` per worker thread, kept between calls; the result is in the order of the list and
+//! does not depend on the number of threads (each chunk's mesh depends only on the world).
 
 use alloc::vec::Vec;
 
@@ -197,9 +197,12 @@ pub fn mesh_chunks_sequential<C: VoxelStorage>(
         .collect()
 }
 
-/// Meshes `coords` in parallel on rayon's current pool, one [`ChunkMesher`] per worker. The
-/// result is in the order of `coords` and identical for any number of threads. Returns the
-/// first error in `coords` order.
+/// Meshes `coords` in parallel on rayon's current pool. The result is in the order of
+/// `coords` and identical for any number of threads. Returns the first error in `coords` order.
+///
+/// Each worker thread keeps one [`ChunkMesher`] in a thread-local slot, so its scratch buffers
+/// (a few hundred KB for 32^3 chunks) are allocated once per thread and reused by every later
+/// call, not once per piece of work rayon splits off.
 #[cfg(feature = "parallel")]
 pub fn mesh_chunks<C: VoxelStorage + Sync>(
     world: &WorldMap<C>,
@@ -207,13 +210,25 @@ pub fn mesh_chunks<C: VoxelStorage + Sync>(
     classes: &BlockClasses,
     settings: &MeshSettings,
 ) -> Result<Vec<ChunkMesh>, MeshError> {
+    use core::cell::RefCell;
     use rayon::prelude::*;
+
+    std::thread_local! {
+        static MESHER: RefCell<ChunkMesher> = RefCell::new(ChunkMesher::new());
+    }
     coords
         .par_iter()
-        .map_init(ChunkMesher::new, |mesher, &coord| {
+        .map(|&coord| {
             let mut out = ChunkMesh::default();
-            mesher
-                .mesh_chunk(world, coord, classes, settings, &mut out)
+            MESHER
+                .with(|slot| match slot.try_borrow_mut() {
+                    Ok(mut mesher) => mesher.mesh_chunk(world, coord, classes, settings, &mut out),
+                    // Taken only if the storage itself waits on rayon while a chunk is meshed
+                    // and this thread picks up another chunk meanwhile: a fresh mesher works.
+                    Err(_) => {
+                        ChunkMesher::new().mesh_chunk(world, coord, classes, settings, &mut out)
+                    }
+                })
                 .map(|()| out)
         })
         .collect()

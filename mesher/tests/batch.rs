@@ -131,6 +131,39 @@ fn batch_meshes_are_identical_for_any_thread_count() {
     }
 }
 
+/// The parallel mesher keeps one mesher per thread between calls: calls that alternate chunk
+/// sizes and surface modes on the same threads still match a fresh sequential mesher.
+#[test]
+fn per_thread_meshers_carry_nothing_between_calls() {
+    let classes = BlockClasses::from_palette(&palette());
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let worlds = [
+        (world(ChunkSize::S16, 2), SurfaceMode::NoCubes),
+        (world(ChunkSize::S32, 1), SurfaceMode::Greedy),
+        (world(ChunkSize::S8, 3), SurfaceMode::VisibleFaces),
+        (world(ChunkSize::S16, 2), SurfaceMode::Greedy),
+    ];
+    for round in 0..2 {
+        for (world, surface) in &worlds {
+            let s = settings(*surface);
+            let coords = region(3);
+            let fresh = mesh_chunks_sequential(world, &coords, &classes, &s).unwrap();
+            let reused = pool
+                .install(|| mesh_chunks(world, &coords, &classes, &s))
+                .unwrap();
+            assert_eq!(
+                reused,
+                fresh,
+                "round {round}, {:?} chunks, {surface:?}",
+                world.size()
+            );
+        }
+    }
+}
+
 #[test]
 fn skipped_chunks_are_exactly_those_with_nothing_to_draw() {
     let size = ChunkSize::S16;
