@@ -29,6 +29,8 @@
 //! - `block_vertex` and `clutter_unit` read optional trailing bytes (see each body) for the
 //!   quantization extent, a value to check the stated unorm error bound on, an `oct32` code, and
 //!   directions to check the stated octahedral error bounds on.
+//! - `blocky_mesh` and `smooth_density`: the meshers on arbitrary chunks, palettes and density
+//!   grids, against brute-force references of the documented rules (see each body).
 #![allow(dead_code)] // Each fuzz target uses one body; the replay test uses them all.
 
 use std::mem::size_of;
@@ -41,14 +43,19 @@ use voxel_core::formats::quantize::{
 use voxel_core::formats::{
     BlockVertex, COMPACT_QUAD_MAX_DELTA, ChunkDrawIndirect, ChunkDrawInfo, ChunkKind, ClutterUnit,
     DrawBlock, DrawBlockFlags, FaceDirection, FormatError, MeshedChunkInfo,
-    OCT16_MAX_ERROR_DEGREES, OCT32_MAX_ERROR_DEGREES, PackedQuad, UnormExtent, compact_quad_decode,
-    compact_quad_encode, oct16_decode, oct16_encode, oct32_decode, oct32_encode,
+    OCT16_MAX_ERROR_DEGREES, OCT32_MAX_ERROR_DEGREES, PackedQuad, PackedQuadFields, UnormExtent,
+    compact_quad_decode, compact_quad_encode, oct16_decode, oct16_encode, oct32_decode,
+    oct32_encode,
 };
 use voxel_core::storage::{
     CODEC_VERSION, CodecError, DenseChunk, HEADER_LEN, MAGIC, VoxelStorage, decode_chunk,
     encode_chunk, encoded_len,
 };
-use voxel_core::{BlockId, ChunkSize};
+use voxel_core::{BlockId, ChunkSize, Material, MaterialClass, MaterialPalette, PaddedChunk};
+
+use mesher::blocky::{BlockyMesh, GreedyMesher};
+use mesher::smooth::{GridShape, I8_DENSITY_STEP, NoCubes, SmoothMesh, SmoothMeshF32, SurfaceNets};
+use mesher::{BlockClasses, InstructionSet, MeshError, QuadLayer};
 
 /// How far (per component, absolute) a decoded octahedral normal may move when it is re-encoded
 /// and decoded again: 4 ulps at 1.0. Absolute rather than relative because a component that
@@ -1043,5 +1050,519 @@ pub fn compact_quad(data: &[u8]) {
             assert_eq!(compact_quad_decode(r), Ok(corners), "{corners:?}");
         }
         None => assert!(!fits, "refused {corners:?}, which fits"),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// blocky meshers and NoCubes
+// ---------------------------------------------------------------------------------------------
+
+/// The ids that voxel bytes `0xF0..=0xFF` stand for (low nibble): both sides of the 64-id
+/// boundary of the meshers' cache of known ids, and ids past any palette.
+const LARGE_IDS: [u16; 16] = [
+    63, 64, 65, 69, 70, 71, 100, 255, 256, 1000, 4095, 4096, 30000, 32767, 65534, 65535,
+];
+
+/// The classes palette entries can take (2 bits each).
+const CLASSES: [MaterialClass; 4] = [
+    MaterialClass::Opaque,
+    MaterialClass::Transparent,
+    MaterialClass::ClutterBearing,
+    MaterialClass::Smoothable,
+];
+
+/// A padded chunk, its palette and the mesher options decoded from fuzz bytes:
+///
+/// - byte 0: bit 0 chunk size (8 or 16), bit 1 ambient occlusion, bit 2 the baseline
+///   instruction set instead of the detected one, bit 3 a wide palette (opaque entries up to id
+///   70, so ids 64..=70 are known);
+/// - byte 1 (low 3 bits): palette entries `1..=n`; bytes 2-3: their classes, 2 bits each;
+/// - bytes 4..: the padded voxels in storage order (x fastest), repeated cyclically (none: all
+///   air). A byte below `0xF0` is id `byte % 9` (so ids past the palette are unknown); the rest
+///   are [`LARGE_IDS`].
+pub struct BlockyInput {
+    /// The padded chunk.
+    pub padded: PaddedChunk,
+    /// The palette's classes.
+    pub classes: BlockClasses,
+    /// Ambient occlusion on.
+    pub ao: bool,
+    /// Run the baseline instruction set.
+    pub baseline: bool,
+}
+
+/// Decodes a [`BlockyInput`]; `None` for inputs shorter than the 4 header bytes.
+pub fn blocky_input(data: &[u8]) -> Option<BlockyInput> {
+    let [head, count, c0, c1, voxels @ ..] = data else {
+        return None;
+    };
+    let size = if head & 1 == 0 {
+        ChunkSize::S8
+    } else {
+        ChunkSize::S16
+    };
+    let class_bits = u16::from_le_bytes([*c0, *c1]);
+    let mut palette = MaterialPalette::new();
+    for i in 0..(count & 7) {
+        let class = CLASSES[usize::from(class_bits >> (2 * i)) & 3];
+        palette
+            .push(Material::opaque(100, 100, 100).with_class(class))
+            .expect("a small palette has room");
+    }
+    if head & 8 != 0 {
+        while palette.len() <= 70 {
+            palette
+                .push(Material::opaque(90, 90, 90))
+                .expect("a small palette has room");
+        }
+    }
+    let p = size.padded_edge();
+    let padded = PaddedChunk::from_fn(size, |x, y, z| {
+        if voxels.is_empty() {
+            return BlockId::AIR;
+        }
+        let i = x as usize + p * (y as usize + p * z as usize);
+        let b = voxels[i % voxels.len()];
+        BlockId(if b < 0xF0 {
+            u16::from(b % 9)
+        } else {
+            LARGE_IDS[usize::from(b & 15)]
+        })
+    });
+    Some(BlockyInput {
+        padded,
+        classes: BlockClasses::from_palette(&palette),
+        ao: head & 2 != 0,
+        baseline: head & 4 != 0,
+    })
+}
+
+/// One unit face: padded voxel position, direction index, block id, corner AO.
+pub type UnitFace = ([u32; 3], u8, u16, [u8; 4]);
+
+/// The padded voxel at `pos`; outside the padded box is air.
+fn voxel_at(padded: &PaddedChunk, pos: [i64; 3]) -> u16 {
+    let p = padded.padded_edge() as i64;
+    if pos.iter().any(|&a| !(0..p).contains(&a)) {
+        return 0;
+    }
+    padded
+        .get(pos[0] as u32, pos[1] as u32, pos[2] as u32)
+        .map_or(0, |id| id.0)
+}
+
+/// Hides faces and occludes corners: not air and not transparent (unknown ids count as
+/// opaque, as the meshers document).
+fn hides(classes: &BlockClasses, id: u16) -> bool {
+    id != 0 && !classes.is_transparent(BlockId(id))
+}
+
+/// The documented visibility rule of the blocky meshers.
+fn shows_face(classes: &BlockClasses, id: u16, neighbour: u16) -> bool {
+    if id == 0 {
+        false
+    } else if classes.is_transparent(BlockId(id)) {
+        neighbour == 0 || (classes.is_transparent(BlockId(neighbour)) && neighbour != id)
+    } else {
+        !hides(classes, neighbour)
+    }
+}
+
+fn offset(a: [i64; 3], axis: usize, k: i64) -> [i64; 3] {
+    let mut out = a;
+    out[axis] += k;
+    out
+}
+
+/// The `(du, dv)` steps of a face's 4 corners, read back from `PackedQuadFields::corners` on a
+/// unit quad so that the reference follows the documented corner order.
+fn corner_steps(face: FaceDirection) -> [(i64, i64); 4] {
+    let fields = PackedQuadFields {
+        position: [0; 3],
+        width: 1,
+        height: 1,
+        face,
+        ao: [3; 4],
+        block: BlockId(1),
+    };
+    let lift = i64::from(face.is_positive());
+    fields.corners().map(|c| {
+        let along =
+            |axis: usize| i64::from(c[axis]) - if axis == face.normal_axis() { lift } else { 0 };
+        (along(face.width_axis()), along(face.height_axis()))
+    })
+}
+
+/// The corner rule on the front layer of the face of `pos` facing `face`.
+fn reference_ao(
+    padded: &PaddedChunk,
+    classes: &BlockClasses,
+    pos: [i64; 3],
+    face: FaceDirection,
+) -> [u8; 4] {
+    let front = offset(
+        pos,
+        face.normal_axis(),
+        if face.is_positive() { 1 } else { -1 },
+    );
+    let (wa, ha) = (face.width_axis(), face.height_axis());
+    corner_steps(face).map(|(du, dv)| {
+        let side1 = offset(front, wa, 2 * du - 1);
+        let side2 = offset(front, ha, 2 * dv - 1);
+        let corner = offset(side1, ha, 2 * dv - 1);
+        let [s1, s2, c] = [side1, side2, corner].map(|q| hides(classes, voxel_at(padded, q)));
+        if s1 && s2 {
+            0
+        } else {
+            3 - (u8::from(s1) + u8::from(s2) + u8::from(c))
+        }
+    })
+}
+
+/// Every visible unit face of the chunk's own voxels by brute force, as (opaque, transparent),
+/// sorted.
+pub fn reference_unit_faces(
+    padded: &PaddedChunk,
+    classes: &BlockClasses,
+    ao: bool,
+) -> (Vec<UnitFace>, Vec<UnitFace>) {
+    let e = i64::from(padded.size().edge());
+    let (mut opaque, mut transparent) = (Vec::new(), Vec::new());
+    for z in 1..=e {
+        for y in 1..=e {
+            for x in 1..=e {
+                let pos = [x, y, z];
+                let id = voxel_at(padded, pos);
+                for face in FaceDirection::ALL {
+                    let step = if face.is_positive() { 1 } else { -1 };
+                    let neighbour = voxel_at(padded, offset(pos, face.normal_axis(), step));
+                    if !shows_face(classes, id, neighbour) {
+                        continue;
+                    }
+                    let corners = if ao {
+                        reference_ao(padded, classes, pos, face)
+                    } else {
+                        [3; 4]
+                    };
+                    let f = (pos.map(|a| a as u32), face.index(), id, corners);
+                    if classes.is_transparent(BlockId(id)) {
+                        transparent.push(f);
+                    } else {
+                        opaque.push(f);
+                    }
+                }
+            }
+        }
+    }
+    opaque.sort_unstable();
+    transparent.sort_unstable();
+    (opaque, transparent)
+}
+
+/// The unit faces a layer covers, sorted; fails if a quad is in the wrong direction group,
+/// leaves the chunk, or covers a face another quad covers.
+fn covered_faces(layer: &QuadLayer, edge: u32) -> Vec<UnitFace> {
+    let mut out = Vec::new();
+    for (d, quads) in layer.faces.iter().enumerate() {
+        for q in quads {
+            let f = q.decode().expect("every emitted quad decodes");
+            assert_eq!(usize::from(f.face.index()), d, "quad {f:?} in group {d}");
+            for j in 0..f.height {
+                for i in 0..f.width {
+                    let mut pos = f.position.map(|a| a + 1);
+                    pos[f.face.width_axis()] += i;
+                    pos[f.face.height_axis()] += j;
+                    assert!(
+                        pos.iter().all(|a| (1..=edge).contains(a)),
+                        "quad {f:?} leaves the chunk"
+                    );
+                    out.push((pos, f.face.index(), f.block.0, f.ao));
+                }
+            }
+        }
+    }
+    out.sort_unstable();
+    let before = out.len();
+    out.dedup_by(|a, b| (a.0, a.1) == (b.0, b.1));
+    assert_eq!(out.len(), before, "two quads cover one face");
+    out
+}
+
+/// The blocky meshers on an arbitrary chunk and palette (see [`blocky_input`]):
+///
+/// - when no visible face belongs to an unknown id: the greedy quads and the visible-face quads
+///   each cover exactly the brute-force visible faces (position, direction, id, AO) of each
+///   layer, without overlap, and the visible-face quads are all 1 x 1;
+/// - otherwise each fails with `UnknownBlock` naming an unknown id at a voxel that has a
+///   visible face, and leaves the mesh empty;
+/// - a mesher reused after both runs gives the same greedy mesh again;
+/// - NoCubes on the same chunk: fails exactly when the padded chunk holds an unknown id (the
+///   first in storage order, as documented), else makes one quad per owned face between an
+///   opaque and a non-opaque voxel (smooth for smoothable blocks, cube faces for the others),
+///   with every index inside the vertex buffer and counts that match its stats.
+pub fn blocky_mesh(data: &[u8]) {
+    let Some(input) = blocky_input(data) else {
+        return;
+    };
+    let BlockyInput {
+        padded,
+        classes,
+        ao,
+        baseline,
+    } = &input;
+    let edge = padded.size().edge();
+    let (opaque, transparent) = reference_unit_faces(padded, classes, *ao);
+    let unknown = |id: u16| id != 0 && classes.class(BlockId(id)).is_none();
+    let shows_unknown = opaque.iter().chain(&transparent).any(|f| unknown(f.2));
+
+    let mut mesher = GreedyMesher::new().with_ambient_occlusion(*ao);
+    if *baseline {
+        mesher = mesher
+            .with_instruction_set(InstructionSet::Baseline)
+            .expect("every x86-64 CPU runs the baseline");
+    }
+    let mut mesh = BlockyMesh::new();
+    let mut first_greedy = None;
+    for (run, greedy) in [(0, true), (1, false), (2, true)] {
+        let result = if greedy {
+            mesher.mesh(padded, classes, &mut mesh)
+        } else {
+            mesher.visible_faces(padded, classes, &mut mesh)
+        };
+        match result {
+            Ok(()) => {
+                assert!(!shows_unknown, "run {run}: an unknown id's face was meshed");
+                assert_eq!(
+                    covered_faces(&mesh.opaque, edge),
+                    opaque,
+                    "run {run}: opaque layer"
+                );
+                assert_eq!(
+                    covered_faces(&mesh.transparent, edge),
+                    transparent,
+                    "run {run}: transparent layer"
+                );
+                if !greedy {
+                    assert_eq!(
+                        mesh.len(),
+                        opaque.len() + transparent.len(),
+                        "visible faces are 1 x 1"
+                    );
+                }
+            }
+            Err(MeshError::UnknownBlock { id, position }) => {
+                assert!(unknown(id.0), "run {run}: {id:?} is known");
+                let named = opaque
+                    .iter()
+                    .chain(&transparent)
+                    .any(|f| f.0 == position && f.2 == id.0);
+                assert!(
+                    named,
+                    "run {run}: no visible face of {id:?} at {position:?}"
+                );
+                assert!(mesh.is_empty(), "run {run}: partial mesh after an error");
+            }
+            Err(other) => panic!("run {run}: unexpected error {other:?}"),
+        }
+        if greedy {
+            match &first_greedy {
+                None => first_greedy = Some(mesh.clone()),
+                Some(first) => assert_eq!(first, &mesh, "a reused mesher differs"),
+            }
+        }
+    }
+    nocubes_check(padded, classes);
+}
+
+/// The NoCubes part of [`blocky_mesh`].
+fn nocubes_check(padded: &PaddedChunk, classes: &BlockClasses) {
+    let p = padded.padded_edge() as u32;
+    let mut first_unknown = None;
+    'scan: for z in 0..p {
+        for y in 0..p {
+            for x in 0..p {
+                let id = padded.get(x, y, z).expect("inside the padded box");
+                if !id.is_air() && classes.class(id).is_none() {
+                    first_unknown = Some((id, [x, y, z]));
+                    break 'scan;
+                }
+            }
+        }
+    }
+    let opaque_class = |pos: [i64; 3]| {
+        let id = BlockId(voxel_at(padded, pos));
+        classes.class(id).filter(|c| c.is_opaque())
+    };
+    let (mut smooth_faces, mut cube_faces) = (0usize, 0usize);
+    if first_unknown.is_none() {
+        let e = i64::from(padded.size().edge());
+        for z in 1..=e {
+            for y in 1..=e {
+                for x in 1..=e {
+                    for axis in 0..3 {
+                        let (a, b) = ([x, y, z], offset([x, y, z], axis, 1));
+                        let solid = match (opaque_class(a), opaque_class(b)) {
+                            (Some(c), None) | (None, Some(c)) => c,
+                            _ => continue,
+                        };
+                        if solid == MaterialClass::Smoothable {
+                            smooth_faces += 1;
+                        } else {
+                            cube_faces += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    let mut out = SmoothMesh::new();
+    match (
+        NoCubes::new().mesh(padded, classes, &mut out),
+        first_unknown,
+    ) {
+        (Ok(stats), None) => {
+            assert_eq!(stats.smooth_quads, smooth_faces, "smooth quads");
+            assert_eq!(stats.cube_quads, cube_faces, "cube faces");
+            assert_eq!(out.quad_count(), smooth_faces + cube_faces);
+            assert_eq!(
+                out.vertices().len(),
+                stats.smooth_vertices + stats.cube_vertices
+            );
+            let vertices = out.vertices().len() as u32;
+            for t in out.triangles() {
+                assert!(
+                    t.iter().all(|&i| i < vertices),
+                    "triangle {t:?} past {vertices}"
+                );
+            }
+        }
+        (Err(MeshError::UnknownBlock { id, position }), Some(first)) => {
+            assert_eq!(
+                (id, position),
+                first,
+                "NoCubes names the first unknown voxel"
+            );
+            assert!(out.is_empty(), "partial NoCubes mesh after an error");
+        }
+        (result, first) => panic!("NoCubes gave {result:?}; first unknown voxel {first:?}"),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// SurfaceNets
+// ---------------------------------------------------------------------------------------------
+
+/// SurfaceNets on arbitrary grids. Bytes 0-2: samples per axis (`3 + byte % 8`); byte 3, bit 0:
+/// the samples are raw little-endian `f32`s from bytes 4.. (any bit pattern: NaN, infinities,
+/// subnormals, huge values), else `i8`s from bytes 4..; both repeated cyclically. Checks:
+///
+/// - `f32`: fails exactly when a sample is not finite, with the index and value of the first
+///   one in storage order; otherwise one quad per owned crossing edge (lower sample in
+///   `1..=d - 2` on every axis, signs differ: negative is inside), every quad index inside the
+///   vertex buffer, the unpacked mesh has the same quad count, and each of its vertices lies
+///   in its cell;
+/// - `i8`: `mesh_i8` equals `mesh_f32` on the densities `q * I8_DENSITY_STEP` exactly, as
+///   documented;
+/// - a reused mesher gives the same mesh again.
+pub fn smooth_density(data: &[u8]) {
+    let [dx, dy, dz, mode, bytes @ ..] = data else {
+        return;
+    };
+    let dims = [dx, dy, dz].map(|d| 3 + u32::from(d % 8));
+    let shape = GridShape::new(dims).expect("3..=10 samples per axis");
+    let n = shape.sample_count();
+    let mut nets = SurfaceNets::new();
+    let mut out = SmoothMesh::new();
+    let samples: Vec<f32> = if mode & 1 != 0 {
+        let words = bytes.len() / 4;
+        if words == 0 {
+            return;
+        }
+        (0..n)
+            .map(|i| {
+                let w = 4 * (i % words);
+                f32::from_le_bytes([bytes[w], bytes[w + 1], bytes[w + 2], bytes[w + 3]])
+            })
+            .collect()
+    } else {
+        if bytes.is_empty() {
+            return;
+        }
+        let q: Vec<i8> = (0..n).map(|i| bytes[i % bytes.len()] as i8).collect();
+        let mut from_i8 = SmoothMesh::new();
+        nets.mesh_i8(&q, shape, BlockId(1), &mut from_i8)
+            .expect("i8 grids of a valid shape always mesh");
+        let f: Vec<f32> = q.iter().map(|&v| f32::from(v) * I8_DENSITY_STEP).collect();
+        nets.mesh_f32(&f, shape, BlockId(1), &mut out)
+            .expect("finite grids mesh");
+        assert_eq!(from_i8, out, "i8 and f32 meshes differ");
+        f
+    };
+
+    let result = nets.mesh_f32(&samples, shape, BlockId(1), &mut out);
+    let first_bad = samples.iter().position(|v| !v.is_finite());
+    let Some(first_bad) = first_bad else {
+        result.expect("finite grids mesh");
+        check_nets_mesh(&samples, shape, &out, &mut nets);
+        let again = out.clone();
+        nets.mesh_f32(&samples, shape, BlockId(1), &mut out)
+            .expect("finite grids mesh");
+        assert_eq!(again, out, "a reused mesher differs");
+        return;
+    };
+    match result {
+        Err(MeshError::NonFiniteDensity { index, value }) => {
+            assert_eq!(index, first_bad, "not the first non-finite sample");
+            assert_eq!(value.to_bits(), samples[first_bad].to_bits());
+            assert!(out.is_empty(), "partial mesh after an error");
+        }
+        other => panic!(
+            "sample {first_bad} is {}, yet {other:?}",
+            samples[first_bad]
+        ),
+    }
+}
+
+/// The checks of a finite grid's mesh (see [`smooth_density`]).
+fn check_nets_mesh(samples: &[f32], shape: GridShape, out: &SmoothMesh, nets: &mut SurfaceNets) {
+    let [dx, dy, dz] = shape.dims();
+    let inside = |p: [u32; 3]| samples[shape.index(p)] < 0.0;
+    let mut crossings = 0usize;
+    for z in 1..dz - 1 {
+        for y in 1..dy - 1 {
+            for x in 1..dx - 1 {
+                for axis in 0..3 {
+                    let mut b = [x, y, z];
+                    b[axis] += 1;
+                    crossings += usize::from(inside([x, y, z]) != inside(b));
+                }
+            }
+        }
+    }
+    assert_eq!(
+        out.quad_count(),
+        crossings,
+        "one quad per owned crossing edge"
+    );
+    let vertices = out.vertices().len() as u32;
+    for t in out.triangles() {
+        assert!(
+            t.iter().all(|&i| i < vertices),
+            "triangle {t:?} past {vertices}"
+        );
+    }
+    let mut raw = SmoothMeshF32::default();
+    nets.mesh_f32_unpacked(samples, shape, &mut raw)
+        .expect("finite grids mesh");
+    assert_eq!(raw.quads.len(), crossings);
+    for (position, cell) in raw.positions.iter().zip(&raw.cells) {
+        for axis in 0..3 {
+            let low = cell[axis] as f32;
+            assert!(
+                (low..=low + 1.0).contains(&position[axis]),
+                "vertex {position:?} outside its cell {cell:?}"
+            );
+        }
     }
 }

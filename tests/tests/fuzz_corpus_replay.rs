@@ -30,7 +30,7 @@ use voxel_core::{BlockId, ChunkCoord, ChunkSize, LocalPos, VoxelStorage};
 type Target = (&'static str, fn(&[u8]));
 
 /// Every fuzz target, in the order of `fuzz/Cargo.toml`.
-const TARGETS: [Target; 9] = [
+const TARGETS: [Target; 11] = [
     ("chunk_codec", bodies::chunk_codec),
     ("draw_block", bodies::draw_block),
     ("packed_quad", bodies::packed_quad),
@@ -40,6 +40,8 @@ const TARGETS: [Target; 9] = [
     ("meshed_chunk_info", bodies::meshed_chunk_info),
     ("chunk_draw_indirect", bodies::chunk_draw_indirect),
     ("compact_quad", bodies::compact_quad),
+    ("blocky_mesh", bodies::blocky_mesh),
+    ("smooth_density", bodies::smooth_density),
 ];
 
 fn fuzz_dir() -> PathBuf {
@@ -133,6 +135,8 @@ replay_tests!(
     meshed_chunk_info,
     chunk_draw_indirect,
     compact_quad,
+    blocky_mesh,
+    smooth_density,
 );
 
 #[test]
@@ -168,6 +172,8 @@ fn seeds() -> Vec<(&'static str, Seeds)> {
         ("meshed_chunk_info", meshed_chunk_info_seeds()),
         ("chunk_draw_indirect", chunk_draw_indirect_seeds()),
         ("compact_quad", compact_quad_seeds()),
+        ("blocky_mesh", blocky_mesh_seeds()),
+        ("smooth_density", smooth_density_seeds()),
     ]
 }
 
@@ -619,5 +625,177 @@ fn compact_quad_seeds() -> Seeds {
         ("bad-da-past-a", record([5, 100, 6 | 1 << 6])),
         ("bad-db-zero", record([100, 100, 1])),
         ("bad-truncated", record(typical)[..5].to_vec()),
+    ]
+}
+
+/// Chunks for `blocky_mesh` (header: size / AO / baseline / wide-palette bits, palette length,
+/// 2 class bits per entry; then padded voxels, see `bodies::blocky_input`).
+fn blocky_mesh_seeds() -> Seeds {
+    // Classes: 0 opaque, 1 transparent, 2 clutter-bearing, 3 smoothable.
+    let chunk = |head: u8, classes: &[u16], voxel: &dyn Fn(usize, usize, usize) -> u8| {
+        let class_bits = classes
+            .iter()
+            .enumerate()
+            .fold(0u16, |bits, (i, c)| bits | c << (2 * i));
+        let [c0, c1] = class_bits.to_le_bytes();
+        let mut bytes = vec![head, classes.len() as u8, c0, c1];
+        let p = if head & 1 == 0 { 10 } else { 18 };
+        for z in 0..p {
+            for y in 0..p {
+                for x in 0..p {
+                    bytes.push(voxel(x, y, z));
+                }
+            }
+        }
+        bytes
+    };
+    const AO: u8 = 2;
+    const S16: u8 = 1;
+    const BASELINE: u8 = 4;
+    const WIDE: u8 = 8;
+    let hills = |x: usize, y: usize, z: usize| -> u8 {
+        let h = 4 + (x * 7 + z * 3) % 5;
+        match y {
+            _ if y < h.saturating_sub(2) => 1,
+            _ if y < h => 3,
+            _ if y < 6 => 2,
+            _ => 0,
+        }
+    };
+    vec![
+        ("air-8", vec![0, 0, 0, 0]),
+        ("slab-ao-8", chunk(AO, &[0], &|_, y, _| u8::from(y < 5))),
+        (
+            "hills-water-clutter-ao-16",
+            chunk(S16 | AO, &[0, 1, 2], &hills),
+        ),
+        (
+            "checkerboard-ao-baseline-16",
+            chunk(S16 | AO | BASELINE, &[0], &|x, y, z| {
+                ((x + y + z) % 2) as u8
+            }),
+        ),
+        (
+            "checkerboard-two-ids-8",
+            chunk(AO, &[0, 0], &|x, y, z| {
+                [0, 1, 0, 2][(x + y + z) % 2 + 2 * (x % 2)]
+            }),
+        ),
+        (
+            "water-next-to-glass-8",
+            chunk(0, &[0, 1, 1], &|x, y, z| {
+                [0, 2, 3, 1][(x / 3 + y / 4 + z) % 4]
+            }),
+        ),
+        (
+            "unknown-visible-8",
+            chunk(AO, &[0], &|x, y, z| {
+                if (x, y, z) == (4, 5, 6) {
+                    7
+                } else {
+                    u8::from(y < 3)
+                }
+            }),
+        ),
+        (
+            "unknown-buried-8",
+            chunk(0, &[0], &|x, y, z| {
+                if (x, y, z) == (4, 2, 6) {
+                    7
+                } else {
+                    u8::from(y < 5)
+                }
+            }),
+        ),
+        (
+            "large-ids-wide-palette-ao-16",
+            chunk(S16 | AO | WIDE, &[0], &|x, y, z| {
+                [0xF1, 0xF2, 0xF3, 0, 0, 1][(x + 2 * y + 3 * z) % 6]
+            }),
+        ),
+        (
+            "large-unknown-ids-8",
+            chunk(AO, &[0], &|x, _, _| [0, 1, 0xF4, 0xFF][x % 4]),
+        ),
+        (
+            "nocubes-mix-ao-16",
+            chunk(S16 | AO, &[0, 3, 2, 1], &|x, y, z| {
+                let d = (x as i32 - 9).pow(2) + (y as i32 - 9).pow(2) + (z as i32 - 9).pow(2);
+                match d {
+                    0..=16 => 1,
+                    17..=40 => 2,
+                    41..=50 => 3,
+                    _ if y < 3 => 4,
+                    _ => 0,
+                }
+            }),
+        ),
+    ]
+}
+
+/// Grids for `smooth_density` (3 axis bytes, `3 + byte % 8` samples; mode bit 0: raw `f32`
+/// samples, else `i8`; see `bodies::smooth_density`).
+fn smooth_density_seeds() -> Seeds {
+    let sphere = |i: usize| {
+        let [x, y, z] = [i % 10, i / 10 % 10, i / 100].map(|a| a as f32 - 4.5);
+        (x * x + y * y + z * z).sqrt() - 3.2
+    };
+    let f32_grid = |dims: [u8; 3], values: &dyn Fn(usize) -> f32, n: usize| {
+        let mut bytes = vec![dims[0], dims[1], dims[2], 1];
+        bytes.extend((0..n).flat_map(|i| values(i).to_le_bytes()));
+        bytes
+    };
+    let i8_grid = |dims: [u8; 3], values: &dyn Fn(usize) -> i8, n: usize| {
+        let mut bytes = vec![dims[0], dims[1], dims[2], 0];
+        bytes.extend((0..n).map(|i| values(i) as u8));
+        bytes
+    };
+    let with_sample = |at: usize, v: f32| move |i: usize| if i == at { v } else { sphere(i) };
+    vec![
+        ("f32-sphere-10", f32_grid([7; 3], &sphere, 1000)),
+        (
+            "i8-sphere-10",
+            i8_grid(
+                [7; 3],
+                &|i| (sphere(i) * 40.0).clamp(-127.0, 127.0) as i8,
+                1000,
+            ),
+        ),
+        (
+            "i8-one-inside-3",
+            i8_grid([0; 3], &|i| if i == 13 { -1 } else { 1 }, 27),
+        ),
+        (
+            "i8-zero-is-outside",
+            i8_grid([1, 2, 3], &|i| [0, -5, 0][i % 3], 7),
+        ),
+        (
+            "f32-nan",
+            f32_grid([7; 3], &with_sample(555, f32::NAN), 1000),
+        ),
+        (
+            "f32-inf-first",
+            f32_grid([7; 3], &with_sample(0, f32::NEG_INFINITY), 1000),
+        ),
+        (
+            "f32-huge-alternating",
+            f32_grid(
+                [4, 5, 6],
+                &|i| if i % 3 == 0 { -3.0e38 } else { 3.0e38 },
+                300,
+            ),
+        ),
+        (
+            "f32-subnormal",
+            f32_grid(
+                [2; 3],
+                &|i| if i % 2 == 0 { -1.0e-40 } else { 1.0e-45 },
+                125,
+            ),
+        ),
+        (
+            "f32-signed-zeros",
+            f32_grid([2; 3], &|i| if i % 4 == 0 { -0.0 } else { -1.0 }, 125),
+        ),
     ]
 }
