@@ -1220,7 +1220,9 @@ fn reference_ao(
 }
 
 /// Every visible unit face of the chunk's own voxels by brute force, as (opaque, transparent),
-/// sorted.
+/// sorted. The same reference as `mesher/tests/blocky_support`, written again here because this
+/// file also builds in the fuzz crate, which has neither that module's proptest strategies nor
+/// its dependencies.
 pub fn reference_unit_faces(
     padded: &PaddedChunk,
     classes: &BlockClasses,
