@@ -10,8 +10,8 @@
 //! (buried). Checking that is a few map look-ups.
 //!
 //! With feature `parallel`, [`mesh_chunks`] meshes a list of chunks on rayon's pool with one
-//! `ChunkMesher` per worker thread, kept between calls; the result is in the order of the list and
-//! does not depend on the number of threads (each chunk's mesh depends only on the world).
+//! `ChunkMesher` per worker thread, kept between calls; the result is in the order of the list
+//! and does not depend on the number of threads (each chunk's mesh depends only on the world).
 
 use alloc::vec::Vec;
 
