@@ -43,9 +43,8 @@ use voxel_core::formats::quantize::{
 use voxel_core::formats::{
     BlockVertex, COMPACT_QUAD_MAX_DELTA, ChunkDrawIndirect, ChunkDrawInfo, ChunkKind, ClutterUnit,
     DrawBlock, DrawBlockFlags, FaceDirection, FormatError, MeshedChunkInfo,
-    OCT16_MAX_ERROR_DEGREES, OCT32_MAX_ERROR_DEGREES, PackedQuad, PackedQuadFields, UnormExtent,
-    compact_quad_decode, compact_quad_encode, oct16_decode, oct16_encode, oct32_decode,
-    oct32_encode,
+    OCT16_MAX_ERROR_DEGREES, OCT32_MAX_ERROR_DEGREES, PackedQuad, UnormExtent, compact_quad_decode,
+    compact_quad_encode, oct16_decode, oct16_encode, oct32_decode, oct32_encode,
 };
 use voxel_core::storage::{
     CODEC_VERSION, CodecError, DenseChunk, HEADER_LEN, MAGIC, VoxelStorage, decode_chunk,
@@ -55,7 +54,12 @@ use voxel_core::{BlockId, ChunkSize, Material, MaterialClass, MaterialPalette, P
 
 use mesher::blocky::{BlockyMesh, GreedyMesher};
 use mesher::smooth::{GridShape, I8_DENSITY_STEP, NoCubes, SmoothMesh, SmoothMeshF32, SurfaceNets};
-use mesher::{BlockClasses, InstructionSet, MeshError, QuadLayer};
+use mesher::{BlockClasses, InstructionSet, MeshError};
+
+// The blocky meshers' brute-force reference, shared with their tests (path relative to this file).
+#[path = "../mesher/tests/blocky_support/reference.rs"]
+mod blocky_reference;
+use blocky_reference::{covered, reference_faces, voxel};
 
 /// How far (per component, absolute) a decoded octahedral normal may move when it is re-encoded
 /// and decoded again: 4 ulps at 1.0. Absolute rather than relative because a component that
@@ -1137,159 +1141,6 @@ pub fn blocky_input(data: &[u8]) -> Option<BlockyInput> {
     })
 }
 
-/// One unit face: padded voxel position, direction index, block id, corner AO.
-pub type UnitFace = ([u32; 3], u8, u16, [u8; 4]);
-
-/// The padded voxel at `pos`; outside the padded box is air.
-fn voxel_at(padded: &PaddedChunk, pos: [i64; 3]) -> u16 {
-    let p = padded.padded_edge() as i64;
-    if pos.iter().any(|&a| !(0..p).contains(&a)) {
-        return 0;
-    }
-    padded
-        .get(pos[0] as u32, pos[1] as u32, pos[2] as u32)
-        .map_or(0, |id| id.0)
-}
-
-/// Hides faces and occludes corners: not air and not transparent (unknown ids count as
-/// opaque, as the meshers document).
-fn hides(classes: &BlockClasses, id: u16) -> bool {
-    id != 0 && !classes.is_transparent(BlockId(id))
-}
-
-/// The documented visibility rule of the blocky meshers.
-fn shows_face(classes: &BlockClasses, id: u16, neighbour: u16) -> bool {
-    if id == 0 {
-        false
-    } else if classes.is_transparent(BlockId(id)) {
-        neighbour == 0 || (classes.is_transparent(BlockId(neighbour)) && neighbour != id)
-    } else {
-        !hides(classes, neighbour)
-    }
-}
-
-fn offset(a: [i64; 3], axis: usize, k: i64) -> [i64; 3] {
-    let mut out = a;
-    out[axis] += k;
-    out
-}
-
-/// The `(du, dv)` steps of a face's 4 corners, read back from `PackedQuadFields::corners` on a
-/// unit quad so that the reference follows the documented corner order.
-fn corner_steps(face: FaceDirection) -> [(i64, i64); 4] {
-    let fields = PackedQuadFields {
-        position: [0; 3],
-        width: 1,
-        height: 1,
-        face,
-        ao: [3; 4],
-        block: BlockId(1),
-    };
-    let lift = i64::from(face.is_positive());
-    fields.corners().map(|c| {
-        let along =
-            |axis: usize| i64::from(c[axis]) - if axis == face.normal_axis() { lift } else { 0 };
-        (along(face.width_axis()), along(face.height_axis()))
-    })
-}
-
-/// The corner rule on the front layer of the face of `pos` facing `face`.
-fn reference_ao(
-    padded: &PaddedChunk,
-    classes: &BlockClasses,
-    pos: [i64; 3],
-    face: FaceDirection,
-) -> [u8; 4] {
-    let front = offset(
-        pos,
-        face.normal_axis(),
-        if face.is_positive() { 1 } else { -1 },
-    );
-    let (wa, ha) = (face.width_axis(), face.height_axis());
-    corner_steps(face).map(|(du, dv)| {
-        let side1 = offset(front, wa, 2 * du - 1);
-        let side2 = offset(front, ha, 2 * dv - 1);
-        let corner = offset(side1, ha, 2 * dv - 1);
-        let [s1, s2, c] = [side1, side2, corner].map(|q| hides(classes, voxel_at(padded, q)));
-        if s1 && s2 {
-            0
-        } else {
-            3 - (u8::from(s1) + u8::from(s2) + u8::from(c))
-        }
-    })
-}
-
-/// Every visible unit face of the chunk's own voxels by brute force, as (opaque, transparent),
-/// sorted. The same reference as `mesher/tests/blocky_support`, written again here because this
-/// file also builds in the fuzz crate, which has neither that module's proptest strategies nor
-/// its dependencies.
-pub fn reference_unit_faces(
-    padded: &PaddedChunk,
-    classes: &BlockClasses,
-    ao: bool,
-) -> (Vec<UnitFace>, Vec<UnitFace>) {
-    let e = i64::from(padded.size().edge());
-    let (mut opaque, mut transparent) = (Vec::new(), Vec::new());
-    for z in 1..=e {
-        for y in 1..=e {
-            for x in 1..=e {
-                let pos = [x, y, z];
-                let id = voxel_at(padded, pos);
-                for face in FaceDirection::ALL {
-                    let step = if face.is_positive() { 1 } else { -1 };
-                    let neighbour = voxel_at(padded, offset(pos, face.normal_axis(), step));
-                    if !shows_face(classes, id, neighbour) {
-                        continue;
-                    }
-                    let corners = if ao {
-                        reference_ao(padded, classes, pos, face)
-                    } else {
-                        [3; 4]
-                    };
-                    let f = (pos.map(|a| a as u32), face.index(), id, corners);
-                    if classes.is_transparent(BlockId(id)) {
-                        transparent.push(f);
-                    } else {
-                        opaque.push(f);
-                    }
-                }
-            }
-        }
-    }
-    opaque.sort_unstable();
-    transparent.sort_unstable();
-    (opaque, transparent)
-}
-
-/// The unit faces a layer covers, sorted; fails if a quad is in the wrong direction group,
-/// leaves the chunk, or covers a face another quad covers.
-fn covered_faces(layer: &QuadLayer, edge: u32) -> Vec<UnitFace> {
-    let mut out = Vec::new();
-    for (d, quads) in layer.faces.iter().enumerate() {
-        for q in quads {
-            let f = q.decode().expect("every emitted quad decodes");
-            assert_eq!(usize::from(f.face.index()), d, "quad {f:?} in group {d}");
-            for j in 0..f.height {
-                for i in 0..f.width {
-                    let mut pos = f.position.map(|a| a + 1);
-                    pos[f.face.width_axis()] += i;
-                    pos[f.face.height_axis()] += j;
-                    assert!(
-                        pos.iter().all(|a| (1..=edge).contains(a)),
-                        "quad {f:?} leaves the chunk"
-                    );
-                    out.push((pos, f.face.index(), f.block.0, f.ao));
-                }
-            }
-        }
-    }
-    out.sort_unstable();
-    let before = out.len();
-    out.dedup_by(|a, b| (a.0, a.1) == (b.0, b.1));
-    assert_eq!(out.len(), before, "two quads cover one face");
-    out
-}
-
 /// The blocky meshers on an arbitrary chunk and palette (see [`blocky_input`]):
 ///
 /// - when no visible face belongs to an unknown id: the greedy quads and the visible-face quads
@@ -1313,9 +1164,9 @@ pub fn blocky_mesh(data: &[u8]) {
         baseline,
     } = &input;
     let edge = padded.size().edge();
-    let (opaque, transparent) = reference_unit_faces(padded, classes, *ao);
+    let (opaque, transparent) = reference_faces(padded, classes, *ao);
     let unknown = |id: u16| id != 0 && classes.class(BlockId(id)).is_none();
-    let shows_unknown = opaque.iter().chain(&transparent).any(|f| unknown(f.2));
+    let shows_unknown = opaque.iter().chain(&transparent).any(|f| unknown(f.id));
 
     let mut mesher = GreedyMesher::new().with_ambient_occlusion(*ao);
     if *baseline {
@@ -1335,12 +1186,12 @@ pub fn blocky_mesh(data: &[u8]) {
             Ok(()) => {
                 assert!(!shows_unknown, "run {run}: an unknown id's face was meshed");
                 assert_eq!(
-                    covered_faces(&mesh.opaque, edge),
+                    covered(&mesh.opaque, edge),
                     opaque,
                     "run {run}: opaque layer"
                 );
                 assert_eq!(
-                    covered_faces(&mesh.transparent, edge),
+                    covered(&mesh.transparent, edge),
                     transparent,
                     "run {run}: transparent layer"
                 );
@@ -1357,7 +1208,7 @@ pub fn blocky_mesh(data: &[u8]) {
                 let named = opaque
                     .iter()
                     .chain(&transparent)
-                    .any(|f| f.0 == position && f.2 == id.0);
+                    .any(|f| f.pos == position && f.id == id.0);
                 assert!(
                     named,
                     "run {run}: no visible face of {id:?} at {position:?}"
@@ -1392,7 +1243,7 @@ fn nocubes_check(padded: &PaddedChunk, classes: &BlockClasses) {
         }
     }
     let opaque_class = |pos: [i64; 3]| {
-        let id = BlockId(voxel_at(padded, pos));
+        let id = BlockId(voxel(padded, pos));
         classes.class(id).filter(|c| c.is_opaque())
     };
     let (mut smooth_faces, mut cube_faces) = (0usize, 0usize);
@@ -1402,7 +1253,8 @@ fn nocubes_check(padded: &PaddedChunk, classes: &BlockClasses) {
             for y in 1..=e {
                 for x in 1..=e {
                     for axis in 0..3 {
-                        let (a, b) = ([x, y, z], offset([x, y, z], axis, 1));
+                        let (a, mut b) = ([x, y, z], [x, y, z]);
+                        b[axis] += 1;
                         let solid = match (opaque_class(a), opaque_class(b)) {
                             (Some(c), None) | (None, Some(c)) => c,
                             _ => continue,

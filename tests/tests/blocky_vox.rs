@@ -6,103 +6,18 @@
 //!   quads of all its chunks together equals its opaque voxel count, for 62^3 and 16^3 chunks
 //!   alike: chunk borders are seamless.
 
-use std::collections::HashSet;
-
 use mesher::BlockClasses;
 use mesher::blocky::{BlockyMesh, GreedyMesher};
-use voxel_core::formats::PackedQuadFields;
-use voxel_core::{BlockId, ChunkSize, FaceDirection, PaddedChunk, gather_neighbourhood};
+use voxel_core::{ChunkSize, PaddedChunk, gather_neighbourhood};
 
-type Face = ([u32; 3], u8, u16, [u8; 4]);
-
-fn get(padded: &PaddedChunk, q: [i64; 3]) -> u16 {
-    let p = padded.padded_edge() as i64;
-    if q.iter().any(|&a| a < 0 || a >= p) {
-        return 0;
-    }
-    padded.get(q[0] as u32, q[1] as u32, q[2] as u32).unwrap().0
-}
-
-/// Visible unit faces of the chunk interior by brute force: (opaque, transparent).
-fn reference(padded: &PaddedChunk, classes: &BlockClasses) -> (HashSet<Face>, HashSet<Face>) {
-    let solid = |id: u16| id != 0 && !classes.is_transparent(BlockId(id));
-    let e = padded.size().edge() as i64;
-    let (mut opaque, mut transparent) = (HashSet::new(), HashSet::new());
-    for z in 1..=e {
-        for y in 1..=e {
-            for x in 1..=e {
-                let id = get(padded, [x, y, z]);
-                if id == 0 {
-                    continue;
-                }
-                let see_through = classes.is_transparent(BlockId(id));
-                for face in FaceDirection::ALL {
-                    let n = face.normal().map(i64::from);
-                    let front = [x + n[0], y + n[1], z + n[2]];
-                    let nb = get(padded, front);
-                    let visible = if see_through {
-                        nb == 0 || (classes.is_transparent(BlockId(nb)) && nb != id)
-                    } else {
-                        !solid(nb)
-                    };
-                    if !visible {
-                        continue;
-                    }
-                    let swap = matches!(
-                        face,
-                        FaceDirection::PosX | FaceDirection::PosY | FaceDirection::NegZ
-                    );
-                    let ao = [(0i64, 0i64), (1, 0), (1, 1), (0, 1)].map(|(a, b)| {
-                        let (du, dv) = if swap { (b, a) } else { (a, b) };
-                        let mut w = front;
-                        w[face.width_axis()] += 2 * du - 1;
-                        let mut h = front;
-                        h[face.height_axis()] += 2 * dv - 1;
-                        let mut c = w;
-                        c[face.height_axis()] += 2 * dv - 1;
-                        let (s1, s2, c) = (
-                            solid(get(padded, w)),
-                            solid(get(padded, h)),
-                            solid(get(padded, c)),
-                        );
-                        if s1 && s2 {
-                            0
-                        } else {
-                            3 - (u8::from(s1) + u8::from(s2) + u8::from(c))
-                        }
-                    });
-                    let f = ([x as u32, y as u32, z as u32], face.index(), id, ao);
-                    if see_through {
-                        transparent.insert(f);
-                    } else {
-                        opaque.insert(f);
-                    }
-                }
-            }
-        }
-    }
-    (opaque, transparent)
-}
-
-/// Unit faces covered by a layer's quads, failing on overlap.
-fn covered(layer: &mesher::QuadLayer) -> HashSet<Face> {
-    let mut out = HashSet::new();
-    for q in layer.iter() {
-        let f: PackedQuadFields = q.decode().unwrap();
-        for j in 0..f.height {
-            for i in 0..f.width {
-                let mut pos = f.position.map(|a| a + 1);
-                pos[f.face.width_axis()] += i;
-                pos[f.face.height_axis()] += j;
-                assert!(
-                    out.insert((pos, f.face.index(), f.block.0, f.ao)),
-                    "overlap at {pos:?}"
-                );
-            }
-        }
-    }
-    out
-}
+// The blocky meshers' brute-force reference, shared with their tests.
+#[path = "../../mesher/tests/blocky_support/reference.rs"]
+#[allow(
+    dead_code,
+    reason = "this test uses the face reference and coverage only"
+)]
+mod reference;
+use reference::{covered, reference_faces};
 
 /// Six times the signed volume enclosed by a layer (divergence theorem over the corners of each
 /// quad's two counter-clockwise triangles), in world units relative to the chunk origin.
@@ -150,15 +65,15 @@ fn sample_models_mesh_to_exactly_their_visible_faces_and_close() {
                     .count() as i64;
                 // The brute-force reference is slow: check every chunk at 62^3 only.
                 if size == ChunkSize::S62 {
-                    let (o, t) = reference(&padded, &classes);
+                    let (o, t) = reference_faces(&padded, &classes, true);
                     assert_eq!(
-                        covered(&mesh.opaque),
+                        covered(&mesh.opaque, size.edge()),
                         o,
                         "{}: opaque faces of {coord:?}",
                         path.display()
                     );
                     assert_eq!(
-                        covered(&mesh.transparent),
+                        covered(&mesh.transparent, size.edge()),
                         t,
                         "{}: transparent faces of {coord:?}",
                         path.display()
