@@ -1077,9 +1077,10 @@ const CLASSES: [MaterialClass; 4] = [
 
 /// A padded chunk, its palette and the mesher options decoded from fuzz bytes:
 ///
-/// - byte 0: bit 0 chunk size (8 or 16), bit 1 ambient occlusion, bit 2 the baseline
-///   instruction set instead of the detected one, bit 3 a wide palette (opaque entries up to id
-///   70, so ids 64..=70 are known);
+/// - byte 0: bit 0 chunk size (8 or 16), bit 1 ambient occlusion, bits 2 and 4 the
+///   instruction set (neither: the detected one; bit 2: the baseline; bit 4: x86-64-v3; both:
+///   x86-64-v4; a set this CPU does not run falls back to the detected one), bit 3 a wide
+///   palette (opaque entries up to id 70, so ids 64..=70 are known);
 /// - byte 1 (low 3 bits): palette entries `1..=n`; bytes 2-3: their classes, 2 bits each;
 /// - bytes 4..: the padded voxels in storage order (x fastest), repeated cyclically (none: all
 ///   air). A byte below `0xF0` is id `byte % 9` (so ids past the palette are unknown); the rest
@@ -1091,8 +1092,8 @@ pub struct BlockyInput {
     pub classes: BlockClasses,
     /// Ambient occlusion on.
     pub ao: bool,
-    /// Run the baseline instruction set.
-    pub baseline: bool,
+    /// The instruction set to pin, if any.
+    pub instruction_set: Option<InstructionSet>,
 }
 
 /// Decodes a [`BlockyInput`]; `None` for inputs shorter than the 4 header bytes.
@@ -1137,7 +1138,12 @@ pub fn blocky_input(data: &[u8]) -> Option<BlockyInput> {
         padded,
         classes: BlockClasses::from_palette(&palette),
         ao: head & 2 != 0,
-        baseline: head & 4 != 0,
+        instruction_set: match (head & 4 != 0, head & 16 != 0) {
+            (false, false) => None,
+            (true, false) => Some(InstructionSet::Baseline),
+            (false, true) => Some(InstructionSet::X86V3),
+            (true, true) => Some(InstructionSet::X86V4),
+        },
     })
 }
 
@@ -1161,7 +1167,7 @@ pub fn blocky_mesh(data: &[u8]) {
         padded,
         classes,
         ao,
-        baseline,
+        instruction_set,
     } = &input;
     let edge = padded.size().edge();
     let (opaque, transparent) = reference_faces(padded, classes, *ao);
@@ -1169,10 +1175,10 @@ pub fn blocky_mesh(data: &[u8]) {
     let shows_unknown = opaque.iter().chain(&transparent).any(|f| unknown(f.id));
 
     let mut mesher = GreedyMesher::new().with_ambient_occlusion(*ao);
-    if *baseline {
+    if let Some(set) = instruction_set.filter(|set| set.is_supported()) {
         mesher = mesher
-            .with_instruction_set(InstructionSet::Baseline)
-            .expect("every x86-64 CPU runs the baseline");
+            .with_instruction_set(set)
+            .expect("a supported set is taken");
     }
     let mut mesh = BlockyMesh::new();
     let mut first_greedy = None;

@@ -7,11 +7,13 @@
 //! | id | what is timed |
 //! | --- | --- |
 //! | `ours greedy` | `GreedyMesher::mesh` from a `PaddedChunk` (occupancy columns already there), AO on, on the instruction set detected at run time (`InstructionSet::detect`) |
+//! | `ours greedy x86-v3` | the same pinned to `InstructionSet::X86V3` (AVX2, no AVX-512; skipped on CPUs without it) |
 //! | `ours greedy baseline-isa` | the same pinned to `InstructionSet::Baseline` (the compilation target's features only) |
 //! | `ours greedy no-ao` | the same with AO off (merges on id alone, as the peers do) |
 //! | `ours greedy u16` | `GreedyMesher::mesh_u16` from the plain padded `u16` array: mask build included, AO on |
 //! | `ours greedy u16 no-ao` | the same with AO off |
 //! | `ours visible` | `GreedyMesher::visible_faces`: one quad per face, AO on |
+//! | `ours visible x86-v3` | the same pinned to `InstructionSet::X86V3` |
 //! | `ours visible baseline-isa` | the same pinned to `InstructionSet::Baseline` |
 //! | `block-mesh visible` | `block_mesh::visible_block_faces` |
 //! | `block-mesh greedy` | `block_mesh::greedy_quads` |
@@ -103,43 +105,50 @@ fn bench_ours<M: Measurement>(g: &mut BenchmarkGroup<'_, M>, prep: &Prepared<'_>
     let chunks = &prep.input.chunks;
     let classes = &prep.classes;
     let mut out = BlockyMesh::new();
-    let mut with_ao = GreedyMesher::new();
-    let mut without_ao = GreedyMesher::new().with_ambient_occlusion(false);
-    let mut portable = GreedyMesher::new()
-        .with_instruction_set(InstructionSet::Baseline)
-        .expect("every CPU runs the baseline");
 
     type Run = fn(&mut GreedyMesher, &voxel_core::PaddedChunk, &BlockClasses, &mut BlockyMesh);
-    let runs: [(&str, Option<bool>, Run); 7] = [
-        ("ours greedy", Some(true), |m, c, k, o| {
-            m.mesh(c, k, o).unwrap()
-        }),
-        ("ours greedy baseline-isa", None, |m, c, k, o| {
-            m.mesh(c, k, o).unwrap()
-        }),
-        ("ours greedy no-ao", Some(false), |m, c, k, o| {
-            m.mesh(c, k, o).unwrap()
-        }),
-        ("ours greedy u16", Some(true), |m, c, k, o| {
-            m.mesh_u16(as_u16(c), k, o).unwrap()
-        }),
-        ("ours greedy u16 no-ao", Some(false), |m, c, k, o| {
-            m.mesh_u16(as_u16(c), k, o).unwrap()
-        }),
-        ("ours visible", Some(true), |m, c, k, o| {
-            m.visible_faces(c, k, o).unwrap()
-        }),
-        ("ours visible baseline-isa", None, |m, c, k, o| {
-            m.visible_faces(c, k, o).unwrap()
-        }),
+    let greedy: Run = |m, c, k, o| m.mesh(c, k, o).unwrap();
+    let u16_array: Run = |m, c, k, o| m.mesh_u16(as_u16(c), k, o).unwrap();
+    let visible: Run = |m, c, k, o| m.visible_faces(c, k, o).unwrap();
+    // Instruction set (`None`: the detected one), AO, entry point.
+    let runs: [(&str, Option<InstructionSet>, bool, Run); 9] = [
+        ("ours greedy", None, true, greedy),
+        (
+            "ours greedy x86-v3",
+            Some(InstructionSet::X86V3),
+            true,
+            greedy,
+        ),
+        (
+            "ours greedy baseline-isa",
+            Some(InstructionSet::Baseline),
+            true,
+            greedy,
+        ),
+        ("ours greedy no-ao", None, false, greedy),
+        ("ours greedy u16", None, true, u16_array),
+        ("ours greedy u16 no-ao", None, false, u16_array),
+        ("ours visible", None, true, visible),
+        (
+            "ours visible x86-v3",
+            Some(InstructionSet::X86V3),
+            true,
+            visible,
+        ),
+        (
+            "ours visible baseline-isa",
+            Some(InstructionSet::Baseline),
+            true,
+            visible,
+        ),
     ];
-    // `Some(ao)`: the detected instruction set with AO on or off; `None`: the baseline, AO on.
-    for (name, ao, run) in runs {
-        let mesher = match ao {
-            Some(true) => &mut with_ao,
-            Some(false) => &mut without_ao,
-            None => &mut portable,
+    for (name, set, ao, run) in runs {
+        let mesher = GreedyMesher::new().with_ambient_occlusion(ao);
+        let Ok(mut mesher) = set.map_or(Ok(mesher.clone()), |set| mesher.with_instruction_set(set))
+        else {
+            continue; // this CPU does not run the set
         };
+        let mesher = &mut mesher;
         let quads: usize = chunks
             .iter()
             .map(|c| {

@@ -8,7 +8,8 @@
 //! Arguments: the start of an input's name (see `benches::mesh_inputs`; `vox/maze` and the
 //! other sample models when `../shared/data/vox` is there), a mode (`greedy`,
 //! `visible`, `u16`, `baseline` for greedy on `InstructionSet::Baseline`, or `stats` for faces
-//! per line and direction), and a number of meshes. The time is the thread's CPU time, taken
+//! per line and direction), and a number of meshes. `MESHER_ISA=baseline|x86-v3|x86-v4` pins
+//! the instruction set (default: the detected one). The time is the thread's CPU time, taken
 //! over 20 batches: the minimum and the median per mesh, since on a shared machine the minimum
 //! is the steadier figure.
 
@@ -48,11 +49,18 @@ fn main() {
 
 /// Meshes `input` `meshes` times in 20 batches and prints the minimum and median per mesh.
 fn time_meshes(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usize) {
+    let pinned = match std::env::var("MESHER_ISA").as_deref() {
+        Ok("baseline") => Some(InstructionSet::Baseline),
+        Ok("x86-v3") => Some(InstructionSet::X86V3),
+        Ok("x86-v4") => Some(InstructionSet::X86V4),
+        _ if mode == "baseline" => Some(InstructionSet::Baseline),
+        _ => None,
+    };
     let mut mesher = GreedyMesher::new();
-    if mode == "baseline" {
+    if let Some(set) = pinned {
         mesher = mesher
-            .with_instruction_set(InstructionSet::Baseline)
-            .expect("every CPU runs the baseline");
+            .with_instruction_set(set)
+            .expect("this CPU runs the pinned instruction set");
     }
     let mut out = BlockyMesh::new();
     let mut run = |out: &mut BlockyMesh| {

@@ -628,7 +628,7 @@ fn compact_quad_seeds() -> Seeds {
     ]
 }
 
-/// Chunks for `blocky_mesh` (header: size / AO / baseline / wide-palette bits, palette length,
+/// Chunks for `blocky_mesh` (header: size / AO / instruction-set / wide-palette bits, palette length,
 /// 2 class bits per entry; then padded voxels, see `bodies::blocky_input`).
 fn blocky_mesh_seeds() -> Seeds {
     // Classes: 0 opaque, 1 transparent, 2 clutter-bearing, 3 smoothable.
@@ -653,6 +653,8 @@ fn blocky_mesh_seeds() -> Seeds {
     const S16: u8 = 1;
     const BASELINE: u8 = 4;
     const WIDE: u8 = 8;
+    const X86_V3: u8 = 16;
+    const X86_V4: u8 = BASELINE | X86_V3;
     let hills = |x: usize, y: usize, z: usize| -> u8 {
         let h = 4 + (x * 7 + z * 3) % 5;
         match y {
@@ -673,6 +675,18 @@ fn blocky_mesh_seeds() -> Seeds {
             "checkerboard-ao-baseline-16",
             chunk(S16 | AO | BASELINE, &[0], &|x, y, z| {
                 ((x + y + z) % 2) as u8
+            }),
+        ),
+        (
+            "checkerboard-ao-x86v3-16",
+            chunk(S16 | AO | X86_V3, &[0], &|x, y, z| ((x + y + z) % 2) as u8),
+        ),
+        // Rows of 16 faces (the slab's top and sides), with steps for AO: the lines written
+        // straight into the output, by the AVX-512 kernel where the CPU has it.
+        (
+            "stepped-slab-ao-x86v4-16",
+            chunk(S16 | AO | X86_V4, &[0, 0], &|x, y, z| {
+                u8::from(y < 4 + (x + 2 * z) % 3) * (1 + u8::from(x % 5 == 0))
             }),
         ),
         (

@@ -92,24 +92,38 @@ const fn corner_steps(face: FaceDirection) -> [(i32, i32); 4] {
     out
 }
 
+/// For each corner (order of `PackedQuadFields::corners`), the line and bit offsets (each
+/// `-1` or `+1`) of its diagonal front voxel, the way the meshers see a slice (see
+/// [`super::slices`], bits along the face's width axis and lines along its height axis): the
+/// corner's two side voxels are at `(line, 0)` and `(0, bit)`.
+const fn corner_offsets(face: FaceDirection) -> [(i32, i32); 4] {
+    let steps = corner_steps(face);
+    let mut out = [(0, 0); 4];
+    let mut i = 0;
+    while i < 4 {
+        let (du, dv) = steps[i];
+        let (dw, dh) = (2 * du - 1, 2 * dv - 1);
+        out[i] = (dh, dw);
+        i += 1;
+    }
+    out
+}
+
 /// The packed AO byte (corner `i` at bits `2i..2i+2`) for every 3 x 3 neighbourhood of the
 /// front layer, for one face direction.
 ///
 /// The neighbourhood is indexed the way the meshers see a slice: `lines` and `bits` (see
 /// [`super::slices`]). Code bit `3 * r + c` is the front voxel at line offset `r - 1` and bit
-/// offset `c - 1`. `bits_are_width` tells whether the bit axis is the face's width axis (as
-/// the meshers lay out every direction) or its height axis.
-pub(crate) const fn ao_table(face: FaceDirection, bits_are_width: bool) -> [u8; 512] {
-    let steps = corner_steps(face);
+/// offset `c - 1`.
+const fn ao_table(face: FaceDirection) -> [u8; 512] {
+    let corners = corner_offsets(face);
     let mut table = [0u8; 512];
     let mut code = 0usize;
     while code < 512 {
         let mut packed = 0u8;
         let mut i = 0;
         while i < 4 {
-            let (du, dv) = steps[i];
-            let (dw, dh) = (2 * du - 1, 2 * dv - 1);
-            let (dl, db) = if bits_are_width { (dh, dw) } else { (dw, dh) };
+            let (dl, db) = corners[i];
             let ao = corner_ao(solid(code, dl, 0), solid(code, 0, db), solid(code, dl, db));
             packed |= ao << (2 * i);
             i += 1;
@@ -127,13 +141,50 @@ const fn solid(code: usize, line: i32, bit: i32) -> bool {
 
 /// The AO tables of the six directions, in [`FaceDirection::ALL`] order.
 pub(crate) static AO_TABLES: [[u8; 512]; 6] = [
-    ao_table(FaceDirection::PosX, true),
-    ao_table(FaceDirection::NegX, true),
-    ao_table(FaceDirection::PosY, true),
-    ao_table(FaceDirection::NegY, true),
-    ao_table(FaceDirection::PosZ, true),
-    ao_table(FaceDirection::NegZ, true),
+    ao_table(FaceDirection::PosX),
+    ao_table(FaceDirection::NegX),
+    ao_table(FaceDirection::PosY),
+    ao_table(FaceDirection::NegY),
+    ao_table(FaceDirection::PosZ),
+    ao_table(FaceDirection::NegZ),
 ];
+
+/// The corner offsets of the six directions (see [`corner_offsets`]), in
+/// [`FaceDirection::ALL`] order.
+pub(crate) const CORNER_OFFSETS: [[(i32, i32); 4]; 6] = [
+    corner_offsets(FaceDirection::PosX),
+    corner_offsets(FaceDirection::NegX),
+    corner_offsets(FaceDirection::PosY),
+    corner_offsets(FaceDirection::NegY),
+    corner_offsets(FaceDirection::PosZ),
+    corner_offsets(FaceDirection::NegZ),
+];
+
+/// The AO bytes of a whole line of faces at once, as 8 bit planes: bit `b` of plane `k` is
+/// bit `k` of the AO byte ([`AO_TABLES`]) of the face at bit `b`, for a line whose front
+/// lines (line offsets -1, 0, +1) are `front`. Bit-parallel [`corner_ao`]: per corner, with
+/// `s1`, `s2` its side voxels and `c` its diagonal one, AO is at least 2 exactly when at most
+/// one of them is opaque (its high bit), and odd (3 or 1) when none is, or when the diagonal
+/// and exactly one side are.
+#[inline(always)]
+pub(crate) fn ao_planes(corners: &[(i32, i32); 4], front: [u64; 3]) -> [u64; 8] {
+    // Bit b: the front voxel at line offset `dl`, bit offset `db` of the face at bit b.
+    let plane = |dl: i32, db: i32| {
+        let f = front[(dl + 1) as usize & 3];
+        match db {
+            -1 => f << 1,
+            0 => f,
+            _ => f >> 1,
+        }
+    };
+    let mut planes = [0u64; 8];
+    for (i, &(dl, db)) in corners.iter().enumerate() {
+        let (s1, s2, c) = (plane(dl, 0), plane(0, db), plane(dl, db));
+        planes[2 * i] = (c & (s1 ^ s2)) | !(s1 | s2 | c);
+        planes[2 * i + 1] = !((s1 & s2) | (c & (s1 | s2)));
+    }
+    planes
+}
 
 /// Unpacks an AO byte into the 4 corner values.
 #[cfg(test)]
@@ -161,6 +212,28 @@ mod tests {
             assert_eq!(unpack(table[0]), [3; 4]);
             // Everything but the centre (the front cell itself, never opaque for a visible face).
             assert_eq!(unpack(table[511 & !(1 << 4)]), [0; 4]);
+        }
+    }
+
+    /// Every neighbourhood code of every direction, placed at a few bits of a line: the planes
+    /// give the table's byte there.
+    #[test]
+    fn ao_planes_equal_the_tables() {
+        for (d, table) in AO_TABLES.iter().enumerate() {
+            for (code, &want) in table.iter().enumerate() {
+                for b in [1usize, 2, 31, 62] {
+                    // Code bit 3r + c: line offset r - 1, bit offset c - 1, at bit b.
+                    let front: [u64; 3] = core::array::from_fn(|r| {
+                        (0..3).fold(0u64, |line, c| {
+                            line | (((code >> (3 * r + c)) & 1) as u64) << (b + c - 1)
+                        })
+                    });
+                    let planes = ao_planes(&CORNER_OFFSETS[d], front);
+                    let byte =
+                        (0..8).fold(0u8, |byte, k| byte | (((planes[k] >> b) & 1) as u8) << k);
+                    assert_eq!(byte, want, "direction {d}, code {code:#011b}, bit {b}");
+                }
+            }
         }
     }
 

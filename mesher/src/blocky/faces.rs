@@ -8,6 +8,7 @@ use voxel_core::formats::PackedQuad;
 
 use super::masks::Slice;
 use super::slices::Direction;
+use super::wide::Wide;
 use crate::{BlockClasses, MeshError};
 
 /// The faces of one slice of direction `D`, as the merge passes see them.
@@ -79,13 +80,24 @@ pub(crate) struct Quads<'a> {
     pub len: usize,
     /// The output, appended to with the buffer's quads once the slice is done.
     pub out: &'a mut Vec<PackedQuad>,
+    /// Write lines of 1 x 1 quads with the AVX-512 kernels.
+    pub wide: Option<Wide>,
 }
 
 impl<'a> Quads<'a> {
-    /// An empty buffer in front of `out`.
+    /// An empty buffer in front of `out`, written with the AVX-512 kernels if `wide` is given.
     #[inline(always)]
-    pub(crate) fn new(buf: &'a mut SliceQuads, out: &'a mut Vec<PackedQuad>) -> Self {
-        Quads { buf, len: 0, out }
+    pub(crate) fn new(
+        buf: &'a mut SliceQuads,
+        out: &'a mut Vec<PackedQuad>,
+        wide: Option<Wide>,
+    ) -> Self {
+        Quads {
+            buf,
+            len: 0,
+            out,
+            wide,
+        }
     }
 
     /// Appends one quad.
@@ -105,8 +117,12 @@ impl<'a> Quads<'a> {
     /// whatever the subtraction borrowed.
     #[inline(always)]
     pub(crate) fn push_bits(&mut self, mut bits: u64, first: u32, shift: u32, key: u32) {
-        let count = bits.count_ones();
         let base = (u64::from(key) << 32 | u64::from(first)).wrapping_sub(1 << shift);
+        if let Some(wide) = self.wide {
+            wide.push_bits(self.out, bits, base, shift);
+            return;
+        }
+        let count = bits.count_ones();
         self.out.extend((0..count).map(|_| {
             let b = u64::from(bits.trailing_zeros());
             bits &= bits.wrapping_sub(1);
@@ -269,11 +285,15 @@ mod tests {
             (0x3FFF_FFC0, 0, u32::MAX),
             (0x0003_F000, 6, 1 << 11),
         ];
-        for (first, shift, key) in cases {
+        let wide = Wide::new(crate::InstructionSet::X86V4);
+        for ((first, shift, key), wide) in cases
+            .into_iter()
+            .flat_map(|case| [(case, None), (case, wide)])
+        {
             let bits = 0x8000_0000_0000_0002u64 | 0x0F0F << 20;
             let mut buf = [PackedQuad::default(); 4096];
             let mut out = vec![PackedQuad::default()];
-            let mut quads = Quads::new(&mut buf, &mut out);
+            let mut quads = Quads::new(&mut buf, &mut out, wide);
             quads.push_bits(bits, first, shift, key);
             let want: Vec<PackedQuad> = (1..64u32)
                 .filter(|b| bits >> b & 1 == 1)
@@ -282,7 +302,11 @@ mod tests {
                     face_ao_block: key,
                 })
                 .collect();
-            assert_eq!(out[1..], want[..], "first {first:#x} shift {shift}");
+            assert_eq!(
+                out[1..],
+                want[..],
+                "first {first:#x} shift {shift} wide {wide:?}"
+            );
         }
     }
 }

@@ -18,9 +18,11 @@
 
 use voxel_core::formats::PackedQuad;
 
+use super::ao::{CORNER_OFFSETS, ao_planes};
 use super::bits::row_equal;
 use super::faces::{LineIds, Quads, SliceFaces};
 use super::slices::Direction;
+use super::wide::{UnitLine, Wide};
 use crate::MeshError;
 
 /// True if `bits` has at least 4 set bits (without `popcnt`, which the baseline x86-64 target
@@ -32,6 +34,10 @@ pub(crate) fn many(bits: u64) -> bool {
     x &= x.wrapping_sub(1);
     x != 0
 }
+
+/// Faces from which a line of 1 x 1 quads is written straight into the output (see
+/// [`SliceFaces::units`]).
+const DIRECT_MIN: u32 = 12;
 
 impl<const D: usize> SliceFaces<'_, D> {
     /// The faces of `bits` (line `l`) whose front neighbourhood, the 9 bits [`key`](Self::key)
@@ -52,6 +58,11 @@ impl<const D: usize> SliceFaces<'_, D> {
 
     /// Appends a 1 x 1 quad for every face of `bits` in line `l`, the line's id row and front
     /// lines read once.
+    ///
+    /// Lines of [`DIRECT_MIN`] faces or more are written straight into the output (with the
+    /// AVX-512 kernel where there is one), fewer into the slice's buffer: both cost one
+    /// capacity check per line, which a line of a few faces pays back only through the buffer.
+    /// The rule does not depend on the instruction set, so neither does the order of quads.
     #[inline(always)]
     pub(crate) fn units<const AO: bool>(
         &self,
@@ -60,6 +71,12 @@ impl<const D: usize> SliceFaces<'_, D> {
         known: &mut u64,
         out: &mut Quads<'_>,
     ) -> Result<(), MeshError> {
+        if bits.count_ones() >= DIRECT_MIN {
+            return match out.wide {
+                Some(wide) => self.units_wide::<AO>(wide, l, bits, known, out),
+                None => self.units_direct::<AO>(l, bits, known, out),
+            };
+        }
         let ids = self.line_ids(l);
         let front = self.front_lines(l);
         let word = self.position_size(l, 1, 1, 1);
@@ -86,6 +103,80 @@ impl<const D: usize> SliceFaces<'_, D> {
             self.check_line(l, bits, known)?;
         }
         out.len = n;
+        Ok(())
+    }
+
+    /// [`units`](Self::units) straight into the output.
+    #[inline(always)]
+    fn units_direct<const AO: bool>(
+        &self,
+        l: usize,
+        bits: u64,
+        known: &mut u64,
+        out: &mut Quads<'_>,
+    ) -> Result<(), MeshError> {
+        let ids = self.line_ids(l);
+        let front = self.front_lines(l);
+        let word = self.position_size(l, 1, 1, 1);
+        let mut seen = 0u64;
+        let mut m = bits;
+        // One capacity check for the line (as `push_bits`).
+        out.out.extend((0..bits.count_ones()).map(|_| {
+            let b = m.trailing_zeros() as usize;
+            m &= m.wrapping_sub(1);
+            let id = ids.id(b);
+            seen |= Self::seen_bit(id);
+            PackedQuad {
+                position_size: word | ((b as u32).wrapping_sub(1) << Direction::<D>::SHIFT_B),
+                face_ao_block: id << 11 | self.ao::<AO>(front, b) << 3 | D as u32,
+            }
+        }));
+        if seen & !*known != 0 {
+            self.check_line(l, bits, known)?;
+        }
+        Ok(())
+    }
+
+    /// [`units`](Self::units) with the AVX-512 kernel: the line's AO bytes come as bit planes
+    /// from whole-line operations on the front lines, and the quads are built 8 at a time.
+    /// ±X lines have their ids strided; those of the faces are copied into a row first.
+    #[inline(always)]
+    fn units_wide<const AO: bool>(
+        &self,
+        wide: Wide,
+        l: usize,
+        bits: u64,
+        known: &mut u64,
+        out: &mut Quads<'_>,
+    ) -> Result<(), MeshError> {
+        let mut strided = [0u16; 64];
+        let ids = match self.line_ids(l) {
+            LineIds::Row(row) => row,
+            ids @ LineIds::Strided { .. } => {
+                let mut m = bits;
+                while m != 0 {
+                    let b = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    strided[b & 63] = ids.id(b) as u16;
+                }
+                &strided
+            }
+        };
+        let (f0, f1, f2) = self.front_lines(l);
+        let line = UnitLine {
+            bits,
+            ids,
+            ao: if AO {
+                ao_planes(&CORNER_OFFSETS[D], [f0, f1, f2])
+            } else {
+                [u64::MAX; 8]
+            },
+            first: u64::from(D as u32) << 32 | u64::from(self.position_size(l, 1, 1, 1)),
+            shift: Direction::<D>::SHIFT_B,
+        };
+        if wide.unit_line(&line, out.out) & !*known != 0 {
+            self.check_line(l, bits, known)?;
+        }
         Ok(())
     }
 

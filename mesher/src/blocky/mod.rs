@@ -42,6 +42,7 @@ mod mesh;
 mod plain;
 mod slices;
 mod visible;
+mod wide;
 
 pub use ao::{corner_ao, triangle_indices};
 pub use greedy::GreedyMesher;

@@ -29,6 +29,7 @@ use super::line_units::many;
 use super::lone_x::drop_handled;
 use super::masks::{Layouts, Slice};
 use super::merge::{Keys, greedy, rows_of, unit_quads};
+use super::wide::Wide;
 use crate::{BlockClasses, MeshError};
 
 /// How face direction `D` (index in `FaceDirection::ALL`) maps onto slices, lines and bits.
@@ -90,6 +91,8 @@ pub(crate) struct Input<'a> {
     pub handled: [Slice; 2],
     /// Some row is marked in `handled`.
     pub lone_x_rows: bool,
+    /// Write lines of 1 x 1 quads with the AVX-512 kernels.
+    pub wide: Option<Wide>,
 }
 
 const ZERO: Slice = [0; 64];
@@ -227,7 +230,7 @@ fn emit<const D: usize>(
     buf: &mut SliceQuads,
     out: &mut Vec<PackedQuad>,
 ) -> Result<(), MeshError> {
-    let mut quads = Quads::new(buf, out);
+    let mut quads = Quads::new(buf, out, input.wide);
     let rows = rows_of(faces);
     // Faces none of which touches another are their own greedy quads: no merging to do.
     let merge = input.merge && !isolated_faces(faces, rows);
