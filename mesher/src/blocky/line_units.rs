@@ -60,9 +60,9 @@ impl<const D: usize> SliceFaces<'_, D> {
     /// lines read once.
     ///
     /// Lines of [`DIRECT_MIN`] faces or more are written straight into the output (with the
-    /// AVX-512 kernel where there is one), fewer into the slice's buffer: both cost one
-    /// capacity check per line, which a line of a few faces pays back only through the buffer.
-    /// The rule does not depend on the instruction set, so neither does the order of quads.
+    /// AVX-512 kernel where there is one), which saves copying them out of the slice's buffer
+    /// but costs a capacity check per line: shorter lines go through the buffer. The rule
+    /// does not depend on the instruction set, so neither does the order of the quads.
     #[inline(always)]
     pub(crate) fn units<const AO: bool>(
         &self,
