@@ -20,7 +20,7 @@ use voxel_core::formats::PackedQuad;
 
 use super::ao::{CORNER_OFFSETS, ao_planes};
 use super::bits::row_equal;
-use super::faces::{LineIds, Quads, SliceFaces};
+use super::faces::{Front, LineIds, Quads, SliceFaces};
 use super::slices::Direction;
 use super::wide::{UnitLine, Wide};
 use crate::MeshError;
@@ -90,13 +90,9 @@ impl<const D: usize> SliceFaces<'_, D> {
         while m != 0 {
             let b = m.trailing_zeros() as usize;
             m &= m - 1;
-            let id = ids.id(b);
+            let (quad, id) = self.unit_quad::<AO>(ids, front, word, b);
             seen |= Self::seen_bit(id);
-            let key = id << 11 | self.ao::<AO>(front, b) << 3;
-            out.buf[n & 4095] = PackedQuad {
-                position_size: word | ((b as u32 - 1) << Direction::<D>::SHIFT_B),
-                face_ao_block: key | D as u32,
-            };
+            out.buf[n & 4095] = quad;
             n += 1;
         }
         if seen & !*known != 0 {
@@ -104,6 +100,24 @@ impl<const D: usize> SliceFaces<'_, D> {
         }
         out.len = n;
         Ok(())
+    }
+
+    /// The 1 x 1 quad of the face at bit `b` (at least 1) of a line with ids `ids`, front
+    /// lines `front` and word 0 `word` at bit 1, and the face's id.
+    #[inline(always)]
+    fn unit_quad<const AO: bool>(
+        &self,
+        ids: LineIds<'_>,
+        front: Front,
+        word: u32,
+        b: usize,
+    ) -> (PackedQuad, u32) {
+        let id = ids.id(b);
+        let quad = PackedQuad {
+            position_size: word | ((b as u32).wrapping_sub(1) << Direction::<D>::SHIFT_B),
+            face_ao_block: id << 11 | self.ao::<AO>(front, b) << 3 | D as u32,
+        };
+        (quad, id)
     }
 
     /// [`units`](Self::units) straight into the output.
@@ -124,12 +138,9 @@ impl<const D: usize> SliceFaces<'_, D> {
         out.out.extend((0..bits.count_ones()).map(|_| {
             let b = m.trailing_zeros() as usize;
             m &= m.wrapping_sub(1);
-            let id = ids.id(b);
+            let (quad, id) = self.unit_quad::<AO>(ids, front, word, b);
             seen |= Self::seen_bit(id);
-            PackedQuad {
-                position_size: word | ((b as u32).wrapping_sub(1) << Direction::<D>::SHIFT_B),
-                face_ao_block: id << 11 | self.ao::<AO>(front, b) << 3 | D as u32,
-            }
+            quad
         }));
         if seen & !*known != 0 {
             self.check_line(l, bits, known)?;
