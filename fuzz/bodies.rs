@@ -1156,9 +1156,10 @@ pub fn blocky_input(data: &[u8]) -> Option<BlockyInput> {
 ///   visible face, and leaves the mesh empty;
 /// - a mesher reused after both runs gives the same greedy mesh again;
 /// - NoCubes on the same chunk: fails exactly when the padded chunk holds an unknown id (the
-///   first in storage order, as documented), else makes one quad per owned face between an
-///   opaque and a non-opaque voxel (smooth for smoothable blocks, cube faces for the others),
-///   with every index inside the vertex buffer and counts that match its stats.
+///   first in storage order, as documented) and leaves both outputs empty, else makes one
+///   smooth quad per owned face between a smoothable and a non-opaque voxel, with every index
+///   inside the vertex buffer, and the greedy quads of the other blocks (the greedy mesher's
+///   output less the smoothable blocks' quads), with counts that match its stats.
 pub fn blocky_mesh(data: &[u8]) {
     let Some(input) = blocky_input(data) else {
         return;
@@ -1252,7 +1253,7 @@ fn nocubes_check(padded: &PaddedChunk, classes: &BlockClasses) {
         let id = BlockId(voxel(padded, pos));
         classes.class(id).filter(|c| c.is_opaque())
     };
-    let (mut smooth_faces, mut cube_faces) = (0usize, 0usize);
+    let mut smooth_faces = 0usize;
     if first_unknown.is_none() {
         let e = i64::from(padded.size().edge());
         for z in 1..=e {
@@ -1265,37 +1266,42 @@ fn nocubes_check(padded: &PaddedChunk, classes: &BlockClasses) {
                             (Some(c), None) | (None, Some(c)) => c,
                             _ => continue,
                         };
-                        if solid == MaterialClass::Smoothable {
-                            smooth_faces += 1;
-                        } else {
-                            cube_faces += 1;
-                        }
+                        smooth_faces += usize::from(solid == MaterialClass::Smoothable);
                     }
                 }
             }
         }
     }
 
-    let mut out = SmoothMesh::new();
+    let (mut smooth, mut cubes) = (SmoothMesh::new(), BlockyMesh::new());
     match (
-        NoCubes::new().mesh(padded, classes, &mut out),
+        NoCubes::new().mesh(padded, classes, &mut smooth, &mut cubes),
         first_unknown,
     ) {
         (Ok(stats), None) => {
             assert_eq!(stats.smooth_quads, smooth_faces, "smooth quads");
-            assert_eq!(stats.cube_quads, cube_faces, "cube faces");
-            assert_eq!(out.quad_count(), smooth_faces + cube_faces);
-            assert_eq!(
-                out.vertices().len(),
-                stats.smooth_vertices + stats.cube_vertices
-            );
-            let vertices = out.vertices().len() as u32;
-            for t in out.triangles() {
+            assert_eq!(smooth.quad_count(), smooth_faces);
+            assert_eq!(smooth.vertices().len(), stats.smooth_vertices);
+            let vertices = smooth.vertices().len() as u32;
+            for t in smooth.triangles() {
                 assert!(
                     t.iter().all(|&i| i < vertices),
                     "triangle {t:?} past {vertices}"
                 );
             }
+            // The cube quads are the greedy quads of the non-smoothable blocks.
+            let mut greedy = BlockyMesh::new();
+            GreedyMesher::new()
+                .mesh(padded, classes, &mut greedy)
+                .expect("no unknown id");
+            for faces in &mut greedy.opaque.faces {
+                faces.retain(|q| {
+                    let id = q.decode().expect("valid quad").block;
+                    classes.class(id) != Some(MaterialClass::Smoothable)
+                });
+            }
+            assert_eq!(cubes, greedy, "cube and transparent quads");
+            assert_eq!(stats.cube_quads, cubes.opaque.len());
         }
         (Err(MeshError::UnknownBlock { id, position }), Some(first)) => {
             assert_eq!(
@@ -1303,7 +1309,10 @@ fn nocubes_check(padded: &PaddedChunk, classes: &BlockClasses) {
                 first,
                 "NoCubes names the first unknown voxel"
             );
-            assert!(out.is_empty(), "partial NoCubes mesh after an error");
+            assert!(
+                smooth.is_empty() && cubes.is_empty(),
+                "partial NoCubes mesh after an error"
+            );
         }
         (result, first) => panic!("NoCubes gave {result:?}; first unknown voxel {first:?}"),
     }

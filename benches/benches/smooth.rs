@@ -10,7 +10,8 @@
 //! every input are printed before the timings, with an interleaved timing of the 4 variants
 //! (min and median of 200 rounds), which a shared, noisy machine disturbs far less than the
 //! sequential criterion measurements. `nocubes/terrain62` times NoCubes on the 62^3
-//! terrain chunk (no peer). Criterion times are the benchmarking thread's CPU time
+//! terrain chunk (no peer): the smooth surface and the cube faces' greedy quads; its report
+//! line gives the bytes per smooth quad and per quad of both. Criterion times are the benchmarking thread's CPU time
 //! ([`benches::cpu_time`]) unless `BENCH_CLOCK=wall`; the interleaved timing always uses the
 //! thread CPU time.
 //!
@@ -28,6 +29,7 @@ use criterion::measurement::Measurement;
 use fast_surface_nets::ndshape::ConstShape3u32;
 use fast_surface_nets::{SignedDistance, SurfaceNetsBuffer, surface_nets};
 use mesher::BlockClasses;
+use mesher::blocky::BlockyMesh;
 use mesher::smooth::{GridShape, NoCubes, SmoothMesh, SmoothQuads, SurfaceNets};
 use voxel_core::BlockId;
 
@@ -193,22 +195,28 @@ fn nocubes_benches<M: Measurement>(c: &mut Criterion<M>) {
     let chunk = nocubes_chunk();
     let classes = BlockClasses::from_palette(&nocubes_palette());
     let mut mesher = NoCubes::new();
-    let mut out = SmoothMesh::new();
-    let stats = mesher.mesh(&chunk, &classes, &mut out).expect("known ids");
+    let (mut smooth, mut cubes) = (SmoothMesh::new(), BlockyMesh::new());
+    let stats = mesher
+        .mesh(&chunk, &classes, &mut smooth, &mut cubes)
+        .expect("known ids");
+    let cube_bytes = 8 * cubes.opaque.len();
     println!(
-        "nocubes terrain62: {stats:?}; {} vertices, {} quads ({}), {:.2} B/quad",
-        out.vertices().len(),
-        out.quad_count(),
-        quad_form(&out),
-        out.bytes_per_quad()
+        "nocubes terrain62: {stats:?}; smooth: {} vertices, {} quads ({}), {:.2} B/smooth quad; \
+         cubes: {} greedy quads, {cube_bytes} B; all: {:.2} B/quad",
+        smooth.vertices().len(),
+        smooth.quad_count(),
+        quad_form(&smooth),
+        smooth.bytes_per_quad(),
+        cubes.opaque.len(),
+        (smooth.byte_len() + cube_bytes) as f64 / (smooth.quad_count() + cubes.opaque.len()) as f64,
     );
     let mut group = c.benchmark_group("nocubes/terrain62");
     group.bench_function("ours", |b| {
         b.iter(|| {
             mesher
-                .mesh(black_box(&chunk), &classes, &mut out)
+                .mesh(black_box(&chunk), &classes, &mut smooth, &mut cubes)
                 .expect("known ids");
-            black_box(out.quad_count())
+            black_box(smooth.quad_count() + cubes.opaque.len())
         })
     });
     group.finish();

@@ -1,8 +1,12 @@
 //! The smooth benchmark inputs (`benches/smooth.rs`) keep compact quads and cost at most 24
-//! bytes per quad, in both sample types.
+//! bytes per smooth quad, in both sample types and for the NoCubes terrain chunk.
 
-use benches::smooth_inputs::{DensityGrid, sine_34, sphere_34, terrain_62, to_i8};
-use mesher::smooth::{GridShape, SmoothMesh, SmoothQuads, SurfaceNets};
+use benches::smooth_inputs::{
+    DensityGrid, nocubes_chunk, nocubes_palette, sine_34, sphere_34, terrain_62, to_i8,
+};
+use mesher::BlockClasses;
+use mesher::blocky::BlockyMesh;
+use mesher::smooth::{GridShape, NoCubes, SmoothMesh, SmoothQuads, SurfaceNets};
 use voxel_core::BlockId;
 
 #[test]
@@ -41,4 +45,25 @@ fn benchmark_inputs_are_compact_and_at_most_24_bytes_per_quad() {
             );
         }
     }
+}
+
+#[test]
+fn nocubes_terrain_chunk_is_compact_and_at_most_24_bytes_per_smooth_quad() {
+    let classes = BlockClasses::from_palette(&nocubes_palette());
+    let (mut smooth, mut cubes) = (SmoothMesh::new(), BlockyMesh::new());
+    let stats = NoCubes::new()
+        .mesh(&nocubes_chunk(), &classes, &mut smooth, &mut cubes)
+        .expect("known ids");
+    // Both parts are substantial on this chunk: soil hills and stone caves.
+    assert!(
+        stats.smooth_quads > 5000 && stats.cube_quads > 5000,
+        "{stats:?}"
+    );
+    assert!(matches!(smooth.quads(), SmoothQuads::Compact(_)));
+    let bytes = smooth.bytes_per_quad();
+    assert!(bytes <= 24.0, "{bytes:.2} B per smooth quad");
+    // Cube faces are 8-byte greedy quads, so the whole chunk costs less per quad.
+    let all = (smooth.byte_len() + 8 * cubes.opaque.len()) as f64
+        / (stats.smooth_quads + stats.cube_quads) as f64;
+    assert!(all < bytes, "{all:.2} B per quad");
 }

@@ -166,7 +166,8 @@ struct SmoothFloor {
 /// scan order.
 fn wavy_floor() -> SmoothFloor {
     let n = 16u32;
-    let extent = UnormExtent::padded_chunk(ChunkSize::S16);
+    // The frame the renderer decodes smooth positions in (`SmoothFrame::nocubes`).
+    let extent = UnormExtent::padded_lattice(ChunkSize::S16);
     let mut vertices = Vec::new();
     for z in 0..n {
         for x in 0..n {

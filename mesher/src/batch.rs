@@ -30,9 +30,9 @@ pub enum SurfaceMode {
     Greedy,
     /// One quad per visible face, with ambient occlusion.
     VisibleFaces,
-    /// NoCubes: smoothable blocks as a smooth surface, other opaque blocks as cube faces, in
-    /// the smooth layer; transparent blocks still as greedy quads. Falls back to `Greedy` for
-    /// the opaque layer when the palette has no smoothable material.
+    /// NoCubes: smoothable blocks as a smooth surface (the smooth layer), the other blocks as
+    /// greedy quads (cube faces in the opaque layer, transparent blocks in theirs). The same
+    /// as `Greedy` when the palette has no smoothable material.
     NoCubes,
 }
 
@@ -50,9 +50,10 @@ pub struct MeshSettings {
 pub struct ChunkMesh {
     /// The chunk this mesh belongs to.
     pub coord: ChunkCoord,
-    /// Opaque and transparent quads (the opaque layer is empty in `NoCubes` mode).
+    /// Opaque and transparent quads (in `NoCubes` mode the opaque layer has no quads of
+    /// smoothable blocks).
     pub blocky: BlockyMesh,
-    /// The NoCubes layer (smooth surface and cube faces as vertices and quads).
+    /// The NoCubes smooth surface (vertices and quads; empty in the other modes).
     pub smooth: SmoothMesh,
     /// Clutter units.
     pub clutter: ClutterLayer,
@@ -139,16 +140,15 @@ fn mesh_padded(
     match settings.surface {
         SurfaceMode::Greedy => greedy.mesh(padded, classes, &mut out.blocky)?,
         SurfaceMode::VisibleFaces => greedy.visible_faces(padded, classes, &mut out.blocky)?,
-        SurfaceMode::NoCubes => {
-            greedy.mesh(padded, classes, &mut out.blocky)?;
-            if classes.any_smoothable() {
-                // The smooth layer replaces the opaque quads.
-                out.blocky.opaque.clear();
-                nocubes
-                    .get_or_insert_with(NoCubes::new)
-                    .mesh(padded, classes, &mut out.smooth)?;
-            }
+        SurfaceMode::NoCubes if classes.any_smoothable() => {
+            nocubes.get_or_insert_with(NoCubes::new).mesh(
+                padded,
+                classes,
+                &mut out.smooth,
+                &mut out.blocky,
+            )?;
         }
+        SurfaceMode::NoCubes => greedy.mesh(padded, classes, &mut out.blocky)?,
     }
     if let Some(params) = &settings.clutter {
         place_clutter(padded, classes, coord, params, &mut out.clutter)?;

@@ -1,21 +1,22 @@
-//! NoCubes: one quad per visible face, smooth quads for smoothable blocks and cube faces for the
-//! rest, closed welded meshes for closed inputs, the vertex block-id rule, pinned vertices on
-//! cube corners, the quad form (compact when every quad fits it), and degenerate chunks.
+//! NoCubes: one smooth quad per visible face of a smoothable block, greedy cube quads covering
+//! exactly the other blocks' visible faces, closed meshes (smooth quads welded to the cube
+//! quads' unit faces) for closed inputs, the vertex block-id rule, pinned vertices exactly on
+//! the lattice codes of cube corners, compact smooth quads, and degenerate chunks.
 
 mod smooth_support;
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use glam::Vec3;
-use mesher::smooth::{
-    CUBE_FACE_FLAG, NoCubes, NoCubesStats, SmoothMesh, SmoothQuads, U16_INDEX_LIMIT,
-};
+use mesher::blocky::{BlockyMesh, GreedyMesher};
+use mesher::smooth::{NoCubes, NoCubesStats, SmoothMesh, SmoothQuads, U16_INDEX_LIMIT};
 use mesher::{BlockClasses, MeshError};
 use proptest::prelude::*;
-use smooth_support::open_edges;
-use voxel_core::formats::compact_quad_encode;
-use voxel_core::formats::octahedral::oct16_decode;
-use voxel_core::{BlockId, ChunkSize, Material, MaterialClass, MaterialPalette, PaddedChunk};
+use smooth_support::{open_edges, unit_faces};
+use voxel_core::formats::UnormExtent;
+use voxel_core::{
+    BlockId, ChunkSize, FaceDirection, Material, MaterialClass, MaterialPalette, PaddedChunk,
+};
 
 /// Air, smoothable dirt and grass, opaque stone, clutter-bearing moss (a cube too) and water.
 struct Palette {
@@ -45,26 +46,45 @@ fn is_smooth(classes: &BlockClasses, id: BlockId) -> bool {
     classes.class(id) == Some(MaterialClass::Smoothable)
 }
 
-/// Brute force: owned visible faces (opaque voxel next to a non-opaque one, the lower of the
-/// two voxels in padded `1..=edge` on every axis), split into smoothable and other.
-fn owned_faces(chunk: &PaddedChunk, classes: &BlockClasses) -> (usize, usize) {
+/// Brute force: the owned smooth faces (smoothable voxel next to a non-opaque one, the lower
+/// of the two voxels in padded `1..=edge` on every axis) and the cube faces (a visible face of
+/// a non-smoothable opaque voxel of the chunk's own, padded `1..=edge`: the greedy mesher's
+/// rule), each as (padded voxel, direction index of `FaceDirection::ALL`).
+fn brute_force_faces(
+    chunk: &PaddedChunk,
+    classes: &BlockClasses,
+) -> (usize, HashSet<([u32; 3], u8)>) {
     let p = chunk.padded_edge() as u32;
-    let at = |x: u32, y: u32, z: u32| chunk.get(x, y, z).unwrap();
-    let (mut smooth, mut cube) = (0, 0);
+    let at = |v: [u32; 3]| chunk.get(v[0], v[1], v[2]).unwrap();
+    let mut smooth = 0;
     for z in 1..p - 1 {
         for y in 1..p - 1 {
             for x in 1..p - 1 {
-                let a = at(x, y, z);
-                for b in [at(x + 1, y, z), at(x, y + 1, z), at(x, y, z + 1)] {
+                let a = at([x, y, z]);
+                for b in [at([x + 1, y, z]), at([x, y + 1, z]), at([x, y, z + 1])] {
                     let solid = match (classes.is_opaque(a), classes.is_opaque(b)) {
                         (true, false) => a,
                         (false, true) => b,
                         _ => continue,
                     };
-                    if is_smooth(classes, solid) {
-                        smooth += 1;
-                    } else {
-                        cube += 1;
+                    smooth += usize::from(is_smooth(classes, solid));
+                }
+            }
+        }
+    }
+    let mut cube = HashSet::new();
+    for z in 1..p - 1 {
+        for y in 1..p - 1 {
+            for x in 1..p - 1 {
+                let id = at([x, y, z]);
+                if !classes.is_opaque(id) || is_smooth(classes, id) {
+                    continue;
+                }
+                for face in FaceDirection::ALL {
+                    let n = face.normal();
+                    let next = [x as i32 + n[0], y as i32 + n[1], z as i32 + n[2]];
+                    if !classes.is_opaque(at(next.map(|a| a as u32))) {
+                        cube.insert(([x, y, z], face.index()));
                     }
                 }
             }
@@ -98,27 +118,43 @@ fn random_chunk(size: ChunkSize, closed: bool) -> impl Strategy<Value = PaddedCh
         })
 }
 
-fn mesh(chunk: &PaddedChunk, classes: &BlockClasses) -> (SmoothMesh, NoCubesStats) {
-    let mut out = SmoothMesh::new();
-    let stats = NoCubes::new().mesh(chunk, classes, &mut out).unwrap();
-    (out, stats)
+fn mesh(chunk: &PaddedChunk, classes: &BlockClasses) -> (SmoothMesh, BlockyMesh, NoCubesStats) {
+    let (mut smooth, mut cubes) = (SmoothMesh::new(), BlockyMesh::new());
+    let stats = NoCubes::new()
+        .mesh(chunk, classes, &mut smooth, &mut cubes)
+        .unwrap();
+    (smooth, cubes, stats)
 }
 
 fn check(chunk: &PaddedChunk, closed: bool) -> Result<(), TestCaseError> {
     let pal = palette();
     let classes = &pal.classes;
-    let (out, stats) = mesh(chunk, classes);
+    let (out, cubes, stats) = mesh(chunk, classes);
     let extent = out.extent();
-    prop_assert_eq!(extent.get(), chunk.padded_edge() as f32);
+    prop_assert_eq!(extent, UnormExtent::padded_lattice(chunk.size()));
+    // Codes per voxel: integer positions have exact codes.
+    let scale = (65535.0 / extent.get()).round() as u32;
+    prop_assert_eq!(scale.count_ones(), 1);
 
-    // One quad per owned visible face.
-    let (smooth, cube) = owned_faces(chunk, classes);
-    prop_assert_eq!((stats.smooth_quads, stats.cube_quads), (smooth, cube));
-    prop_assert_eq!(out.quad_count(), smooth + cube);
-    prop_assert_eq!(
-        out.vertices().len(),
-        stats.smooth_vertices + stats.cube_vertices
-    );
+    // One smooth quad per owned smooth face; the cube quads cover exactly the cube faces, each
+    // once, and the transparent quads are the greedy mesher's.
+    let (smooth, cube) = brute_force_faces(chunk, classes);
+    prop_assert_eq!(stats.smooth_quads, smooth);
+    prop_assert_eq!(out.quad_count(), smooth);
+    prop_assert_eq!(out.vertices().len(), stats.smooth_vertices);
+    prop_assert_eq!(stats.cube_quads, cubes.opaque.len());
+    let faces = unit_faces(&cubes.opaque);
+    let covered: HashSet<_> = faces
+        .iter()
+        .map(|f| (f.voxel.map(|a| a + 1), f.face))
+        .collect();
+    prop_assert_eq!(covered.len(), faces.len(), "overlapping cube quads");
+    prop_assert_eq!(&covered, &cube);
+    let mut greedy = BlockyMesh::new();
+    GreedyMesher::new()
+        .mesh(chunk, classes, &mut greedy)
+        .unwrap();
+    prop_assert_eq!(&cubes.transparent, &greedy.transparent);
 
     // Every vertex is used.
     let mut used = vec![false; out.vertices().len()];
@@ -128,51 +164,11 @@ fn check(chunk: &PaddedChunk, closed: bool) -> Result<(), TestCaseError> {
         .for_each(|i| used[i as usize] = true);
     prop_assert!(used.iter().all(|&u| u));
 
+    // Smooth vertices: inside their cell's box, exactly on the lattice point's code when the
+    // cell has a non-smoothable opaque voxel, carrying the most common smoothable id of the
+    // cell.
     let p = chunk.padded_edge() as u32;
-    for q in out.quads().iter() {
-        let v = q.map(|i| out.vertices()[i as usize]);
-        let pos = v.map(|v| v.decode(extent).position);
-        let cube = v[0].extra == CUBE_FACE_FLAG;
-        prop_assert!(v.iter().all(|w| (w.extra == CUBE_FACE_FLAG) == cube));
-        if !cube {
-            continue;
-        }
-        // A cube face: one normal along an axis, one block id, counter-clockwise from outside.
-        let normal = oct16_decode(v[0].normal);
-        prop_assert!(
-            v.iter()
-                .all(|w| w.normal == v[0].normal && w.block == v[0].block)
-        );
-        prop_assert!([Vec3::X, Vec3::Y, Vec3::Z].contains(&normal.abs()));
-        for [a, b, c] in [[0, 1, 2], [0, 2, 3]] {
-            let n = (pos[b] - pos[a]).cross(pos[c] - pos[a]);
-            prop_assert!(n.dot(normal) > 0.9, "{n} vs {normal}");
-        }
-        // A unit square on lattice points: the 4 corners of one voxel face.
-        prop_assert!(
-            pos.iter()
-                .all(|p| (p.round() - *p).abs().max_element() < 1e-3)
-        );
-        let min = pos.iter().fold(Vec3::splat(f32::MAX), |m, p| m.min(*p));
-        let max = pos.iter().fold(Vec3::splat(f32::MIN), |m, p| m.max(*p));
-        prop_assert!(
-            ((max - min) - (Vec3::ONE - normal.abs()))
-                .abs()
-                .max_element()
-                < 1e-3
-        );
-        // Its block is the opaque, non-smoothable voxel behind the face.
-        let behind = (min + max) * 0.5 - normal * 0.5;
-        let id = chunk
-            .get(behind.x as u32, behind.y as u32, behind.z as u32)
-            .unwrap();
-        prop_assert_eq!(id.0, v[0].block);
-        prop_assert!(classes.is_opaque(id) && !is_smooth(classes, id));
-    }
-
-    // Smooth vertices: inside their cell's box, pinned to the lattice point when the cell
-    // has a non-smoothable opaque voxel, carrying the most common smoothable id of the cell.
-    for v in out.vertices().iter().filter(|v| v.extra != CUBE_FACE_FLAG) {
+    for v in out.vertices() {
         let d = v.decode(extent);
         let cell = (d.position - Vec3::splat(0.5)).floor();
         let lattice = cell + Vec3::ONE;
@@ -192,12 +188,12 @@ fn check(chunk: &PaddedChunk, closed: bool) -> Result<(), TestCaseError> {
         let has_cube = corners
             .iter()
             .any(|&id| classes.is_opaque(id) && !is_smooth(classes, id));
-        let distance = (d.position - lattice).abs().max_element();
         if has_cube {
-            prop_assert!(distance < 1e-3, "pinned: {} vs {}", d.position, lattice);
+            let code = c.map(|a| ((a + 1) * scale) as u16);
+            prop_assert_eq!(v.position, code, "pinned to {}", lattice);
         } else {
             prop_assert!(
-                distance < 0.5 - 1.0 / 48.0,
+                (d.position - lattice).abs().max_element() < 0.5 - 1.0 / 48.0,
                 "{} in cell {}",
                 d.position,
                 cell
@@ -221,22 +217,28 @@ fn check(chunk: &PaddedChunk, closed: bool) -> Result<(), TestCaseError> {
         prop_assert_eq!(Some(v.block), want);
     }
 
-    // The quads are in the narrowest form that holds them all.
+    // Smooth quads are compact (6 B) up to 65,536 vertices (vertices in cell scan order).
     let quads = out.quads();
-    let all_compact = quads.iter().all(|q| compact_quad_encode(q).is_some());
-    let small = out.vertices().len() <= U16_INDEX_LIMIT;
     match quads {
-        SmoothQuads::Compact(_) => prop_assert!(all_compact),
-        SmoothQuads::U16(_) => prop_assert!(!all_compact && small),
+        SmoothQuads::Compact(_) => {}
+        SmoothQuads::U16(_) => prop_assert!(false, "u16 quads in a chunk grid"),
         // A 62^3 checkerboard has more than 65,536 vertices.
-        SmoothQuads::U32(_) => prop_assert!(!small),
+        SmoothQuads::U32(_) => prop_assert!(out.vertices().len() > U16_INDEX_LIMIT),
     }
     prop_assert_eq!(quads.bytes().len(), quads.quad_bytes() * quads.len());
 
     if closed {
-        // Welded by packed position, a closed input gives a closed mesh.
-        let tris: Vec<[u32; 3]> = out.triangles().collect();
-        prop_assert_eq!(open_edges(tris, |i| out.vertices()[i as usize].position), 0);
+        // Welded by position code, the smooth quads and the cube quads' unit faces close up:
+        // a closed input gives a closed surface, with no crack where they meet.
+        let mut points: Vec<[u16; 3]> = out.vertices().iter().map(|v| v.position).collect();
+        let mut tris: Vec<[u32; 3]> = out.triangles().collect();
+        for f in &faces {
+            let first = points.len() as u32;
+            points.extend(f.corners.map(|c| c.map(|a| ((a + 1) * scale) as u16)));
+            tris.push([first, first + 1, first + 2]);
+            tris.push([first, first + 2, first + 3]);
+        }
+        prop_assert_eq!(open_edges(tris, |i| points[i as usize]), 0);
     }
     Ok(())
 }
@@ -291,29 +293,13 @@ fn smooth_hill_on_a_stone_floor_is_closed() {
         }
     });
     check(&chunk, true).unwrap();
-    let (out, stats) = mesh(&chunk, &pal.classes);
-    assert!(
-        stats.smooth_quads > 1000 && stats.cube_quads > 1000,
-        "{stats:?}"
-    );
-    // Shared cube corners: a flat floor costs about one vertex per face, not four.
-    assert!(stats.cube_vertices < 2 * stats.cube_quads, "{stats:?}");
-    // Cube-face vertices are made as their faces are, between the smooth vertices, so some
-    // smooth quad's pair of vertices lies more than 63 apart and the mesh falls back to u16
-    // quads (8 B): 16 B * 10,521 vertices / 9,770 quads + 8 B = 25.2 B per quad.
-    assert!(matches!(out.quads(), SmoothQuads::U16(_)));
-    assert!(out.bytes_per_quad() < 30.0, "{}", out.bytes_per_quad());
-
-    // The same hill without stone: smooth quads only, whose vertices are numbered in cell scan
-    // order as in SurfaceNets, so every quad is compact (6 B): 16 B * 9,772 vertices / 9,770
-    // quads + 6 B = 22.0 B per quad.
-    let smooth_only = PaddedChunk::from_fn(size, |x, y, z| match chunk.get(x, y, z) {
-        Ok(id) if id == stone => dirt,
-        Ok(id) => id,
-        Err(e) => panic!("{e}"),
-    });
-    let (out, stats) = mesh(&smooth_only, &pal.classes);
-    assert_eq!(stats.cube_quads, 0);
+    let (out, cubes, stats) = mesh(&chunk, &pal.classes);
+    let faces = unit_faces(&cubes.opaque).len();
+    assert!(stats.smooth_quads > 1000 && faces > 1000, "{stats:?}");
+    // Cube faces merge: the stone slab's flat top and bottom are few quads.
+    assert!(4 * stats.cube_quads < faces, "{stats:?}, {faces} faces");
+    // Smooth vertices are numbered in cell scan order as in SurfaceNets, so every smooth quad
+    // is compact (6 B): 16 B * 9,772 vertices / 9,770 quads + 6 B = 22.0 B per smooth quad.
     assert!(matches!(out.quads(), SmoothQuads::Compact(_)));
     assert!(out.bytes_per_quad() <= 24.0, "{}", out.bytes_per_quad());
 }
@@ -325,8 +311,8 @@ fn degenerate_chunks() {
     for size in ChunkSize::ALL {
         for id in [air, dirt, stone, water] {
             let chunk = PaddedChunk::from_fn(size, |_, _, _| id);
-            let (out, stats) = mesh(&chunk, &pal.classes);
-            assert!(out.is_empty(), "{size:?} {id:?}");
+            let (out, cubes, stats) = mesh(&chunk, &pal.classes);
+            assert!(out.is_empty() && cubes.is_empty(), "{size:?} {id:?}");
             assert_eq!(stats, NoCubesStats::default());
         }
         // A 3-D checkerboard of dirt and air, and of stone and dirt, and single voxels.
@@ -357,36 +343,35 @@ fn transparent_blocks_are_outside() {
             water
         }
     });
-    let (_, stats) = mesh(&chunk, &pal.classes);
+    let (_, cubes, stats) = mesh(&chunk, &pal.classes);
     assert_eq!(stats.smooth_quads, 6 * 9);
+    // Water against water or dirt shows no face, and there is no cube.
+    assert!(cubes.is_empty());
 }
 
 #[test]
 fn unknown_ids_are_reported_before_any_output() {
     let pal = palette();
-    let mut chunk = PaddedChunk::from_fn(ChunkSize::S16, |x, _, _| {
-        if x < 9 { pal.ids[1] } else { BlockId::AIR }
+    let known = PaddedChunk::from_fn(ChunkSize::S16, |x, y, _| match x {
+        0..9 => pal.ids[1],
+        9 if y < 5 => pal.ids[3],
+        _ => BlockId::AIR,
     });
+    let mut chunk = known.clone();
     chunk.set(4, 0, 17, BlockId(999)).unwrap();
     chunk.set(3, 5, 17, BlockId(998)).unwrap();
-    let mut out = SmoothMesh::new();
+    let (mut smooth, mut cubes) = (SmoothMesh::new(), BlockyMesh::new());
     let mut mesher = NoCubes::new();
     mesher
-        .mesh(
-            &PaddedChunk::from_fn(ChunkSize::S16, |x, _, _| {
-                if x < 9 { pal.ids[1] } else { BlockId::AIR }
-            }),
-            &pal.classes,
-            &mut out,
-        )
+        .mesh(&known, &pal.classes, &mut smooth, &mut cubes)
         .unwrap();
-    assert!(!out.is_empty());
+    assert!(!smooth.is_empty() && !cubes.is_empty());
     assert_eq!(
-        mesher.mesh(&chunk, &pal.classes, &mut out),
+        mesher.mesh(&chunk, &pal.classes, &mut smooth, &mut cubes),
         Err(MeshError::UnknownBlock {
             id: BlockId(999),
             position: [4, 0, 17]
         })
     );
-    assert!(out.is_empty());
+    assert!(smooth.is_empty() && cubes.is_empty());
 }

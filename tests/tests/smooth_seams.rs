@@ -5,22 +5,24 @@
 //! - SurfaceNets: 2 x 2 x 2 chunks of 8^3 samples, each meshed from its padded 10^3 grid, against
 //!   the padded 18^3 grid of the region (the padding contract in `mesher::smooth`).
 //! - NoCubes: the same blocks stored as 8 chunks of 8^3 and as one chunk of 16^3, gathered
-//!   with `voxel_core::gather_neighbourhood`.
+//!   with `voxel_core::gather_neighbourhood`; the smooth quads and the cube quads' unit faces
+//!   together are closed.
 
 #[path = "../../mesher/tests/smooth_support/mod.rs"]
 mod smooth_support;
 
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 
 use glam::Vec3;
 use mesher::BlockClasses;
+use mesher::blocky::BlockyMesh;
 use mesher::smooth::{GridShape, NoCubes, SmoothMesh, SmoothMeshF32, SurfaceNets};
 use proptest::prelude::*;
-use smooth_support::{open_edges, sample, sine, sphere, weld};
+use smooth_support::{open_edges, sample, sine, sphere, unit_faces, weld};
 use voxel_core::storage::{DenseChunk, WorldMap};
 use voxel_core::{
-    BlockId, ChunkCoord, ChunkSize, LocalPos, Material, MaterialClass, MaterialPalette,
-    PaddedChunk, gather_neighbourhood,
+    BlockId, ChunkCoord, ChunkSize, FaceDirection, LocalPos, Material, MaterialClass,
+    MaterialPalette, PaddedChunk, gather_neighbourhood,
 };
 
 const N: u32 = 8;
@@ -259,13 +261,21 @@ fn blocks() -> Blocks {
     }
 }
 
-/// Meshes `block(world position)` over [0, 16)^3 as chunks of `size`; returns every vertex in
-/// world coordinates and every quad as world-vertex indices, plus (smooth, cube) quad counts.
+/// A NoCubes region in world coordinates: smooth vertices and quads (world-vertex indices),
+/// and the cube quads' unit faces as (world voxel, direction index) with their corners.
+#[derive(Default)]
+struct NoCubesWorld {
+    points: Vec<[f32; 3]>,
+    smooth_quads: Vec<[u32; 4]>,
+    cube_faces: Vec<([i32; 3], u8, [[i32; 3]; 4])>,
+}
+
+/// Meshes `block(world position)` over [0, 16)^3 as chunks of `size` with NoCubes.
 fn nocubes_world(
     size: ChunkSize,
     classes: &BlockClasses,
     block: &dyn Fn([i32; 3]) -> BlockId,
-) -> (Vec<[f32; 3]>, Vec<[u32; 4]>, usize, usize) {
+) -> NoCubesWorld {
     let e = size.edge() as i32;
     let n = 16 / e;
     let mut world = WorldMap::new(size);
@@ -285,28 +295,42 @@ fn nocubes_world(
     }
     let mut padded = PaddedChunk::new(size);
     let mut mesher = NoCubes::new();
-    let mut out = SmoothMesh::new();
-    let (mut points, mut quads, mut smooth, mut cube) = (Vec::new(), Vec::new(), 0, 0);
+    let (mut smooth, mut cubes) = (SmoothMesh::new(), BlockyMesh::new());
+    let mut out = NoCubesWorld::default();
     for (coord, _) in world.iter() {
         gather_neighbourhood(&world, coord, &mut padded);
-        let stats = mesher.mesh(&padded, classes, &mut out).unwrap();
-        smooth += stats.smooth_quads;
-        cube += stats.cube_quads;
-        let base = points.len() as u32;
-        let origin = Vec3::new(coord.x as f32, coord.y as f32, coord.z as f32) * e as f32 - 1.0;
-        points.extend(
-            out.vertices()
+        let stats = mesher
+            .mesh(&padded, classes, &mut smooth, &mut cubes)
+            .unwrap();
+        assert_eq!(stats.smooth_quads, smooth.quad_count());
+        let base = out.points.len() as u32;
+        let corner = [coord.x, coord.y, coord.z].map(|c| c * e);
+        let origin = Vec3::from(corner.map(|c| c as f32)) - 1.0;
+        out.points.extend(
+            smooth
+                .vertices()
                 .iter()
-                .map(|v| (v.decode(out.extent()).position + origin).to_array()),
+                .map(|v| (v.decode(smooth.extent()).position + origin).to_array()),
         );
-        quads.extend(out.quads().iter().map(|q| q.map(|i| i + base)));
+        out.smooth_quads
+            .extend(smooth.quads().iter().map(|q| q.map(|i| i + base)));
+        let world_of = |p: [u32; 3]| std::array::from_fn(|i| corner[i] + p[i] as i32);
+        out.cube_faces.extend(
+            unit_faces(&cubes.opaque)
+                .iter()
+                .map(|f| (world_of(f.voxel), f.face, f.corners.map(world_of))),
+        );
     }
-    (points, quads, smooth, cube)
+    out
 }
 
-/// Visible faces in [0, 16)^3 (opaque next to non-opaque), split into smoothable and other.
-fn visible_faces(classes: &BlockClasses, block: &dyn Fn([i32; 3]) -> BlockId) -> (usize, usize) {
-    let (mut smooth, mut cube) = (0, 0);
+/// Visible faces in [0, 16)^3 (opaque next to non-opaque): the number of smoothable ones, and
+/// the others as (voxel, direction index).
+fn visible_faces(
+    classes: &BlockClasses,
+    block: &dyn Fn([i32; 3]) -> BlockId,
+) -> (usize, BTreeSet<([i32; 3], u8)>) {
+    let (mut smooth, mut cube) = (0, BTreeSet::new());
     for z in -1..=16 {
         for y in -1..=16 {
             for x in -1..=16 {
@@ -314,19 +338,13 @@ fn visible_faces(classes: &BlockClasses, block: &dyn Fn([i32; 3]) -> BlockId) ->
                 if !classes.is_opaque(id) {
                     continue;
                 }
-                for d in [
-                    [1, 0, 0],
-                    [-1, 0, 0],
-                    [0, 1, 0],
-                    [0, -1, 0],
-                    [0, 0, 1],
-                    [0, 0, -1],
-                ] {
+                for face in FaceDirection::ALL {
+                    let d = face.normal();
                     if !classes.is_opaque(block([x + d[0], y + d[1], z + d[2]])) {
                         if classes.class(id) == Some(MaterialClass::Smoothable) {
                             smooth += 1;
                         } else {
-                            cube += 1;
+                            cube.insert(([x, y, z], face.index()));
                         }
                     }
                 }
@@ -339,24 +357,41 @@ fn visible_faces(classes: &BlockClasses, block: &dyn Fn([i32; 3]) -> BlockId) ->
 fn check_nocubes_seams(block: &dyn Fn([i32; 3]) -> BlockId) -> Result<(), TestCaseError> {
     let b = blocks();
     let (faces_smooth, faces_cube) = visible_faces(&b.classes, block);
-    let (p8, q8, s8, c8) = nocubes_world(ChunkSize::S8, &b.classes, block);
-    let (p16, q16, s16, c16) = nocubes_world(ChunkSize::S16, &b.classes, block);
-    // One quad per visible face, whether meshed in 8 chunks or in one.
-    prop_assert_eq!((s8, c8), (faces_smooth, faces_cube));
-    prop_assert_eq!((s16, c16), (faces_smooth, faces_cube));
+    let m8 = nocubes_world(ChunkSize::S8, &b.classes, block);
+    let m16 = nocubes_world(ChunkSize::S16, &b.classes, block);
+    // One smooth quad per smoothable visible face, and cube quads covering exactly the other
+    // visible faces, each once, whether meshed in 8 chunks or in one.
+    for m in [&m8, &m16] {
+        prop_assert_eq!(m.smooth_quads.len(), faces_smooth);
+        let cube: BTreeSet<_> = m.cube_faces.iter().map(|f| (f.0, f.1)).collect();
+        prop_assert_eq!(cube.len(), m.cube_faces.len(), "overlapping cube quads");
+        prop_assert_eq!(&cube, &faces_cube);
+    }
     // Weld both meshes together (vertices are at least 1/24 voxel apart; unorm16 error is
-    // below 2e-4): the chunked quads are the whole chunk's quads.
-    let points: Vec<[f32; 3]> = p8.iter().chain(&p16).copied().collect();
+    // below 2e-4): the chunked smooth quads are the whole chunk's quads.
+    let points: Vec<[f32; 3]> = m8.points.iter().chain(&m16.points).copied().collect();
     let ids = weld(&points, 1e-3);
-    let off = p8.len() as u32;
+    let off = m8.points.len() as u32;
     let key = |q: [u32; 4], base: u32| cycle(q.map(|i| ids[(i + base) as usize]));
-    let mut a: Vec<_> = q8.iter().map(|&q| key(q, 0)).collect();
-    let mut c: Vec<_> = q16.iter().map(|&q| key(q, off)).collect();
+    let mut a: Vec<_> = m8.smooth_quads.iter().map(|&q| key(q, 0)).collect();
+    let mut c: Vec<_> = m16.smooth_quads.iter().map(|&q| key(q, off)).collect();
     a.sort();
     c.sort();
     prop_assert_eq!(&a, &c);
-    // The blocks are inside the region, so the welded union is closed.
-    let tris = q8.iter().flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]);
+    // The blocks are inside the region, so the smooth quads and the cube faces of the 8 chunks,
+    // welded by position, close up: no crack at chunk borders or where the two meet.
+    let mut points = m8.points.clone();
+    let mut tris: Vec<[u32; 3]> = m8
+        .smooth_quads
+        .iter()
+        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+        .collect();
+    for (_, _, corners) in &m8.cube_faces {
+        let first = points.len() as u32;
+        points.extend(corners.map(|c| c.map(|a| a as f32)));
+        tris.extend([[first, first + 1, first + 2], [first, first + 2, first + 3]]);
+    }
+    let ids = weld(&points, 1e-3);
     prop_assert_eq!(open_edges(tris, |i| ids[i as usize]), 0);
     Ok(())
 }
@@ -377,7 +412,7 @@ fn nocubes_ball_pierced_by_a_stone_pillar_across_chunks() {
         }
     };
     let (smooth, cube) = visible_faces(&b.classes, &block);
-    assert!(smooth > 100 && cube > 10, "{smooth} {cube}");
+    assert!(smooth > 100 && cube.len() > 10, "{smooth} {}", cube.len());
     check_nocubes_seams(&block).unwrap();
 }
 

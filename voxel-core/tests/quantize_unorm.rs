@@ -32,6 +32,34 @@ fn stated_bound_is_half_a_step_plus_two_epsilons() {
 }
 
 #[test]
+fn padded_lattice_codes_integers_exactly() {
+    let scales = [
+        (ChunkSize::S8, 4096u32),
+        (ChunkSize::S16, 2048),
+        (ChunkSize::S32, 1024),
+        (ChunkSize::S62, 1024),
+    ];
+    assert_eq!(ChunkSize::ALL.len(), scales.len());
+    for (size, scale) in scales {
+        let e = UnormExtent::padded_lattice(size);
+        assert_eq!(e.get(), 65535.0 / scale as f32, "{size:?}");
+        let p = size.padded_edge() as f32;
+        // Covers every position up to p - 1/2, and the next power of two would not.
+        assert!(e.get() >= p - 0.5 && 65535.0 / ((2 * scale) as f32) < p - 0.5);
+        for x in 0..size.padded_edge() as u32 {
+            let code = unorm16_encode(x as f32, e).unwrap();
+            assert_eq!(u32::from(code), x * scale, "{size:?} {x}");
+            // Decoded within 4 f32 steps of 64 (about 3e-5 voxels).
+            let back = unorm16_decode(code, e);
+            assert!(
+                (back - x as f32).abs() <= 4.0 * 64.0 * f32::EPSILON,
+                "{x}: {back}"
+            );
+        }
+    }
+}
+
+#[test]
 fn every_code_round_trips_and_the_ends_are_exact() {
     for e in [
         1.0f32,

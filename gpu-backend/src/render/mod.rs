@@ -35,7 +35,10 @@
 //! [`SmoothDraw`] carries the form, and `vs_smooth` reads the corner's index with
 //! FORMATS_WGSL's `smooth_quad_word` / `smooth_quad_corner` (a parity test checks them against
 //! `SmoothQuads::get` in all three forms). So the GPU holds the bytes the mesher measured: a
-//! NoCubes or SurfaceNets chunk costs 16 B per vertex + 6, 8 or 16 B per quad.
+//! NoCubes or SurfaceNets chunk costs 16 B per vertex + 6, 8 or 16 B per quad. (A NoCubes
+//! chunk's cube faces are greedy quads in its opaque layer, drawn with the other quads; the
+//! smooth positions use `UnormExtent::padded_lattice`, so pinned vertices land on the quads'
+//! integer corners.)
 //!
 //! **T-junctions.** Greedy quads of different sizes meet at T-junctions, where the rasterizer
 //! can leave pinholes (seen on lavapipe: single sky pixels inside terrain). `vs_quad` grows each

@@ -32,7 +32,7 @@ pub struct SmoothRanges {
 }
 
 /// How smooth vertex positions map to chunk-local blocks: decode over `0..=extent`, then
-/// subtract `origin` (the mesher's NoCubes output: the padded chunk's extent, origin 1).
+/// subtract `origin` (the mesher's NoCubes output: `UnormExtent::padded_lattice`, origin 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SmoothFrame {
     /// The unorm16 extent the mesher packed positions over.
@@ -45,7 +45,7 @@ impl SmoothFrame {
     /// The frame of the mesher's NoCubes output for chunks of `size`.
     pub fn nocubes(size: voxel_core::ChunkSize) -> SmoothFrame {
         SmoothFrame {
-            extent: UnormExtent::padded_chunk(size).get(),
+            extent: UnormExtent::padded_lattice(size).get(),
             origin: 1.0,
         }
     }

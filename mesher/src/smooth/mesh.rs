@@ -37,8 +37,7 @@ pub const U16_INDEX_LIMIT: usize = 1 << 16;
 /// switches the whole mesh, once, to the narrowest form that holds it: `u16`, or `u32` past
 /// 65,536 vertices (a `u16` mesh switches to `u32` in the same way when it grows past that).
 /// The quads written so far are converted exactly; the vertex buffer is unchanged and the mesh
-/// is never split. Wider grids and NoCubes meshes with cube faces (whose vertices interleave
-/// with the smooth ones) usually end up `u16`.
+/// is never split. Grids with rows longer than 64 samples usually end up `u16`.
 ///
 /// **Bytes.** 16 per vertex plus 6 per quad (8 or 16 in the wider forms). On a closed surface
 /// there is about one vertex per quad, so about 22 bytes per quad;

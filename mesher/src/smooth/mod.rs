@@ -70,7 +70,7 @@
 //!   chunk grid) fits, while the mesh has at most 65,536 vertices. The mesher writes each
 //!   record from a table per edge axis and corner order, without searching.
 //! - **u16**, 8 B per quad: where some quad does not fit (rows longer than 64 samples with many
-//!   vertices; NoCubes cube faces).
+//!   vertices).
 //! - **u32**, 16 B per quad: past 65,536 vertices.
 //!
 //! So a chunk costs 16 B per vertex + 6 B per quad: on a closed surface (about one vertex per
@@ -94,7 +94,7 @@
 //! # NoCubes: smoothing blocky data
 //!
 //! See [`NoCubes`]: smoothable blocks become a SurfaceNets surface, the other opaque blocks stay
-//! cubes, in one closed mesh.
+//! cubes (greedy quads), meeting the smooth surface edge to edge.
 
 mod cell;
 mod density;
@@ -107,7 +107,7 @@ mod shape;
 pub use density::{I8_DENSITY_STEP, quantize_density};
 pub use mesh::{SmoothMesh, SmoothMeshF32, SmoothQuads, U16_INDEX_LIMIT};
 pub use nets::SurfaceNets;
-pub use nocubes::{CUBE_FACE_FLAG, NoCubes, NoCubesStats};
+pub use nocubes::{NoCubes, NoCubesStats};
 pub use pack::{FALLBACK_NORMAL, OCT16_FAST_MAX_ERROR_DEGREES, PositionPacker, oct16_encode_fast};
 pub use shape::GridShape;
 
@@ -140,16 +140,6 @@ pub(crate) struct EdgeLanes {
 }
 
 impl EdgeLanes {
-    /// The crossing edges of corner configuration `inside`.
-    #[inline]
-    pub(crate) fn crossing(inside: u8) -> EdgeLanes {
-        EdgeLanes {
-            x: (inside ^ (inside >> 1)) & 0x55,
-            y: (inside ^ (inside >> 2)) & 0x33,
-            z: (inside ^ (inside >> 4)) & 0x0f,
-        }
-    }
-
     /// The edges joining a `smooth` corner and a corner that is not `opaque` (`smooth` is a
     /// subset of `opaque`).
     #[inline]

@@ -1,25 +1,21 @@
 //! [`NoCubes`]: SurfaceNets smoothing of blocky data (the approach of the NoCubes mod, which
 //! Project Ascendant uses for its near field): smoothable blocks become a smooth surface, the
-//! other opaque blocks stay cubes, in one closed mesh.
+//! other opaque blocks stay cubes (greedy quads), and the two meet edge to edge.
 
 use alloc::boxed::Box;
 use alloc::vec::Vec;
 
 use glam::{Vec3A, Vec4};
-use voxel_core::formats::BlockVertex;
 use voxel_core::formats::quantize::UnormExtent;
+use voxel_core::formats::{BlockVertex, PackedQuad};
 use voxel_core::{BlockId, MaterialClass, PaddedChunk};
 
 use super::cell::cell_vertices;
 use super::mesh::SmoothMesh;
-use super::pack::{PositionPacker, oct16_encode_fast};
+use super::pack::PositionPacker;
 use super::{EdgeLanes, Quad, owned_corners};
+use crate::blocky::{BlockyMesh, GreedyMesher};
 use crate::{BlockClasses, MeshError};
-
-/// The bit that [`NoCubes`] sets in `BlockVertex::extra` for the vertices of cube faces (the
-/// smooth surface's vertices have `extra = 0`), so that a shader can map textures per face on
-/// cubes and triplanar on the smooth surface.
-pub const CUBE_FACE_FLAG: u16 = 1;
 
 /// Counts of what [`NoCubes::mesh`] wrote.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -28,9 +24,7 @@ pub struct NoCubesStats {
     pub smooth_vertices: usize,
     /// Quads of the smooth surface: one per visible face of a smoothable block.
     pub smooth_quads: usize,
-    /// Vertices of cube faces (shared between faces of one direction and block id).
-    pub cube_vertices: usize,
-    /// Cube faces: one per visible face of a non-smoothable opaque block.
+    /// Greedy quads of the cube faces (visible faces of non-smoothable opaque blocks).
     pub cube_quads: usize,
 }
 
@@ -43,51 +37,55 @@ struct CellShape {
     normal: u16,
 }
 
-/// A reusable NoCubes mesher: SurfaceNets on the block occupancy of a [`PaddedChunk`].
+/// A reusable NoCubes mesher: SurfaceNets on the block occupancy of a [`PaddedChunk`] for the
+/// smoothable blocks, greedy quads for the other blocks.
 ///
 /// # The rule
 ///
 /// - **Samples** are the voxels: voxel `p` (padded) is a sample at its centre `p + 0.5`, inside
 ///   when its material is opaque (`Opaque`, `ClutterBearing` or `Smoothable`). Air and
-///   transparent blocks are outside: this is the opaque layer; water and glass are another
-///   mesher's job. The density is `-1` inside and `+1` outside, so every crossing is at an
-///   edge midpoint. (A box-filtered occupancy would round corners further, but it moves the
-///   zero crossing off the voxel faces, which can open holes against cubes and changes the
-///   topology of thin features; the binary density keeps the blocky topology exactly.)
-/// - **Faces.** Every face between an opaque and a non-opaque voxel gives one quad (the
-///   SurfaceNets quad of that sample edge), owned as in the
+///   transparent blocks are outside. The density is `-1` inside and `+1` outside, so every
+///   crossing is at an edge midpoint. (A box-filtered occupancy would round corners further,
+///   but it moves the zero crossing off the voxel faces, which can open holes against cubes
+///   and changes the topology of thin features; the binary density keeps the blocky topology
+///   exactly.)
+/// - **Smooth quads.** Every face between a smoothable voxel and a non-opaque one gives one
+///   quad of the [`SmoothMesh`] (the SurfaceNets quad of that sample edge), owned as in the
 ///   [padding contract](super#seamless-chunks-the-padding-contract): the edge's lower voxel
-///   is one of the chunk's own voxels (padded `1..=edge` on every axis). A face of a
-///   smoothable block is a **smooth quad**; a face of any other opaque block is a **cube
-///   face**.
+///   is one of the chunk's own voxels (padded `1..=edge` on every axis).
+/// - **Cube faces.** The faces of every other opaque block are the greedy quads
+///   ([`GreedyMesher::mesh`], with ambient occlusion) of the [`BlockyMesh`]'s opaque layer,
+///   8 bytes each, drawn by the blocky pipeline; quads of smoothable blocks are dropped from
+///   it. Its transparent layer holds the transparent blocks' greedy quads as usual, so the
+///   two outputs are the chunk's whole mesh.
 /// - **Smooth vertices**, one per cell (8 voxels around a lattice point) that one of this
-///   chunk's smooth quads uses: the SurfaceNets vertex (average of the crossing edges' midpoints, normal from
-///   the occupancy gradient, both looked up from a 256-entry table), **except** in cells that
-///   contain a non-smoothable opaque voxel: there the vertex is **pinned** to the cell's
-///   lattice point, which is exactly where the cube faces of that voxel have their corner.
-///   So smooth surface and cubes meet edge to edge and the mesh has no holes: welded by
-///   position, a closed blocky input gives a closed mesh (no boundary edges; tested).
+///   chunk's smooth quads uses: the SurfaceNets vertex (average of the crossing edges'
+///   midpoints, normal from the occupancy gradient, both looked up from a 256-entry table),
+///   **except** in cells that contain a non-smoothable opaque voxel: there the vertex is
+///   **pinned** to the cell's lattice point, which is where that voxel's cube faces have
+///   their corner. Positions are packed over [`UnormExtent::padded_lattice`], on which a
+///   lattice point's code is exact, so a pinned vertex decodes to the integer corner of the
+///   cube quads within a few `f32` rounding steps (about 1e-5 voxels).
+/// - **Seams.** Where a smooth quad meets a cube face they share a lattice edge whose two ends
+///   are pinned, so welded by position, smooth quads plus the cube quads split into unit
+///   faces form a closed surface for a closed input (tested). A greedy cube quad may span
+///   several smooth quads' edges: a T-junction, like those between greedy quads of different
+///   sizes, which the GPU renderer covers by growing quads by a hair.
 /// - **Block ids.** A smooth vertex carries the most common smoothable id among its cell's 8
-///   voxels (ties: the smallest id). A cube face carries its block's id.
-/// - **Cube faces** are four `BlockVertex`es with the face's axis normal at the face's lattice
-///   corners, so the whole mesh is one vertex buffer; a vertex is shared by the faces of one
-///   direction and one block id that meet at it (a flat floor costs about one vertex per
-///   face); their `extra` is [`CUBE_FACE_FLAG`]. Texture coordinates are zero everywhere: the
-///   shader maps textures from the position (planar on cube faces, triplanar on the smooth
-///   surface), since shared corners cannot carry per-face uvs.
+///   voxels (ties: the smallest id). Cube quads carry their block's id.
 ///
-/// Positions are padded voxel coordinates (chunk-local + 1) over
-/// [`UnormExtent::padded_chunk`]. Unknown block ids are reported as
-/// [`MeshError::UnknownBlock`] before anything is written.
+/// Positions are padded voxel coordinates (chunk-local + 1). An unknown block id anywhere in
+/// the padded chunk is reported as [`MeshError::UnknownBlock`] (the first in storage order)
+/// and both outputs are left empty.
 ///
-/// **Quad form.** A chunk of smoothable blocks only keeps compact quads (6 B, see
-/// [`SmoothMesh`]): its vertices are numbered in cell scan order, as in SurfaceNets. Cube-face
-/// vertices are made as their faces are, between the smooth ones, so a chunk with cube faces
-/// usually has a quad whose indices lie too far apart and falls back to `u16` quads (8 B; the
-/// benchmark's terrain chunk: 36 B per quad, 2.35 vertices per cube face).
+/// **Bytes.** The smooth mesh numbers its vertices in cell scan order, as SurfaceNets does,
+/// so every smooth quad of a chunk grid is a 6-byte compact quad ([`SmoothMesh`]): about
+/// 22-23 bytes per smooth quad with its share of the 16-byte vertices. Cube faces cost 8 bytes
+/// per greedy quad.
 ///
 /// ```
 /// use mesher::BlockClasses;
+/// use mesher::blocky::BlockyMesh;
 /// use mesher::smooth::{NoCubes, SmoothMesh, SmoothQuads};
 /// use voxel_core::{BlockId, ChunkSize, Material, MaterialClass, MaterialPalette, PaddedChunk};
 ///
@@ -95,26 +93,27 @@ struct CellShape {
 /// let dirt = palette
 ///     .push(Material::opaque(120, 85, 55).with_class(MaterialClass::Smoothable))
 ///     .unwrap();
+/// let stone = palette.push(Material::opaque(90, 90, 90)).unwrap();
 /// let classes = BlockClasses::from_palette(&palette);
-/// // A 4x4x4 block of dirt in the middle of an 8^3 chunk.
+/// // A 4x4x4 block of dirt in the middle of an 8^3 chunk, on a stone floor.
 /// let chunk = PaddedChunk::from_fn(ChunkSize::S8, |x, y, z| {
-///     if [x, y, z].iter().all(|a| (3..7).contains(a)) { dirt } else { BlockId::AIR }
+///     if y == 2 { stone }
+///     else if [x, y, z].iter().all(|a| (3..7).contains(a)) { dirt }
+///     else { BlockId::AIR }
 /// });
-/// let mut mesh = SmoothMesh::new();
-/// let stats = NoCubes::new().mesh(&chunk, &classes, &mut mesh).unwrap();
-/// assert_eq!(stats.smooth_quads, 6 * 16); // one quad per visible face
-/// assert_eq!(stats.cube_quads, 0);
-/// // Smooth quads only: 6-byte compact quads.
-/// assert!(matches!(mesh.quads(), SmoothQuads::Compact(_)));
+/// let (mut smooth, mut cubes) = (SmoothMesh::new(), BlockyMesh::new());
+/// let stats = NoCubes::new().mesh(&chunk, &classes, &mut smooth, &mut cubes).unwrap();
+/// assert_eq!(stats.smooth_quads, 5 * 16); // one quad per visible dirt face
+/// assert!(matches!(smooth.quads(), SmoothQuads::Compact(_))); // 6 bytes each
+/// assert!(stats.cube_quads > 0 && stats.cube_quads == cubes.opaque.len());
 /// ```
 #[derive(Clone, Debug)]
 pub struct NoCubes {
     table: Box<[CellShape; 256]>,
-    axis_normals: [u16; 6],
+    greedy: GreedyMesher,
     opaque: Vec<u64>,
     smooth: Vec<u64>,
     map: Vec<u32>,
-    cube: Vec<u32>,
 }
 
 impl Default for NoCubes {
@@ -122,9 +121,6 @@ impl Default for NoCubes {
         NoCubes::new()
     }
 }
-
-/// Cube face directions: `2 * axis + (1 if facing -axis)`.
-const AXES: [Vec3A; 3] = [Vec3A::X, Vec3A::Y, Vec3A::Z];
 
 impl NoCubes {
     /// A mesher with its configuration table built and empty scratch buffers.
@@ -145,39 +141,51 @@ impl NoCubes {
                 };
             }
         }
-        let axis_normals = core::array::from_fn(|d| {
-            oct16_encode_fast(if d % 2 == 0 {
-                AXES[d / 2]
-            } else {
-                -AXES[d / 2]
-            })
-        });
         NoCubes {
             table,
-            axis_normals,
+            greedy: GreedyMesher::new(),
             opaque: Vec::new(),
             smooth: Vec::new(),
             map: Vec::new(),
-            cube: Vec::new(),
         }
     }
 
-    /// Meshes `chunk` into `out` (cleared first) and returns what it wrote. See the type docs.
+    /// Meshes `chunk`: the smooth surface into `smooth`, the cube faces and the transparent
+    /// blocks' faces into `cubes` (both cleared first). Returns what it wrote. See the type
+    /// docs. On error both outputs are left empty.
     pub fn mesh(
         &mut self,
         chunk: &PaddedChunk,
         classes: &BlockClasses,
-        out: &mut SmoothMesh,
+        smooth: &mut SmoothMesh,
+        cubes: &mut BlockyMesh,
     ) -> Result<NoCubesStats, MeshError> {
-        let extent = UnormExtent::padded_chunk(chunk.size());
-        out.reset(extent);
-        if !self.build_masks(chunk, classes)? {
-            return Ok(NoCubesStats::default());
+        let extent = UnormExtent::padded_lattice(chunk.size());
+        smooth.reset(extent);
+        // The masks first: they name the first unknown id in storage order, anywhere in the
+        // padded chunk, before anything is written.
+        let any_smooth_face = self
+            .build_masks(chunk, classes)
+            .and_then(|any| self.greedy.mesh(chunk, classes, cubes).map(|()| any));
+        let any_smooth_face = match any_smooth_face {
+            Ok(any) => any,
+            Err(e) => {
+                cubes.clear();
+                return Err(e);
+            }
+        };
+        let mut stats = NoCubesStats::default();
+        if classes.any_smoothable() {
+            drop_smoothable_quads(&mut cubes.opaque.faces, classes);
         }
-        Ok(self.extract(chunk, PositionPacker::new(extent), out))
+        if any_smooth_face {
+            stats = self.extract(chunk, PositionPacker::new(extent), smooth);
+        }
+        stats.cube_quads = cubes.opaque.len();
+        Ok(stats)
     }
 
-    /// Fills the opaque and smoothable row masks; false when no cell can have a surface.
+    /// Fills the opaque and smoothable row masks; false when no cell can have a smooth face.
     fn build_masks(
         &mut self,
         chunk: &PaddedChunk,
@@ -187,7 +195,7 @@ impl NoCubes {
         let full_row = if p == 64 { u64::MAX } else { (1u64 << p) - 1 };
         self.opaque.clear();
         self.smooth.clear();
-        let (mut any, mut all) = (0u64, full_row);
+        let (mut any_smooth, mut all) = (0u64, full_row);
         let mut last = (BlockId::AIR, Some(MaterialClass::Air));
         for (r, (&column, row)) in chunk
             .columns()
@@ -219,12 +227,13 @@ impl NoCubes {
             }
             self.opaque.push(o);
             self.smooth.push(s);
-            any |= o;
+            any_smooth |= s;
             all &= o;
         }
-        Ok(any != 0 && all != full_row)
+        Ok(any_smooth != 0 && all != full_row)
     }
 
+    /// Writes the smooth vertices and quads (the masks are built).
     fn extract(
         &mut self,
         chunk: &PaddedChunk,
@@ -236,18 +245,11 @@ impl NoCubes {
         let slice = c * c;
         if self.map.len() < 2 * slice {
             self.map.resize(2 * slice, u32::MAX);
-            self.cube.resize(12 * slice, u32::MAX);
         }
         let valid = (1u64 << c) - 1;
         let voxels = chunk.voxels();
         let (o_rows, s_rows) = (&self.opaque, &self.smooth);
         let mut stats = NoCubesStats::default();
-        let mut cubes = CubeFaces {
-            slots: &mut self.cube,
-            normals: self.axis_normals,
-            packer,
-            vertices: 0,
-        };
 
         for z in 0..c {
             let (cur, prev) = if z & 1 == 0 { (0, slice) } else { (slice, 0) };
@@ -258,133 +260,73 @@ impl NoCubes {
                 let rows = [r, r + 1, r + p, r + p + 1];
                 let o4 = rows.map(|r| o_rows[r]);
                 let s4 = rows.map(|r| s_rows[r]);
-                let (mut all_in, mut any_in) = (u64::MAX, 0u64);
-                for m in o4 {
-                    all_in &= m & (m >> 1);
-                    any_in |= m | (m >> 1);
+                // Cells with a smoothable corner, not all corners opaque: only these can touch
+                // a smooth face.
+                let (mut all_in, mut any_smooth) = (u64::MAX, 0u64);
+                for (o, s) in o4.into_iter().zip(s4) {
+                    all_in &= o & (o >> 1);
+                    any_smooth |= s | (s >> 1);
                 }
-                let mut bits = any_in & !all_in & valid;
+                let mut bits = any_smooth & !all_in & valid;
                 while bits != 0 {
                     let x = bits.trailing_zeros() as usize;
                     bits &= bits - 1;
                     let o = corner_bits(o4, x);
                     let s = corner_bits(s4, x);
                     let m = cur + y * c + x;
-                    let cell = Vec3A::new(x as f32, y as f32, z as f32);
-                    let base = x + p * (y + p * z);
-
                     let owned = owned_yz & owned_corners(0, x, c);
-
-                    if EdgeLanes::smooth_faces(o, s).any() & owned != 0 {
-                        let position = if o & !s != 0 {
-                            cell + Vec3A::ONE
-                        } else {
-                            cell + self.table[usize::from(o)].offset
-                        };
-                        self.map[m] = out.push_vertex(BlockVertex {
-                            position: packer.pack(position),
-                            normal: self.table[usize::from(o)].normal,
-                            uv: [0; 2],
-                            block: most_common_id(voxels, base, p, s),
-                            extra: 0,
-                        });
-                        stats.smooth_vertices += 1;
+                    let faces = EdgeLanes::smooth_faces(o, s);
+                    if faces.any() & owned == 0 {
+                        continue;
                     }
+                    let cell = Vec3A::new(x as f32, y as f32, z as f32);
+                    let position = if o & !s != 0 {
+                        cell + Vec3A::ONE
+                    } else {
+                        cell + self.table[usize::from(o)].offset
+                    };
+                    self.map[m] = out.push_vertex(BlockVertex {
+                        position: packer.pack(position),
+                        normal: self.table[usize::from(o)].normal,
+                        uv: [0; 2],
+                        block: most_common_id(voxels, x + p * (y + p * z), p, s),
+                        extra: 0,
+                    });
+                    stats.smooth_vertices += 1;
 
-                    let here = EdgeLanes::crossing(o).at_corner0(owned);
+                    let here = faces.at_corner0(owned);
                     if here == 0 {
                         continue;
                     }
                     let q = prev + y * c + x;
-                    let map = &self.map;
                     let outward = o & 1 != 0;
-                    // (corner bit of the edge's upper voxel, its 4 cells' map indices, their
-                    // coordinates) for the edges along x, y and z.
+                    // The 4 cells' map indices around the edges along x, y and z.
                     let edges = [
-                        (
-                            1,
-                            [m, m - c, q, q - c],
-                            [[0, 0, 0], [0, 1, 0], [0, 0, 1], [0, 1, 1]],
-                        ),
-                        (
-                            2,
-                            [m, q, m - 1, q - 1],
-                            [[0, 0, 0], [0, 0, 1], [1, 0, 0], [1, 0, 1]],
-                        ),
-                        (
-                            4,
-                            [m, m - 1, m - c, m - c - 1],
-                            [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]],
-                        ),
+                        [m, m - c, q, q - c],
+                        [m, q, m - 1, q - 1],
+                        [m, m - 1, m - c, m - c - 1],
                     ];
-                    for (axis, (bit, cells, back)) in edges.into_iter().enumerate() {
-                        if (here >> axis) & 1 == 0 {
-                            continue;
-                        }
-                        let solid = if outward { 0 } else { bit };
-                        if (s >> solid) & 1 != 0 {
-                            let quad = Quad::new(axis as u8, outward, cells.map(|i| map[i]));
-                            let paired = quad.paired(|a, b| out.dist2(a, b));
-                            out.push_paired_quad(paired);
+                    for (axis, cells) in edges.into_iter().enumerate() {
+                        if (here >> axis) & 1 != 0 {
+                            let quad = Quad::new(axis as u8, outward, cells.map(|i| self.map[i]));
+                            out.push_paired_quad(quad.paired(|a, b| out.dist2(a, b)));
                             stats.smooth_quads += 1;
-                        } else {
-                            let id = voxels[base + corner_offset(solid, p)];
-                            let dir = 2 * axis + usize::from(!outward);
-                            let corners: [u32; 4] = core::array::from_fn(|k| {
-                                let [bx, by, bz] = back[k];
-                                let lattice =
-                                    cell + Vec3A::ONE - Vec3A::new(bx as f32, by as f32, bz as f32);
-                                cubes.vertex(out, cells[k] * 6 + dir, lattice, dir, id)
-                            });
-                            let quad = Quad::new(axis as u8, outward, corners);
-                            out.push_quad(quad.corners(|a, b| out.dist2(a, b)));
-                            stats.cube_quads += 1;
                         }
                     }
                 }
             }
         }
-        stats.cube_vertices = cubes.vertices;
         stats
     }
 }
 
-/// The shared vertices of cube faces: one slot per cell of the two current slices and face
-/// direction, holding the index of the last vertex made there.
-struct CubeFaces<'a> {
-    slots: &'a mut [u32],
-    normals: [u16; 6],
-    packer: PositionPacker,
-    vertices: usize,
-}
-
-impl CubeFaces<'_> {
-    /// The vertex at `lattice` facing `dir` with `id`: the slot's vertex if it is exactly that
-    /// vertex (slots are never cleared: a stale index fails this comparison), else a new one.
-    #[inline]
-    fn vertex(
-        &mut self,
-        out: &mut SmoothMesh,
-        slot: usize,
-        lattice: Vec3A,
-        dir: usize,
-        id: BlockId,
-    ) -> u32 {
-        let wanted = BlockVertex {
-            position: self.packer.pack(lattice),
-            normal: self.normals[dir],
-            uv: [0; 2],
-            block: id.0,
-            extra: CUBE_FACE_FLAG,
-        };
-        let i = self.slots[slot];
-        if out.vertex(i) == Some(&wanted) {
-            return i;
-        }
-        let i = out.push_vertex(wanted);
-        self.slots[slot] = i;
-        self.vertices += 1;
-        i
+/// Removes the quads of smoothable blocks (the smooth surface replaces them).
+fn drop_smoothable_quads(faces: &mut [Vec<PackedQuad>; 6], classes: &BlockClasses) {
+    for quads in faces {
+        quads.retain(|q| {
+            let id = BlockId((q.face_ao_block >> 11) as u16);
+            classes.class(id) != Some(MaterialClass::Smoothable)
+        });
     }
 }
 

@@ -1,11 +1,12 @@
 //! Helpers shared by the smooth mesher tests (`mesher/tests/smooth_*.rs`, and the `tests`
-//! crate's `tests/smooth_*.rs`, which include this file by path): density fields, welding and
-//! the open-edge count.
+//! crate's `tests/smooth_*.rs`, which include this file by path): density fields, welding,
+//! the open-edge count and the unit faces of NoCubes' cube quads.
 #![allow(dead_code, reason = "each test file uses a different subset")]
 
 use std::collections::HashMap;
 use std::hash::Hash;
 
+use mesher::QuadLayer;
 use mesher::smooth::GridShape;
 
 /// Directed edges of `triangles` (after mapping each vertex through `key`, which welds
@@ -80,4 +81,37 @@ pub fn sphere(centre: [f32; 3], radius: f32) -> impl Fn([f32; 3]) -> f32 {
 /// A periodic field whose zero set is a connected lattice of tubes (many handles).
 pub fn sine(frequency: f32) -> impl Fn([f32; 3]) -> f32 {
     move |p| p.iter().map(|&a| (a * frequency).sin()).sum()
+}
+
+/// One unit face of a greedy quad: the chunk-local voxel it belongs to, its direction index
+/// (`FaceDirection::index`) and its 4 corners, counter-clockwise from outside.
+pub struct UnitFace {
+    /// The voxel whose face it is.
+    pub voxel: [u32; 3],
+    /// Its direction.
+    pub face: u8,
+    /// Its corners (chunk-local lattice points).
+    pub corners: [[u32; 3]; 4],
+}
+
+/// Splits every quad of `quads` into its unit faces.
+pub fn unit_faces(quads: &QuadLayer) -> Vec<UnitFace> {
+    let mut faces = Vec::new();
+    for q in quads.iter() {
+        let f = q.decode().expect("a valid quad");
+        for v in 0..f.height {
+            for u in 0..f.width {
+                let mut unit = f;
+                unit.position[f.face.width_axis()] += u;
+                unit.position[f.face.height_axis()] += v;
+                (unit.width, unit.height) = (1, 1);
+                faces.push(UnitFace {
+                    voxel: unit.position,
+                    face: f.face.index(),
+                    corners: unit.corners(),
+                });
+            }
+        }
+    }
+    faces
 }

@@ -163,6 +163,43 @@ pub fn glass_panes() -> TestScene {
     scene
 }
 
+/// A smoothable dirt hill on a stone floor, pierced by a stone pillar, seen from high above:
+/// in NoCubes mode the hill is the smooth layer and the floor and pillar are greedy quads, so
+/// the view crosses every kind of seam between the two (hill on floor, pillar through hill)
+/// and chunk borders (16^3 chunks). The floor fills the whole view.
+pub fn smooth_hill() -> TestScene {
+    let mut palette = MaterialPalette::new();
+    let stone = palette.push(Material::opaque(150, 150, 160)).unwrap();
+    let dirt = palette
+        .push(Material::opaque(130, 90, 50).with_class(MaterialClass::Smoothable))
+        .unwrap();
+    let mut scene = scene_from_fn(
+        palette,
+        ChunkSize::S16,
+        [-40, -1, -40],
+        [39, 12, 39],
+        0,
+        move |x, y, z| {
+            let pillar = (2..=3).contains(&x) && (-1..=0).contains(&z) && y <= 11;
+            if y == -1 || pillar {
+                stone
+            } else if x * x + (y + 2) * (y + 2) + z * z <= 100 {
+                dirt
+            } else {
+                BlockId::AIR
+            }
+        },
+    );
+    scene.camera = Camera {
+        voxel: WorldPos::new(0, 45, 5),
+        fraction: glam::DVec3::new(0.5, 0.5, 0.5),
+        yaw: 0.0,
+        pitch: -1.4,
+        fov_y: 0.8,
+    };
+    scene
+}
+
 /// The terrain of the headless viewer, a 48 x 32 x 48 patch (16^3 chunks).
 pub fn terrain() -> TestScene {
     let scene = viewer::scene::terrain_scene(7, ChunkSize::S16, 3, 2, 3);
@@ -181,8 +218,8 @@ pub fn gpu_render(ctx: &GpuContext, scene: &TestScene, camera: &Camera) -> (Imag
     gpu_render_with(ctx, scene, camera, SurfaceMode::Greedy)
 }
 
-/// [`gpu_render`] with the chunks meshed in `surface` mode (`NoCubes` puts every opaque block
-/// in the smooth layer, drawn by the smooth pipeline).
+/// [`gpu_render`] with the chunks meshed in `surface` mode (`NoCubes` puts the smoothable
+/// blocks in the smooth layer, drawn by the smooth pipeline).
 pub fn gpu_render_with(
     ctx: &GpuContext,
     scene: &TestScene,

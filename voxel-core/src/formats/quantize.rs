@@ -67,6 +67,24 @@ impl UnormExtent {
         UnormExtent(size.padded_edge() as f32)
     }
 
+    /// An extent for positions in padded voxel coordinates up to `padded_edge - 1/2` (the
+    /// vertices of NoCubes) on which every **integer** position has an exact code: the extent
+    /// is `65535 / 2^k` for the largest `k` with `(padded_edge - 1/2) * 2^k <= 65535`, so
+    /// integer `x` encodes to `x * 2^k` and decodes to `x` within a few `f32` rounding steps
+    /// (2^k = 1024 for a 62^3 chunk, 4096 for 8^3). A mesh whose lattice points must meet
+    /// integer-positioned geometry (the corners of `PackedQuad`s) uses it instead of
+    /// [`padded_chunk`](Self::padded_chunk), whose integer positions round to the nearest of
+    /// `65535 / padded_edge` steps per voxel.
+    pub const fn padded_lattice(size: ChunkSize) -> UnormExtent {
+        // Twice the largest position, in half voxels, so the bound stays an integer.
+        let half_voxels = 2 * size.padded_edge() as u32 - 1;
+        let mut scale = 1u32 << 15;
+        while half_voxels * scale > 2 * 65535 {
+            scale >>= 1;
+        }
+        UnormExtent(65535.0 / scale as f32)
+    }
+
     /// The extent as a number.
     #[inline]
     pub const fn get(self) -> f32 {
