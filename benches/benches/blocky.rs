@@ -23,6 +23,13 @@
 //!
 //! The peers take their own voxel arrays, converted once outside the timed loop. Times are the
 //! benchmarking thread's CPU time ([`benches::cpu_time`]) unless `BENCH_CLOCK=wall`.
+//!
+//! Before the criterion group of each synthetic input, the meshers the bars compare (ours
+//! visible and greedy, `block-mesh` visible and greedy, `block-mesh-bgm`, `bgm fast_mesh+masks`)
+//! are also timed interleaved (`blocky_support/interleaved.rs`: each in turn, 100 rounds, thread
+//! CPU time), and the report lines give their minima, medians and the bars' ratios, which a
+//! shared, noisy machine disturbs far less than the sequential criterion measurements.
+//! `BLOCKY_INTERLEAVED_ROUNDS` sets the rounds (0 skips it).
 
 use std::collections::BTreeSet;
 use std::hint::black_box;
@@ -41,6 +48,10 @@ use criterion::{BenchmarkGroup, Criterion};
 use mesher::blocky::{BlockyMesh, GreedyMesher};
 use mesher::{BlockClasses, InstructionSet};
 use voxel_core::{ChunkSize, MaterialClass};
+
+#[path = "blocky_support/interleaved.rs"]
+mod interleaved;
+use interleaved::{Kind, Timed};
 
 /// `block-mesh`'s voxel: the id plus its visibility, precomputed from the palette.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -272,15 +283,124 @@ fn bench_bgm<M: Measurement>(g: &mut BenchmarkGroup<'_, M>, prep: &Prepared<'_>)
     });
 }
 
-fn bench_input<M: Measurement>(c: &mut Criterion<M>, input: &MeshInput) {
+/// The bars' meshers on one input, interleaved (see the module docs); `bgm` adds
+/// `binary-greedy-meshing`, which takes 62^3 chunks only.
+fn interleaved_timing<S: Shape<3, Coord = u32>>(prep: &Prepared<'_>, shape: &S, p: u32, bgm: bool) {
+    let rounds = std::env::var("BLOCKY_INTERLEAVED_ROUNDS")
+        .ok()
+        .and_then(|r| r.parse().ok())
+        .unwrap_or(100);
+    if rounds == 0 {
+        return;
+    }
+    let chunks = &prep.input.chunks;
+    let classes = &prep.classes;
+    let faces = &RIGHT_HANDED_Y_UP_CONFIG.faces;
+    let max = [p - 1; 3];
+    let (mut ours_visible, mut ours_greedy) = (GreedyMesher::new(), GreedyMesher::new());
+    let (mut out_visible, mut out_greedy) = (BlockyMesh::new(), BlockyMesh::new());
+    let mut unit = UnitQuadBuffer::new();
+    let mut greedy = GreedyQuadsBuffer::new(prep.bm.first().map_or(0, Vec::len));
+    let mut bmbgm = BinaryGreedyQuadsBuffer::new();
+    let mut bgm_mesher = binary_greedy_meshing::Mesher::<62>::new();
+    let mut timed = vec![
+        Timed {
+            name: "ours visible",
+            kind: Kind::OursVisible,
+            run: Box::new(move || {
+                for c in chunks {
+                    ours_visible
+                        .visible_faces(black_box(c), classes, &mut out_visible)
+                        .unwrap();
+                    black_box(&out_visible);
+                }
+            }),
+        },
+        Timed {
+            name: "ours greedy",
+            kind: Kind::OursGreedy,
+            run: Box::new(move || {
+                for c in chunks {
+                    ours_greedy
+                        .mesh(black_box(c), classes, &mut out_greedy)
+                        .unwrap();
+                    black_box(&out_greedy);
+                }
+            }),
+        },
+        Timed {
+            name: "block-mesh visible",
+            kind: Kind::PeerVisible,
+            run: Box::new(move || {
+                for v in &prep.bm {
+                    unit.reset();
+                    visible_block_faces(black_box(v), shape, [0; 3], max, faces, &mut unit);
+                    black_box(&unit);
+                }
+            }),
+        },
+        Timed {
+            name: "block-mesh greedy",
+            kind: Kind::PeerGreedy,
+            run: Box::new(move || {
+                for v in &prep.bm {
+                    greedy_quads(black_box(v), shape, [0; 3], max, faces, &mut greedy);
+                    black_box(&greedy.quads);
+                }
+            }),
+        },
+        Timed {
+            name: "block-mesh-bgm",
+            kind: Kind::PeerGreedy,
+            run: Box::new(move || {
+                for v in &prep.bm {
+                    binary_greedy_quads(black_box(v), shape, [0; 3], max, faces, &mut bmbgm);
+                    black_box(&bmbgm.quads);
+                }
+            }),
+        },
+    ];
+    if bgm {
+        timed.push(Timed {
+            name: "bgm fast_mesh+masks",
+            kind: Kind::PeerGreedy,
+            run: Box::new(move || {
+                for c in chunks {
+                    let ids = black_box(as_u16(c));
+                    let opaque =
+                        binary_greedy_meshing::compute_opaque_mask::<62>(ids, &prep.transparents);
+                    let trans = binary_greedy_meshing::compute_transparent_mask::<62>(
+                        ids,
+                        &prep.transparents,
+                    );
+                    bgm_mesher.clear();
+                    bgm_mesher.fast_mesh(ids, &opaque, &trans);
+                    black_box(&bgm_mesher.quads);
+                }
+            }),
+        });
+    }
+    interleaved::report(&prep.input.name, timed, rounds);
+}
+
+fn bench_input<M: Measurement>(c: &mut Criterion<M>, input: &MeshInput, interleave: bool) {
     let prep = prepare(input);
+    let size = input.chunks.first().map_or(ChunkSize::S62, |c| c.size());
+    if interleave {
+        let p = size.padded_edge() as u32;
+        match size {
+            ChunkSize::S62 => {
+                interleaved_timing(&prep, &ConstShape3u32::<64, 64, 64> {}, p, true);
+            }
+            _ => interleaved_timing(&prep, &RuntimeShape::<u32, 3>::new([p; 3]), p, false),
+        }
+    }
     let mut g = c.benchmark_group(format!(
         "blocky/{} ({} non-air)",
         input.name,
         input.interior_non_air()
     ));
     bench_ours(&mut g, &prep);
-    let size = input.chunks.first().map_or(ChunkSize::S62, |c| c.size());
     match size {
         ChunkSize::S62 => {
             bench_block_mesh(&mut g, &prep, &ConstShape3u32::<64, 64, 64> {}, 64);
@@ -300,12 +420,12 @@ fn blocky<M: Measurement>(c: &mut Criterion<M>) {
         InstructionSet::detect()
     );
     for input in synthetic_inputs() {
-        bench_input(c, &input);
+        bench_input(c, &input, true);
     }
     match vox_dir() {
         Some(dir) => {
             for input in vox_inputs(&dir, ChunkSize::S62) {
-                bench_input(c, &input);
+                bench_input(c, &input, false);
             }
         }
         None => eprintln!("skipped: no sample data (../shared/data/vox)"),
