@@ -103,12 +103,14 @@ mod kernels {
     use core::mem::MaybeUninit;
 
     use core::arch::x86_64::{
-        __m512i, _mm_loadu_si128, _mm512_add_epi64, _mm512_castsi512_si128,
-        _mm512_cmplt_epu64_mask, _mm512_cvtepu8_epi64, _mm512_cvtepu16_epi64, _mm512_mask_add_epi8,
-        _mm512_mask_or_epi64, _mm512_maskz_compress_epi64, _mm512_maskz_mov_epi64,
-        _mm512_permutexvar_epi64, _mm512_reduce_or_epi64, _mm512_set1_epi8, _mm512_set1_epi64,
-        _mm512_setr_epi64, _mm512_setzero_si512, _mm512_slli_epi64, _mm512_sllv_epi64,
-        _mm512_storeu_si512, _mm512_ternarylogic_epi64,
+        __m256i, __m512i, _mm_loadu_si128, _mm512_add_epi32, _mm512_add_epi64,
+        _mm512_castsi512_si128, _mm512_castsi512_si256, _mm512_cmplt_epu64_mask,
+        _mm512_cvtepu8_epi64, _mm512_cvtepu16_epi64, _mm512_cvtepu32_epi64,
+        _mm512_extracti64x4_epi64, _mm512_mask_add_epi8, _mm512_mask_or_epi64,
+        _mm512_maskz_compress_epi32, _mm512_maskz_compress_epi64, _mm512_maskz_mov_epi64,
+        _mm512_permutexvar_epi64, _mm512_reduce_or_epi64, _mm512_set1_epi8, _mm512_set1_epi32,
+        _mm512_set1_epi64, _mm512_setr_epi32, _mm512_setr_epi64, _mm512_setzero_si512,
+        _mm512_slli_epi64, _mm512_sllv_epi64, _mm512_storeu_si512, _mm512_ternarylogic_epi64,
     };
     use voxel_core::formats::PackedQuad;
 
@@ -156,22 +158,57 @@ mod kernels {
     }
 
     /// See [`Wide::push_bits`].
+    ///
+    /// All the quads of a line differ only in the bit coordinate, so the kernel compresses bit
+    /// indices rather than quads: per group of 16 bits, `vpcompressd` keeps the 32-bit indices
+    /// of the set bits, which are widened to 64-bit lanes, shifted and added to `base`, 8 at a
+    /// time; a group stores a second register only when it has more than 8 faces. A line of
+    /// 31 faces (a checkerboard's) takes 4 compresses and 4 stores, against 8 of each for
+    /// 8-bit groups of whole quads.
     #[target_feature(enable = "avx512f,popcnt")]
     pub(super) fn push_bits_avx512(out: &mut Vec<PackedQuad>, bits: u64, base: u64, shift: u32) {
         let count = reserve_line(out, bits);
         let spare = out.spare_capacity_mut();
-        let step = _mm512_set1_epi64(8i64 << shift);
-        let mut lanes = first_lanes(base, shift);
+        let base = _mm512_set1_epi64(base as i64);
+        let shift = _mm512_set1_epi64(i64::from(shift));
+        let mut index = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+        let sixteen = _mm512_set1_epi32(16);
+        let quads = |indices: __m256i| {
+            _mm512_add_epi64(
+                base,
+                _mm512_sllv_epi64(_mm512_cvtepu32_epi64(indices), shift),
+            )
+        };
         let mut n = 0;
-        for group in 0..8 {
-            n = store_kept(spare, n, (bits >> (8 * group)) as u8, lanes);
-            lanes = _mm512_add_epi64(lanes, step);
+        for group in 0..4 {
+            let mask = (bits >> (16 * group)) as u16;
+            let kept = _mm512_maskz_compress_epi32(mask, index);
+            index = _mm512_add_epi32(index, sixteen);
+            store_quads(spare, n, quads(_mm512_castsi512_si256(kept)));
+            let faces = mask.count_ones() as usize;
+            if faces > 8 {
+                store_quads(spare, n + 8, quads(_mm512_extracti64x4_epi64::<1>(kept)));
+            }
+            n += faces;
         }
         #[expect(unsafe_code, reason = "marks the quads written above as the vector's")]
         // SAFETY: the groups wrote the first `count` spare entries, each starting where the last
-        // one's kept quads ended.
+        // one's faces ended.
         unsafe {
             out.set_len(out.len() + count);
+        }
+    }
+
+    /// Writes the 8 quads of `quads` at `spare[n..n + 8]` (the next store overwrites those
+    /// past the group's faces).
+    #[target_feature(enable = "avx512f")]
+    #[inline]
+    fn store_quads(spare: &mut [MaybeUninit<PackedQuad>], n: usize, quads: __m512i) {
+        let dst = &mut spare[n..n + 8];
+        #[expect(unsafe_code, reason = "a 64-byte vector store")]
+        // SAFETY: `dst` is 8 entries of 8 bytes, and an unaligned store needs no alignment.
+        unsafe {
+            _mm512_storeu_si512(dst.as_mut_ptr().cast(), quads);
         }
     }
 
@@ -268,6 +305,8 @@ mod tests {
             0x4000_0000_0000_0002,
             0x5555_5555_5555_5554,
             0x0F0F_00F0_F0F0_0F00,
+            // 9 faces in the first group of 16, 16 in the second.
+            0x0000_FFFF_03FE,
             0,
         ];
         for bits in bit_sets {
