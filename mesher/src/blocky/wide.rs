@@ -7,7 +7,8 @@
 //! one per bit, built with a few whole-register operations; `vpcompressq` keeps the quads of
 //! the bits that are faces, in bit order, and one unaligned 64-byte store writes them. The
 //! next group's store starts where the kept quads end and overwrites the rest, so the output
-//! equals the scalar loops' quad for quad.
+//! equals the scalar loops' quad for quad. Lines whose quads share id and AO (`push_bits`)
+//! compress bit indices instead, 16 per `vpcompressd`, and build 8 quads per store from them.
 //!
 //! Only this module holds AVX-512 code, and only a [`Wide`] token reaches it: one exists only
 //! on a CPU that runs [`InstructionSet::X86V4`]. Targets without SSE2 (soft-float kernels
