@@ -54,8 +54,8 @@ pub fn depth_key(c: [f32; 3]) -> u32 {
 
 /// The ordered cull on the CPU: the commands of [`cull_reference`](super::cull_reference),
 /// each page's sorted far keys first (ties in slot order), with `first_instance` their index
-/// in that order. The GPU's order within one key, and across keys one apart (see the
-/// [module docs](self)), may differ.
+/// in that order. The GPU's order within one key, and across keys one apart (its `f32`
+/// distances may round a key to its neighbour; [`depth_key`] has the key's rule), may differ.
 pub fn cull_reference_ordered(
     records: &[MeshedChunkInfo],
     camera: &CullCamera,
