@@ -253,17 +253,22 @@ fn bench_block_mesh<M: Measurement, S: Shape<3, Coord = u32>>(
     }
 }
 
+/// `binary-greedy-meshing`'s mesher for chunks of 62 (its const generic).
+type Bgm = binary_greedy_meshing::Mesher<62>;
+
+/// One `binary-greedy-meshing` mesh of `ids`, masks built first, as it asks its callers to do.
+fn bgm_mesh(ids: &[u16], transparents: &BTreeSet<u16>, mesher: &mut Bgm) {
+    let opaque = binary_greedy_meshing::compute_opaque_mask::<62>(ids, transparents);
+    let trans = binary_greedy_meshing::compute_transparent_mask::<62>(ids, transparents);
+    mesher.clear();
+    mesher.fast_mesh(ids, &opaque, &trans);
+}
+
 /// `binary-greedy-meshing` for chunks of 62 (its const generic): masks built in the loop, as
 /// it asks its callers to do.
 fn bench_bgm<M: Measurement>(g: &mut BenchmarkGroup<'_, M>, prep: &Prepared<'_>) {
-    type Bgm = binary_greedy_meshing::Mesher<62>;
     let mut mesher = Bgm::new();
-    let run = |ids: &[u16], mesher: &mut Bgm| {
-        let opaque = binary_greedy_meshing::compute_opaque_mask::<62>(ids, &prep.transparents);
-        let trans = binary_greedy_meshing::compute_transparent_mask::<62>(ids, &prep.transparents);
-        mesher.clear();
-        mesher.fast_mesh(ids, &opaque, &trans);
-    };
+    let run = |ids: &[u16], mesher: &mut Bgm| bgm_mesh(ids, &prep.transparents, mesher);
     let quads: usize = prep
         .input
         .chunks
@@ -302,7 +307,7 @@ fn interleaved_timing<S: Shape<3, Coord = u32>>(prep: &Prepared<'_>, shape: &S, 
     let mut unit = UnitQuadBuffer::new();
     let mut greedy = GreedyQuadsBuffer::new(prep.bm.first().map_or(0, Vec::len));
     let mut bmbgm = BinaryGreedyQuadsBuffer::new();
-    let mut bgm_mesher = binary_greedy_meshing::Mesher::<62>::new();
+    let mut bgm_mesher = Bgm::new();
     let mut timed = vec![
         Timed {
             name: "ours visible",
@@ -366,15 +371,7 @@ fn interleaved_timing<S: Shape<3, Coord = u32>>(prep: &Prepared<'_>, shape: &S, 
             kind: Kind::PeerGreedy,
             run: Box::new(move || {
                 for c in chunks {
-                    let ids = black_box(as_u16(c));
-                    let opaque =
-                        binary_greedy_meshing::compute_opaque_mask::<62>(ids, &prep.transparents);
-                    let trans = binary_greedy_meshing::compute_transparent_mask::<62>(
-                        ids,
-                        &prep.transparents,
-                    );
-                    bgm_mesher.clear();
-                    bgm_mesher.fast_mesh(ids, &opaque, &trans);
+                    bgm_mesh(black_box(as_u16(c)), &prep.transparents, &mut bgm_mesher);
                     black_box(&bgm_mesher.quads);
                 }
             }),
