@@ -89,7 +89,8 @@ fn every_size_and_fill_once() {
             Fill::Noise { air_percent: 50 },
             Fill::Boxes { count: 20 },
             Fill::Terrain,
-            Fill::Checkerboard,
+            Fill::Checkerboard { holes_percent: 0 },
+            Fill::Checkerboard { holes_percent: 3 },
         ] {
             // Two seeds: the checkerboard is of one id for one of them, of mixed ids for the other.
             for seed in [7, 8] {

@@ -118,8 +118,9 @@ impl<'a> Quads<'a> {
     #[inline(always)]
     pub(crate) fn push_bits(&mut self, mut bits: u64, first: u32, shift: u32, key: u32) {
         let base = (u64::from(key) << 32 | u64::from(first)).wrapping_sub(1 << shift);
-        if let Some(wide) = self.wide {
-            wide.push_bits(self.out, bits, base, shift);
+        if let Some(wide) = self.wide
+            && wide.push_bits(self.out, bits, base, shift)
+        {
             return;
         }
         let count = bits.count_ones();

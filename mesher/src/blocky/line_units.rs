@@ -35,17 +35,57 @@ pub(crate) fn many(bits: u64) -> bool {
     x != 0
 }
 
+/// The AO split of the last two lines of lone faces met: the bits whose front neighbourhood
+/// equals that of the line's first face, and that face's AO byte, by front lines and first
+/// bit. Two entries, because periodic slices (a checkerboard's, or stripes) repeat their lines
+/// every other line; a hit saves the 9 bit-plane comparisons (7 % of a checkerboard's time).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct NeighbourhoodMemo {
+    /// Front lines, first bit (64: an empty entry), same-neighbourhood bits, AO byte.
+    entries: [(Front, usize, u64, u32); 2],
+    /// The entry the next miss replaces.
+    next: usize,
+}
+
+impl NeighbourhoodMemo {
+    /// No entry.
+    pub(crate) fn new() -> Self {
+        NeighbourhoodMemo {
+            entries: [((0, 0, 0), 64, 0, 0); 2],
+            next: 0,
+        }
+    }
+
+    /// The split for front lines `front` and first bit `b0`, from an entry or from `compute`.
+    #[inline(always)]
+    fn split(
+        &mut self,
+        front: Front,
+        b0: usize,
+        compute: impl FnOnce() -> (u64, u32),
+    ) -> (u64, u32) {
+        for &(f, b, same, ao) in &self.entries {
+            if b == b0 && f == front {
+                return (same, ao);
+            }
+        }
+        let (same, ao) = compute();
+        self.entries[self.next & 1] = (front, b0, same, ao);
+        self.next ^= 1;
+        (same, ao)
+    }
+}
+
 /// Faces from which a line of 1 x 1 quads is written straight into the output (see
 /// [`SliceFaces::units`]).
 const DIRECT_MIN: u32 = 12;
 
 impl<const D: usize> SliceFaces<'_, D> {
-    /// The faces of `bits` (line `l`) whose front neighbourhood, the 9 bits [`key`](Self::key)
-    /// reads, equals that of the face at bit `b0`.
+    /// The bits of a line with front lines `(f0, f1, f2)` whose front neighbourhood, the 9 bits
+    /// [`key`](Self::key) reads, equals that of bit `b0`.
     #[inline(always)]
-    fn same_neighbourhood(&self, l: usize, b0: usize, bits: u64) -> u64 {
-        let (f0, f1, f2) = self.front_lines(l);
-        let mut same = bits;
+    fn same_neighbourhood((f0, f1, f2): Front, b0: usize) -> u64 {
+        let mut same = u64::MAX;
         for f in [f0, f1, f2] {
             // Bit b of each plane: the front voxel at bit offset -1, 0, +1 of face b.
             for plane in [f << 1, f, f >> 1] {
@@ -211,15 +251,22 @@ impl<const D: usize> SliceFaces<'_, D> {
         &self,
         l: usize,
         bits: u64,
+        memo: &mut NeighbourhoodMemo,
         known: &mut u64,
         out: &mut Quads<'_>,
     ) -> Result<(), MeshError> {
         let b0 = bits.trailing_zeros() as usize & 63;
-        let key0 = self.key::<AO>(l, b0);
-        let same_ao = if AO {
-            self.same_neighbourhood(l, b0, bits)
+        let (same_ao, key0) = if AO {
+            let front = self.front_lines(l);
+            let (same, ao0) = memo.split(front, b0, || {
+                (
+                    Self::same_neighbourhood(front, b0),
+                    self.ao::<AO>(front, b0),
+                )
+            });
+            (same & bits, self.id(l, b0) << 11 | ao0 << 3)
         } else {
-            bits
+            (bits, self.key::<AO>(l, b0))
         };
         let ids = self.line_ids(l);
         let same_key = match ids {

@@ -35,7 +35,7 @@ use voxel_core::formats::PackedQuad;
 use super::bits::nonzero_lines;
 use super::faces::{Quads, SliceFaces};
 use super::grow::{greedy_bits_first, greedy_lines_first};
-use super::line_units::many;
+use super::line_units::{NeighbourhoodMemo, many};
 use super::masks::Slice;
 use super::slices::Direction;
 use crate::MeshError;
@@ -57,6 +57,9 @@ pub(crate) struct Keys {
     /// Ids below 64 known to the classes, one bit each (see [`SliceFaces::check`]); kept for a
     /// whole chunk, so a slice's first face does not miss the cache.
     pub(crate) known: u64,
+    /// The AO splits of the last lines of many lone faces (reset per direction: its entries
+    /// hold AO looked up in the direction's table).
+    pub(crate) memo: NeighbourhoodMemo,
 }
 
 impl Keys {
@@ -68,6 +71,7 @@ impl Keys {
             across: [0; 64],
             alone: [0; 64],
             known: 0,
+            memo: NeighbourhoodMemo::new(),
         }
     }
 
@@ -90,7 +94,7 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
     rows: u64,
-    known: &mut u64,
+    keys: &mut Keys,
     out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
     let mut rest = rows;
@@ -100,10 +104,10 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool>(
         let f = faces[l & 63];
         // Many faces and none with a neighbouring face (a checkerboard): most share one key.
         if many_lone(faces, l) {
-            s.line_units::<AO>(l, f, known, out)?;
+            s.line_units::<AO>(l, f, &mut keys.memo, &mut keys.known, out)?;
             continue;
         }
-        s.units::<AO>(l, f, known, out)?;
+        s.units::<AO>(l, f, &mut keys.known, out)?;
     }
     *faces = [0; 64];
     Ok(())
@@ -138,7 +142,7 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
         rest &= rest - 1;
         let f = faces[l & 63];
         if many_lone(faces, l) {
-            s.line_units::<AO>(l, f, &mut known, out)?;
+            s.line_units::<AO>(l, f, &mut keys.memo, &mut known, out)?;
             faces[l & 63] = 0;
             lone_lines |= 1 << l;
             continue;

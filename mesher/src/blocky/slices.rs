@@ -25,7 +25,7 @@ use voxel_core::formats::PackedQuad;
 
 use super::ao::AO_TABLES;
 use super::faces::{Quads, SliceFaces, SliceQuads};
-use super::line_units::many;
+use super::line_units::{NeighbourhoodMemo, many};
 use super::lone_x::drop_handled;
 use super::masks::{Layouts, Slice};
 use super::merge::{Keys, greedy, rows_of, unit_quads};
@@ -123,6 +123,7 @@ pub(crate) fn mesh_direction<const D: usize>(
     let t_layout = input.transparent.map(|t| t.by[layout]);
     let t_occupied = input.transparent.map_or(0, |t| t.occupied[layout]);
     let [stride_n, stride_l, stride_b] = Direction::<D>::strides(p);
+    keys.memo = NeighbourhoodMemo::new();
     // Lines 0 and p - 1 are the padding; lines past p are zero in every layout.
     let mut faces: Slice = [0; 64];
     #[expect(
@@ -235,10 +236,8 @@ fn emit<const D: usize>(
     // Faces none of which touches another are their own greedy quads: no merging to do.
     let merge = input.merge && !isolated_faces(faces, rows);
     match (merge, input.ao) {
-        (false, true) => unit_quads::<D, true>(slice, faces, rows, &mut keys.known, &mut quads)?,
-        (false, false) => {
-            unit_quads::<D, false>(slice, faces, rows, &mut keys.known, &mut quads)?;
-        }
+        (false, true) => unit_quads::<D, true>(slice, faces, rows, keys, &mut quads)?,
+        (false, false) => unit_quads::<D, false>(slice, faces, rows, keys, &mut quads)?,
         (true, true) => greedy::<D, true>(slice, faces, rows, e, keys, &mut quads)?,
         (true, false) => greedy::<D, false>(slice, faces, rows, e, keys, &mut quads)?,
     }

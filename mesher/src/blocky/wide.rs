@@ -54,8 +54,16 @@ impl Wide {
     /// Appends to `out` a 1 x 1 quad for every set bit `b` of `bits`, whose words are
     /// `base + (b << shift)` as `word1 << 32 | word0`: the bulk path of
     /// [`Quads::push_bits`](super::faces::Quads::push_bits), same quads in the same order.
+    /// Returns false, writing nothing, unless `shift` is that of a quad coordinate (0, 6 or
+    /// 12: the kernel is compiled for each).
     #[inline(always)]
-    pub(crate) fn push_bits(self, out: &mut Vec<PackedQuad>, bits: u64, base: u64, shift: u32) {
+    pub(crate) fn push_bits(
+        self,
+        out: &mut Vec<PackedQuad>,
+        bits: u64,
+        base: u64,
+        shift: u32,
+    ) -> bool {
         #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
         {
             #[expect(
@@ -65,11 +73,20 @@ impl Wide {
             // SAFETY: a `Wide` exists only if `InstructionSet::X86V4.is_supported()`, which
             // checked every feature `push_bits_avx512` is compiled for.
             unsafe {
-                kernels::push_bits_avx512(out, bits, base, shift);
+                match shift {
+                    0 => kernels::push_bits_avx512::<0>(out, bits, base),
+                    6 => kernels::push_bits_avx512::<6>(out, bits, base),
+                    12 => kernels::push_bits_avx512::<12>(out, bits, base),
+                    _ => return false,
+                }
             }
+            true
         }
         #[cfg(not(all(target_arch = "x86_64", target_feature = "sse2")))]
-        let _ = (out, bits, base, shift);
+        {
+            let _ = (out, bits, base, shift);
+            false
+        }
     }
 
     /// Appends to `out` the quads of `line`, in bit order, and returns the mask of the ids
@@ -111,7 +128,8 @@ mod kernels {
         _mm512_maskz_compress_epi32, _mm512_maskz_compress_epi64, _mm512_maskz_mov_epi64,
         _mm512_permutexvar_epi64, _mm512_reduce_or_epi64, _mm512_set1_epi8, _mm512_set1_epi32,
         _mm512_set1_epi64, _mm512_setr_epi32, _mm512_setr_epi64, _mm512_setzero_si512,
-        _mm512_slli_epi64, _mm512_sllv_epi64, _mm512_storeu_si512, _mm512_ternarylogic_epi64,
+        _mm512_slli_epi32, _mm512_slli_epi64, _mm512_sllv_epi64, _mm512_storeu_si512,
+        _mm512_ternarylogic_epi64,
     };
     use voxel_core::formats::PackedQuad;
 
@@ -160,31 +178,30 @@ mod kernels {
 
     /// See [`Wide::push_bits`].
     ///
-    /// All the quads of a line differ only in the bit coordinate, so the kernel compresses bit
-    /// indices rather than quads: per group of 16 bits, `vpcompressd` keeps the 32-bit indices
-    /// of the set bits, which are widened to 64-bit lanes, shifted and added to `base`, 8 at a
-    /// time; a group stores a second register only when it has more than 8 faces. A line of
-    /// 31 faces (a checkerboard's) takes 4 compresses and 4 stores, against 8 of each for
-    /// 8-bit groups of whole quads.
+    /// All the quads of a line differ only in the bit coordinate, so the kernel compresses
+    /// shifted bit indices rather than quads: per group of 16 bits, `vpcompressd` keeps the
+    /// 32-bit `b << SHIFT` of the set bits (a constant vector per group), which are widened to
+    /// 64-bit lanes and added to `base`, 8 at a time; a group stores a second register only when
+    /// it has more than 8 faces. A line of 31 faces (a checkerboard's) takes 4 compresses and
+    /// 4 stores, against 8 of each for 8-bit groups of whole quads.
     #[target_feature(enable = "avx512f,popcnt")]
-    pub(super) fn push_bits_avx512(out: &mut Vec<PackedQuad>, bits: u64, base: u64, shift: u32) {
+    pub(super) fn push_bits_avx512<const SHIFT: u32>(
+        out: &mut Vec<PackedQuad>,
+        bits: u64,
+        base: u64,
+    ) {
         let count = reserve_line(out, bits);
         let spare = out.spare_capacity_mut();
         let base = _mm512_set1_epi64(base as i64);
-        let shift = _mm512_set1_epi64(i64::from(shift));
-        let mut index = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-        let sixteen = _mm512_set1_epi32(16);
-        let quads = |indices: __m256i| {
-            _mm512_add_epi64(
-                base,
-                _mm512_sllv_epi64(_mm512_cvtepu32_epi64(indices), shift),
-            )
-        };
+        let quads = |offsets: __m256i| _mm512_add_epi64(base, _mm512_cvtepu32_epi64(offsets));
         let mut n = 0;
         for group in 0..4 {
             let mask = (bits >> (16 * group)) as u16;
-            let kept = _mm512_maskz_compress_epi32(mask, index);
-            index = _mm512_add_epi32(index, sixteen);
+            let offsets = _mm512_slli_epi32::<SHIFT>(_mm512_add_epi32(
+                _mm512_set1_epi32(16 * group),
+                _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
+            ));
+            let kept = _mm512_maskz_compress_epi32(mask, offsets);
             store_quads(spare, n, quads(_mm512_castsi512_si256(kept)));
             let faces = mask.count_ones() as usize;
             if faces > 8 {
@@ -333,12 +350,8 @@ mod tests {
 
                     let key = 0x0FFF_FFFFu64;
                     let mut out = vec![PackedQuad::default()];
-                    wide.push_bits(
-                        &mut out,
-                        bits,
-                        (key << 32 | first).wrapping_sub(1 << shift),
-                        shift,
-                    );
+                    let base = (key << 32 | first).wrapping_sub(1 << shift);
+                    assert!(wide.push_bits(&mut out, bits, base, shift));
                     let same_key: Vec<PackedQuad> = (1..64u64)
                         .filter(|b| bits >> b & 1 == 1)
                         .map(|b| {

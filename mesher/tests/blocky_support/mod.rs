@@ -76,7 +76,9 @@ pub enum Fill {
     Terrain,
     /// A 3-D checkerboard: voxel `(x, y, z)` is air iff `x + y + z` is odd, else one of `ids`
     /// (one id for the whole chunk with probability 1/2): every face is visible and alone.
-    Checkerboard,
+    /// `holes_percent` of the even voxels are air too: the faces stay alone, but lines with
+    /// the same faces get different front neighbourhoods, so AO varies from line to line.
+    Checkerboard { holes_percent: u64 },
 }
 
 /// A random padded chunk of `size`; `air_border` leaves the one-voxel border air.
@@ -115,11 +117,11 @@ pub fn random_chunk(
             }
             padded
         }
-        Fill::Checkerboard => {
+        Fill::Checkerboard { holes_percent } => {
             let single = rng.below(2) == 0;
             let first = ids[rng.below(ids.len() as u64) as usize];
             PaddedChunk::from_fn(size, |x, y, z| {
-                if (x + y + z) % 2 == 1 {
+                if (x + y + z) % 2 == 1 || rng.below(100) < holes_percent {
                     BlockId::AIR
                 } else if single {
                     BlockId(first)
@@ -303,6 +305,7 @@ pub fn fills() -> impl proptest::strategy::Strategy<Value = Fill> {
         (0u64..=100).prop_map(|air_percent| Fill::Noise { air_percent }),
         (1u32..40).prop_map(|count| Fill::Boxes { count }),
         Just(Fill::Terrain),
-        Just(Fill::Checkerboard),
+        prop_oneof![Just(0u64), 1u64..=20]
+            .prop_map(|holes_percent| Fill::Checkerboard { holes_percent }),
     ]
 }
