@@ -103,6 +103,21 @@ pub(crate) fn row_equal(row: &[u16], id: u16) -> u64 {
     row_mask(row, |v| v == id)
 }
 
+/// The faces of `faces` whose id in `row` is `id`, for a row of ids whose faces include one
+/// of `id`: usually every face of a line has one id, so a test that the row holds no other
+/// solid id (a compare-and-OR, like [`row_contains`]) answers without the bit packing of
+/// [`row_equal`].
+#[inline(always)]
+pub(crate) fn faces_of_id(row: &[u16], id: u16, faces: u64) -> u64 {
+    let other = row
+        .iter()
+        .fold(0u16, |acc, &v| acc | u16::from(v != 0 && v != id));
+    if other == 0 {
+        return faces;
+    }
+    faces & row_equal(row, id)
+}
+
 /// True if `row` holds `id` anywhere: a compare-and-OR over the row that vectorises without
 /// any bit packing, much cheaper than [`row_equal`] when (as usual) the answer is no.
 #[inline(always)]
@@ -163,6 +178,27 @@ mod tests {
         assert_eq!(nonzero_lines(&lines), want);
         assert_eq!(nonzero_lines(&[0; 64]), 0);
         assert_eq!(nonzero_lines(&[u64::MAX; 64]), u64::MAX);
+    }
+
+    /// Both answers of `faces_of_id`: a row of one solid id and air (the faces come back
+    /// whole), and rows with a second id anywhere, at a face or not (only the faces of the id).
+    #[test]
+    fn faces_of_id_keeps_exactly_the_faces_of_the_id() {
+        for len in [34usize, 64] {
+            let faces = 0x5555_5555_5555_5555u64 >> (64 - len) & !1;
+            let one_id: [u16; 64] = core::array::from_fn(|i| if i % 2 == 0 { 9 } else { 0 });
+            assert_eq!(faces_of_id(&one_id[..len], 9, faces), faces);
+            for other_at in [2, 3, len - 1] {
+                let mut mixed = one_id;
+                mixed[other_at] = 65535;
+                let want = (0..len).fold(0u64, |m, i| m | u64::from(mixed[i] == 9) << i);
+                assert_eq!(
+                    faces_of_id(&mixed[..len], 9, faces),
+                    faces & want,
+                    "len {len}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -183,6 +183,28 @@ impl<const D: usize> SliceFaces<'_, D> {
         LineIds::Row(row)
     }
 
+    /// Asks the CPU to fetch the ids of line `l` (a row of 64 ids, two cache lines) ahead of
+    /// their use, for the ±Y faces: their lines' rows lie a slab apart (8 KiB at 62^3), a
+    /// stride the hardware prefetchers do not follow, and the output written meanwhile evicts
+    /// them from the nearer caches. A no-op for the other directions and off x86-64.
+    #[inline(always)]
+    pub(crate) fn prefetch_line(&self, l: usize) {
+        if Direction::<D>::LAYOUT != 1 {
+            return;
+        }
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
+        {
+            let start = self.base + l * self.stride_l;
+            for i in [start, start + 32] {
+                if let Some(id) = self.voxels.get(i) {
+                    safe_arch::prefetch_t0(id);
+                }
+            }
+        }
+        #[cfg(not(all(target_arch = "x86_64", target_feature = "sse")))]
+        let _ = l;
+    }
+
     /// The bit that marks `id` in a mask of ids seen, checked against the cache of known ids
     /// (see [`check`](Self::check)): bit `id` for ids below 64, bit 0 for all larger ones.
     /// Air (id 0) never has a face and bit 0 is never in the cache, so one mask tells both

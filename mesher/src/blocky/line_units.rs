@@ -19,7 +19,7 @@
 use voxel_core::formats::PackedQuad;
 
 use super::ao::{CORNER_OFFSETS, ao_planes};
-use super::bits::row_equal;
+use super::bits::faces_of_id;
 use super::faces::{Front, LineIds, Quads, SliceFaces};
 use super::slices::Direction;
 use super::wide::{UnitLine, Wide};
@@ -35,42 +35,73 @@ pub(crate) fn many(bits: u64) -> bool {
     x != 0
 }
 
+/// The front voxels a line's AO split is computed from: its 3 front lines here, its 9 bit
+/// planes in [`super::lone_x`].
+pub(crate) trait FrontVoxels: Copy {
+    /// A value no line has in an entry with first bit 64 (never matched).
+    const NONE: Self;
+    /// Equal front voxels. Written as one OR of XORs for the planes: an array comparison
+    /// compiles to a call.
+    fn same_as(&self, other: &Self) -> bool;
+}
+
+impl FrontVoxels for Front {
+    const NONE: Self = (0, 0, 0);
+
+    #[inline(always)]
+    fn same_as(&self, other: &Self) -> bool {
+        ((self.0 ^ other.0) | (self.1 ^ other.1) | (self.2 ^ other.2)) == 0
+    }
+}
+
+impl FrontVoxels for [u64; 9] {
+    const NONE: Self = [0; 9];
+
+    #[inline(always)]
+    fn same_as(&self, other: &Self) -> bool {
+        self.iter()
+            .zip(other)
+            .fold(0, |differ, (a, b)| differ | (a ^ b))
+            == 0
+    }
+}
+
 /// The AO split of the last two lines of lone faces met: the bits whose front neighbourhood
-/// equals that of the line's first face, and that face's AO byte, by front lines and first
+/// equals that of the line's first face, and that face's AO byte, by front voxels and first
 /// bit. Two entries, because periodic slices (a checkerboard's, or stripes) repeat their lines
 /// every other line; a hit saves the 9 bit-plane comparisons (7 % of a checkerboard's time).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct NeighbourhoodMemo {
-    /// Front lines, first bit (64: an empty entry), same-neighbourhood bits, AO byte.
-    entries: [(Front, usize, u64, u32); 2],
+pub(crate) struct NeighbourhoodMemo<F> {
+    /// Front voxels, first bit (64: an empty entry), same-neighbourhood bits, AO byte.
+    entries: [(F, usize, u64, u32); 2],
     /// The entry the next miss replaces.
     next: usize,
 }
 
-impl NeighbourhoodMemo {
+impl<F: FrontVoxels> NeighbourhoodMemo<F> {
     /// No entry.
     pub(crate) fn new() -> Self {
         NeighbourhoodMemo {
-            entries: [((0, 0, 0), 64, 0, 0); 2],
+            entries: [(F::NONE, 64, 0, 0); 2],
             next: 0,
         }
     }
 
-    /// The split for front lines `front` and first bit `b0`, from an entry or from `compute`.
+    /// The split for front voxels `front` and first bit `b0`, from an entry or from `compute`.
     #[inline(always)]
-    fn split(
+    pub(crate) fn split(
         &mut self,
-        front: Front,
+        front: &F,
         b0: usize,
         compute: impl FnOnce() -> (u64, u32),
     ) -> (u64, u32) {
-        for &(f, b, same, ao) in &self.entries {
-            if b == b0 && f == front {
-                return (same, ao);
+        for (f, b, same, ao) in &self.entries {
+            if *b == b0 && f.same_as(front) {
+                return (*same, *ao);
             }
         }
         let (same, ao) = compute();
-        self.entries[self.next & 1] = (front, b0, same, ao);
+        self.entries[self.next & 1] = (*front, b0, same, ao);
         self.next ^= 1;
         (same, ao)
     }
@@ -251,14 +282,14 @@ impl<const D: usize> SliceFaces<'_, D> {
         &self,
         l: usize,
         bits: u64,
-        memo: &mut NeighbourhoodMemo,
+        memo: &mut NeighbourhoodMemo<Front>,
         known: &mut u64,
         out: &mut Quads<'_>,
     ) -> Result<(), MeshError> {
         let b0 = bits.trailing_zeros() as usize & 63;
         let (same_ao, key0) = if AO {
             let front = self.front_lines(l);
-            let (same, ao0) = memo.split(front, b0, || {
+            let (same, ao0) = memo.split(&front, b0, || {
                 (
                     Self::same_neighbourhood(front, b0),
                     self.ao::<AO>(front, b0),
@@ -270,7 +301,7 @@ impl<const D: usize> SliceFaces<'_, D> {
         };
         let ids = self.line_ids(l);
         let same_key = match ids {
-            LineIds::Row(row) => same_ao & row_equal(row, row[b0]),
+            LineIds::Row(row) => faces_of_id(row, row[b0], same_ao),
             // ±X faces: the ids are strided, read one by one but compared without a branch.
             LineIds::Strided { .. } => {
                 let id0 = key0 >> 11;

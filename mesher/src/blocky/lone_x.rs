@@ -21,9 +21,9 @@
 use voxel_core::BlockId;
 use voxel_core::formats::PackedQuad;
 
-use super::bits::row_equal;
+use super::bits::faces_of_id;
 use super::faces::Quads;
-use super::line_units::many;
+use super::line_units::{NeighbourhoodMemo, many};
 use super::masks::Slice;
 use super::slices::{Direction, Input};
 use crate::{BlockClasses, MeshError};
@@ -100,6 +100,7 @@ pub(crate) fn lone_x<const D: usize>(
     below = [0; 64];
     slab_faces::<D>(slab(1), inner, e, true, &mut here);
     let mut known = classes.known_below_64();
+    let mut memo = NeighbourhoodMemo::new();
     for z in 1..=e {
         slab_faces::<D>(slab(z + 1), inner, e, z < e, &mut above);
         for y in 1..=e {
@@ -128,6 +129,7 @@ pub(crate) fn lone_x<const D: usize>(
                 &planes,
                 ids,
                 &mut known,
+                &mut memo,
                 out,
             )?;
         }
@@ -153,6 +155,7 @@ fn emit_row<const D: usize>(
     planes: &[u64; 9],
     ids: &[u16],
     known: &mut u64,
+    memo: &mut NeighbourhoodMemo<[u64; 9]>,
     out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
     let code = |x: usize| {
@@ -160,14 +163,14 @@ fn emit_row<const D: usize>(
             code | (((plane >> x) & 1) as usize) << k
         })
     };
-    let key_of = |id: u16, code: usize| {
-        let ao = if ao {
+    let ao_of = |code: usize| {
+        if ao {
             u32::from(Direction::<D>::AO_TABLE[code & 511])
         } else {
             0xFF
-        };
-        u32::from(id) << 11 | ao << 3 | D as u32
+        }
     };
+    let key_of = |id: u16, code: usize| u32::from(id) << 11 | ao_of(code) << 3 | D as u32;
     let key = |x: usize| key_of(ids.get(x).copied().unwrap_or(0), code(x));
     let check = |key: u32, x: usize, known: &mut u64| {
         let id = key >> 11;
@@ -190,21 +193,23 @@ fn emit_row<const D: usize>(
     let mut rest = bits;
     {
         // Faces with the first face's front neighbourhood and id share its key. One pass over
-        // the planes gives both the first face's neighbourhood code and the faces that share it.
+        // the planes gives both the first face's neighbourhood code and the faces that share it
+        // (or the memo has them from a row with the same planes).
         let x0 = bits.trailing_zeros() as usize & 63;
-        let mut same = bits;
-        let mut code0 = 0;
-        for (k, &plane) in planes.iter().enumerate() {
-            let bit = (plane >> x0) & 1;
-            code0 |= (bit as usize) << k;
-            same &= !(plane ^ 0u64.wrapping_sub(bit));
-        }
-        if !ao {
-            same = bits;
-        }
+        let (same, ao0) = memo.split(planes, x0, || {
+            let mut same = u64::MAX;
+            let mut code0 = 0;
+            for (k, &plane) in planes.iter().enumerate() {
+                let bit = (plane >> x0) & 1;
+                code0 |= (bit as usize) << k;
+                same &= !(plane ^ 0u64.wrapping_sub(bit));
+            }
+            (same, ao_of(code0))
+        });
+        let mut same = if ao { same & bits } else { bits };
         let id0 = ids.get(x0).copied().unwrap_or(0);
-        let key0 = key_of(id0, code0);
-        same &= row_equal(ids, id0);
+        let key0 = u32::from(id0) << 11 | ao0 << 3 | D as u32;
+        same = faces_of_id(ids, id0, same);
         check(key0, x0, known)?;
         out.push_bits(same, word, 0, key0);
         rest &= !same;

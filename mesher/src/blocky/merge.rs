@@ -33,7 +33,7 @@
 use voxel_core::formats::PackedQuad;
 
 use super::bits::nonzero_lines;
-use super::faces::{Quads, SliceFaces};
+use super::faces::{Front, Quads, SliceFaces};
 use super::grow::{greedy_bits_first, greedy_lines_first};
 use super::line_units::{NeighbourhoodMemo, many};
 use super::masks::Slice;
@@ -59,7 +59,7 @@ pub(crate) struct Keys {
     pub(crate) known: u64,
     /// The AO splits of the last lines of many lone faces (reset per direction: its entries
     /// hold AO looked up in the direction's table).
-    pub(crate) memo: NeighbourhoodMemo,
+    pub(crate) memo: NeighbourhoodMemo<Front>,
 }
 
 impl Keys {
@@ -101,6 +101,9 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool>(
     while rest != 0 {
         let l = rest.trailing_zeros() as usize;
         rest &= rest - 1;
+        if rest != 0 {
+            s.prefetch_line(rest.trailing_zeros() as usize);
+        }
         let f = faces[l & 63];
         // Many faces and none with a neighbouring face (a checkerboard): most share one key.
         if many_lone(faces, l) {
@@ -140,6 +143,9 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
     while rest != 0 {
         let l = rest.trailing_zeros() as usize;
         rest &= rest - 1;
+        if rest != 0 {
+            s.prefetch_line(rest.trailing_zeros() as usize);
+        }
         let f = faces[l & 63];
         if many_lone(faces, l) {
             s.line_units::<AO>(l, f, &mut keys.memo, &mut known, out)?;
