@@ -109,10 +109,17 @@ pub(crate) fn row_equal(row: &[u16], id: u16) -> u64 {
 /// [`row_equal`].
 #[inline(always)]
 pub(crate) fn faces_of_id(row: &[u16], id: u16, faces: u64) -> u64 {
-    let other = row
-        .iter()
-        .fold(0u16, |acc, &v| acc | u16::from(v != 0 && v != id));
-    if other == 0 {
+    let other_id = |row: &[u16]| {
+        row.iter()
+            .fold(0u16, |acc, &v| acc | u16::from(v != 0 && v != id))
+            != 0
+    };
+    // A full row as an array: the fold is unrolled, with no loop over a run-time length.
+    let other = match <&[u16; 64]>::try_from(row) {
+        Ok(full) => other_id(full),
+        Err(_) => other_id(row),
+    };
+    if !other {
         return faces;
     }
     faces & row_equal(row, id)
