@@ -128,17 +128,22 @@ fn buffers_are_reused_across_sizes_and_results_do_not_leak_between_calls() {
     let mut mesher = GreedyMesher::new();
     let mut mesh = BlockyMesh::new();
     let mut fresh = BlockyMesh::new();
-    for (i, size) in [
-        ChunkSize::S62,
-        ChunkSize::S8,
-        ChunkSize::S32,
-        ChunkSize::S16,
-        ChunkSize::S62,
+    // Chunks of one size in a row, of different shapes, too: a full slice of one chunk must not
+    // survive into the next chunk's masks where that one is empty.
+    for (i, (size, fill)) in [
+        (ChunkSize::S62, Fill::Terrain),
+        (ChunkSize::S62, Fill::Boxes { count: 3 }),
+        (ChunkSize::S8, Fill::Terrain),
+        (ChunkSize::S32, Fill::Noise { air_percent: 50 }),
+        (ChunkSize::S32, Fill::Boxes { count: 2 }),
+        (ChunkSize::S32, Fill::Terrain),
+        (ChunkSize::S16, Fill::Terrain),
+        (ChunkSize::S62, Fill::Terrain),
     ]
     .into_iter()
     .enumerate()
     {
-        let padded = random_chunk(size, i as u64, Fill::Terrain, &[STONE, DIRT, WATER], false);
+        let padded = random_chunk(size, i as u64, fill, &[STONE, DIRT, WATER], false);
         mesher.mesh(&padded, &classes, &mut mesh).unwrap();
         GreedyMesher::new()
             .mesh(&padded, &classes, &mut fresh)

@@ -66,6 +66,10 @@ pub(crate) struct Masks {
     trans_a: Vec<Slice>,
     trans_b: Vec<Slice>,
     trans_c: Vec<Slice>,
+    /// Bit `y`: line `y` of some slice of `opaque_c` may be non-zero (see [`bit_transpose`]).
+    opaque_c_lines: u64,
+    /// The same for `trans_c`.
+    trans_c_lines: u64,
     /// The input columns, viewed as 64-line slices, are the opaque mask.
     opaque_is_columns: bool,
     /// Some voxel is transparent.
@@ -148,14 +152,16 @@ impl Masks {
         self.opaque_is_columns = p == 64 && !self.has_transparent;
         if !self.opaque_is_columns {
             slices(&mut self.opaque_a, p);
-            for (slab, out) in columns.chunks_exact(p).zip(self.opaque_a.iter_mut()) {
-                out[..p].copy_from_slice(slab);
-            }
+            let slabs = columns.chunks_exact(p).zip(self.opaque_a.iter_mut());
             if self.has_transparent {
-                for (o, t) in self.opaque_a.iter_mut().zip(&self.trans_a) {
-                    for (o, t) in o.iter_mut().zip(t) {
-                        *o &= !t;
+                for ((slab, out), t) in slabs.zip(&self.trans_a) {
+                    for ((o, &c), &t) in out.iter_mut().zip(slab).zip(t) {
+                        *o = c & !t;
                     }
+                }
+            } else {
+                for (slab, out) in slabs {
+                    out[..p].copy_from_slice(slab);
                 }
             }
         }
@@ -165,11 +171,16 @@ impl Masks {
             &self.opaque_a
         };
         word_transpose(p, opaque_a, &mut self.opaque_b);
-        bit_transpose(p, &self.opaque_b, &mut self.opaque_c);
+        bit_transpose(
+            p,
+            &self.opaque_b,
+            &mut self.opaque_c,
+            &mut self.opaque_c_lines,
+        );
         self.occupied[0] = occupied_slices(opaque_a);
         if self.has_transparent {
             word_transpose(p, &self.trans_a, &mut self.trans_b);
-            bit_transpose(p, &self.trans_b, &mut self.trans_c);
+            bit_transpose(p, &self.trans_b, &mut self.trans_c, &mut self.trans_c_lines);
             self.occupied[1] = occupied_slices(&self.trans_a);
         }
         Content::Surface
@@ -263,13 +274,30 @@ fn word_transpose(p: usize, a: &[Slice], out: &mut Vec<Slice>) {
 
 /// Layout C from layout B: for each slice `y`, transpose the bit matrix (lines z, bits x) into
 /// lines x, bits z, stored at `out[x][y]`.
+///
+/// Writing line `y` of all 64 slices of `out` is 64 stores a slice apart; for an empty slice
+/// of `b` they store zeros, which a scratch reused from the last chunk often holds already
+/// (terrain leaves the slices above its surface empty, water most of the transparent mask).
+/// So `lines` remembers which lines `y` may hold a set bit, and an empty slice `y` whose line
+/// is known clear costs nothing.
 #[inline(always)]
-fn bit_transpose(p: usize, b: &[Slice], out: &mut Vec<Slice>) {
+fn bit_transpose(p: usize, b: &[Slice], out: &mut Vec<Slice>, lines: &mut u64) {
+    if out.len() != p {
+        // Resized: lines of slices kept from another size are not tracked.
+        *lines = u64::MAX;
+    }
     slices(out, p);
     for (y, slice) in b.iter().enumerate() {
         let mut m = *slice;
-        if m.iter().any(|&line| line != 0) {
+        let bit = 1u64 << (y & 63);
+        if m.iter().all(|&line| line == 0) {
+            if *lines & bit == 0 {
+                continue;
+            }
+            *lines &= !bit;
+        } else {
             transpose64(&mut m);
+            *lines |= bit;
         }
         for (x, slot) in out.iter_mut().enumerate() {
             slot[y & 63] = m[x & 63];
