@@ -83,8 +83,8 @@ fn batch(c: &mut Criterion) {
             (ms(t.first()), ms(t.get(t.len() / 2)))
         })
         .collect();
+    let (one_min, one_median) = spreads[0];
     for (&threads, &(min, median)) in counts.iter().zip(&spreads) {
-        let (one_min, one_median) = spreads[0];
         println!(
             "batch interleaved, {rounds} rounds: {threads} threads {min:.2} / {median:.2} ms \
              (min / median), speedup {:.2}x / {:.2}x",

@@ -196,17 +196,21 @@ fn emit_row<const D: usize>(
         // the planes gives both the first face's neighbourhood code and the faces that share it
         // (or the memo has them from a row with the same planes).
         let x0 = bits.trailing_zeros() as usize & 63;
-        let (same, ao0) = memo.split(planes, x0, || {
-            let mut same = u64::MAX;
-            let mut code0 = 0;
-            for (k, &plane) in planes.iter().enumerate() {
-                let bit = (plane >> x0) & 1;
-                code0 |= (bit as usize) << k;
-                same &= !(plane ^ 0u64.wrapping_sub(bit));
-            }
-            (same, ao_of(code0))
-        });
-        let mut same = if ao { same & bits } else { bits };
+        let (mut same, ao0) = if ao {
+            let (same, ao0) = memo.split(planes, x0, || {
+                let mut same = u64::MAX;
+                let mut code0 = 0;
+                for (k, &plane) in planes.iter().enumerate() {
+                    let bit = (plane >> x0) & 1;
+                    code0 |= (bit as usize) << k;
+                    same &= !(plane ^ 0u64.wrapping_sub(bit));
+                }
+                (same, ao_of(code0))
+            });
+            (same & bits, ao0)
+        } else {
+            (bits, 0xFF)
+        };
         let id0 = ids.get(x0).copied().unwrap_or(0);
         let key0 = u32::from(id0) << 11 | ao0 << 3 | D as u32;
         same = faces_of_id(ids, id0, same);

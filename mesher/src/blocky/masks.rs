@@ -288,12 +288,13 @@ fn bit_transpose(p: usize, b: &[Slice], out: &mut Vec<Slice>, lines: &mut u64) {
     }
     slices(out, p);
     for (y, slice) in b.iter().enumerate() {
-        let mut m = *slice;
         let bit = 1u64 << (y & 63);
-        if m.iter().all(|&line| line == 0) {
-            if *lines & bit == 0 {
-                continue;
-            }
+        let empty = slice.iter().all(|&line| line == 0);
+        if empty && *lines & bit == 0 {
+            continue;
+        }
+        let mut m = *slice;
+        if empty {
             *lines &= !bit;
         } else {
             transpose64(&mut m);
