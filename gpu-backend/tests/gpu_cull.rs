@@ -601,8 +601,10 @@ fn ordered_cull_is_back_to_front() {
             }
         }
         eprintln!("{path:?}: {descents} key descents");
+        // Random scenes give 456 to about 1,200 descents (31 seeds on lavapipe); a broken
+        // generator gives none. The bound sits well below that range so that no seed fails.
         assert!(
-            descents > 500,
+            descents > 250,
             "the scenes barely exercise the order: {descents}"
         );
     }
