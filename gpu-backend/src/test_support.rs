@@ -1,10 +1,11 @@
-//! Helpers for GPU tests: get a context or skip cleanly.
+//! Helpers for tests: get a GPU context or skip loudly.
 //!
-//! A machine without a Vulkan adapter (no driver, no lavapipe) skips GPU tests with one line,
-//! `skipped: no Vulkan adapter`, unless `CI=true`: CI installs lavapipe
-//! (`scripts/setup-debian.sh`), so there a missing adapter fails the test.
+//! A test that cannot run here (no Vulkan adapter, no sample data, no Xvfb, an adapter without
+//! a feature the test needs) calls [`skip`]: under `CI=true` that fails the test, since CI
+//! installs everything (`scripts/setup-debian.sh`) and a skip there would hide a test that
+//! never ran; elsewhere it prints `skipped: <test>: <reason>` where `cargo test` shows it.
 
-use std::sync::Once;
+use std::io::Write;
 
 use crate::device::{DeviceOptions, GpuContext};
 
@@ -13,22 +14,54 @@ pub fn in_ci() -> bool {
     std::env::var("CI").is_ok_and(|v| v == "true")
 }
 
-/// A headless context, or `None` when the machine has no adapter and this is not CI (the
-/// first such call of the process prints `skipped: no Vulkan adapter`).
+/// Records that the calling test skips for `reason`; the test then returns.
+///
+/// Writes `skipped: <test name>: <reason>` straight to the process's standard error. (The
+/// test harness captures `eprintln!` and shows it only for failing tests; a direct write to
+/// the stream bypasses the capture, so the line is seen in every run.) The test name is the
+/// name of the harness thread running the test.
+///
+/// # Panics
+///
+/// Under `CI=true`, always: a test must not skip in CI.
+pub fn skip(reason: &str) {
+    let current = std::thread::current();
+    let test = current.name().unwrap_or("(unnamed test)");
+    assert!(
+        !in_ci(),
+        "{test} would skip ({reason}), and a test must not skip under CI=true"
+    );
+    // Nothing useful is left to do if standard error is gone.
+    let _ = writeln!(std::io::stderr().lock(), "skipped: {test}: {reason}");
+}
+
+/// A headless context, or `None` when the machine has no adapter (nothing printed: a test
+/// that shares one context between tests calls [`skip`] itself, once per test).
+///
+/// # Panics
+///
+/// When an adapter exists but refuses the device: a failure, not a reason to skip.
+pub fn headless(options: &DeviceOptions) -> Option<GpuContext> {
+    match GpuContext::new_headless(options) {
+        Ok(context) => Some(context),
+        Err(e) if e.is_no_adapter() => None,
+        Err(e) => panic!("GPU test cannot run: {e}"),
+    }
+}
+
+/// A headless context, or `None` after [`skip`] printed `skipped: <test>: no Vulkan adapter`.
 ///
 /// # Panics
 ///
 /// Under `CI=true` when there is no adapter, and anywhere when an adapter exists but refuses
 /// the device: both are failures, not reasons to skip.
 pub fn headless_or_skip(options: &DeviceOptions) -> Option<GpuContext> {
-    match GpuContext::new_headless(options) {
-        Ok(context) => Some(context),
-        Err(e) if e.is_no_adapter() && !in_ci() => {
-            // One line per test process, however many tests skip.
-            static NOTICE: Once = Once::new();
-            NOTICE.call_once(|| eprintln!("skipped: no Vulkan adapter"));
-            None
-        }
-        Err(e) => panic!("GPU test cannot run: {e}"),
+    let context = headless(options);
+    if context.is_none() {
+        skip(NO_ADAPTER);
     }
+    context
 }
+
+/// The reason [`headless_or_skip`] gives.
+pub const NO_ADAPTER: &str = "no Vulkan adapter";

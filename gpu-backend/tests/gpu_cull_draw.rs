@@ -21,7 +21,7 @@ use gpu_backend::cull::{
 use gpu_backend::gigabuffer::{DataKind, PageLayout};
 use gpu_backend::readback::read_buffer;
 use gpu_backend::shaders::compose;
-use gpu_backend::test_support::headless_or_skip;
+use gpu_backend::test_support::{headless_or_skip, skip};
 use gpu_backend::{DeviceOptions, GpuContext, MeshedChunkTable};
 use gpu_cull_support::{random_camera, random_scene, unordered};
 use voxel_core::formats::ChunkDrawIndirect;
@@ -200,8 +200,7 @@ impl Probe {
 
 #[test]
 fn commands_drive_multi_draws() {
-    let seed = Rng::fresh_seed();
-    eprintln!("GPU_TEST_SEED={seed}");
+    let seed = Rng::test_seed();
     let zeroed = DeviceOptions {
         disable_indirect_count: true,
         ..DeviceOptions::default()
@@ -211,10 +210,10 @@ fn commands_drive_multi_draws() {
             return;
         };
         if !ctx.capabilities.indirect_first_instance {
-            eprintln!(
-                "skipped: no INDIRECT_FIRST_INSTANCE on {}",
+            skip(&format!(
+                "no INDIRECT_FIRST_INSTANCE on {}",
                 ctx.capabilities.adapter
-            );
+            ));
             return;
         }
         let path = ctx.capabilities.multi_draw;

@@ -13,7 +13,7 @@
 //!   normalization is exact; its square root and reciprocal may round differently on a GPU,
 //!   as the octahedral module's docs say). The largest distance seen is printed.
 //!
-//! The seed is fresh each run (set `GPU_TEST_SEED` to repeat one) and printed on failure.
+//! The seed is fixed (`GPU_TEST_SEED` picks another, see `Rng::test_seed`) and printed on failure.
 
 mod common;
 mod parity;
@@ -23,7 +23,7 @@ use std::sync::OnceLock;
 use common::Rng;
 use gpu_backend::DeviceOptions;
 use gpu_backend::shaders::FORMAT_PARITY;
-use gpu_backend::test_support::headless_or_skip;
+use gpu_backend::test_support::{NO_ADAPTER, headless, skip};
 use parity::compare::{Outcome, compare};
 use parity::expected::{self, Word};
 use parity::harness::{Entry, Harness};
@@ -37,14 +37,19 @@ use voxel_core::formats::{SmoothQuads, UnormExtent, compact_quad_decode};
 /// driver 580.159.04), where every other word was bit-exact too.
 const NORMAL_ULPS: u64 = 4;
 
-/// One harness (device + shader module) for every test of this binary; `None` when skipped.
+/// One harness (device + shader module) for every test of this binary; `None`, after a
+/// `skipped` line for the calling test, when the machine has no adapter.
 fn harness() -> Option<&'static Harness> {
     static HARNESS: OnceLock<Option<Harness>> = OnceLock::new();
-    HARNESS
+    let harness = HARNESS
         .get_or_init(|| {
-            headless_or_skip(&DeviceOptions::default()).map(|ctx| Harness::new(ctx, &FORMAT_PARITY))
+            headless(&DeviceOptions::default()).map(|ctx| Harness::new(ctx, &FORMAT_PARITY))
         })
-        .as_ref()
+        .as_ref();
+    if harness.is_none() {
+        skip(NO_ADAPTER);
+    }
+    harness
 }
 
 /// Extents for the unorm16 positions: unit, the padded chunk edges, and a random normal value.
@@ -140,10 +145,10 @@ const COMPACT_QUADS: Entry = entry!("decode_compact_quads", 9, 4, false);
 const U16_QUADS: Entry = entry!("decode_u16_quads", 9, 4, false);
 const U32_QUADS: Entry = entry!("decode_u32_quads", 9, 4, false);
 
-/// A fresh seed and its generator, or `None` when there is no adapter.
+/// The test seed and its generator, or `None` when there is no adapter.
 fn setup() -> Option<(u64, Rng)> {
     harness()?;
-    let seed = Rng::fresh_seed();
+    let seed = Rng::test_seed();
     Some((seed, Rng::new(seed)))
 }
 

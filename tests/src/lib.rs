@@ -2,11 +2,14 @@
 
 use std::path::PathBuf;
 
+use gpu_backend::test_support::skip;
+
 /// The folder of shared sample data (`../shared/data/<kind>` beside the checkout), if present.
 ///
 /// Sample data is never copied into the repository. When it is missing, a test under CI
 /// (`CI=true`) must fail, and anywhere else it may skip with one clear line: this function
-/// panics under CI, and elsewhere prints `skipped: no sample data (<path>)` and returns `None`.
+/// panics under CI, and elsewhere prints `skipped: <test>: no sample data (<path>)` (see
+/// [`skip`]) and returns `None`.
 pub fn sample_data(kind: &str) -> Option<PathBuf> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../../shared/data")
@@ -14,13 +17,10 @@ pub fn sample_data(kind: &str) -> Option<PathBuf> {
     if dir.is_dir() {
         return Some(dir);
     }
-    if std::env::var("CI").is_ok_and(|v| v == "true") {
-        panic!(
-            "sample data folder {} is missing; CI must have ../shared beside the checkout",
-            dir.display()
-        );
-    }
-    eprintln!("skipped: no sample data ({})", dir.display());
+    skip(&format!(
+        "no sample data ({}; CI must have ../shared beside the checkout)",
+        dir.display()
+    ));
     None
 }
 

@@ -8,6 +8,9 @@ use gpu_backend::gigabuffer::{DataKind, Gigabuffer};
 use gpu_backend::readback::read_buffer;
 use voxel_core::formats::LayerRange;
 
+/// The seed of every randomised GPU test unless `GPU_TEST_SEED` is set ([`Rng::test_seed`]).
+pub const DEFAULT_SEED: u64 = 0x5EED_2026_0001;
+
 /// SplitMix64: small, seedable, good enough for test inputs.
 #[derive(Clone, Debug)]
 pub struct Rng(u64);
@@ -18,15 +21,26 @@ impl Rng {
         Rng(seed)
     }
 
-    /// The seed of `GPU_TEST_SEED` if set, else a fresh one from the clock. Print it with any
-    /// failure so the run can be repeated.
-    pub fn fresh_seed() -> u64 {
-        if let Ok(text) = std::env::var("GPU_TEST_SEED") {
-            return text.parse().expect("GPU_TEST_SEED must be a u64");
-        }
-        std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0x5eed, |d| d.as_nanos() as u64)
+    /// The seed of a randomised test: [`DEFAULT_SEED`], so that every run (CI included) tests
+    /// the same inputs, unless `GPU_TEST_SEED` says otherwise: a `u64` repeats that seed, and
+    /// `random` takes a fresh one from the clock (for exploring locally). Printed as
+    /// `GPU_TEST_SEED=<seed>`, which the test output shows when the test fails.
+    ///
+    /// # Panics
+    ///
+    /// When `GPU_TEST_SEED` is neither a `u64` nor `random`.
+    pub fn test_seed() -> u64 {
+        let seed = match std::env::var("GPU_TEST_SEED") {
+            Err(_) => DEFAULT_SEED,
+            Ok(text) if text == "random" => std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(DEFAULT_SEED, |d| d.as_nanos() as u64),
+            Ok(text) => text
+                .parse()
+                .unwrap_or_else(|_| panic!("GPU_TEST_SEED={text:?} is neither a u64 nor `random`")),
+        };
+        eprintln!("GPU_TEST_SEED={seed}");
+        seed
     }
 
     pub fn next_u64(&mut self) -> u64 {
