@@ -5,14 +5,19 @@
 //!
 //! - *Silhouette-edge pixels* are those whose 3x3 neighbourhood in the reference mixes hit and
 //!   miss. There a ray through the pixel centre and the rasterizer's coverage rule may
-//!   disagree by rounding, so they are skipped entirely.
+//!   disagree by rounding, so depth and colour are not compared, and their coverage may differ
+//!   from the reference's on at most `edge_coverage` of them (a fraction). Rounding flips only
+//!   the few edge pixels whose centre lies within a hair of the edge; an image moved by one
+//!   pixel flips a whole side of the edge band (about a quarter of it on a square).
 //! - *Coverage* (hit or miss) must match exactly on every other pixel.
 //! - *Crease pixels* are those that, with their four edge neighbours in the reference, show
-//!   more than one surface plane, opaque or transparent (a convex or concave edge, one surface
-//!   in front of another, the border of a transparent surface). The GPU
-//!   grows each greedy quad by a hair (about 1/100 pixel) to close T-junction pinholes, so a
-//!   pixel centre within that hair of an edge may see the neighbouring face; and a ray through
-//!   a voxel edge exactly may be resolved either way. Depth and colour are not compared there.
+//!   more than one surface, opaque or transparent (a convex or concave edge, one surface in
+//!   front of another, the border of a transparent surface, a smooth surface meeting a face).
+//!   The GPU grows each greedy quad by a hair (about 1/100 pixel) to close T-junction
+//!   pinholes, so a pixel centre within that hair of an edge may see the neighbouring face; and
+//!   a ray through a voxel edge exactly may be resolved either way. Depth and colour are not
+//!   compared there, so creases may be at most `creases` of the image (a fraction): a scene
+//!   made mostly of creases would test next to nothing.
 //! - *Depth* of pixels both hit must agree within `depth_abs + depth_rel * distance`.
 //! - *Colour*: every channel within `colour` codes, except on at most `colour_outliers` of the
 //!   compared pixels (a fraction): where the GPU's greedy quad interpolates AO over a merged
@@ -33,21 +38,28 @@ pub struct Image {
     pub rgba: Vec<u8>,
     /// Row-major eye distance, blocks.
     pub depth: Vec<f32>,
-    /// Row-major planes of the surfaces a pixel's ray met, where known (the CPU reference
-    /// knows them; they mark creases).
-    pub planes: Option<Vec<Plane>>,
+    /// Row-major surfaces a pixel's ray met, where known (the CPU references know them; they
+    /// mark creases).
+    pub surfaces: Option<Vec<PixelSurfaces>>,
 }
 
-/// A surface plane: `(face direction, plane coordinate)`.
-pub type FacePlane = (u8, i32);
-
-/// The planes one ray met: the opaque hit's and the transparent surfaces' in front of it.
+/// A surface, as far as creases go: a ray that moves a little and meets the same `Surface`
+/// sees the same depth and colour, up to a small change.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Plane {
+pub enum Surface {
+    /// A face plane of blocks: `(face direction index, plane coordinate)`.
+    Plane(u8, i32),
+    /// The smooth (NoCubes) surface of one block id: continuous across its triangles.
+    Smooth(u16),
+}
+
+/// The surfaces one ray met: the opaque hit's and the transparent surfaces' in front of it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PixelSurfaces {
     /// The opaque surface, if any.
-    pub opaque: Option<FacePlane>,
+    pub opaque: Option<Surface>,
     /// Transparent surfaces, front to back.
-    pub layers: [Option<FacePlane>; 2],
+    pub layers: [Option<Surface>; 2],
 }
 
 /// How close two images must be (see the [module docs](self)).
@@ -61,6 +73,10 @@ pub struct Tolerance {
     pub colour: u8,
     /// Fraction of compared pixels allowed past `colour`.
     pub colour_outliers: f64,
+    /// Fraction of the silhouette-edge pixels whose coverage may differ from the reference.
+    pub edge_coverage: f64,
+    /// Fraction of the image's pixels that may be creases (not compared in depth and colour).
+    pub creases: f64,
 }
 
 impl Tolerance {
@@ -73,19 +89,32 @@ impl Tolerance {
     /// except one terrain pixel (84 codes, inside the 0.1% outlier budget); depth up to 0.0069
     /// blocks at about 70 blocks, i.e. 1e-4 relative, hence `depth_rel = 2e-4` for headroom
     /// (still 40 times finer than the half-block camera shift the tests must catch).
+    ///
+    /// Silhouette-edge coverage, measured there: 0 to 2 edge pixels of about 500 differ per
+    /// scene (at most 0.37%, terrain and the MagicaVoxel knight); 3% leaves room for another
+    /// rasterizer and still fails an image moved by one pixel (a quarter of the edge band of a
+    /// square, `a_one_pixel_shift_is_caught`). Creases, measured: 2.0% of the image (cube),
+    /// 2.9% (NoCubes hill), 5.9% (sphere), 6.7% (knight), 17.3% (terrain, with its many small
+    /// steps at 128 x 96); the cap is 20%.
     pub const LAVAPIPE: Tolerance = Tolerance {
         depth_abs: 1e-3,
         depth_rel: 2e-4,
         colour: 2,
         colour_outliers: 0.001,
+        edge_coverage: 0.03,
+        creases: 0.2,
     };
 }
 
 /// The outcome of a comparison.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Comparison {
+    /// Pixels of the image.
+    pub pixels: usize,
     /// Pixels skipped as silhouette edges.
     pub edge_pixels: usize,
+    /// Silhouette-edge pixels hit in one image and missed in the other.
+    pub edge_coverage_mismatches: usize,
     /// Pixels compared.
     pub compared: usize,
     /// Compared pixels whose depth and colour were skipped as creases.
@@ -110,6 +139,17 @@ impl Comparison {
         self.coverage_mismatches == 0
             && self.depth_failures == 0
             && self.colour_outliers as f64 <= tolerance.colour_outliers * self.compared as f64
+            && self.edge_coverage_mismatches as f64
+                <= tolerance.edge_coverage * self.edge_pixels as f64
+            && self.crease_pixels as f64 <= tolerance.creases * self.pixels as f64
+    }
+
+    /// Share of the silhouette-edge pixels whose coverage differs (0 without edge pixels).
+    pub fn edge_coverage_share(&self) -> f64 {
+        match self.edge_pixels {
+            0 => 0.0,
+            n => self.edge_coverage_mismatches as f64 / n as f64,
+        }
     }
 }
 
@@ -118,18 +158,19 @@ fn is_hit(d: f32) -> bool {
 }
 
 /// True when pixel `(x, y)` and its four edge neighbours in `reference` show more than one
-/// plane (false when the reference has no planes). An edge passing within a hair of the pixel
-/// centre always separates the centre from one of its four neighbours, so the cross suffices.
+/// surface (false when the reference does not know its surfaces). An edge passing within a
+/// hair of the pixel centre always separates the centre from one of its four neighbours, so
+/// the cross suffices.
 pub fn is_crease(reference: &Image, x: u32, y: u32) -> bool {
-    let Some(planes) = &reference.planes else {
+    let Some(surfaces) = &reference.surfaces else {
         return false;
     };
     let (w, h) = (reference.width as i64, reference.height as i64);
     let (x, y) = (i64::from(x), i64::from(y));
-    let centre = planes[(y * w + x) as usize];
+    let centre = surfaces[(y * w + x) as usize];
     [(-1, 0), (1, 0), (0, -1), (0, 1)].iter().any(|&(dx, dy)| {
         let (nx, ny) = (x + dx, y + dy);
-        (0..w).contains(&nx) && (0..h).contains(&ny) && planes[(ny * w + nx) as usize] != centre
+        (0..w).contains(&nx) && (0..h).contains(&ny) && surfaces[(ny * w + nx) as usize] != centre
     })
 }
 
@@ -154,7 +195,10 @@ pub fn compare(actual: &Image, reference: &Image, tolerance: &Tolerance) -> Comp
         (reference.width, reference.height),
         "images of different sizes"
     );
-    let mut c = Comparison::default();
+    let mut c = Comparison {
+        pixels: reference.depth.len(),
+        ..Comparison::default()
+    };
     for y in 0..reference.height {
         for x in 0..reference.width {
             let i = (y * reference.width + x) as usize;
@@ -162,6 +206,7 @@ pub fn compare(actual: &Image, reference: &Image, tolerance: &Tolerance) -> Comp
             c.reference_hits += usize::from(is_hit(e));
             if is_silhouette_edge(reference, x, y) {
                 c.edge_pixels += 1;
+                c.edge_coverage_mismatches += usize::from(is_hit(a) != is_hit(e));
                 continue;
             }
             c.compared += 1;
@@ -200,15 +245,19 @@ pub fn output_dir(name: &str) -> PathBuf {
         .join(name)
 }
 
-/// The difference image: channel differences times 8; coverage mismatches magenta, skipped
-/// silhouette pixels dark blue, creases dark green.
+/// The difference image: channel differences times 8; coverage mismatches magenta (orange on
+/// silhouette edges), other silhouette pixels dark blue, creases dark green.
 pub fn difference_image(actual: &Image, reference: &Image) -> Vec<u8> {
     let mut out = Vec::with_capacity(actual.rgba.len());
     for y in 0..reference.height {
         for x in 0..reference.width {
             let i = (y * reference.width + x) as usize;
             let pixel = if is_silhouette_edge(reference, x, y) {
-                [0, 0, 60, 255]
+                if is_hit(actual.depth[i]) != is_hit(reference.depth[i]) {
+                    [255, 140, 0, 255]
+                } else {
+                    [0, 0, 60, 255]
+                }
             } else if is_hit(actual.depth[i]) != is_hit(reference.depth[i]) {
                 [255, 0, 255, 255]
             } else if is_crease(reference, x, y) {
@@ -252,9 +301,8 @@ pub fn assert_images_match(name: &str, actual: &Image, reference: &Image, tolera
     let c = compare(actual, reference, tolerance);
     eprintln!("{name}: {c:?}");
     assert!(
-        c.reference_hits > 0 && c.reference_hits < reference.depth.len(),
-        "{name}: the reference should show both geometry and sky ({} hits)",
-        c.reference_hits
+        c.reference_hits > 0,
+        "{name}: the reference shows no geometry"
     );
     if std::env::var_os("IMAGE_TESTS_WRITE").is_some() {
         eprintln!(
@@ -274,6 +322,7 @@ pub fn assert_images_match(name: &str, actual: &Image, reference: &Image, tolera
         );
     }
 }
+pub mod mesh_raster;
 pub mod scenes;
 
 /// The pixels that fail coverage or depth, with both depths (for failure messages).

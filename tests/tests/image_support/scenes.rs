@@ -9,7 +9,7 @@ use viewer::reference_raycast::{Camera, Lighting, trace_ray};
 use voxel_core::storage::{PaletteChunk, WorldMap};
 use voxel_core::{BlockId, ChunkSize, Material, MaterialClass, MaterialPalette, WorldPos};
 
-use super::{Image, Plane};
+use super::{Image, PixelSurfaces, Surface};
 
 /// Image width of every test.
 pub const WIDTH: u32 = 128;
@@ -254,7 +254,7 @@ pub fn gpu_render_with(
             height: HEIGHT,
             rgba: frame.rgba,
             depth,
-            planes: None,
+            surfaces: None,
         },
         times,
     )
@@ -272,8 +272,8 @@ pub fn cpu_render(scene: &TestScene, camera: &Camera) -> Image {
         HEIGHT,
         MAX_DISTANCE,
     );
-    // The planes each pixel's ray met, from the same rays.
-    let planes = (0..HEIGHT)
+    // The surfaces each pixel's ray met, from the same rays.
+    let surfaces = (0..HEIGHT)
         .flat_map(|py| (0..WIDTH).map(move |px| (px, py)))
         .map(|(px, py)| {
             let dir = camera.ray_direction(px, py, WIDTH, HEIGHT);
@@ -291,12 +291,12 @@ pub fn cpu_render(scene: &TestScene, camera: &Camera) -> Image {
                 let voxel = [voxel.x, voxel.y, voxel.z];
                 let coordinate =
                     voxel[face.normal_axis()].wrapping_add(i32::from(face.is_positive()));
-                Some((face.index(), coordinate))
+                Some(Surface::Plane(face.index(), coordinate))
             };
             let layers = trace
                 .layers
                 .map(|l| l.and_then(|l| plane(l.voxel, l.normal)));
-            Plane {
+            PixelSurfaces {
                 opaque: trace.hit.and_then(|h| plane(h.voxel, h.normal)),
                 layers,
             }
@@ -307,6 +307,6 @@ pub fn cpu_render(scene: &TestScene, camera: &Camera) -> Image {
         height: image.height,
         rgba: image.rgba,
         depth: image.depth,
-        planes: Some(planes),
+        surfaces: Some(surfaces),
     }
 }
