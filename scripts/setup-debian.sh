@@ -5,6 +5,8 @@
 #   - for the window test (viewer/tests/window_mode.rs): a virtual X server (xvfb) and the X11
 #     libraries winit loads at run time (Xlib, Xlib-xcb, Xcursor, XInput2, xcb, xkbcommon and
 #     xkbcommon-x11; Mesa's own X11 presentation libraries come with mesa-vulkan-drivers);
+#   - a C++ compiler (g++), which libfuzzer-sys needs to build libFuzzer when the test command
+#     builds the fuzz targets;
 #   - the bare-metal target used to check that voxel-core builds without std.
 # Safe to run again: it installs only what is missing.
 set -euo pipefail
@@ -29,6 +31,7 @@ done
 [ "$have_icd" -eq 1 ] || packages+=(mesa-vulkan-drivers)
 ldconfig -p | grep -q 'libvulkan\.so\.1' || packages+=(libvulkan1)
 command -v Xvfb >/dev/null 2>&1 || packages+=(xvfb)
+command -v c++ >/dev/null 2>&1 || packages+=(g++)
 # The library names once (a `grep -q` ending a pipe early can fail it under pipefail).
 libraries=$(ldconfig -p | awk '{print $1}')
 have_library() { grep -qxF "$1" <<<"$libraries"; }

@@ -25,5 +25,11 @@ cargo clippy --workspace --all-targets --locked -- -D warnings
 echo "== voxel-core and mesher without std (bare-metal target)"
 cargo build -p voxel-core -p mesher --no-default-features --target x86_64-unknown-none --locked
 
+# The fuzz crate is not part of the workspace (cargo-fuzz runs it on nightly with sanitizers);
+# a plain build on this toolchain compiles and links every target (libFuzzer included), so a
+# target that stops compiling fails here. Its corpora are replayed by the tests below.
+echo "== fuzz targets (build, warnings are errors)"
+RUSTFLAGS="-D warnings" cargo build --manifest-path fuzz/Cargo.toml --bins --locked
+
 echo "== tests (unit, property, integration, fuzz-corpus replay, doc)"
 cargo test --workspace --locked

@@ -2,8 +2,9 @@
 //! libFuzzer) keeps every input that fuzzing found interesting, and every crash it found, fixed.
 //!
 //! For each target `T`, every file of `fuzz/corpus/T/` (which must exist and not be empty) and,
-//! when the folder exists, of `fuzz/artifacts/T/` is run through `bodies::T`, the same function
-//! the fuzz target `T` runs (`fuzz/bodies.rs` is included by both).
+//! when the folder exists, of `fuzz/artifacts/T/` is run through `bodies::T` or
+//! `mesher_bodies::T`, the same function the fuzz target `T` runs (`fuzz/bodies.rs` and
+//! `fuzz/mesher_bodies/` are included by both).
 //!
 //! The seed inputs (`seed-*` files: small valid encodings of every format, and malformed ones)
 //! are built by [`seeds`]. `seed_corpus_is_current` checks that the committed files match them;
@@ -12,6 +13,10 @@
 
 #[path = "../../fuzz/bodies.rs"]
 mod bodies;
+#[path = "../../fuzz/mesher_bodies/mod.rs"]
+mod mesher_bodies;
+// The seeds of the `mesher_bodies` targets.
+mod fuzz_mesher_seeds;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
@@ -30,7 +35,7 @@ use voxel_core::{BlockId, ChunkCoord, ChunkSize, LocalPos, VoxelStorage};
 type Target = (&'static str, fn(&[u8]));
 
 /// Every fuzz target, in the order of `fuzz/Cargo.toml`.
-const TARGETS: [Target; 11] = [
+const TARGETS: [Target; 15] = [
     ("chunk_codec", bodies::chunk_codec),
     ("draw_block", bodies::draw_block),
     ("packed_quad", bodies::packed_quad),
@@ -42,6 +47,10 @@ const TARGETS: [Target; 11] = [
     ("compact_quad", bodies::compact_quad),
     ("blocky_mesh", bodies::blocky_mesh),
     ("smooth_density", bodies::smooth_density),
+    ("vertical_shells", mesher_bodies::vertical_shells),
+    ("surface_blocks", mesher_bodies::surface_blocks),
+    ("place_clutter", mesher_bodies::place_clutter),
+    ("lod", mesher_bodies::lod),
 ];
 
 fn fuzz_dir() -> PathBuf {
@@ -137,6 +146,10 @@ replay_tests!(
     compact_quad,
     blocky_mesh,
     smooth_density,
+    vertical_shells,
+    surface_blocks,
+    place_clutter,
+    lod,
 );
 
 #[test]
@@ -158,7 +171,7 @@ fn every_target_has_a_replay_test_and_a_fuzz_target() {
 // ---------------------------------------------------------------------------------------------
 
 /// Named seed inputs: `(name, bytes)`; the file is `seed-<name>`.
-type Seeds = Vec<(&'static str, Vec<u8>)>;
+pub type Seeds = Vec<(&'static str, Vec<u8>)>;
 
 /// The seed inputs of every target.
 fn seeds() -> Vec<(&'static str, Seeds)> {
@@ -174,6 +187,10 @@ fn seeds() -> Vec<(&'static str, Seeds)> {
         ("compact_quad", compact_quad_seeds()),
         ("blocky_mesh", blocky_mesh_seeds()),
         ("smooth_density", smooth_density_seeds()),
+        ("vertical_shells", fuzz_mesher_seeds::chunk_seeds()),
+        ("surface_blocks", fuzz_mesher_seeds::chunk_seeds()),
+        ("place_clutter", fuzz_mesher_seeds::clutter_seeds()),
+        ("lod", fuzz_mesher_seeds::lod_seeds()),
     ]
 }
 

@@ -1,0 +1,7 @@
+//! Fuzz target `surface_blocks`: runs `mesher_bodies::surface_blocks` (see `fuzz/mesher_bodies/` for the properties it checks).
+#![no_main]
+
+#[path = "../mesher_bodies/mod.rs"]
+mod mesher_bodies;
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| mesher_bodies::surface_blocks(data));
