@@ -11,4 +11,6 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
     XDG_RUNTIME_DIR=$(mktemp -d)
     export XDG_RUNTIME_DIR
 fi
-exec cargo run --release --locked -p viewer -- "$@"
+# The `viewer` profile (root Cargo.toml): release optimizations without LTO or debug info, so
+# the first build is short; the binary is target/viewer/viewer.
+exec cargo run --profile viewer --locked -p viewer -- "$@"
