@@ -24,6 +24,13 @@
 //! its border faces there and its mesh is closed on that side by itself. Two closed surfaces
 //! cannot have a crack between them; the price is extra faces only along level borders (back
 //! faces of the pair face away from each other and are culled by the GPU).
+//!
+//! A renderer whose levels change as the camera moves would have to re-mesh every chunk along a
+//! moving level border under that rule. [`skirts`] gives the same closure without re-meshing:
+//! each chunk is meshed once against its real neighbours, and per side the faces and blocks
+//! that clearing that side's padding would add are kept apart ([`skirt_quads`],
+//! [`skirt_blocks`]); the renderer draws a side's skirt only while the neighbour there is drawn
+//! at another level.
 
 use alloc::vec;
 use alloc::vec::Vec;
@@ -32,6 +39,10 @@ use voxel_core::storage::{DenseChunk, PaletteChunk, VoxelStorage, WorldMap};
 use voxel_core::{BlockId, ChunkCoord, FaceDirection, LocalPos, MaterialClass, PaddedChunk};
 
 use crate::{BlockClasses, MeshError};
+
+pub mod skirts;
+
+pub use skirts::{Skirts, skirt_blocks, skirt_quads};
 
 /// Picks the coarse id for 8 children, by the rule in the [module docs](self). Indices 4..8 are
 /// the upper half (`dy = 1`). Returns the id of a child the palette does not know as an error.
