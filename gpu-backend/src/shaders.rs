@@ -30,7 +30,11 @@ pub const FORMAT_PARITY: ShaderSpec = ShaderSpec {
 /// see [`crate::cull`]).
 pub const CULL: ShaderSpec = ShaderSpec {
     name: "cull",
-    body: include_str!("shaders/cull.wgsl"),
+    body: concat!(
+        include_str!("shaders/node.wgsl"),
+        include_str!("shaders/lod.wgsl"),
+        include_str!("shaders/cull.wgsl")
+    ),
 };
 
 /// The renderer's geometry passes (entry points `vs_quad`, `vs_quad_transparent`, `vs_smooth`,

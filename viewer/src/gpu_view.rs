@@ -99,6 +99,7 @@ pub fn upload_world_with<C: VoxelStorage + Sync>(
     {
         let data = ChunkMeshData {
             coord: mesh.coord,
+            lod: 0,
             layers: layers_of(mesh),
         };
         let handle = renderer

@@ -136,6 +136,7 @@ pub fn run(
             };
             renderer.upload_chunk(&ChunkMeshData {
                 coord: mesh.coord,
+                lod: 0,
                 layers,
             })?;
         }

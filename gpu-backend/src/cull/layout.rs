@@ -8,6 +8,7 @@ use bytemuck::{Pod, Zeroable};
 use voxel_core::ChunkSize;
 
 use super::camera::{CullCamera, CullLayer};
+use super::lod::LodParams;
 use crate::gigabuffer::{DataKind, PageLayout};
 
 /// Largest page count of the quad gigabuffer one cull handles (the shader's workgroup arrays).
@@ -22,6 +23,17 @@ pub const MAX_PAGE_QUADS: u32 = 1 << 29;
 /// Largest `max_quads_per_draw`: keeps `6 * count` and the shader's sums far from `u32`
 /// overflow.
 pub const MAX_QUADS_PER_DRAW: u32 = 1 << 26;
+
+/// Largest number of (smooth-vertex page, smooth-quad page) pairs one cull handles (the
+/// shader's workgroup arrays): a smooth draw binds one page of each.
+pub const MAX_SMOOTH_PAIRS: u32 = 64;
+
+/// `CullUniforms::flags` bit: select nodes by level of detail (else only level 0 is drawn).
+pub const CULL_LOD: u32 = 1;
+/// `CullUniforms::flags` bit: far-draw nodes whose cells are small enough.
+pub const CULL_FAR: u32 = 2;
+/// `CullUniforms::flags` bit: write the smooth layer's draws.
+pub const CULL_SMOOTH: u32 = 4;
 
 /// wgpu's `DrawIndexedIndirectArgs` (20 bytes, the stride `multi_draw_indexed_indirect(_count)`
 /// reads), as the cull pass writes it.
@@ -66,7 +78,7 @@ impl DrawIndexedArgs {
     }
 }
 
-/// The cull shader's uniform block (`CullUniforms` in `cull.wgsl`), 160 bytes; a unit test
+/// The cull shader's uniform block (`CullUniforms` in `cull.wgsl`), 240 bytes; a unit test
 /// checks every offset against naga's layout of the WGSL struct.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -93,14 +105,48 @@ pub struct CullUniforms {
     pub commands_per_page: u32,
     /// Quads one command may draw at most.
     pub max_quads_per_draw: u32,
-    /// Padding to 16 bytes.
-    pub pad: [u32; 2],
+    /// `CULL_*` bits.
+    pub flags: u32,
+    /// Occlusion phase (0 early, 1 late).
+    pub phase: u32,
+    /// Nodes whose cells span at most this many pixels are far-drawn.
+    pub far_cell_px: f32,
+    /// Entries of the far list.
+    pub far_capacity: u32,
+    /// Smooth vertices per page.
+    pub smooth_vertex_page_capacity: u32,
+    /// Smooth-quad words per page.
+    pub smooth_quad_page_capacity: u32,
+    /// Smooth-quad pages.
+    pub smooth_quad_pages: u32,
+    /// Smooth draw slots per (vertex page, quad page) pair.
+    pub smooth_commands_per_pair: u32,
+    /// Pairs with draw slots (0: no smooth draws).
+    pub smooth_pairs: u32,
+    /// Pixels per unit of tangent (the far test).
+    pub focal_px: f32,
+    /// The level-of-detail selection.
+    pub lod: LodParams,
 }
 
 const _: () = assert!(
-    size_of::<CullUniforms>() == 160,
-    "CullUniforms is 160 bytes"
+    size_of::<CullUniforms>() == 240,
+    "CullUniforms is 240 bytes"
 );
+
+/// What one cull record selects and writes beyond its camera and layer.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CullParams {
+    /// Select nodes by level of detail; `None` draws level 0 only (full detail).
+    pub lod: Option<LodParams>,
+    /// Far-draw nodes whose cells span at most this many pixels (needs `lod` for the focal
+    /// length); `None` meshes every node.
+    pub far_cell_px: Option<f32>,
+    /// Write the smooth layer's draws (opaque layer).
+    pub smooth: bool,
+    /// Occlusion phase.
+    pub phase: u32,
+}
 
 impl CullUniforms {
     /// The uniforms of one record.
@@ -109,7 +155,22 @@ impl CullUniforms {
         camera: &CullCamera,
         layer: CullLayer,
         slot_bound: u32,
+        params: &CullParams,
     ) -> Self {
+        let mut flags = 0;
+        if params.lod.is_some() {
+            flags |= CULL_LOD;
+        }
+        if params.far_cell_px.is_some() && params.lod.is_some() {
+            flags |= CULL_FAR;
+        }
+        if params.smooth && layout.smooth_pairs > 0 {
+            flags |= CULL_SMOOTH;
+        }
+        let lod = params.lod.unwrap_or(LodParams {
+            chunk_edge: layout.chunk_edge as f32,
+            ..LodParams::default()
+        });
         CullUniforms {
             planes: camera.planes,
             camera_chunk: [camera.chunk.x, camera.chunk.y, camera.chunk.z],
@@ -122,8 +183,49 @@ impl CullUniforms {
             last_page_capacity: layout.last_page_capacity,
             commands_per_page: layout.commands_per_page,
             max_quads_per_draw: layout.max_quads_per_draw,
-            pad: [0; 2],
+            flags,
+            phase: params.phase,
+            far_cell_px: params.far_cell_px.unwrap_or(0.0),
+            far_capacity: layout.far_capacity,
+            smooth_vertex_page_capacity: layout.smooth.vertex_page_capacity.max(1),
+            smooth_quad_page_capacity: layout.smooth.quad_page_capacity.max(1),
+            smooth_quad_pages: layout.smooth.quad_pages,
+            smooth_commands_per_pair: layout.smooth_commands_per_pair,
+            smooth_pairs: layout.smooth_pairs,
+            focal_px: lod.focal_px,
+            lod,
         }
+    }
+}
+
+/// The page split of the smooth layer's two gigabuffers, as the cull needs it to group smooth
+/// draws by the pages they bind.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SmoothPages {
+    /// Smooth vertices per page.
+    pub vertex_page_capacity: u32,
+    /// Smooth-vertex pages.
+    pub vertex_pages: u32,
+    /// Smooth-quad words per page.
+    pub quad_page_capacity: u32,
+    /// Smooth-quad pages.
+    pub quad_pages: u32,
+}
+
+impl SmoothPages {
+    /// The split of `vertices` and `quads` (`Gigabuffer::layout` of the two smooth kinds).
+    pub fn of(vertices: &PageLayout, quads: &PageLayout) -> SmoothPages {
+        SmoothPages {
+            vertex_page_capacity: vertices.page_capacity,
+            vertex_pages: vertices.page_count,
+            quad_page_capacity: quads.page_capacity,
+            quad_pages: quads.page_count,
+        }
+    }
+
+    /// (vertex page, quad page) pairs.
+    pub fn pairs(&self) -> u32 {
+        self.vertex_pages.saturating_mul(self.quad_pages)
     }
 }
 
@@ -141,6 +243,10 @@ pub struct CullConfig {
     /// indices); `None`: `edge^3`, the most quads one face direction of a chunk can have (one
     /// face per voxel; greedy merging only lowers it).
     pub max_quads_per_draw: Option<u32>,
+    /// The smooth layer's pages; `None` (or no pages): no smooth draws.
+    pub smooth: Option<SmoothPages>,
+    /// Entries of the far list; `None`: the table capacity (never overflows).
+    pub far_capacity: Option<u32>,
 }
 
 impl CullConfig {
@@ -151,6 +257,8 @@ impl CullConfig {
             table_capacity,
             commands_per_page: None,
             max_quads_per_draw: None,
+            smooth: None,
+            far_capacity: None,
         }
     }
 }
@@ -188,6 +296,12 @@ pub enum CullError {
     TooManyCommands {
         /// `page_count * commands_per_page`.
         total: u64,
+    },
+    /// The smooth layer has more (vertex page, quad page) pairs than one cull handles
+    /// ([`MAX_SMOOTH_PAIRS`]).
+    TooManySmoothPairs {
+        /// Pairs.
+        pairs: u32,
     },
     /// An output created by a pass of another layout was given to `record`.
     OutputMismatch,
@@ -227,6 +341,11 @@ impl fmt::Display for CullError {
                 f,
                 "{total} command slots over all pages; command indices are 32-bit"
             ),
+            CullError::TooManySmoothPairs { pairs } => write!(
+                f,
+                "the smooth layer spans {pairs} (vertex page, quad page) pairs; one cull handles \
+                 at most {MAX_SMOOTH_PAIRS}: raise the page size"
+            ),
             CullError::OutputMismatch => {
                 write!(
                     f,
@@ -259,6 +378,14 @@ pub struct CullLayout {
     pub commands_per_page: u32,
     /// Quads one command may draw.
     pub max_quads_per_draw: u32,
+    /// The smooth layer's pages (all zero without one).
+    pub smooth: SmoothPages,
+    /// (vertex page, quad page) pairs with draw slots.
+    pub smooth_pairs: u32,
+    /// Smooth draw slots per pair.
+    pub smooth_commands_per_pair: u32,
+    /// Entries of the far list.
+    pub far_capacity: u32,
 }
 
 impl CullLayout {
@@ -293,6 +420,13 @@ impl CullLayout {
         if total > u64::from(u32::MAX) {
             return Err(CullError::TooManyCommands { total });
         }
+        let smooth = config.smooth.unwrap_or_default();
+        let smooth_pairs = smooth.pairs();
+        if smooth_pairs > MAX_SMOOTH_PAIRS {
+            return Err(CullError::TooManySmoothPairs {
+                pairs: smooth_pairs,
+            });
+        }
         Ok(CullLayout {
             chunk_edge: edge,
             page_count: quads.page_count,
@@ -300,6 +434,10 @@ impl CullLayout {
             last_page_capacity: quads.last_page_capacity,
             commands_per_page,
             max_quads_per_draw: max_quads,
+            smooth,
+            smooth_pairs,
+            smooth_commands_per_pair: config.table_capacity.max(1),
+            far_capacity: config.far_capacity.unwrap_or(config.table_capacity).max(1),
         })
     }
 

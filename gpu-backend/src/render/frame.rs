@@ -70,12 +70,12 @@ impl FrameUniforms {
 }
 
 /// One chunk's smooth layer as the smooth draw reads it (twin of the WGSL `SmoothDraw`),
-/// 32 bytes. Written by the renderer each frame for the resident smooth chunks (a side table:
-/// `MeshedChunkInfo` has no smooth-quad range).
+/// 32 bytes. Written by the cull pass for each visible smooth chunk (from the chunk's
+/// `NodeRecord`: `MeshedChunkInfo` has no smooth-quad range).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
 pub struct SmoothDraw {
-    /// Chunk minus camera chunk (wrapping), x, y, z.
+    /// Level-0 chunk difference to the camera chunk (wrapping), x, y, z.
     pub chunk: [i32; 3],
     /// First vertex in the smooth-vertex page (quad indices are relative to it).
     pub vertex_offset: u32,
@@ -85,8 +85,8 @@ pub struct SmoothDraw {
     pub quad_count: u32,
     /// The quads' form: a `SmoothQuadForm` tag (`SMOOTH_QUADS_*` in WGSL).
     pub quad_form: u32,
-    /// Zero.
-    pub pad: u32,
+    /// Level of detail: positions scale by `2^level`.
+    pub level: u32,
 }
 
 const _: () = assert!(size_of::<SmoothDraw>() == 32);
@@ -157,6 +157,17 @@ mod tests {
         let module = validate(GBUFFER.name, &GBUFFER.source()).unwrap();
         check(
             &module,
+            "DrawRecord",
+            size_of::<crate::cull::DrawRecord>(),
+            &[
+                ("chunk_x", 0),
+                ("chunk_y", 4),
+                ("chunk_z", 8),
+                ("level", 12),
+            ],
+        );
+        check(
+            &module,
             "SmoothDraw",
             size_of::<SmoothDraw>(),
             &[
@@ -167,7 +178,7 @@ mod tests {
                 ("quad_offset", offset_of!(SmoothDraw, quad_offset)),
                 ("quad_count", offset_of!(SmoothDraw, quad_count)),
                 ("quad_form", offset_of!(SmoothDraw, quad_form)),
-                ("pad", offset_of!(SmoothDraw, pad)),
+                ("level", offset_of!(SmoothDraw, level)),
             ],
         );
     }

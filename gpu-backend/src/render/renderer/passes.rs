@@ -1,15 +1,10 @@
 //! Recording the renderer's passes: bind groups, the G-buffer pass (opaque quads from the cull
 //! pass's commands, then smooth chunks), the transparent pass and the two full-screen passes.
 
-use std::collections::HashMap;
-
-use wgpu::util::DeviceExt;
-use wgpu::{BindGroup, Buffer, BufferUsages, CommandEncoder};
+use wgpu::{BindGroup, Buffer, CommandEncoder};
 
 use super::Renderer;
-use crate::cull::{CullCamera, in_frustum, relative_box};
 use crate::gigabuffer::DataKind;
-use crate::render::frame::SmoothDraw;
 
 impl Renderer {
     pub(super) fn frame_group(&self) -> BindGroup {
@@ -48,12 +43,34 @@ impl Renderer {
         }))
     }
 
-    pub(super) fn record_gbuffer(
-        &self,
-        encoder: &mut CommandEncoder,
-        frame_group: &BindGroup,
-        camera: &CullCamera,
-    ) {
+    /// Group 1 of the smooth pipeline: smooth pair `pair`'s pages and the cull's smooth
+    /// records.
+    fn smooth_group(&self, pair: u32) -> Option<BindGroup> {
+        let quad_pages = self.cull.layout().smooth.quad_pages.max(1);
+        let vertices = self
+            .gigabuffer
+            .page(DataKind::SmoothVertices, pair / quad_pages)?;
+        let quads = self
+            .gigabuffer
+            .page(DataKind::SmoothQuads, pair % quad_pages)?;
+        fn entry(binding: u32, buffer: &Buffer) -> wgpu::BindGroupEntry<'_> {
+            wgpu::BindGroupEntry {
+                binding,
+                resource: buffer.as_entire_binding(),
+            }
+        }
+        Some(self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("smooth"),
+            layout: &self.pipelines.smooth_layout,
+            entries: &[
+                entry(2, vertices),
+                entry(3, quads),
+                entry(4, self.opaque_commands.smooth_records()),
+            ],
+        }))
+    }
+
+    pub(super) fn record_gbuffer(&self, encoder: &mut CommandEncoder, frame_group: &BindGroup) {
         let clear = |view| {
             Some(wgpu::RenderPassColorAttachment {
                 view,
@@ -65,7 +82,6 @@ impl Renderer {
                 },
             })
         };
-        let smooth = self.smooth_batches(camera);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("gbuffer"),
             color_attachments: &[clear(&self.targets.albedo), clear(&self.targets.normal)],
@@ -91,94 +107,17 @@ impl Renderer {
                 self.opaque_commands.draw_page(&mut pass, page);
             }
         }
-        if !smooth.is_empty() {
+        let pairs = self.cull.layout().smooth_pairs;
+        if pairs > 0 && self.has_smooth() {
             pass.set_pipeline(&self.pipelines.smooth_gbuffer);
             pass.set_bind_group(0, frame_group, &[]);
-            for (group, draws) in &smooth {
-                pass.set_bind_group(1, group, &[]);
-                for (i, draw) in draws {
-                    pass.draw(0..6 * draw.quad_count, *i..*i + 1);
+            for pair in 0..pairs {
+                if let Some(group) = self.smooth_group(pair) {
+                    pass.set_bind_group(1, &group, &[]);
+                    self.opaque_commands.draw_smooth_pair(&mut pass, pair);
                 }
             }
         }
-    }
-
-    /// The smooth draws of the resident chunks, grouped by the pages they read.
-    /// Smooth chunks are culled here, on the CPU, by their boxes against the frustum (the cull
-    /// pass reads only the quad layers); there are few of them.
-    fn smooth_batches(&self, camera: &CullCamera) -> Vec<(BindGroup, Vec<(u32, SmoothDraw)>)> {
-        let edge = self.config.chunk_size.edge();
-        let vertices = self
-            .gigabuffer
-            .layout(DataKind::SmoothVertices)
-            .page_capacity;
-        let quads = self.gigabuffer.layout(DataKind::SmoothQuads).page_capacity;
-        let eye_chunk = self.camera.chunk;
-        let mut by_pages: HashMap<(u32, u32), Vec<SmoothDraw>> = HashMap::new();
-        for resident in self.smooth_chunks.iter().filter_map(|h| self.chunks.get(h)) {
-            let (Some(smooth), Some(info)) = (resident.smooth, self.table.get(resident.slot))
-            else {
-                continue;
-            };
-            let (centre, extent) = relative_box(info, camera, edge);
-            if !in_frustum(&camera.planes, centre, extent) {
-                continue;
-            }
-            let (Some(vp), Some(qp)) = (
-                smooth.vertices.offset.checked_div(vertices),
-                smooth.quads.offset.checked_div(quads),
-            ) else {
-                continue;
-            };
-            by_pages.entry((vp, qp)).or_default().push(SmoothDraw {
-                chunk: [
-                    info.chunk[0].wrapping_sub(eye_chunk.x),
-                    info.chunk[1].wrapping_sub(eye_chunk.y),
-                    info.chunk[2].wrapping_sub(eye_chunk.z),
-                ],
-                vertex_offset: smooth.vertices.offset % vertices,
-                quad_offset: smooth.quads.offset % quads,
-                quad_count: smooth.quad_count,
-                quad_form: smooth.form as u32,
-                pad: 0,
-            });
-        }
-        let mut batches = Vec::new();
-        for ((vp, qp), draws) in by_pages {
-            let (Some(vertex_page), Some(quad_page)) = (
-                self.gigabuffer.page(DataKind::SmoothVertices, vp),
-                self.gigabuffer.page(DataKind::SmoothQuads, qp),
-            ) else {
-                continue;
-            };
-            let records = self
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("smooth draws"),
-                    contents: bytemuck::cast_slice(&draws),
-                    usage: BufferUsages::STORAGE,
-                });
-            let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("smooth"),
-                layout: &self.pipelines.smooth_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: vertex_page.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: quad_page.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 4,
-                        resource: records.as_entire_binding(),
-                    },
-                ],
-            });
-            batches.push((group, (0u32..).zip(draws).collect()));
-        }
-        batches
     }
 
     /// The transparent pass: the ordered cull's commands, one multi-draw per quad page,

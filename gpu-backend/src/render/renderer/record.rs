@@ -1,0 +1,139 @@
+//! One frame, in order: uploads, the cull of both layers, the G-buffer pass, lighting, the
+//! transparent pass and the tonemap, each timed.
+
+use wgpu::CommandEncoder;
+
+use super::Renderer;
+use crate::cull::{CullInputs, CullLayer, CullParams, CullStats, LodParams, lod};
+use crate::render::error::RenderError;
+use crate::render::frame::{FrameShape, FrameUniforms};
+use crate::timing::PassTime;
+
+impl Renderer {
+    /// The highest level of detail any resident chunk has.
+    pub fn top_level(&self) -> u32 {
+        self.per_level.iter().rposition(|&n| n > 0).unwrap_or(0) as u32
+    }
+
+    /// Resident chunks per level of detail.
+    pub fn chunks_per_level(&self) -> [u32; 16] {
+        self.per_level
+    }
+
+    /// The cull's parameters of the next frame.
+    pub(super) fn cull_params(&self, smooth: bool) -> CullParams {
+        let (width, height) = (self.targets.width, self.targets.height);
+        let lod = self.lod.map(|settings| LodParams {
+            anchor_chunk: [
+                self.anchor.chunk.x,
+                self.anchor.chunk.y,
+                self.anchor.chunk.z,
+            ],
+            top_level: self.top_level(),
+            anchor_offset: self.anchor.offset,
+            budget_px: settings.budget_px,
+            focal_px: lod::focal_px(self.camera.fov_y, height),
+            hysteresis: settings.hysteresis,
+            chunk_edge: self.config.chunk_size.edge() as f32,
+            pad: 0,
+        });
+        let _ = width;
+        CullParams {
+            lod,
+            far_cell_px: None,
+            smooth,
+            phase: 0,
+        }
+    }
+
+    /// Records a whole frame into `encoder`: pending uploads, the cull of both layers, the
+    /// G-buffer pass (opaque quads, then smooth quads), lighting, the transparent pass and the
+    /// tonemap, each timed by the renderer's [`GpuTimer`](crate::timing::GpuTimer), then the
+    /// timer's resolve. Submit the encoder (on the CPU timing path the timer submits parts of it
+    /// itself), then call [`collect_timings`](Self::collect_timings) if wanted.
+    pub fn record_frame(&mut self, encoder: &mut CommandEncoder) -> Result<(), RenderError> {
+        let (width, height) = (self.targets.width, self.targets.height);
+        self.gigabuffer.flush(encoder);
+        self.table.flush(&self.queue);
+        self.nodes.flush(&self.queue);
+        let shape = FrameShape {
+            width,
+            height,
+            chunk_edge: self.config.chunk_size.edge(),
+            material_count: self.material_count,
+            smooth_extent: self.config.smooth.extent,
+            smooth_origin: self.config.smooth.origin,
+        };
+        let uniforms = FrameUniforms::new(&self.camera, &self.lighting, &shape);
+        self.queue
+            .write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&uniforms));
+        let frame_group = self.frame_group();
+        let cull_camera = self.camera.cull_camera(width, height);
+        self.cull_frame.clear(encoder);
+        let inputs = CullInputs {
+            table: &self.table,
+            nodes: Some(&self.nodes),
+            frame: Some(&self.cull_frame),
+        };
+
+        let scope = self.timer.begin(encoder, "cull");
+        self.cull.record_with(
+            encoder,
+            &inputs,
+            &cull_camera,
+            CullLayer::Opaque,
+            &self.opaque_commands,
+            &self.cull_params(true),
+        )?;
+        self.timer.end(encoder, scope);
+
+        // The transparent layer, back to front (see `render::transparent`).
+        let scope = self.timer.begin(encoder, "cull transparent");
+        self.cull.record_ordered_with(
+            encoder,
+            &inputs,
+            &cull_camera,
+            CullLayer::Transparent,
+            &self.transparent_commands,
+            &self.cull_params(false),
+        )?;
+        self.timer.end(encoder, scope);
+
+        let scope = self.timer.begin(encoder, "gbuffer");
+        self.record_gbuffer(encoder, &frame_group);
+        self.timer.end(encoder, scope);
+
+        let scope = self.timer.begin(encoder, "lighting");
+        self.record_fullscreen(encoder, &frame_group, false);
+        self.timer.end(encoder, scope);
+
+        let scope = self.timer.begin(encoder, "transparent");
+        self.record_transparent(encoder, &frame_group);
+        self.timer.end(encoder, scope);
+
+        let scope = self.timer.begin(encoder, "tonemap");
+        self.record_fullscreen(encoder, &frame_group, true);
+        self.timer.end(encoder, scope);
+        self.timer.resolve(encoder);
+        Ok(())
+    }
+
+    /// Records and submits one frame, waits for it, and returns its per-pass times.
+    pub fn render(&mut self) -> Result<Vec<PassTime>, RenderError> {
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        self.record_frame(&mut encoder)?;
+        self.queue.submit([encoder.finish()]);
+        self.collect_timings()
+    }
+
+    /// The last submitted frame's per-pass times (waits for the GPU).
+    pub fn collect_timings(&mut self) -> Result<Vec<PassTime>, RenderError> {
+        self.timer.collect().map_err(RenderError::Timer)
+    }
+
+    /// The last submitted frame's cull counters: nodes per level and representation, culled
+    /// nodes, primitives drawn (blocks until the GPU is done; for tests and benchmarks).
+    pub fn read_cull_stats(&self) -> Result<CullStats, RenderError> {
+        Ok(self.cull_frame.read(&self.device, &self.queue)?.0)
+    }
+}
