@@ -26,6 +26,7 @@
 //!
 //! Only the Vulkan backend is compiled (lavapipe in CI, the vendor driver on GPU machines).
 
+mod bind;
 pub mod chunk_table;
 pub mod cull;
 pub mod device;

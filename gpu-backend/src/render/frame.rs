@@ -6,7 +6,7 @@ use super::camera::RenderCamera;
 use super::lighting::{LightingParams, LightingUniforms};
 
 /// The uniforms every renderer shader reads (twin of the WGSL `FrameUniforms` in
-/// `shaders/render_common.wgsl`; a unit test checks the layout with naga). 176 bytes.
+/// `shaders/render_common.wgsl`; a unit test checks the layout with naga). 224 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct FrameUniforms {
@@ -30,9 +30,26 @@ pub struct FrameUniforms {
     pub height: u32,
     /// Light and sky.
     pub lighting: LightingUniforms,
+    /// The view direction (world axes).
+    pub forward: [f32; 3],
+    /// Near plane, blocks.
+    pub near: f32,
+    /// Screen right, scaled by the tangent of half the horizontal field of view: the ray
+    /// through pixel `(x, y)` is `forward + u * right + v * up` with `u, v` in `-1..1`.
+    pub right: [f32; 3],
+    /// `FRAME_*` bits.
+    pub flags: u32,
+    /// Screen up, scaled by the tangent of half the vertical field of view.
+    pub up: [f32; 3],
+    /// Zero.
+    pub pad: u32,
 }
 
-const _: () = assert!(size_of::<FrameUniforms>() == 176);
+const _: () = assert!(size_of::<FrameUniforms>() == 224);
+
+/// `FrameUniforms::flags` bit: far draws were splatted into the visibility buffers this frame,
+/// and the lighting pass resolves them.
+pub const FRAME_SPLAT: u32 = 1;
 
 /// What [`FrameUniforms::new`] needs besides the camera and lighting.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,11 +66,16 @@ pub struct FrameShape {
     pub smooth_extent: f32,
     /// Smooth vertex origin.
     pub smooth_origin: f32,
+    /// `FRAME_*` bits.
+    pub flags: u32,
 }
 
 impl FrameUniforms {
     /// The uniforms of one frame.
     pub fn new(camera: &RenderCamera, lighting: &LightingParams, shape: &FrameShape) -> Self {
+        let basis = camera.basis();
+        let (half_w, half_h) = camera.half_extents(shape.width, shape.height);
+        let f32s = |v: [f64; 3], scale: f64| v.map(|c| (c * scale) as f32);
         FrameUniforms {
             view_proj: camera.view_projection(shape.width, shape.height),
             camera_offset: camera.offset,
@@ -65,6 +87,12 @@ impl FrameUniforms {
             width: shape.width,
             height: shape.height,
             lighting: LightingUniforms::new(lighting),
+            forward: f32s(basis.forward, 1.0),
+            near: camera.near as f32,
+            right: f32s(basis.right, half_w),
+            flags: shape.flags,
+            up: f32s(basis.up, half_h),
+            pad: 0,
         }
     }
 }
@@ -124,6 +152,12 @@ mod tests {
                     ("width", offset_of!(FrameUniforms, width)),
                     ("height", offset_of!(FrameUniforms, height)),
                     ("lighting", offset_of!(FrameUniforms, lighting)),
+                    ("forward", offset_of!(FrameUniforms, forward)),
+                    ("near", offset_of!(FrameUniforms, near)),
+                    ("right", offset_of!(FrameUniforms, right)),
+                    ("flags", offset_of!(FrameUniforms, flags)),
+                    ("up", offset_of!(FrameUniforms, up)),
+                    ("pad", offset_of!(FrameUniforms, pad)),
                 ],
             );
             check(

@@ -76,6 +76,7 @@
 
 pub mod camera;
 mod error;
+pub mod far;
 pub mod frame;
 pub mod lighting;
 pub mod materials;

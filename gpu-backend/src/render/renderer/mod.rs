@@ -13,10 +13,12 @@ use voxel_core::{ChunkSize, MaterialPalette};
 
 use super::camera::RenderCamera;
 use super::error::RenderError;
+use super::far::splat::FarSplat;
+use super::far::{FarChoice, FarPath, FarRequest};
 use super::frame::FrameUniforms;
 use super::lighting::LightingParams;
 use super::materials::gpu_materials;
-use super::pipelines::Pipelines;
+use super::pipelines::{FullscreenPath, Pipelines};
 use super::residency::{ChunkMeshData, SmoothFrame, SmoothRanges, chunk_record, mesh_bounds};
 use super::targets::{FrameImage, RenderTargets, read_output};
 use crate::chunk_table::{GpuTable, MeshedChunkTable, TableError, TableSlot};
@@ -43,6 +45,11 @@ pub struct RendererConfig {
     pub max_chunks: u32,
     /// How smooth vertex positions map to chunk-local blocks.
     pub smooth: SmoothFrame,
+    /// Far draws: which path (see [`far`](crate::render::far)); far draws also need space for
+    /// draw blocks in `gigabuffer` and level-of-detail selection ([`Renderer::set_lod`]).
+    pub far: FarRequest,
+    /// How the full-screen passes run.
+    pub fullscreen: FullscreenPath,
 }
 
 impl RendererConfig {
@@ -62,7 +69,18 @@ impl RendererConfig {
                 .with_max_chunks(4096),
             max_chunks: 4096,
             smooth: SmoothFrame::nocubes(size),
+            far: FarRequest::Off,
+            fullscreen: FullscreenPath::default(),
         }
+    }
+
+    /// This configuration with far draws `far` and `draw_block_bytes` of draw-block space.
+    pub fn with_far(mut self, far: FarRequest, draw_block_bytes: u64) -> RendererConfig {
+        self.far = far;
+        self.gigabuffer = self
+            .gigabuffer
+            .with_bytes(DataKind::DrawBlocks, draw_block_bytes);
+        self
     }
 }
 
@@ -95,12 +113,20 @@ pub struct Renderer {
     lod: Option<LodSettings>,
     anchor: LodAnchor,
     pipelines: Pipelines,
+    /// The far path in use and why.
+    far_choice: FarChoice,
+    /// The compute splat, when that is the far path.
+    splat: Option<FarSplat>,
+    /// Read by the full-screen passes when there is no splat.
+    no_visibility: Buffer,
     targets: RenderTargets,
     quad_indices: Buffer,
     materials: Buffer,
     material_count: u32,
     frame_uniforms: Buffer,
     timer: GpuTimer,
+    /// The device's largest storage binding (the visibility buffers' limit).
+    gigabuffer_max_page: u64,
     camera: RenderCamera,
     lighting: LightingParams,
 }
@@ -138,6 +164,37 @@ impl Renderer {
         };
         let cull = CullPass::new(ctx, gigabuffer.layout(DataKind::Quads), &cull_config)?;
         let cull_frame = cull.create_frame("renderer")?;
+        let far_choice = config
+            .far
+            .resolve(&ctx.capabilities)
+            .map_err(RenderError::FarDrawsUnavailable)?;
+        let splat = match far_choice.path {
+            FarPath::Off => None,
+            FarPath::Splat => {
+                let blocks = gigabuffer.layout(DataKind::DrawBlocks);
+                if blocks.page_count != 1 {
+                    return Err(RenderError::FarDrawsUnavailable(format!(
+                        "the splat binds the draw-block gigabuffer as one page; {} bytes of \
+                         draw blocks make {} pages of at most {} bytes",
+                        config.gigabuffer.bytes.get(DataKind::DrawBlocks),
+                        blocks.page_count,
+                        ctx.capabilities.max_page_bytes()
+                    )));
+                }
+                Some(FarSplat::new(
+                    device,
+                    config.width,
+                    config.height,
+                    ctx.capabilities.max_page_bytes(),
+                )?)
+            }
+        };
+        let no_visibility = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("no far visibility"),
+            size: 16,
+            usage: BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
         let opaque_commands = cull.create_output("opaque")?;
         let transparent_commands = cull.create_output("transparent")?;
         let indices = quad_indices(cull.layout().max_quads_per_draw);
@@ -171,13 +228,17 @@ impl Renderer {
                 chunk: voxel_core::ChunkCoord::new(0, 0, 0),
                 offset: [0.0; 3],
             },
-            pipelines: Pipelines::new(device),
+            pipelines: Pipelines::new(device, config.fullscreen),
+            far_choice,
+            splat,
+            no_visibility,
             targets,
             quad_indices,
             materials,
             material_count,
             frame_uniforms,
             timer: GpuTimer::new(ctx, 16),
+            gigabuffer_max_page: ctx.capabilities.max_page_bytes(),
             camera: RenderCamera::from_world(
                 voxel_core::WorldPos::new(edge / 2, edge / 2, edge / 2),
                 [0.5; 3],
@@ -244,8 +305,30 @@ impl Renderer {
         self.lighting = *lighting;
     }
 
+    /// The far path in use and why it was chosen.
+    pub fn far_choice(&self) -> &FarChoice {
+        &self.far_choice
+    }
+
+    /// Changes how the full-screen passes run (rebuilds the pipelines when it changes).
+    pub fn set_fullscreen_path(&mut self, path: FullscreenPath) {
+        if path != self.config.fullscreen {
+            self.config.fullscreen = path;
+            self.pipelines = Pipelines::new(&self.device, path);
+        }
+    }
+
+    /// How the full-screen passes run.
+    pub fn fullscreen_path(&self) -> FullscreenPath {
+        self.config.fullscreen
+    }
+
     /// Changes the output size (recreates the targets).
     pub fn resize(&mut self, width: u32, height: u32) -> Result<(), RenderError> {
+        if let Some(splat) = &mut self.splat {
+            let max = self.gigabuffer_max_page;
+            splat.resize(width, height, max)?;
+        }
         self.targets = RenderTargets::new(&self.device, width, height)?;
         self.config.width = width;
         self.config.height = height;

@@ -4,7 +4,9 @@
 use wgpu::{BindGroup, Buffer, CommandEncoder};
 
 use super::Renderer;
+use crate::bind::buffer_entry;
 use crate::gigabuffer::DataKind;
+use crate::render::pipelines::FullscreenPipelines;
 
 impl Renderer {
     pub(super) fn frame_group(&self) -> BindGroup {
@@ -53,19 +55,13 @@ impl Renderer {
         let quads = self
             .gigabuffer
             .page(DataKind::SmoothQuads, pair % quad_pages)?;
-        fn entry(binding: u32, buffer: &Buffer) -> wgpu::BindGroupEntry<'_> {
-            wgpu::BindGroupEntry {
-                binding,
-                resource: buffer.as_entire_binding(),
-            }
-        }
         Some(self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("smooth"),
             layout: &self.pipelines.smooth_layout,
             entries: &[
-                entry(2, vertices),
-                entry(3, quads),
-                entry(4, self.opaque_commands.smooth_records()),
+                buffer_entry(2, vertices),
+                buffer_entry(3, quads),
+                buffer_entry(4, self.opaque_commands.smooth_records()),
             ],
         }))
     }
@@ -158,8 +154,8 @@ impl Renderer {
         }
     }
 
-    /// The lighting pass (`tonemap = false`: G-buffer to HDR) or the tonemap pass (HDR to the
-    /// output).
+    /// The lighting pass (`tonemap = false`: G-buffer and far visibility to HDR) or the
+    /// tonemap pass (HDR to the output), as a fragment or a compute pass.
     pub(super) fn record_fullscreen(
         &self,
         encoder: &mut CommandEncoder,
@@ -171,38 +167,66 @@ impl Renderer {
             binding,
             resource: wgpu::BindingResource::TextureView(view),
         };
-        let (pipeline, layout, entries, target) = if tonemap {
-            (
-                &self.pipelines.tonemap,
-                &self.pipelines.hdr_read_layout,
-                vec![texture(3, &t.hdr)],
-                &t.output,
-            )
+        let compute = matches!(
+            self.pipelines.fullscreen,
+            FullscreenPipelines::Compute { .. }
+        );
+        let (visibility, transparent) = match &self.splat {
+            Some(splat) => (splat.visibility(), splat.transparent()),
+            None => (&self.no_visibility, &self.no_visibility),
+        };
+        let (layout, mut entries) = if tonemap {
+            (&self.pipelines.hdr_read_layout, vec![texture(3, &t.hdr)])
         } else {
             (
-                &self.pipelines.lighting,
                 &self.pipelines.gbuffer_read_layout,
                 vec![
                     texture(0, &t.albedo),
                     texture(1, &t.normal),
                     texture(2, &t.depth),
+                    buffer_entry(4, visibility),
+                    buffer_entry(5, transparent),
                 ],
-                &t.hdr,
             )
         };
+        if compute {
+            entries.push(if tonemap {
+                texture(7, &t.output_storage)
+            } else {
+                texture(6, &t.hdr)
+            });
+        }
         let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(if tonemap { "hdr read" } else { "gbuffer read" }),
             layout,
             entries: &entries,
         });
-        let mut pass = crate::fullscreen::fullscreen_pass(
-            encoder,
-            if tonemap { "tonemap" } else { "lighting" },
-            target,
-        );
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, frame_group, &[]);
-        pass.set_bind_group(1, &group, &[]);
-        pass.draw(0..3, 0..1);
+        let label = if tonemap { "tonemap" } else { "lighting" };
+        match &self.pipelines.fullscreen {
+            FullscreenPipelines::Fragment {
+                lighting,
+                tonemap: tone,
+            } => {
+                let target = if tonemap { &t.output } else { &t.hdr };
+                let mut pass = crate::fullscreen::fullscreen_pass(encoder, label, target);
+                pass.set_pipeline(if tonemap { tone } else { lighting });
+                pass.set_bind_group(0, frame_group, &[]);
+                pass.set_bind_group(1, &group, &[]);
+                pass.draw(0..3, 0..1);
+            }
+            FullscreenPipelines::Compute {
+                lighting,
+                tonemap: tone,
+            } => {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(label),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(if tonemap { tone } else { lighting });
+                pass.set_bind_group(0, frame_group, &[]);
+                pass.set_bind_group(1, &group, &[]);
+                pass.dispatch_workgroups(t.width.div_ceil(8), t.height.div_ceil(8), 1);
+            }
+        }
     }
 }

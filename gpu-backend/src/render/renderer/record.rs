@@ -5,8 +5,10 @@ use wgpu::CommandEncoder;
 
 use super::Renderer;
 use crate::cull::{CullInputs, CullLayer, CullParams, CullStats, LodParams, lod};
+use crate::gigabuffer::DataKind;
 use crate::render::error::RenderError;
-use crate::render::frame::{FrameShape, FrameUniforms};
+use crate::render::far::splat::{SplatInputs, SplatStats};
+use crate::render::frame::{FRAME_SPLAT, FrameShape, FrameUniforms};
 use crate::timing::PassTime;
 
 impl Renderer {
@@ -38,9 +40,13 @@ impl Renderer {
             pad: 0,
         });
         let _ = width;
+        let far_cell_px = match (&self.splat, self.lod) {
+            (Some(_), Some(settings)) => Some(settings.far_cell_px),
+            _ => None,
+        };
         CullParams {
             lod,
-            far_cell_px: None,
+            far_cell_px,
             smooth,
             phase: 0,
         }
@@ -63,6 +69,7 @@ impl Renderer {
             material_count: self.material_count,
             smooth_extent: self.config.smooth.extent,
             smooth_origin: self.config.smooth.origin,
+            flags: if self.splat.is_some() { FRAME_SPLAT } else { 0 },
         };
         let uniforms = FrameUniforms::new(&self.camera, &self.lighting, &shape);
         self.queue
@@ -70,6 +77,9 @@ impl Renderer {
         let frame_group = self.frame_group();
         let cull_camera = self.camera.cull_camera(width, height);
         self.cull_frame.clear(encoder);
+        if let Some(splat) = &self.splat {
+            splat.clear(encoder);
+        }
         let inputs = CullInputs {
             table: &self.table,
             nodes: Some(&self.nodes),
@@ -86,6 +96,23 @@ impl Renderer {
             &self.cull_params(true),
         )?;
         self.timer.end(encoder, scope);
+
+        if let (Some(splat), Some(blocks)) =
+            (&self.splat, self.gigabuffer.page(DataKind::DrawBlocks, 0))
+        {
+            let scope = self.timer.begin(encoder, "far splat");
+            splat.record(
+                encoder,
+                &SplatInputs {
+                    frame_uniforms: &self.frame_uniforms,
+                    table: self.table.buffer(),
+                    nodes: self.nodes.buffer(),
+                    blocks,
+                    frame: &self.cull_frame,
+                },
+            );
+            self.timer.end(encoder, scope);
+        }
 
         // The transparent layer, back to front (see `render::transparent`).
         let scope = self.timer.begin(encoder, "cull transparent");
@@ -131,9 +158,20 @@ impl Renderer {
         self.timer.collect().map_err(RenderError::Timer)
     }
 
-    /// The last submitted frame's cull counters: nodes per level and representation, culled
-    /// nodes, primitives drawn (blocks until the GPU is done; for tests and benchmarks).
-    pub fn read_cull_stats(&self) -> Result<CullStats, RenderError> {
-        Ok(self.cull_frame.read(&self.device, &self.queue)?.0)
+    /// The last submitted frame's cull counters (nodes per level and representation, culled
+    /// nodes, primitives drawn) and the splat's (blocks until the GPU is done; for tests and
+    /// benchmarks).
+    pub fn read_frame_stats(&self) -> Result<(CullStats, SplatStats), RenderError> {
+        let words: Vec<u32> = bytemuck::pod_collect_to_vec(&crate::readback::read_buffer(
+            &self.device,
+            &self.queue,
+            self.cull_frame.stats(),
+            0,
+            self.cull_frame.stats().size(),
+        )?);
+        Ok((
+            CullStats::from_words(&words),
+            SplatStats::from_words(&words),
+        ))
     }
 }
