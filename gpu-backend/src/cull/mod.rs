@@ -92,7 +92,9 @@ pub use layout::{
     quad_indices,
 };
 pub use lod::{LodAnchor, LodParams, LodSettings};
-pub use node::{DrawRecord, NODE_HAS_BLOCKS, NodeRecord, SkirtTooLarge, skirt_count};
+pub use node::{
+    DrawRecord, NODE_HAS_BLOCKS, NODE_TRANSPARENT_MASK, NodeRecord, SkirtTooLarge, skirt_count,
+};
 pub use order::{ORDER_KEYS, cull_reference_ordered, cull_reference_ordered_with, depth_key};
 pub use output::{CullFrame, CullOutput, CullReadback};
 pub use pass::{CullInputs, CullPass};

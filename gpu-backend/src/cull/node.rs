@@ -8,6 +8,8 @@ use crate::gigabuffer::ChunkRanges;
 
 /// `NodeRecord::flags` bit: the node has far-draw blocks and a hiding mask.
 pub const NODE_HAS_BLOCKS: u32 = 1;
+/// `NodeRecord::flags` bit: a transparent mask of `mask_words` words follows the hiding mask.
+pub const NODE_TRANSPARENT_MASK: u32 = 2;
 
 /// Per table slot, what `MeshedChunkInfo` does not hold (twin of the WGSL `NodeRecord` in
 /// `node.wgsl`, 64 bytes; a unit test checks the layout with naga): the smooth-quad range, the
@@ -30,7 +32,7 @@ pub struct NodeRecord {
     pub block_count: u32,
     /// The hiding mask's first word in the draw-block gigabuffer (global).
     pub mask_offset: u32,
-    /// The hiding mask's words.
+    /// The hiding mask's words (and the transparent mask's, when there is one).
     pub mask_words: u32,
     /// `NODE_*` bits.
     pub flags: u32,
@@ -101,7 +103,8 @@ impl NodeRecord {
     /// The record of a chunk uploaded at `ranges`. Blocks count only with a hiding mask (far
     /// draws need both).
     pub fn new(ranges: &ChunkRanges) -> Result<NodeRecord, SkirtTooLarge> {
-        let has_blocks = ranges.draw_blocks.count > 0 && ranges.hiding_mask.count > 0;
+        let blocks = ranges.draw_blocks.count + ranges.draw_block_skirts.iter().sum::<u32>();
+        let has_blocks = blocks > 0 && ranges.hiding_mask.count > 0;
         Ok(NodeRecord {
             smooth_quad_offset: ranges.smooth_quads.offset,
             smooth_quad_count: ranges.smooth_quad_count,
@@ -110,7 +113,14 @@ impl NodeRecord {
             block_count: ranges.draw_blocks.count,
             mask_offset: ranges.hiding_mask.offset,
             mask_words: ranges.hiding_mask.count,
-            flags: if has_blocks { NODE_HAS_BLOCKS } else { 0 },
+            flags: if has_blocks { NODE_HAS_BLOCKS } else { 0 }
+                | if ranges.transparent_mask.count == ranges.hiding_mask.count
+                    && ranges.transparent_mask.count > 0
+                {
+                    NODE_TRANSPARENT_MASK
+                } else {
+                    0
+                },
             opaque_skirts: pack(ranges.opaque_skirts)?,
             block_skirts: pack(ranges.draw_block_skirts)?,
             pad: [0; 2],

@@ -149,6 +149,24 @@ impl CullOutput {
         &self.layout
     }
 
+    /// GPU bytes this output holds (every buffer).
+    pub fn byte_size(&self) -> u64 {
+        [
+            &self.args,
+            &self.records,
+            &self.counts,
+            &self.uniforms,
+            &self.order_counts,
+            &self.order_cursors,
+            &self.smooth_args,
+            &self.smooth_records,
+            &self.smooth_counts,
+        ]
+        .iter()
+        .map(|b| b.size())
+        .sum()
+    }
+
     /// Byte offset of page `page`'s commands in [`args`](Self::args).
     pub fn args_offset(&self, page: u32) -> u64 {
         self.layout.page_commands(page).start * size_of::<DrawIndexedArgs>() as u64

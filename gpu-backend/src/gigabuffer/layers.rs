@@ -47,6 +47,10 @@ pub struct ChunkLayersData<'a> {
     /// (`mesher::surface_blocks::hiding_mask`), stored after the skirt blocks in the
     /// draw-block gigabuffer: far draws read it for ambient occlusion.
     pub hiding_mask: &'a [u32],
+    /// The transparent occupancy of the same neighbourhood
+    /// (`mesher::surface_blocks::transparent_mask`; empty when it has no transparent voxel),
+    /// stored right after the hiding mask.
+    pub transparent_mask: &'a [u32],
 }
 
 impl<'a> ChunkLayersData<'a> {
@@ -78,7 +82,10 @@ impl<'a> ChunkLayersData<'a> {
     /// [`DataKind::DrawBlocks`].
     pub fn draw_block_words(&self) -> u64 {
         let skirts: u64 = self.draw_block_skirts.iter().map(|s| s.len() as u64).sum();
-        self.draw_blocks.len() as u64 + skirts + self.hiding_mask.len() as u64
+        self.draw_blocks.len() as u64
+            + skirts
+            + self.hiding_mask.len() as u64
+            + self.transparent_mask.len() as u64
     }
 
     /// Elements of each kind this chunk needs.
@@ -137,6 +144,8 @@ pub struct ChunkRanges {
     pub draw_block_skirts: [u32; 6],
     /// The hiding mask's words, after the skirt blocks (count 0 when none was uploaded).
     pub hiding_mask: LayerRange,
+    /// The transparent mask's words, right after the hiding mask (count 0 when none).
+    pub transparent_mask: LayerRange,
 }
 
 impl ChunkRanges {
@@ -164,7 +173,8 @@ impl ChunkRanges {
                 offset: self.draw_blocks.offset,
                 count: self.draw_blocks.count
                     + self.draw_block_skirts.iter().sum::<u32>()
-                    + self.hiding_mask.count,
+                    + self.hiding_mask.count
+                    + self.transparent_mask.count,
             },
         }
     }

@@ -265,6 +265,10 @@ impl Gigabuffer {
                 offset: blocks.offset + block_count + skirt_total,
                 count: layers.hiding_mask.len() as u32,
             },
+            transparent_mask: LayerRange {
+                offset: blocks.offset + block_count + skirt_total + layers.hiding_mask.len() as u32,
+                count: layers.transparent_mask.len() as u32,
+            },
         }
     }
 
@@ -319,6 +323,9 @@ impl Gigabuffer {
                     .map(|s| bytemuck::cast_slice(s)),
             )
             .chain(std::iter::once(bytemuck::cast_slice(layers.hiding_mask)))
+            .chain(std::iter::once(bytemuck::cast_slice(
+                layers.transparent_mask,
+            )))
             .collect();
         push(DataKind::DrawBlocks, &blocks);
     }

@@ -91,6 +91,7 @@ pub use error::RenderError;
 pub use frame::{FrameShape, FrameUniforms, SmoothDraw};
 pub use lighting::LightingParams;
 pub use materials::{GpuMaterial, gpu_materials};
+pub use pipelines::FullscreenPath;
 pub use renderer::{Renderer, RendererConfig};
 pub use residency::{ChunkMeshData, SmoothFrame, SmoothRanges, chunk_record, mesh_bounds};
 pub use targets::{FrameImage, RenderTargets};

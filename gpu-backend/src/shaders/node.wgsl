@@ -9,7 +9,8 @@ struct NodeRecord {
     // The draw blocks (global element offset in the draw-block gigabuffer), without skirts.
     block_offset: u32,
     block_count: u32,
-    // The hiding mask's first word (draw-block gigabuffer, global) and its word count.
+    // The hiding mask's first word (draw-block gigabuffer, global) and its word count (the
+    // transparent mask's too, when NODE_TRANSPARENT_MASK says one follows).
     mask_offset: u32,
     mask_words: u32,
     // NODE_* bits.
@@ -24,6 +25,8 @@ struct NodeRecord {
 
 // The node has far-draw blocks and a hiding mask.
 const NODE_HAS_BLOCKS: u32 = 1u;
+// A transparent mask of mask_words words follows the hiding mask.
+const NODE_TRANSPARENT_MASK: u32 = 2u;
 
 // Count of side `side` in a pair-packed array of six u16.
 fn skirt_count(words: array<u32, 3>, side: u32) -> u32 {

@@ -12,8 +12,10 @@
 
 // Twin of render::far::SPLAT_WORKGROUP.
 const SPLAT_WORKGROUP: u32 = 64u;
-// The hiding mask of a 16^3 node: 18^3 bits in 183 words.
+// The hiding mask of a 16^3 node: 18^3 bits in 183 words; the transparent mask, when the node
+// has one, is loaded at TRANSPARENT_PLANE.
 const MASK_WORDS: u32 = 192u;
+const TRANSPARENT_PLANE: u32 = 192u;
 // Pixels one block may cover before it is skipped and counted (a far block that large means
 // the far threshold is wrong for this view): 32 x 32.
 const MAX_BLOCK_PIXELS: u32 = 1024u;
@@ -38,7 +40,7 @@ const STAT_SPLAT_SKIPPED: u32 = 12u;
 @group(1) @binding(6) var<storage, read> range: array<u32>;
 @group(1) @binding(7) var<storage, read_write> stats: array<atomic<u32>>;
 
-var<workgroup> wg_mask: array<u32, MASK_WORDS>;
+var<workgroup> wg_mask: array<u32, 384>;
 var<workgroup> wg_pixels: atomic<u32>;
 var<workgroup> wg_skipped: atomic<u32>;
 
@@ -74,14 +76,24 @@ fn block_index(node: NodeRecord, skirts: u32, b: u32) -> u32 {
     return at;
 }
 
-// The node's padded voxel p (each axis 0..edge + 2) hides its neighbours.
-fn hides(p: vec3<i32>, edge: i32) -> bool {
+// Bit `plane` + (the node's padded voxel p, each axis 0..edge + 2) of the loaded masks.
+fn mask_bit(p: vec3<i32>, edge: i32, plane: u32) -> bool {
     let q = edge + 2;
     if any(p < vec3<i32>(0)) || any(p >= vec3<i32>(q)) {
         return false;
     }
     let i = u32(p.x + q * (p.y + q * p.z));
-    return ((wg_mask[min(i >> 5u, MASK_WORDS - 1u)] >> (i & 31u)) & 1u) != 0u;
+    return ((wg_mask[plane + min(i >> 5u, MASK_WORDS - 1u)] >> (i & 31u)) & 1u) != 0u;
+}
+
+// The node's padded voxel p hides its neighbours.
+fn hides(p: vec3<i32>, edge: i32) -> bool {
+    return mask_bit(p, edge, 0u);
+}
+
+// The node's padded voxel p is transparent (false when the node has no transparent mask).
+fn is_transparent(p: vec3<i32>, edge: i32) -> bool {
+    return mask_bit(p, edge, TRANSPARENT_PLANE);
 }
 
 // The meshers' corner rule (mesher::blocky::ao::corner_ao).
@@ -200,6 +212,13 @@ fn splat_block(bits: u32, origin: vec3<f32>, scale: f32, edge: i32) {
                 axis = 2u;
             }
             let face = axis * 2u + u32(d[axis] > 0.0);
+            // A transparent block shows a face only where the meshers would: towards a voxel
+            // that neither hides nor is transparent. Entering through any other face, the ray
+            // is inside the transparent volume already: no surface here.
+            let beyond = padded + face_normal(face);
+            if see_through && (hides(beyond, edge) || is_transparent(beyond, edge)) {
+                continue;
+            }
             let local = clamp((d * t_in - lo) / scale, vec3<f32>(0.0), vec3<f32>(1.0));
             let uv = vec2<f32>(local[face_width_axis(face)], local[face_height_axis(face)]);
             let ao = face_ao(padded, face, uv, edge);
@@ -233,8 +252,15 @@ fn splat(
     let info = table[entry.x];
     let node = nodes[entry.x];
     let words = select(0u, min(node.mask_words, MASK_WORDS), valid);
+    let with_transparent = (node.flags & NODE_TRANSPARENT_MASK) != 0u;
     for (var i = lid; i < words; i += SPLAT_WORKGROUP) {
         wg_mask[i] = blocks[node.mask_offset + i];
+        var t = 0u;
+        if with_transparent {
+            t = blocks[node.mask_offset + node.mask_words + i];
+        }
+        // Cleared every time: a workgroup's memory starts zeroed only once per dispatch slot.
+        wg_mask[TRANSPARENT_PLANE + i] = t;
     }
     workgroupBarrier();
     let level = min(info.lod, 15u);

@@ -40,8 +40,12 @@ use voxel_core::{BlockId, ChunkCoord, FaceDirection, LocalPos, MaterialClass, Pa
 
 use crate::{BlockClasses, MeshError};
 
+pub mod nodes;
 pub mod skirts;
 
+#[cfg(feature = "parallel")]
+pub use nodes::mesh_nodes;
+pub use nodes::{NodeMesh, NodeMesher, NodeSettings, downsample_levels, mesh_nodes_sequential};
 pub use skirts::{Skirts, skirt_blocks, skirt_quads};
 
 /// Picks the coarse id for 8 children, by the rule in the [module docs](self). Indices 4..8 are
@@ -178,6 +182,46 @@ pub fn downsample_world<C: VoxelStorage>(
                 .insert(parent, PaletteChunk::from_dense(&scratch))
                 .map_err(|_| bad_size(size.edge_usize()))?;
         }
+    }
+    Ok(coarse)
+}
+
+/// [`downsample_world`] with the coarse chunks computed in parallel on rayon's pool (the same
+/// result).
+#[cfg(feature = "parallel")]
+pub fn downsample_world_parallel<C: VoxelStorage + Sync>(
+    fine: &WorldMap<C>,
+    classes: &BlockClasses,
+) -> Result<WorldMap<PaletteChunk>, MeshError> {
+    use rayon::prelude::*;
+
+    let size = fine.size();
+    let mut parents: Vec<ChunkCoord> = fine
+        .iter()
+        .map(|(c, _)| ChunkCoord::new(c.x.div_euclid(2), c.y.div_euclid(2), c.z.div_euclid(2)))
+        .collect();
+    parents.sort_unstable();
+    parents.dedup();
+    let chunks: Result<Vec<Option<(ChunkCoord, PaletteChunk)>>, MeshError> = parents
+        .par_iter()
+        .map(|&parent| {
+            let child = |dx: u32, dy: u32, dz: u32| {
+                fine.get(ChunkCoord::new(
+                    parent.x * 2 + dx as i32,
+                    parent.y * 2 + dy as i32,
+                    parent.z * 2 + dz as i32,
+                ))
+            };
+            let mut scratch = DenseChunk::new(size);
+            downsample_chunk(child, classes, &mut scratch)?;
+            Ok((scratch.non_air_count() > 0).then(|| (parent, PaletteChunk::from_dense(&scratch))))
+        })
+        .collect();
+    let mut coarse = WorldMap::new(size);
+    for (parent, chunk) in chunks?.into_iter().flatten() {
+        coarse
+            .insert(parent, chunk)
+            .map_err(|_| bad_size(size.edge_usize()))?;
     }
     Ok(coarse)
 }

@@ -61,6 +61,12 @@ impl Skirts {
         &self.blocks[usize::from(side.index())]
     }
 
+    /// Replaces the skirt blocks of side `index` (`FaceDirection::index`).
+    pub(crate) fn set_blocks(&mut self, index: usize, blocks: &[DrawBlock]) {
+        self.blocks[index].clear();
+        self.blocks[index].extend_from_slice(blocks);
+    }
+
     /// Skirt quads per side.
     pub fn quad_counts(&self) -> [u32; 6] {
         self.quads.each_ref().map(|q| q.len() as u32)

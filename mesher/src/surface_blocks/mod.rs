@@ -48,7 +48,7 @@ use voxel_core::{BlockId, MaterialClass, PaddedChunk};
 
 use crate::{BlockClasses, MeshError};
 use exposure::{ExposureScratch, nothing_exposed};
-pub use occupancy::{hiding_mask, hiding_mask_words};
+pub use occupancy::{hiding_mask, hiding_mask_words, transparent_mask};
 
 /// Edge of one sub-block in voxels: the 16 positions a [`DrawBlock`] axis can address.
 pub const SUB_BLOCK_EDGE: u32 = DrawBlock::MAX_POSITION + 1;

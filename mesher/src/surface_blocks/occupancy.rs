@@ -21,6 +21,38 @@ use voxel_core::PaddedChunk;
 
 use crate::BlockClasses;
 
+/// Writes the transparent occupancy of `chunk` into `out`, in the layout of [`hiding_mask`]:
+/// bit set iff the padded voxel is transparent (water, glass). Far draws read it to show a
+/// transparent block's face only where the meshers would: towards a voxel that neither hides
+/// nor is transparent (they do not tell transparent ids apart there: water next to glass shows
+/// no face between them, where the meshers would show one). Left empty when the padded chunk
+/// has no transparent voxel (or the palette no transparent material).
+pub fn transparent_mask(chunk: &PaddedChunk, classes: &BlockClasses, out: &mut Vec<u32>) {
+    out.clear();
+    if !classes.any_transparent() {
+        return;
+    }
+    let p = chunk.padded_edge();
+    let voxels = chunk.voxels();
+    let mut any = false;
+    let mut bits = alloc::vec![0u32; hiding_mask_words(chunk.size().edge())];
+    for (row, &mask) in chunk.columns().iter().enumerate() {
+        let mut rest = mask;
+        while rest != 0 {
+            let px = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            let i = px + p * row;
+            if classes.is_transparent(voxels[i]) {
+                bits[i / 32] |= 1 << (i % 32);
+                any = true;
+            }
+        }
+    }
+    if any {
+        *out = bits;
+    }
+}
+
 /// Words of the bit set of a chunk of edge `edge`: `ceil((edge + 2)^3 / 32)`.
 pub const fn hiding_mask_words(edge: u32) -> usize {
     let p = (edge + 2) as usize;

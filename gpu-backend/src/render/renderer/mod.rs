@@ -350,6 +350,31 @@ impl Renderer {
         self.chunks.len()
     }
 
+    /// GPU bytes the renderer holds, by kind: the gigabuffer's used bytes per data kind, the
+    /// chunk and node tables, the cull's outputs and far list, the far visibility buffers.
+    /// (Render targets are not counted: they depend on the output size only.)
+    pub fn resident_bytes(&self) -> Vec<(&'static str, u64)> {
+        let used = self.gigabuffer.resident();
+        let mut out: Vec<(&'static str, u64)> = DataKind::ALL
+            .iter()
+            .map(|&kind| (kind.name(), used.kinds.get(kind).used_bytes))
+            .collect();
+        out.push(("chunk table", self.table.buffer().size()));
+        out.push(("node table", self.nodes.buffer().size()));
+        out.push((
+            "cull outputs",
+            self.opaque_commands.byte_size() + self.transparent_commands.byte_size(),
+        ));
+        out.push(("far list", self.cull_frame.far_list().size()));
+        if let Some(splat) = &self.splat {
+            out.push((
+                "far visibility buffers",
+                splat.visibility().size() + splat.transparent().size(),
+            ));
+        }
+        out
+    }
+
     /// True when a resident chunk has a smooth layer.
     fn has_smooth(&self) -> bool {
         self.chunks.values().any(|r| r.smooth.is_some())
@@ -437,7 +462,7 @@ impl Renderer {
                 .iter()
                 .map(|s| s.len())
                 .sum::<usize>();
-        if blocks == 0 && layers.hiding_mask.is_empty() {
+        if blocks == 0 && layers.hiding_mask.is_empty() && layers.transparent_mask.is_empty() {
             return Ok(());
         }
         let edge = self.config.chunk_size.edge();
@@ -454,6 +479,13 @@ impl Renderer {
                 "{blocks} draw blocks come with a hiding mask of {} words; chunks of edge \
                  {edge} need {words} (mesher::surface_blocks::hiding_mask)",
                 layers.hiding_mask.len()
+            )));
+        }
+        if !layers.transparent_mask.is_empty() && layers.transparent_mask.len() != words {
+            return Err(RenderError::BadFarData(format!(
+                "a transparent mask of {} words; chunks of edge {edge} need {words} or none \
+                 (mesher::surface_blocks::transparent_mask)",
+                layers.transparent_mask.len()
             )));
         }
         Ok(())
@@ -474,8 +506,24 @@ impl Renderer {
     }
 
     /// Reads the last frame's output and depth back (blocks).
+    ///
+    /// The depth is the frame's: where a far draw was splatted nearer than the rasterised
+    /// depth, the splat's.
     pub fn read_image(&self) -> Result<FrameImage, RenderError> {
-        read_output(&self.device, &self.queue, &self.targets)
+        let mut image = read_output(&self.device, &self.queue, &self.targets)?;
+        if let Some(splat) = &self.splat {
+            let words: Vec<[u32; 2]> = bytemuck::pod_collect_to_vec(&crate::readback::read_buffer(
+                &self.device,
+                &self.queue,
+                splat.visibility(),
+                0,
+                splat.visibility().size(),
+            )?);
+            for (depth, word) in image.depth.iter_mut().zip(words) {
+                *depth = depth.max(f32::from_bits(word[1]));
+            }
+        }
+        Ok(image)
     }
 }
 
