@@ -33,6 +33,7 @@ pub mod device;
 mod dirty_ranges;
 mod fullscreen;
 pub mod gigabuffer;
+pub mod hiz;
 pub mod present;
 pub mod readback;
 pub mod render;

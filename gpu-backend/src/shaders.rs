@@ -90,6 +90,29 @@ pub const FAR_ARGS: ShaderSpec = ShaderSpec {
     body: include_str!("shaders/far_args.wgsl"),
 };
 
+/// The Hi-Z test functions (`hiz_rect_visible` and its steps; see [`crate::hiz`]): no bindings,
+/// prepended to a shader that declares `var hiz_texture: texture_2d<f32>`, e.g. a body of
+/// `concat!(include_str!("shaders/hiz.wgsl"), include_str!("shaders/cull.wgsl"))`.
+pub const HIZ_FUNCTIONS: &str = include_str!("shaders/hiz.wgsl");
+
+/// The depth pyramid's build (entry points `hiz_level0`, `hiz_reduce`; see [`crate::hiz`]).
+pub const HIZ_BUILD: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "hiz_build",
+    body: include_str!("shaders/hiz_build.wgsl"),
+};
+
+/// [`HIZ_FUNCTIONS`] run on a list of rectangles (entry point `hiz_probe`): the GPU test of the
+/// Hi-Z test, and an example of including it.
+pub const HIZ_PROBE: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "hiz_probe",
+    body: concat!(
+        include_str!("shaders/hiz.wgsl"),
+        include_str!("shaders/hiz_probe.wgsl")
+    ),
+};
+
 /// Every shader of the crate.
 pub const ALL_SHADERS: &[ShaderSpec] = &[
     FORMAT_PARITY,
@@ -99,6 +122,8 @@ pub const ALL_SHADERS: &[ShaderSpec] = &[
     PRESENT,
     SPLAT,
     FAR_ARGS,
+    HIZ_BUILD,
+    HIZ_PROBE,
 ];
 
 /// `FORMATS_WGSL` followed by `body`: the one place shader sources are put together.
