@@ -42,9 +42,11 @@ struct SmoothDraw {
 @group(1) @binding(3) var<storage, read> smooth_quads: array<u32>;
 @group(1) @binding(4) var<storage, read> smooth_draws: array<SmoothDraw>;
 
-// How far vs_quad grows a quad in its plane, relative to its distance from the eye, and the
-// least it grows it, blocks (see vs_quad).
-const DILATION: f32 = 1.0 / 8192.0;
+// How far vs_quad grows a quad in its plane, in pixels at the quad's distance, and the least
+// it grows it, blocks (see vs_quad). Rasterisers snap to 1/256 pixel or finer, so 1/64 pixel
+// closes T-junction pinholes; more would move edges: a pixel centre within the hair of a
+// crease sees the wrong face.
+const DILATION_PX: f32 = 1.0 / 64.0;
 const MIN_DILATION: f32 = 1.0 / 4096.0;
 
 struct SurfaceVaryings {
@@ -80,7 +82,9 @@ fn quad_vertex(vertex: u32, instance: u32, grow: bool) -> SurfaceVaryings {
         // The normal axis of (corner - centre) is 0, so sign() keeps the quad in its plane.
         let centre = 0.5 * (vec3<f32>(packed_quad_corner(q, 0u)) + vec3<f32>(packed_quad_corner(q, 2u)));
         let origin = vec3<f32>(rel) * frame.chunk_edge - frame.camera_offset;
-        let hair = max(length(origin + local) * DILATION, MIN_DILATION);
+        // One pixel spans distance * 2 tan(fov_y / 2) / height blocks; |up| = tan(fov_y / 2).
+        let pixel = 2.0 * length(frame.up) / f32(frame.height);
+        let hair = max(length(origin + local) * pixel * DILATION_PX, MIN_DILATION);
         local += sign(cell - centre) * hair;
     }
     var out: SurfaceVaryings;
@@ -92,8 +96,8 @@ fn quad_vertex(vertex: u32, instance: u32, grow: bool) -> SurfaceVaryings {
 }
 
 // Opaque quads. Greedy quads meet at T-junctions, where rasterization can leave pinholes: each
-// quad is grown in its own plane by a hair (DILATION of its distance, at least MIN_DILATION
-// blocks, about 1/100 pixel at the tests' resolution), so neighbours overlap instead.
+// quad is grown in its own plane by a hair (DILATION_PX of a pixel at its distance, at least
+// MIN_DILATION blocks), so neighbours overlap instead.
 @vertex
 fn vs_quad(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> SurfaceVaryings {
     return quad_vertex(vertex, instance, true);
