@@ -37,6 +37,7 @@ pub const CULL: ShaderSpec = ShaderSpec {
     body: concat!(
         include_str!("shaders/node.wgsl"),
         include_str!("shaders/lod.wgsl"),
+        include_str!("shaders/hiz.wgsl"),
         include_str!("shaders/cull.wgsl")
     ),
 };

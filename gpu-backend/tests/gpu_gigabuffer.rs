@@ -31,6 +31,7 @@ struct Owned {
     opaque_skirts: [Vec<PackedQuad>; 6],
     block_skirts: [Vec<DrawBlock>; 6],
     hiding_mask: Vec<u32>,
+    transparent_mask: Vec<u32>,
 }
 
 impl Owned {
@@ -95,6 +96,8 @@ impl Owned {
         }
         let mask = n(rng);
         o.hiding_mask = rng.bytes(mask / 4);
+        let mask = n(rng);
+        o.transparent_mask = rng.bytes(mask / 4);
         o
     }
 
@@ -109,6 +112,7 @@ impl Owned {
             opaque_skirts: std::array::from_fn(|f| self.opaque_skirts[f].as_slice()),
             draw_block_skirts: std::array::from_fn(|f| self.block_skirts[f].as_slice()),
             hiding_mask: &self.hiding_mask,
+            transparent_mask: &self.transparent_mask,
         }
     }
 
@@ -149,6 +153,7 @@ impl Owned {
                     b.extend_from_slice(bytemuck::cast_slice(skirt));
                 }
                 b.extend_from_slice(bytemuck::cast_slice(&self.hiding_mask));
+                b.extend_from_slice(bytemuck::cast_slice(&self.transparent_mask));
                 b
             }
         }
@@ -220,6 +225,15 @@ fn check_face_ranges(chunk: &Owned, ranges: &ChunkRanges) {
             + ranges.draw_blocks.count
             + ranges.draw_block_skirts.iter().sum::<u32>(),
         "the mask follows the skirt blocks"
+    );
+    assert_eq!(
+        ranges.transparent_mask.offset,
+        ranges.hiding_mask.offset + ranges.hiding_mask.count,
+        "the transparent mask follows the hiding mask"
+    );
+    assert_eq!(
+        ranges.transparent_mask.count as usize,
+        chunk.transparent_mask.len()
     );
     assert_eq!(ranges.transparent_quads.counts, transparent);
     if ranges.opaque_quads.total() + ranges.transparent_quads.total() > 0 {

@@ -80,8 +80,11 @@ fn uploads_appear_and_frees_disappear() {
         labels,
         [
             "cull",
-            "cull transparent",
             "gbuffer",
+            "hiz",
+            "cull late",
+            "gbuffer late",
+            "cull transparent",
             "lighting",
             "transparent",
             "tonemap"

@@ -34,6 +34,16 @@ pub const CULL_LOD: u32 = 1;
 pub const CULL_FAR: u32 = 2;
 /// `CullUniforms::flags` bit: write the smooth layer's draws.
 pub const CULL_SMOOTH: u32 = 4;
+/// `CullUniforms::flags` bit: two-phase occlusion culling against the depth pyramid.
+pub const CULL_OCCLUSION: u32 = 8;
+
+/// Occlusion phase of a cull record: the nodes visible last frame.
+pub const PHASE_EARLY: u32 = 0;
+/// Occlusion phase: every node tested against the early phase's depth pyramid; the visible
+/// ones not drawn early are drawn, and every tested node's visibility bit is updated.
+pub const PHASE_LATE: u32 = 1;
+/// Occlusion phase: tested against the depth pyramid, bits untouched (a second layer).
+pub const PHASE_TEST: u32 = 2;
 
 /// wgpu's `DrawIndexedIndirectArgs` (20 bytes, the stride `multi_draw_indexed_indirect(_count)`
 /// reads), as the cull pass writes it.
@@ -78,7 +88,7 @@ impl DrawIndexedArgs {
     }
 }
 
-/// The cull shader's uniform block (`CullUniforms` in `cull.wgsl`), 240 bytes; a unit test
+/// The cull shader's uniform block (`CullUniforms` in `cull.wgsl`), 320 bytes; a unit test
 /// checks every offset against naga's layout of the WGSL struct.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -127,12 +137,33 @@ pub struct CullUniforms {
     pub focal_px: f32,
     /// The level-of-detail selection.
     pub lod: LodParams,
+    /// Camera-relative view-projection (reversed-Z), for the occlusion test.
+    pub view_proj: [[f32; 4]; 4],
+    /// Output size, pixels.
+    pub screen: [f32; 2],
+    /// Near plane, blocks.
+    pub near: f32,
+    /// Zero.
+    pub pad: u32,
 }
 
 const _: () = assert!(
-    size_of::<CullUniforms>() == 240,
-    "CullUniforms is 240 bytes"
+    size_of::<CullUniforms>() == 320,
+    "CullUniforms is 320 bytes"
 );
+
+/// What the occlusion test projects boxes with.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct OcclusionView {
+    /// Camera-relative view-projection (reversed-Z, column-major).
+    pub view_proj: [[f32; 4]; 4],
+    /// Output width, pixels.
+    pub width: u32,
+    /// Output height, pixels.
+    pub height: u32,
+    /// Near plane, blocks.
+    pub near: f32,
+}
 
 /// What one cull record selects and writes beyond its camera and layer.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -144,7 +175,10 @@ pub struct CullParams {
     pub far_cell_px: Option<f32>,
     /// Write the smooth layer's draws (opaque layer).
     pub smooth: bool,
-    /// Occlusion phase.
+    /// Two-phase occlusion culling: the view the boxes are projected with (the record's
+    /// inputs then bind the visibility bits and the depth pyramid); `None`: off.
+    pub occlusion: Option<OcclusionView>,
+    /// Occlusion phase ([`PHASE_EARLY`], [`PHASE_LATE`] or [`PHASE_TEST`]).
     pub phase: u32,
 }
 
@@ -167,6 +201,10 @@ impl CullUniforms {
         if params.smooth && layout.smooth_pairs > 0 {
             flags |= CULL_SMOOTH;
         }
+        if params.occlusion.is_some() {
+            flags |= CULL_OCCLUSION;
+        }
+        let view = params.occlusion.unwrap_or_default();
         let lod = params.lod.unwrap_or(LodParams {
             chunk_edge: layout.chunk_edge as f32,
             ..LodParams::default()
@@ -194,6 +232,10 @@ impl CullUniforms {
             smooth_pairs: layout.smooth_pairs,
             focal_px: lod.focal_px,
             lod,
+            view_proj: view.view_proj,
+            screen: [view.width as f32, view.height as f32],
+            near: view.near,
+            pad: 0,
         }
     }
 }
@@ -305,6 +347,8 @@ pub enum CullError {
     },
     /// An output created by a pass of another layout was given to `record`.
     OutputMismatch,
+    /// A record asked for occlusion culling without the visibility bits and depth pyramid.
+    OcclusionInputsMissing,
 }
 
 impl fmt::Display for CullError {
@@ -345,6 +389,11 @@ impl fmt::Display for CullError {
                 f,
                 "the smooth layer spans {pairs} (vertex page, quad page) pairs; one cull handles \
                  at most {MAX_SMOOTH_PAIRS}: raise the page size"
+            ),
+            CullError::OcclusionInputsMissing => write!(
+                f,
+                "occlusion culling needs the visibility bits and the depth pyramid in the \
+                 record's inputs"
             ),
             CullError::OutputMismatch => {
                 write!(

@@ -87,9 +87,9 @@ mod stats;
 
 pub use camera::{CullCamera, CullLayer, PLANE_KEEP_ALL};
 pub use layout::{
-    CULL_FAR, CULL_LOD, CULL_SMOOTH, CullConfig, CullError, CullLayout, CullParams, CullUniforms,
-    DrawIndexedArgs, MAX_PAGE_QUADS, MAX_PAGES, MAX_QUADS_PER_DRAW, MAX_SMOOTH_PAIRS, SmoothPages,
-    quad_indices,
+    CULL_FAR, CULL_LOD, CULL_OCCLUSION, CULL_SMOOTH, CullConfig, CullError, CullLayout, CullParams,
+    CullUniforms, DrawIndexedArgs, MAX_PAGE_QUADS, MAX_PAGES, MAX_QUADS_PER_DRAW, MAX_SMOOTH_PAIRS,
+    OcclusionView, PHASE_EARLY, PHASE_LATE, PHASE_TEST, SmoothPages, quad_indices,
 };
 pub use lod::{LodAnchor, LodParams, LodSettings};
 pub use node::{
@@ -97,7 +97,7 @@ pub use node::{
 };
 pub use order::{ORDER_KEYS, cull_reference_ordered, cull_reference_ordered_with, depth_key};
 pub use output::{CullFrame, CullOutput, CullReadback};
-pub use pass::{CullInputs, CullPass};
+pub use pass::{CullInputs, CullPass, OcclusionInputs};
 pub use reference::{
     ChunkCull, Command, CullReference, SmoothCommand, cull_chunk, cull_node, cull_reference,
     cull_reference_with, face_draw_count, face_mask, in_frustum, layer_range, node_box, node_rel,
@@ -163,6 +163,10 @@ mod tests {
             ("smooth_pairs", offset_of!(CullUniforms, smooth_pairs)),
             ("focal_px", offset_of!(CullUniforms, focal_px)),
             ("lod", offset_of!(CullUniforms, lod)),
+            ("view_proj", offset_of!(CullUniforms, view_proj)),
+            ("screen", offset_of!(CullUniforms, screen)),
+            ("near", offset_of!(CullUniforms, near)),
+            ("pad", offset_of!(CullUniforms, pad)),
         ];
         let got: Vec<(&str, usize)> = members.iter().map(|(n, o)| (n.as_str(), *o)).collect();
         assert_eq!(got, expected);

@@ -22,8 +22,8 @@ use crate::shaders::CULL;
 const WORKGROUP: u32 = 64;
 /// Largest workgroup count of one dispatch dimension (WebGPU's default limit).
 const MAX_GROUPS_PER_DIM: u32 = 65_535;
-/// Bindings of the cull's bind group.
-const BINDINGS: u32 = 13;
+/// Buffer bindings of the cull's bind group (the depth pyramid follows them).
+const BINDINGS: u32 = 14;
 
 /// What a record reads besides its camera: the chunk table, the node table in the same slots
 /// (`None`: no node records, as for chunks uploaded without smooth quads, blocks or skirts),
@@ -37,6 +37,19 @@ pub struct CullInputs<'a> {
     pub nodes: Option<&'a GpuTable<NodeRecord>>,
     /// The frame's far list and statistics.
     pub frame: Option<&'a CullFrame>,
+    /// Occlusion culling's inputs (needed when the record's parameters turn it on).
+    pub occlusion: Option<OcclusionInputs<'a>>,
+}
+
+/// What two-phase occlusion culling reads and writes: a bit per table slot (visible in the last
+/// late phase; `ceil(capacity / 32)` words, zeroed at creation) and the depth pyramid of the
+/// early phase ([`DepthPyramid::texture_view`](crate::hiz::DepthPyramid::texture_view)).
+#[derive(Clone, Copy, Debug)]
+pub struct OcclusionInputs<'a> {
+    /// The visibility bits.
+    pub visible: &'a Buffer,
+    /// The depth pyramid, all mips.
+    pub pyramid: &'a wgpu::TextureView,
 }
 
 /// The cull pipeline for one quad gigabuffer layout (see the [module docs](super)).
@@ -53,6 +66,9 @@ pub struct CullPass {
     no_nodes: Buffer,
     /// The frame buffers of records without a frame.
     own_frame: CullFrame,
+    /// Bound when a record has no occlusion inputs.
+    no_visible: Buffer,
+    no_pyramid: wgpu::TextureView,
 }
 
 impl CullPass {
@@ -101,6 +117,8 @@ impl CullPass {
                 storage(10, false),
                 storage(11, false),
                 storage(12, false),
+                storage(13, false),
+                crate::hiz::DepthPyramid::layout_entry(14, ShaderStages::COMPUTE),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -147,6 +165,28 @@ impl CullPass {
             usage: BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
+        let no_visible = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("cull: no visibility bits"),
+            size: 16,
+            usage: BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        let no_pyramid = device
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("cull: no depth pyramid"),
+                size: wgpu::Extent3d {
+                    width: 1,
+                    height: 1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::R32Float,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+            .create_view(&Default::default());
         Ok(CullPass {
             device: device.clone(),
             pipeline,
@@ -157,6 +197,8 @@ impl CullPass {
             max_binding_bytes,
             no_nodes,
             own_frame,
+            no_visible,
+            no_pyramid,
         })
     }
 
@@ -213,6 +255,7 @@ impl CullPass {
             table,
             nodes: None,
             frame: None,
+            occlusion: None,
         };
         self.record_with(
             encoder,
@@ -267,6 +310,7 @@ impl CullPass {
             table,
             nodes: None,
             frame: None,
+            occlusion: None,
         };
         self.record_ordered_with(
             encoder,
@@ -330,6 +374,9 @@ impl CullPass {
         if inputs.nodes.is_none() && u64::from(table.slot_bound()) * 64 > self.no_nodes.size() {
             return Err(CullError::OutputMismatch);
         }
+        if params.occlusion.is_some() && inputs.occlusion.is_none() {
+            return Err(CullError::OcclusionInputsMissing);
+        }
         let slot_bound = table.slot_bound();
         let uniforms = CullUniforms::new(&self.layout, camera, layer, slot_bound, params);
         let staging = self
@@ -355,6 +402,11 @@ impl CullPass {
             return Ok(None);
         }
         let nodes = inputs.nodes.map_or(&self.no_nodes, |n| n.buffer());
+        let (visible, pyramid) = inputs
+            .occlusion
+            .map_or((&self.no_visible, &self.no_pyramid), |o| {
+                (o.visible, o.pyramid)
+            });
         let buffers: [&Buffer; BINDINGS as usize] = [
             &output.uniforms,
             table.buffer(),
@@ -369,8 +421,9 @@ impl CullPass {
             &output.smooth_records,
             &output.smooth_counts,
             &frame.stats,
+            visible,
         ];
-        let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+        let mut entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
             .iter()
             .enumerate()
             .map(|(binding, buffer)| wgpu::BindGroupEntry {
@@ -378,6 +431,10 @@ impl CullPass {
                 resource: buffer.as_entire_binding(),
             })
             .collect();
+        entries.push(wgpu::BindGroupEntry {
+            binding: BINDINGS,
+            resource: wgpu::BindingResource::TextureView(pyramid),
+        });
         let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("cull"),
             layout: &self.bind_group_layout,

@@ -49,6 +49,8 @@ pub enum RenderError {
     /// The far-draw path asked for cannot run on this device or configuration (why, in
     /// words).
     FarDrawsUnavailable(String),
+    /// The depth pyramid of occlusion culling could not be built.
+    Hiz(crate::hiz::HizError),
 }
 
 impl fmt::Display for RenderError {
@@ -77,6 +79,7 @@ impl fmt::Display for RenderError {
             RenderError::Skirt(e) => write!(f, "skirts: {e}"),
             RenderError::Lod(e) => write!(f, "{e}"),
             RenderError::FarDrawsUnavailable(why) => write!(f, "far draws unavailable: {why}"),
+            RenderError::Hiz(e) => write!(f, "depth pyramid: {e}"),
         }
     }
 }

@@ -60,6 +60,12 @@ struct CullUniforms {
     // Pixels per unit of tangent (as lod.focal_px; the far test measures from the camera).
     focal_px: f32,
     lod: LodParams,
+    // Camera-relative view-projection (reversed-Z), output size and near plane: boxes are
+    // projected to test them against the depth pyramid.
+    view_proj: mat4x4<f32>,
+    screen: vec2<f32>,
+    near: f32,
+    pad: u32,
 }
 
 // Select nodes by level of detail (else only level 0 is drawn: full detail).
@@ -68,6 +74,8 @@ const CULL_LOD: u32 = 1u;
 const CULL_FAR: u32 = 2u;
 // Write the smooth layer's draws (opaque pass only).
 const CULL_SMOOTH: u32 = 4u;
+// Two-phase occlusion culling against the depth pyramid (phase: 0 early, 1 late, 2 test only).
+const CULL_OCCLUSION: u32 = 8u;
 
 // Statistics (twin of cull::CullStats), counted by the opaque-layer dispatch.
 const STAT_SELECTED: u32 = 0u;
@@ -121,6 +129,10 @@ const ORDER_PREFIX_WORKGROUP: u32 = 256u;
 @group(0) @binding(10) var<storage, read_write> smooth_records: array<vec4<u32>>;
 @group(0) @binding(11) var<storage, read_write> smooth_counts: array<atomic<u32>>;
 @group(0) @binding(12) var<storage, read_write> stats: array<atomic<u32>>;
+// One bit per slot: the node passed the occlusion test in the last late phase.
+@group(0) @binding(13) var<storage, read_write> visible: array<atomic<u32>>;
+// The depth pyramid of the early phase (hiz.wgsl's contract).
+@group(0) @binding(14) var hiz_texture: texture_2d<f32>;
 
 var<workgroup> wg_count: array<atomic<u32>, CULL_MAX_PAGES>;
 var<workgroup> wg_scan: array<u32, ORDER_PREFIX_WORKGROUP>;
@@ -185,9 +197,59 @@ struct SlotCull {
     level: u32,
     // Camera-relative box centre (the ordered cull's depth key comes from it).
     centre: vec3<f32>,
-    // Selected at its level, and outside the frustum.
+    // Selected at its level, outside the frustum, hidden by the depth pyramid.
     selected: bool,
     frustum_culled: bool,
+    occluded: bool,
+}
+
+// True unless the box (camera-relative centre c, half size e) is behind the depth pyramid:
+// its 8 corners projected give the screen rectangle and the nearest depth (reversed-Z, depth
+// is linear in view z over the box, so the nearest point is a corner); a box reaching the near
+// plane is visible.
+fn box_visible(c: vec3<f32>, e: vec3<f32>) -> bool {
+    var lo = vec2<f32>(1e30);
+    var hi = vec2<f32>(-1e30);
+    var nearest = 0.0;
+    for (var i = 0u; i < 8u; i += 1u) {
+        let s = vec3<f32>(f32(i & 1u), f32((i >> 1u) & 1u), f32((i >> 2u) & 1u)) * 2.0 - 1.0;
+        let clip = u.view_proj * vec4<f32>(c + e * s, 1.0);
+        if clip.w <= u.near {
+            return true;
+        }
+        let ndc = clip.xy / clip.w;
+        let p = vec2<f32>((ndc.x * 0.5 + 0.5) * u.screen.x, (0.5 - ndc.y * 0.5) * u.screen.y);
+        lo = min(lo, p);
+        hi = max(hi, p);
+        nearest = max(nearest, u.near / clip.w);
+    }
+    return hiz_rect_visible(lo, hi, nearest);
+}
+
+// The occlusion phases for a selected node in the frustum: true when this dispatch draws it.
+// Early: the nodes visible last frame. Late: every node is tested; its bit records the result,
+// and it is drawn if visible and not drawn early. Test only (the transparent layer): visible.
+fn occlusion_draws(slot: u32, c: vec3<f32>, e: vec3<f32>, out: ptr<function, SlotCull>) -> bool {
+    if (u.flags & CULL_OCCLUSION) == 0u {
+        return true;
+    }
+    let word = slot >> 5u;
+    let bit = 1u << (slot & 31u);
+    if u.phase == 0u {
+        return (atomicLoad(&visible[word]) & bit) != 0u;
+    }
+    let seen = box_visible(c, e);
+    (*out).occluded = !seen;
+    if u.phase == 1u {
+        var was = 0u;
+        if seen {
+            was = atomicOr(&visible[word], bit);
+        } else {
+            was = atomicAnd(&visible[word], ~bit);
+        }
+        return seen && (was & bit) == 0u;
+    }
+    return seen;
 }
 
 // The quads group f draws: its quads without the skirt, plus the skirt when that side's bit is
@@ -252,6 +314,9 @@ fn cull_slot(slot: u32) -> SlotCull {
     let e = meshed_chunk_info_extent(info) * scale;
     if !in_frustum(out.centre, e) {
         out.frustum_culled = true;
+        return out;
+    }
+    if !occlusion_draws(slot, out.centre, e, &out) {
         return out;
     }
     if (u.flags & CULL_LOD) != 0u {
@@ -415,14 +480,19 @@ fn cull(
         add_stat(STAT_FAR_NODES, 1u);
         add_stat(STAT_FAR_BLOCKS, far_block_count(node, s.skirts));
     }
-    if u.layer == 0u {
+    // The selection counts once per frame: in the late phase when there are two.
+    let counting = (u.flags & CULL_OCCLUSION) == 0u || u.phase == 1u;
+    if u.layer == 0u && counting {
         if s.selected {
             add_stat(STAT_SELECTED, 1u);
             add_stat(STAT_LEVELS + s.level, 1u);
         }
         add_stat(STAT_FRUSTUM_CULLED, u32(s.frustum_culled));
+        add_stat(STAT_OCCLUDED, u32(s.occluded));
+    }
+    if u.layer == 0u {
         add_stat(STAT_MESH_NODES, u32(s.n > 0u || s.smooth_draw));
-        add_stat(STAT_SKIRT_SIDES, countOneBits(select(0u, s.skirts, s.n > 0u || s.far)));
+        add_stat(STAT_SKIRT_SIDES, countOneBits(select(0u, s.skirts, s.n > 0u || listed)));
     }
     workgroupBarrier();
     if lid < STAT_COUNT && lid != STAT_FAR_LIST {

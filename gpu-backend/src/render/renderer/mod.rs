@@ -50,6 +50,10 @@ pub struct RendererConfig {
     pub far: FarRequest,
     /// How the full-screen passes run.
     pub fullscreen: FullscreenPath,
+    /// Two-phase occlusion culling against a depth pyramid (see [`crate::hiz`]): the nodes
+    /// visible last frame are drawn first, the pyramid built from their depth, then every other
+    /// node tested against it.
+    pub occlusion: bool,
 }
 
 impl RendererConfig {
@@ -71,6 +75,7 @@ impl RendererConfig {
             smooth: SmoothFrame::nocubes(size),
             far: FarRequest::Off,
             fullscreen: FullscreenPath::default(),
+            occlusion: true,
         }
     }
 
@@ -92,6 +97,36 @@ struct Resident {
     smooth: Option<SmoothRanges>,
 }
 
+/// What two-phase occlusion culling keeps between frames.
+#[derive(Debug)]
+struct Occlusion {
+    late_commands: CullOutput,
+    pyramid: crate::hiz::DepthPyramid,
+    visible: Buffer,
+}
+
+impl Occlusion {
+    fn new(
+        device: &Device,
+        cull: &CullPass,
+        capacity: u32,
+        width: u32,
+        height: u32,
+    ) -> Result<Occlusion, RenderError> {
+        Ok(Occlusion {
+            late_commands: cull.create_output("opaque late")?,
+            pyramid: crate::hiz::DepthPyramid::new(device, width, height)
+                .map_err(RenderError::Hiz)?,
+            visible: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("visibility bits"),
+                size: u64::from(capacity.div_ceil(32).max(1)) * 4,
+                usage: BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            }),
+        })
+    }
+}
+
 /// The deferred voxel renderer (see the [module docs](super) for a frame's passes).
 #[derive(Debug)]
 pub struct Renderer {
@@ -109,6 +144,8 @@ pub struct Renderer {
     cull_frame: CullFrame,
     opaque_commands: CullOutput,
     transparent_commands: CullOutput,
+    /// Occlusion culling: the late phase's commands, the depth pyramid, the visibility bits.
+    occlusion: Option<Occlusion>,
     /// Level-of-detail selection; `None` draws level 0 only (full detail).
     lod: Option<LodSettings>,
     anchor: LodAnchor,
@@ -196,6 +233,17 @@ impl Renderer {
             mapped_at_creation: false,
         });
         let opaque_commands = cull.create_output("opaque")?;
+        let occlusion = if config.occlusion {
+            Some(Occlusion::new(
+                device,
+                &cull,
+                config.max_chunks,
+                config.width,
+                config.height,
+            )?)
+        } else {
+            None
+        };
         let transparent_commands = cull.create_output("transparent")?;
         let indices = quad_indices(cull.layout().max_quads_per_draw);
         let quad_indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -223,6 +271,7 @@ impl Renderer {
             cull_frame,
             opaque_commands,
             transparent_commands,
+            occlusion,
             lod: None,
             anchor: LodAnchor {
                 chunk: voxel_core::ChunkCoord::new(0, 0, 0),
@@ -330,6 +379,10 @@ impl Renderer {
             splat.resize(width, height, max)?;
         }
         self.targets = RenderTargets::new(&self.device, width, height)?;
+        if let Some(occlusion) = &mut self.occlusion {
+            occlusion.pyramid = crate::hiz::DepthPyramid::new(&self.device, width, height)
+                .map_err(RenderError::Hiz)?;
+        }
         self.config.width = width;
         self.config.height = height;
         Ok(())
@@ -361,9 +414,13 @@ impl Renderer {
             .collect();
         out.push(("chunk table", self.table.buffer().size()));
         out.push(("node table", self.nodes.buffer().size()));
+        let late = self
+            .occlusion
+            .as_ref()
+            .map_or(0, |o| o.late_commands.byte_size() + o.visible.size());
         out.push((
             "cull outputs",
-            self.opaque_commands.byte_size() + self.transparent_commands.byte_size(),
+            self.opaque_commands.byte_size() + self.transparent_commands.byte_size() + late,
         ));
         out.push(("far list", self.cull_frame.far_list().size()));
         if let Some(splat) = &self.splat {

@@ -5,6 +5,7 @@ use wgpu::{BindGroup, Buffer, CommandEncoder};
 
 use super::Renderer;
 use crate::bind::buffer_entry;
+use crate::cull::CullOutput;
 use crate::gigabuffer::DataKind;
 use crate::render::pipelines::FullscreenPipelines;
 
@@ -45,9 +46,9 @@ impl Renderer {
         }))
     }
 
-    /// Group 1 of the smooth pipeline: smooth pair `pair`'s pages and the cull's smooth
+    /// Group 1 of the smooth pipeline: smooth pair `pair`'s pages and `commands`' smooth
     /// records.
-    fn smooth_group(&self, pair: u32) -> Option<BindGroup> {
+    fn smooth_group(&self, pair: u32, commands: &CullOutput) -> Option<BindGroup> {
         let quad_pages = self.cull.layout().smooth.quad_pages.max(1);
         let vertices = self
             .gigabuffer
@@ -61,19 +62,32 @@ impl Renderer {
             entries: &[
                 buffer_entry(2, vertices),
                 buffer_entry(3, quads),
-                buffer_entry(4, self.opaque_commands.smooth_records()),
+                buffer_entry(4, commands.smooth_records()),
             ],
         }))
     }
 
-    pub(super) fn record_gbuffer(&self, encoder: &mut CommandEncoder, frame_group: &BindGroup) {
+    /// The G-buffer pass of `commands` (opaque quads per page, then smooth quads per page
+    /// pair): clearing the G-buffer first, or drawing over it.
+    pub(super) fn record_gbuffer(
+        &self,
+        encoder: &mut CommandEncoder,
+        frame_group: &BindGroup,
+        commands: &CullOutput,
+        clear_first: bool,
+    ) {
+        let colour_load = if clear_first {
+            wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
+        } else {
+            wgpu::LoadOp::Load
+        };
         let clear = |view| {
             Some(wgpu::RenderPassColorAttachment {
                 view,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    load: colour_load,
                     store: wgpu::StoreOp::Store,
                 },
             })
@@ -85,7 +99,11 @@ impl Renderer {
                 view: &self.targets.depth,
                 // Reversed-Z: 0 is infinitely far.
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
+                    load: if clear_first {
+                        wgpu::LoadOp::Clear(0.0)
+                    } else {
+                        wgpu::LoadOp::Load
+                    },
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,
@@ -98,9 +116,9 @@ impl Renderer {
         pass.set_bind_group(0, frame_group, &[]);
         pass.set_index_buffer(self.quad_indices.slice(..), wgpu::IndexFormat::Uint32);
         for page in 0..self.cull.layout().page_count {
-            if let Some(group) = self.quad_group(page, self.opaque_commands.records()) {
+            if let Some(group) = self.quad_group(page, commands.records()) {
                 pass.set_bind_group(1, &group, &[]);
-                self.opaque_commands.draw_page(&mut pass, page);
+                commands.draw_page(&mut pass, page);
             }
         }
         let pairs = self.cull.layout().smooth_pairs;
@@ -108,9 +126,9 @@ impl Renderer {
             pass.set_pipeline(&self.pipelines.smooth_gbuffer);
             pass.set_bind_group(0, frame_group, &[]);
             for pair in 0..pairs {
-                if let Some(group) = self.smooth_group(pair) {
+                if let Some(group) = self.smooth_group(pair, commands) {
                     pass.set_bind_group(1, &group, &[]);
-                    self.opaque_commands.draw_smooth_pair(&mut pass, pair);
+                    commands.draw_smooth_pair(&mut pass, pair);
                 }
             }
         }

@@ -4,7 +4,10 @@
 use wgpu::CommandEncoder;
 
 use super::Renderer;
-use crate::cull::{CullInputs, CullLayer, CullParams, CullStats, LodParams, lod};
+use crate::cull::{
+    CullCamera, CullInputs, CullLayer, CullParams, CullStats, LodParams, OcclusionInputs,
+    OcclusionView, PHASE_EARLY, PHASE_LATE, PHASE_TEST, lod,
+};
 use crate::gigabuffer::DataKind;
 use crate::render::error::RenderError;
 use crate::render::far::splat::{SplatInputs, SplatStats};
@@ -22,8 +25,9 @@ impl Renderer {
         self.per_level
     }
 
-    /// The cull's parameters of the next frame.
-    pub(super) fn cull_params(&self, smooth: bool) -> CullParams {
+    /// The cull's parameters of the next frame: `smooth` draws the smooth layer, `phase` is
+    /// the occlusion phase (ignored without occlusion culling).
+    pub(super) fn cull_params(&self, smooth: bool, phase: u32) -> CullParams {
         let (width, height) = (self.targets.width, self.targets.height);
         let lod = self.lod.map(|settings| LodParams {
             anchor_chunk: [
@@ -39,24 +43,37 @@ impl Renderer {
             chunk_edge: self.config.chunk_size.edge() as f32,
             pad: 0,
         });
-        let _ = width;
         let far_cell_px = match (&self.splat, self.lod) {
             (Some(_), Some(settings)) => Some(settings.far_cell_px),
             _ => None,
         };
+        let occlusion = self.occlusion.as_ref().map(|_| OcclusionView {
+            view_proj: self.camera.view_projection(width, height),
+            width,
+            height,
+            near: self.camera.near as f32,
+        });
         CullParams {
             lod,
             far_cell_px,
             smooth,
-            phase: 0,
+            occlusion,
+            phase,
         }
     }
 
-    /// Records a whole frame into `encoder`: pending uploads, the cull of both layers, the
-    /// G-buffer pass (opaque quads, then smooth quads), lighting, the transparent pass and the
-    /// tonemap, each timed by the renderer's [`GpuTimer`](crate::timing::GpuTimer), then the
-    /// timer's resolve. Submit the encoder (on the CPU timing path the timer submits parts of it
-    /// itself), then call [`collect_timings`](Self::collect_timings) if wanted.
+    /// Records a whole frame into `encoder`, each pass timed by the renderer's
+    /// [`GpuTimer`](crate::timing::GpuTimer), then the timer's resolve. Submit the encoder (on
+    /// the CPU timing path the timer submits parts of it itself), then call
+    /// [`collect_timings`](Self::collect_timings) if wanted.
+    ///
+    /// ```text
+    ///  uploads ─► cull (opaque) ─► far splat ─► G-buffer            (all nodes, or with occlusion
+    ///                                                                culling the early phase:
+    ///                                                                the nodes visible last frame)
+    ///          [─► depth pyramid ─► cull late ─► far splat ─► G-buffer (load)]   occlusion only
+    ///          ─► cull transparent (back to front) ─► lighting ─► transparent ─► tonemap
+    /// ```
     pub fn record_frame(&mut self, encoder: &mut CommandEncoder) -> Result<(), RenderError> {
         let (width, height) = (self.targets.width, self.targets.height);
         self.gigabuffer.flush(encoder);
@@ -80,54 +97,33 @@ impl Renderer {
         if let Some(splat) = &self.splat {
             splat.clear(encoder);
         }
-        let inputs = CullInputs {
-            table: &self.table,
-            nodes: Some(&self.nodes),
-            frame: Some(&self.cull_frame),
-        };
 
-        let scope = self.timer.begin(encoder, "cull");
-        self.cull.record_with(
-            encoder,
-            &inputs,
-            &cull_camera,
-            CullLayer::Opaque,
-            &self.opaque_commands,
-            &self.cull_params(true),
-        )?;
-        self.timer.end(encoder, scope);
-
-        if let (Some(splat), Some(blocks)) =
-            (&self.splat, self.gigabuffer.page(DataKind::DrawBlocks, 0))
-        {
-            let scope = self.timer.begin(encoder, "far splat");
-            splat.record(
-                encoder,
-                &SplatInputs {
-                    frame_uniforms: &self.frame_uniforms,
-                    table: self.table.buffer(),
-                    nodes: self.nodes.buffer(),
-                    blocks,
-                    frame: &self.cull_frame,
-                },
-            );
+        self.record_opaque_phase(encoder, &frame_group, &cull_camera, PHASE_EARLY)?;
+        if let Some(occlusion) = &self.occlusion {
+            let scope = self.timer.begin(encoder, "hiz");
+            occlusion
+                .pyramid
+                .record_build(
+                    encoder,
+                    &self.targets.depth,
+                    self.splat.as_ref().map(|s| s.visibility()),
+                )
+                .map_err(RenderError::Hiz)?;
             self.timer.end(encoder, scope);
+            self.record_opaque_phase(encoder, &frame_group, &cull_camera, PHASE_LATE)?;
         }
 
         // The transparent layer, back to front (see `render::transparent`).
         let scope = self.timer.begin(encoder, "cull transparent");
+        let inputs = self.cull_inputs();
         self.cull.record_ordered_with(
             encoder,
             &inputs,
             &cull_camera,
             CullLayer::Transparent,
             &self.transparent_commands,
-            &self.cull_params(false),
+            &self.cull_params(false, PHASE_TEST),
         )?;
-        self.timer.end(encoder, scope);
-
-        let scope = self.timer.begin(encoder, "gbuffer");
-        self.record_gbuffer(encoder, &frame_group);
         self.timer.end(encoder, scope);
 
         let scope = self.timer.begin(encoder, "lighting");
@@ -142,6 +138,71 @@ impl Renderer {
         self.record_fullscreen(encoder, &frame_group, true);
         self.timer.end(encoder, scope);
         self.timer.resolve(encoder);
+        Ok(())
+    }
+
+    /// What every cull record of the frame reads.
+    fn cull_inputs(&self) -> CullInputs<'_> {
+        CullInputs {
+            table: &self.table,
+            nodes: Some(&self.nodes),
+            frame: Some(&self.cull_frame),
+            occlusion: self.occlusion.as_ref().map(|o| OcclusionInputs {
+                visible: &o.visible,
+                pyramid: o.pyramid.texture_view(),
+            }),
+        }
+    }
+
+    /// One opaque phase: the cull into its commands, the splat of the far nodes it listed, and
+    /// the G-buffer pass of its meshed nodes (the early phase clears the G-buffer, the late one
+    /// draws over it). Without occlusion culling the early phase draws every node.
+    fn record_opaque_phase(
+        &mut self,
+        encoder: &mut CommandEncoder,
+        frame_group: &wgpu::BindGroup,
+        camera: &CullCamera,
+        phase: u32,
+    ) -> Result<(), RenderError> {
+        let late = phase == PHASE_LATE;
+        let commands = match (&self.occlusion, late) {
+            (Some(o), true) => &o.late_commands,
+            _ => &self.opaque_commands,
+        };
+        let label =
+            |name: &'static str, late_name: &'static str| if late { late_name } else { name };
+        let scope = self.timer.begin(encoder, label("cull", "cull late"));
+        let inputs = self.cull_inputs();
+        self.cull.record_with(
+            encoder,
+            &inputs,
+            camera,
+            CullLayer::Opaque,
+            commands,
+            &self.cull_params(true, phase),
+        )?;
+        self.timer.end(encoder, scope);
+        if let (Some(splat), Some(blocks)) =
+            (&self.splat, self.gigabuffer.page(DataKind::DrawBlocks, 0))
+        {
+            let scope = self
+                .timer
+                .begin(encoder, label("far splat", "far splat late"));
+            splat.record(
+                encoder,
+                &SplatInputs {
+                    frame_uniforms: &self.frame_uniforms,
+                    table: self.table.buffer(),
+                    nodes: self.nodes.buffer(),
+                    blocks,
+                    frame: &self.cull_frame,
+                },
+            );
+            self.timer.end(encoder, scope);
+        }
+        let scope = self.timer.begin(encoder, label("gbuffer", "gbuffer late"));
+        self.record_gbuffer(encoder, frame_group, commands, !late);
+        self.timer.end(encoder, scope);
         Ok(())
     }
 
