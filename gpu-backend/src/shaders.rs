@@ -114,6 +114,13 @@ pub const HIZ_PROBE: ShaderSpec = ShaderSpec {
     ),
 };
 
+/// One thread before an ordered cull over the transparent list: its dispatch's workgroups.
+pub const LIST_ARGS: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "list_args",
+    body: include_str!("shaders/list_args.wgsl"),
+};
+
 /// Every shader of the crate.
 pub const ALL_SHADERS: &[ShaderSpec] = &[
     FORMAT_PARITY,
@@ -123,6 +130,7 @@ pub const ALL_SHADERS: &[ShaderSpec] = &[
     PRESENT,
     SPLAT,
     FAR_ARGS,
+    LIST_ARGS,
     HIZ_BUILD,
     HIZ_PROBE,
 ];

@@ -36,6 +36,9 @@ pub const CULL_FAR: u32 = 2;
 pub const CULL_SMOOTH: u32 = 4;
 /// `CullUniforms::flags` bit: two-phase occlusion culling against the depth pyramid.
 pub const CULL_OCCLUSION: u32 = 8;
+/// `CullUniforms::flags` bit: an ordered record culls the transparent list the opaque
+/// records of the frame appended, not the whole table.
+pub const CULL_FROM_LIST: u32 = 16;
 
 /// Occlusion phase of a cull record: the nodes visible last frame.
 pub const PHASE_EARLY: u32 = 0;
@@ -180,6 +183,9 @@ pub struct CullParams {
     pub occlusion: Option<OcclusionView>,
     /// Occlusion phase ([`PHASE_EARLY`], [`PHASE_LATE`] or [`PHASE_TEST`]).
     pub phase: u32,
+    /// An ordered record culls the frame's transparent list (the meshed nodes with
+    /// transparent quads the opaque records drew) instead of every slot.
+    pub from_list: bool,
 }
 
 impl CullUniforms {
@@ -203,6 +209,9 @@ impl CullUniforms {
         }
         if params.occlusion.is_some() {
             flags |= CULL_OCCLUSION;
+        }
+        if params.from_list {
+            flags |= CULL_FROM_LIST;
         }
         let view = params.occlusion.unwrap_or_default();
         let lod = params.lod.unwrap_or(LodParams {

@@ -87,9 +87,10 @@ mod stats;
 
 pub use camera::{CullCamera, CullLayer, PLANE_KEEP_ALL};
 pub use layout::{
-    CULL_FAR, CULL_LOD, CULL_OCCLUSION, CULL_SMOOTH, CullConfig, CullError, CullLayout, CullParams,
-    CullUniforms, DrawIndexedArgs, MAX_PAGE_QUADS, MAX_PAGES, MAX_QUADS_PER_DRAW, MAX_SMOOTH_PAIRS,
-    OcclusionView, PHASE_EARLY, PHASE_LATE, PHASE_TEST, SmoothPages, quad_indices,
+    CULL_FAR, CULL_FROM_LIST, CULL_LOD, CULL_OCCLUSION, CULL_SMOOTH, CullConfig, CullError,
+    CullLayout, CullParams, CullUniforms, DrawIndexedArgs, MAX_PAGE_QUADS, MAX_PAGES,
+    MAX_QUADS_PER_DRAW, MAX_SMOOTH_PAIRS, OcclusionView, PHASE_EARLY, PHASE_LATE, PHASE_TEST,
+    SmoothPages, quad_indices,
 };
 pub use lod::{LodAnchor, LodParams, LodSettings};
 pub use node::{

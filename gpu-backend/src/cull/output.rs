@@ -97,6 +97,13 @@ impl OutputFactory<'_> {
         let readable = BufferUsages::STORAGE | BufferUsages::COPY_SRC | BufferUsages::COPY_DST;
         Ok(CullFrame {
             far_list: self.buffer(label, "far list", far_bytes, readable),
+            transparent_list: self.buffer(label, "transparent list", far_bytes / 2, readable),
+            list_args: self.buffer(
+                label,
+                "transparent list dispatch",
+                16,
+                BufferUsages::STORAGE | BufferUsages::INDIRECT,
+            ),
             stats: self.buffer(label, "stats", u64::from(STAT_COUNT) * 4, readable),
             far_capacity: self.layout.far_capacity,
         })
@@ -318,11 +325,15 @@ impl CullReadback {
 }
 
 /// What the cull records of one frame share: the far list (the far-drawn nodes of every record,
-/// appended in record order) and the statistics. Clear it once per frame
-/// ([`clear`](Self::clear)) before the first record.
+/// appended in record order), the transparent list (meshed nodes with transparent quads) and
+/// the statistics. Clear it once per frame ([`clear`](Self::clear)) before the first record.
 #[derive(Debug)]
 pub struct CullFrame {
     pub(super) far_list: Buffer,
+    /// Slots of meshed nodes with transparent quads (as many as the far list holds).
+    pub(super) transparent_list: Buffer,
+    /// The indirect dispatch of an ordered record over the transparent list.
+    pub(super) list_args: Buffer,
     pub(super) stats: Buffer,
     pub(super) far_capacity: u32,
 }

@@ -13,10 +13,11 @@ use super::camera::{CullCamera, CullLayer};
 use super::layout::{CullConfig, CullError, CullLayout, CullParams, CullUniforms};
 use super::node::NodeRecord;
 use super::output::{CullFrame, CullOutput, OutputFactory};
+use crate::bind::buffer_entry;
 use crate::chunk_table::GpuTable;
 use crate::device::{GpuContext, MultiDrawPath};
 use crate::gigabuffer::PageLayout;
-use crate::shaders::CULL;
+use crate::shaders::{CULL, LIST_ARGS};
 
 /// Invocations per workgroup (`CULL_WORKGROUP` in the shader).
 const WORKGROUP: u32 = 64;
@@ -119,6 +120,7 @@ impl CullPass {
                 storage(12, false),
                 storage(13, false),
                 crate::hiz::DepthPyramid::layout_entry(14, ShaderStages::COMPUTE),
+                storage(15, false),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -138,10 +140,30 @@ impl CullPass {
             })
         };
         let pipeline = pipeline_for("cull");
+        let list_args_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("transparent list dispatch"),
+            entries: &[storage(0, false), storage(1, false), storage(2, true)],
+        });
+        let list_args = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("transparent list dispatch"),
+            layout: Some(
+                &device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some("transparent list dispatch"),
+                    bind_group_layouts: &[Some(&list_args_layout)],
+                    immediate_size: 0,
+                }),
+            ),
+            module: &LIST_ARGS.create_module(device),
+            entry_point: Some("transparent_args"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
         let ordered = OrderedPipelines {
             count: pipeline_for("cull_count"),
             prefix: pipeline_for("order_prefix"),
             scatter: pipeline_for("cull_scatter"),
+            list_args,
+            list_args_layout,
         };
         let max_binding_bytes = ctx.capabilities.max_page_bytes();
         let factory = OutputFactory {
@@ -340,13 +362,39 @@ impl CullPass {
             return Ok(());
         };
         encoder.clear_buffer(&output.order_counts, 0, None);
+        let frame = inputs.frame.unwrap_or(&self.own_frame);
+        if params.from_list {
+            let args_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("transparent list dispatch"),
+                layout: &self.ordered.list_args_layout,
+                entries: &[
+                    buffer_entry(0, &frame.stats),
+                    buffer_entry(1, &frame.list_args),
+                    buffer_entry(2, &frame.transparent_list),
+                ],
+            });
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("transparent list dispatch"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.ordered.list_args);
+            pass.set_bind_group(0, &args_group, &[]);
+            pass.dispatch_workgroups(1, 1, 1);
+        }
         let mut pass = cull_pass(encoder, "ordered cull", &bind_group);
+        let dispatch = |pass: &mut wgpu::ComputePass<'_>| {
+            if params.from_list {
+                pass.dispatch_workgroups_indirect(&frame.list_args, 0);
+            } else {
+                dispatch_slots(pass, groups);
+            }
+        };
         pass.set_pipeline(&self.ordered.count);
-        dispatch_slots(&mut pass, groups);
+        dispatch(&mut pass);
         pass.set_pipeline(&self.ordered.prefix);
         pass.dispatch_workgroups(self.layout.page_count, 1, 1);
         pass.set_pipeline(&self.ordered.scatter);
-        dispatch_slots(&mut pass, groups);
+        dispatch(&mut pass);
         Ok(())
     }
 
@@ -435,6 +483,7 @@ impl CullPass {
             binding: BINDINGS,
             resource: wgpu::BindingResource::TextureView(pyramid),
         });
+        entries.push(buffer_entry(BINDINGS + 1, &frame.transparent_list));
         let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("cull"),
             layout: &self.bind_group_layout,
@@ -444,12 +493,15 @@ impl CullPass {
     }
 }
 
-/// The ordered cull's three pipelines (entry points of `cull.wgsl`).
+/// The ordered cull's three pipelines (entry points of `cull.wgsl`), and the one that sizes
+/// its dispatches over the transparent list (`list_args.wgsl`).
 #[derive(Debug)]
 struct OrderedPipelines {
     count: ComputePipeline,
     prefix: ComputePipeline,
     scatter: ComputePipeline,
+    list_args: ComputePipeline,
+    list_args_layout: BindGroupLayout,
 }
 
 /// A compute pass with the cull's bind group set.

@@ -147,7 +147,9 @@ pub fn face_draw_count(
 }
 
 /// The cull of one node (see [`lod`](super::lod) for the selection), in the shader's order:
-/// empty, malformed, selection, frustum, skirts, far test, faces, smooth draw.
+/// selection, empty, malformed, frustum, skirts, far test, faces, smooth draw. Occlusion
+/// culling is not modelled here (it depends on the frame's depth; the renderer's image tests
+/// check it).
 pub fn cull_node(
     info: &MeshedChunkInfo,
     node: &NodeRecord,
@@ -157,11 +159,23 @@ pub fn cull_node(
     params: &CullParams,
 ) -> ChunkCull {
     let uniforms = CullUniforms::new(layout, camera, layer, 0, params);
+    let level = info.lod.min(15);
+    let lod_on = uniforms.flags & CULL_LOD != 0;
+    let selected = if lod_on {
+        lod::selected(&uniforms.lod, info.chunk, level)
+    } else {
+        level == 0
+    };
+    if !selected {
+        return ChunkCull::NotSelected;
+    }
     let range = layer_range(info, layer);
     let any = range.counts.iter().any(|&c| c > 0);
-    let has_smooth = layer == CullLayer::Opaque && node.smooth_quad_count > 0;
+    let opaque = layer == CullLayer::Opaque;
+    let has_smooth = opaque && node.smooth_quad_count > 0;
     let has_blocks = node.flags & NODE_HAS_BLOCKS != 0;
-    if !any && !has_smooth && !(has_blocks && layer == CullLayer::Opaque) {
+    let has_transparent = opaque && info.transparent_quads.total() > 0;
+    if !any && !has_smooth && !(opaque && (has_blocks || has_transparent)) {
         return ChunkCull::Empty;
     }
     let (mut page, mut start) = (0, 0);
@@ -175,16 +189,6 @@ pub fn cull_node(
         {
             return ChunkCull::Malformed;
         }
-    }
-    let level = info.lod.min(15);
-    let lod_on = uniforms.flags & CULL_LOD != 0;
-    let selected = if lod_on {
-        lod::selected(&uniforms.lod, info.chunk, level)
-    } else {
-        level == 0
-    };
-    if !selected {
-        return ChunkCull::NotSelected;
     }
     let (c, e) = node_box(info, camera, layout.chunk_edge);
     if !in_frustum(&camera.planes, c, e) {

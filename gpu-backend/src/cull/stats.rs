@@ -32,6 +32,9 @@ pub struct CullStats {
     pub far_list: u32,
     /// Transparent quads drawn.
     pub transparent_quads: u32,
+    /// Meshed nodes with transparent quads listed for the transparent records (may exceed
+    /// the list's capacity: the rest were dropped).
+    pub transparent_list: u32,
     /// Selected nodes per level.
     pub per_level: [u32; STAT_LEVEL_COUNT],
 }
@@ -39,6 +42,8 @@ pub struct CullStats {
 impl CullStats {
     /// The statistics word counting the far list (`STAT_FAR_LIST`).
     pub const FAR_LIST_WORD: u32 = 9;
+    /// The statistics word counting the transparent list (`STAT_TRANSPARENT_LIST`).
+    pub const TRANSPARENT_LIST_WORD: u32 = 13;
 
     /// The counters from the buffer's words (missing words read 0).
     pub fn from_words(words: &[u32]) -> CullStats {
@@ -55,6 +60,7 @@ impl CullStats {
             skirt_sides: w(8),
             far_list: w(Self::FAR_LIST_WORD as usize),
             transparent_quads: w(10),
+            transparent_list: w(Self::TRANSPARENT_LIST_WORD as usize),
             per_level: std::array::from_fn(|l| w(STAT_LEVELS + l)),
         }
     }

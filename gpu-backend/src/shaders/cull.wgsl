@@ -76,6 +76,9 @@ const CULL_FAR: u32 = 2u;
 const CULL_SMOOTH: u32 = 4u;
 // Two-phase occlusion culling against the depth pyramid (phase: 0 early, 1 late, 2 test only).
 const CULL_OCCLUSION: u32 = 8u;
+// The opaque records list the slots of meshed nodes with transparent quads; an ordered record
+// with this flag culls that list instead of the whole table.
+const CULL_FROM_LIST: u32 = 16u;
 
 // Statistics (twin of cull::CullStats), counted by the opaque-layer dispatch.
 const STAT_SELECTED: u32 = 0u;
@@ -89,6 +92,8 @@ const STAT_SMOOTH_QUADS: u32 = 7u;
 const STAT_SKIRT_SIDES: u32 = 8u;
 const STAT_FAR_LIST: u32 = 9u;
 const STAT_TRANSPARENT_QUADS: u32 = 10u;
+// Length of the transparent list (may exceed its capacity: the rest were dropped).
+const STAT_TRANSPARENT_LIST: u32 = 13u;
 // Selected nodes per level: STAT_LEVELS + level.
 const STAT_LEVELS: u32 = 16u;
 const STAT_COUNT: u32 = 32u;
@@ -133,6 +138,8 @@ const ORDER_PREFIX_WORKGROUP: u32 = 256u;
 @group(0) @binding(13) var<storage, read_write> visible: array<atomic<u32>>;
 // The depth pyramid of the early phase (hiz.wgsl's contract).
 @group(0) @binding(14) var hiz_texture: texture_2d<f32>;
+// Slots of meshed nodes with transparent quads, appended by the opaque records.
+@group(0) @binding(15) var<storage, read_write> transparent_list: array<u32>;
 
 var<workgroup> wg_count: array<atomic<u32>, CULL_MAX_PAGES>;
 var<workgroup> wg_scan: array<u32, ORDER_PREFIX_WORKGROUP>;
@@ -142,6 +149,8 @@ var<workgroup> wg_smooth_base: array<u32, CULL_MAX_SMOOTH_PAIRS>;
 var<workgroup> wg_stats: array<atomic<u32>, STAT_COUNT>;
 var<workgroup> wg_far: atomic<u32>;
 var<workgroup> wg_far_base: u32;
+var<workgroup> wg_transparent: atomic<u32>;
+var<workgroup> wg_transparent_base: u32;
 
 // Elements in page `page` of the quad gigabuffer.
 fn page_capacity_of(page: u32) -> u32 {
@@ -201,6 +210,8 @@ struct SlotCull {
     selected: bool,
     frustum_culled: bool,
     occluded: bool,
+    // Opaque records: a meshed node with transparent quads, for the transparent list.
+    transparent: bool,
 }
 
 // True unless the box (camera-relative centre c, half size e) is behind the depth pyramid:
@@ -268,6 +279,23 @@ fn cull_slot(slot: u32) -> SlotCull {
     if slot >= u.slot_bound {
         return out;
     }
+    let occlusion = (u.flags & CULL_OCCLUSION) != 0u;
+    // The early phase draws only last frame's visible nodes: one bit read rejects the rest.
+    if occlusion && u.phase == 0u
+        && (atomicLoad(&visible[slot >> 5u]) & (1u << (slot & 31u))) == 0u {
+        return out;
+    }
+    // The selection reads the record's first 16 bytes only; most nodes stop here.
+    let coord = vec3<i32>(table[slot].chunk_x, table[slot].chunk_y, table[slot].chunk_z);
+    out.level = min(table[slot].lod, 15u);
+    if (u.flags & CULL_LOD) != 0u {
+        out.selected = lod_selected(u.lod, coord, out.level);
+    } else {
+        out.selected = out.level == 0u;
+    }
+    if !out.selected {
+        return out;
+    }
     let info = table[slot];
     let node = nodes[slot];
     out.range = info.opaque_quads;
@@ -283,8 +311,10 @@ fn cull_slot(slot: u32) -> SlotCull {
     }
     let has_smooth = u.layer == 0u && node.smooth_quad_count > 0u;
     let has_blocks = (node.flags & NODE_HAS_BLOCKS) != 0u;
-    // Far-draw blocks belong to the opaque pass (it shades their transparent blocks too).
-    if !any && !has_smooth && !(has_blocks && u.layer == 0u) {
+    let has_transparent = u.layer == 0u && face_layer_range_total(info.transparent_quads) > 0u;
+    // Far-draw blocks belong to the opaque pass (it shades their transparent blocks too), and so
+    // does listing the nodes whose transparent quads the transparent records draw.
+    if !any && !has_smooth && !(u.layer == 0u && (has_blocks || has_transparent)) {
         return out;
     }
     if any {
@@ -296,16 +326,6 @@ fn cull_slot(slot: u32) -> SlotCull {
         if out.malformed {
             return out;
         }
-    }
-    let coord = meshed_chunk_info_chunk(info);
-    out.level = min(info.lod, 15u);
-    if (u.flags & CULL_LOD) != 0u {
-        out.selected = lod_selected(u.lod, coord, out.level);
-    } else {
-        out.selected = out.level == 0u;
-    }
-    if !out.selected {
-        return out;
     }
     let scale = f32(1u << out.level);
     out.rel = (coord << vec3<u32>(out.level)) - u.camera_chunk;
@@ -330,6 +350,7 @@ fn cull_slot(slot: u32) -> SlotCull {
     if out.far {
         return out;
     }
+    out.transparent = has_transparent;
     if any {
         let mask = face_mask(out.centre, e);
         for (var f = 0u; f < 6u; f += 1u) {
@@ -410,6 +431,17 @@ fn slot_of(wid: vec3<u32>, groups: vec3<u32>, lid: u32) -> u32 {
     return (wid.y * groups.x + wid.x) * CULL_WORKGROUP + lid;
 }
 
+// The slot an ordered record's invocation culls: its index, or with CULL_FROM_LIST the
+// transparent list's entry at that index (u32 max past the list: no slot).
+fn ordered_slot(wid: vec3<u32>, groups: vec3<u32>, lid: u32) -> u32 {
+    let index = slot_of(wid, groups, lid);
+    if (u.flags & CULL_FROM_LIST) == 0u {
+        return index;
+    }
+    let listed = min(atomicLoad(&stats[STAT_TRANSPARENT_LIST]), arrayLength(&transparent_list));
+    return select(0xffffffffu, transparent_list[min(index, arrayLength(&transparent_list) - 1u)], index < listed);
+}
+
 fn add_stat(index: u32, value: u32) {
     if value > 0u {
         atomicAdd(&wg_stats[index], value);
@@ -436,6 +468,11 @@ fn cull(
     if listed {
         far_local = atomicAdd(&wg_far, 1u);
     }
+    let listed_transparent = s.transparent && u.layer == 0u;
+    var transparent_local = 0u;
+    if listed_transparent {
+        transparent_local = atomicAdd(&wg_transparent, 1u);
+    }
     var smooth_local = 0u;
     if s.smooth_draw {
         smooth_local = atomicAdd(&wg_smooth[s.smooth_pair], 1u);
@@ -458,6 +495,10 @@ fn cull(
         if c > 0u {
             wg_far_base = atomicAdd(&stats[STAT_FAR_LIST], c);
         }
+        let t = atomicLoad(&wg_transparent);
+        if t > 0u {
+            wg_transparent_base = atomicAdd(&stats[STAT_TRANSPARENT_LIST], t);
+        }
     }
     workgroupBarrier();
     var node: NodeRecord;
@@ -471,6 +512,12 @@ fn cull(
     if s.smooth_draw {
         write_smooth(s, slot, wg_smooth_base[s.smooth_pair] + smooth_local);
         add_stat(STAT_SMOOTH_QUADS, node.smooth_quad_count);
+    }
+    if listed_transparent {
+        let at = wg_transparent_base + transparent_local;
+        if at < arrayLength(&transparent_list) {
+            transparent_list[at] = slot;
+        }
     }
     if listed {
         let at = wg_far_base + far_local;
@@ -495,7 +542,7 @@ fn cull(
         add_stat(STAT_SKIRT_SIDES, countOneBits(select(0u, s.skirts, s.n > 0u || listed)));
     }
     workgroupBarrier();
-    if lid < STAT_COUNT && lid != STAT_FAR_LIST {
+    if lid < STAT_COUNT && lid != STAT_FAR_LIST && lid != STAT_TRANSPARENT_LIST {
         let c = atomicLoad(&wg_stats[lid]);
         if c > 0u {
             atomicAdd(&stats[lid], c);
@@ -517,7 +564,7 @@ fn cull_count(
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_index) lid: u32,
 ) {
-    let s = cull_slot(slot_of(wid, groups, lid));
+    let s = cull_slot(ordered_slot(wid, groups, lid));
     if s.malformed {
         atomicAdd(&counts[u.page_count], 1u);
     }
@@ -574,7 +621,7 @@ fn cull_scatter(
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_index) lid: u32,
 ) {
-    let slot = slot_of(wid, groups, lid);
+    let slot = ordered_slot(wid, groups, lid);
     let s = cull_slot(slot);
     if s.n > 0u {
         let at = atomicAdd(&order_cursors[s.page * ORDER_KEYS + depth_key(s.centre)], s.n);

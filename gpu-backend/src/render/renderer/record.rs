@@ -59,6 +59,7 @@ impl Renderer {
             smooth,
             occlusion,
             phase,
+            from_list: false,
         }
     }
 
@@ -122,7 +123,10 @@ impl Renderer {
             &cull_camera,
             CullLayer::Transparent,
             &self.transparent_commands,
-            &self.cull_params(false, PHASE_TEST),
+            &CullParams {
+                from_list: true,
+                ..self.cull_params(false, PHASE_TEST)
+            },
         )?;
         self.timer.end(encoder, scope);
 
