@@ -15,8 +15,8 @@
 use std::time::Instant;
 
 use mesher::{BlockClasses, ChunkMesh, MeshError, MeshSettings, mesh_chunks};
-use viewer::scene::terrain_scene;
 use voxel_core::{ChunkCoord, ChunkSize, MaterialPalette};
+use voxel_scene::terrain_scene;
 
 /// Highest block the terrain reaches, with margin: `Terrain::base_height + amplitude`, rounded
 /// up (the sea is lower).
