@@ -336,7 +336,14 @@ fn scene_graph_errors_are_refused_with_the_node_named() {
 
 #[test]
 fn bad_attribute_values_are_refused_with_key_and_value() {
-    let cases: [(&[(&str, &str)], &[(&str, &str)], &str, &str); 6] = [
+    /// Node attributes, frame attributes, the key and the value the message must name.
+    type Case<'a> = (
+        &'a [(&'a str, &'a str)],
+        &'a [(&'a str, &'a str)],
+        &'a str,
+        &'a str,
+    );
+    let cases: [Case<'_>; 6] = [
         (&[("_hidden", "yes")], &[], "_hidden", "\"yes\""),
         (&[], &[("_r", "3")], "_r", "\"3\""),
         (&[], &[("_r", "256")], "_r", "\"256\""),

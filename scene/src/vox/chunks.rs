@@ -307,7 +307,7 @@ fn matt(c: &mut Cursor<'_>) -> Result<(i32, RawMaterial), VoxError> {
     let named = (bits & 0x7f).count_ones() as usize;
     let with_bit_7 = named + usize::from(bits & 0x80 != 0);
     let values = c.remaining() / 4;
-    if c.remaining() % 4 != 0 || (values != named && values != with_bit_7) {
+    if !c.remaining().is_multiple_of(4) || (values != named && values != with_bit_7) {
         return Err(VoxError::WrongLength {
             chunk: c.chunk(),
             expected: format!("16 bytes and one 4-byte value per property bit set in {bits:#x}"),

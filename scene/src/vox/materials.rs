@@ -95,11 +95,16 @@ const DEFAULT_ROUGHNESS: f32 = 0.1;
 /// Transparency of a glass without `_trans` or `_weight`.
 const DEFAULT_TRANSPARENCY: f32 = 0.5;
 
-/// The materials of colour indices 0..=255 (index 0 is never drawn), and the `MATL` types
-/// not known here (colour index and type), which are drawn diffuse.
-pub(crate) fn materials_of(
-    file: &RawFile,
-) -> Result<(Vec<VoxMaterial>, Vec<(u8, String)>), VoxError> {
+/// The materials of a file.
+pub(crate) struct Materials {
+    /// The material of colour indices 0..=255 (index 0 is never drawn).
+    pub by_index: Vec<VoxMaterial>,
+    /// `MATL` types not known here (colour index and type), drawn diffuse.
+    pub unknown_types: Vec<(u8, String)>,
+}
+
+/// The materials of every colour index of `file`.
+pub(crate) fn materials_of(file: &RawFile) -> Result<Materials, VoxError> {
     let mut unknown_types = Vec::new();
     let palette = file.palette.unwrap_or_else(default_palette);
     let mut out: Vec<VoxMaterial> = (0..256usize)
@@ -126,7 +131,10 @@ pub(crate) fn materials_of(
             } => from_matt(slot.colour, *kind, *weight, properties, *index, *at)?,
         };
     }
-    Ok((out, unknown_types))
+    Ok(Materials {
+        by_index: out,
+        unknown_types,
+    })
 }
 
 /// The renderer's palette: block id `i` is colour index `i` (1..=255).

@@ -190,7 +190,10 @@ pub fn load_vox_bytes(
 pub fn load_vox_with(bytes: &[u8], options: &VoxOptions) -> Result<VoxScene, VoxError> {
     let (version, chunks) = reader::read_chunks(bytes)?;
     let file = chunks::parse(&chunks)?;
-    let (materials, unknown_material_types) = materials::materials_of(&file)?;
+    let materials::Materials {
+        by_index: materials,
+        unknown_types: unknown_material_types,
+    } = materials::materials_of(&file)?;
     let walk = graph::walk(&file, options.include_hidden)?;
 
     let mut world: WorldMap<PaletteChunk> = WorldMap::new(options.chunk_size);
