@@ -213,6 +213,27 @@ pub enum VoxError {
     },
 }
 
+impl VoxError {
+    /// The chunk the error is in, when it is about one chunk.
+    pub fn chunk(&self) -> Option<ChunkAt> {
+        use VoxError as E;
+        match self {
+            E::Truncated { chunk, .. } => *chunk,
+            E::NoMain { found } => Some(*found),
+            E::UnexpectedChildren { chunk }
+            | E::WrongLength { chunk, .. }
+            | E::UnpairedModelChunk { chunk }
+            | E::BadModelSize { chunk, .. }
+            | E::VoxelCountMismatch { chunk, .. }
+            | E::PackCountMismatch { chunk, .. }
+            | E::Duplicate { chunk, .. }
+            | E::DuplicateKey { chunk, .. }
+            | E::BadReference { chunk, .. } => Some(*chunk),
+            _ => None,
+        }
+    }
+}
+
 impl fmt::Display for VoxError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         use VoxError as E;

@@ -6,7 +6,7 @@
 //!
 //! | field | from |
 //! | --- | --- |
-//! | [`kind`](VoxMaterial::kind) | `_type` (`_diffuse`, `_metal`, `_plastic`, `_glass`, `_emit`, `_blend`, `_media`); `MATT` type 0-3 |
+//! | [`kind`](VoxMaterial::kind) | `_type` (`_diffuse`, `_metal`, `_plastic`, `_glass`, `_emit`, `_blend`, `_media`; another type is drawn diffuse and named in [`LoadReport`](super::LoadReport)); `MATT` type 0-3 |
 //! | [`metalness`](VoxMaterial::metalness) | `_metal`; for a metal without it `_weight` (older files), else 1; 0 for other kinds |
 //! | [`roughness`](VoxMaterial::roughness) | `_rough`, else 0.1 (MagicaVoxel's default); always 1 for diffuse, which MagicaVoxel renders as Lambertian |
 //! | [`transparency`](VoxMaterial::transparency) | glass, blend and media: `_trans`, else `_weight` (older files), else 0.5; 0 for other kinds |
