@@ -51,7 +51,7 @@ pub(crate) fn read_chunks(bytes: &[u8]) -> Result<(u32, Vec<Chunk<'_>>), VoxErro
         id: main.id,
         offset: 8,
     };
-    let children_start = 20 + main.content;
+    let children_start = main.content.saturating_add(20);
     let children_end = children_start.saturating_add(main.children);
     // Walk the children that are there first, so that a file cut short is reported at the
     // chunk it cuts, not only as a short 'MAIN'.
