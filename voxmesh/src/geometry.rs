@@ -79,9 +79,10 @@ pub fn build(
 ) -> Geometry {
     let mut builder = Builder {
         materials,
+        linear: materials.iter().map(|m| linear_rgb(m.colour)).collect(),
         options: *options,
         geometry: Geometry::default(),
-        material_of_id: HashMap::new(),
+        material_of_id: vec![None; materials.len()],
         keys: HashMap::new(),
     };
     for chunk in chunks {
@@ -93,10 +94,12 @@ pub fn build(
 
 struct Builder<'a> {
     materials: &'a [VoxMaterial],
+    /// The linear RGB of each block id's colour.
+    linear: Vec<[f32; 3]>,
     options: GeometryOptions,
     geometry: Geometry,
     /// Primitive index of each block id met so far.
-    material_of_id: HashMap<BlockId, usize>,
+    material_of_id: Vec<Option<usize>>,
     /// Primitive index of each distinct material.
     keys: HashMap<[u32; 8], usize>,
 }
@@ -104,14 +107,14 @@ struct Builder<'a> {
 impl Builder<'_> {
     /// The primitive for block `id`, created on first use.
     fn primitive(&mut self, id: BlockId) -> usize {
-        if let Some(&p) = self.material_of_id.get(&id) {
-            return p;
+        let slot = usize::from(id.0);
+        if let Some(Some(p)) = self.material_of_id.get(slot) {
+            return *p;
         }
-        let material = self
-            .materials
-            .get(usize::from(id.0))
-            .copied()
-            .unwrap_or_else(|| panic!("block id {} has no material; the mesher checks ids", id.0));
+        let material =
+            self.materials.get(slot).copied().unwrap_or_else(|| {
+                panic!("block id {} has no material; the mesher checks ids", id.0)
+            });
         let pbr = PbrMaterial::of(&material);
         let geometry = &mut self.geometry;
         let p = *self.keys.entry(pbr.key()).or_insert_with(|| {
@@ -122,7 +125,7 @@ impl Builder<'_> {
             });
             geometry.primitives.len() - 1
         });
-        self.material_of_id.insert(id, p);
+        self.material_of_id[slot] = Some(p);
         p
     }
 
@@ -134,7 +137,7 @@ impl Builder<'_> {
     }
 
     fn colour(&self, id: BlockId, ao: u8) -> [u16; 4] {
-        let rgb = linear_rgb(self.materials[usize::from(id.0)].colour);
+        let rgb = self.linear[usize::from(id.0)];
         let light = if self.options.ambient_occlusion {
             AO_FLOOR + (1.0 - AO_FLOOR) * f32::from(ao) / 3.0
         } else {

@@ -168,27 +168,21 @@ fn primitive(
         root,
         bin,
         buffer,
-        bytes_of(&p.positions, |v| {
-            v.iter().flat_map(|c| c.to_le_bytes()).collect()
-        }),
+        &le_bytes(p.positions.as_flattened(), f32::to_le_bytes),
         AccessorKind::vec3_f32(p.positions.len(), Some((min, max))),
     );
     let normal = accessor(
         root,
         bin,
         buffer,
-        bytes_of(&p.normals, |v| {
-            v.iter().flat_map(|c| c.to_le_bytes()).collect()
-        }),
+        &le_bytes(p.normals.as_flattened(), f32::to_le_bytes),
         AccessorKind::vec3_f32(p.normals.len(), None),
     );
     let colour = accessor(
         root,
         bin,
         buffer,
-        bytes_of(&p.colours, |v| {
-            v.iter().flat_map(|c| c.to_le_bytes()).collect()
-        }),
+        &le_bytes(p.colours.as_flattened(), u16::to_le_bytes),
         AccessorKind {
             count: p.colours.len(),
             component: json::accessor::ComponentType::U16,
@@ -202,7 +196,7 @@ fn primitive(
         root,
         bin,
         buffer,
-        p.indices.iter().flat_map(|i| i.to_le_bytes()).collect(),
+        &le_bytes(&p.indices, u32::to_le_bytes),
         AccessorKind {
             count: p.indices.len(),
             component: json::accessor::ComponentType::U32,
@@ -227,8 +221,13 @@ fn primitive(
     }
 }
 
-fn bytes_of<T>(items: &[T], f: impl Fn(&T) -> Vec<u8>) -> Vec<u8> {
-    items.iter().flat_map(f).collect()
+/// The little-endian bytes of `values` (the byte order glTF buffers use).
+fn le_bytes<T: Copy, const N: usize>(values: &[T], to_le: fn(T) -> [u8; N]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(values.len() * N);
+    for &v in values {
+        out.extend_from_slice(&to_le(v));
+    }
+    out
 }
 
 /// Smallest and largest value per axis (the `POSITION` accessor's required `min`/`max`).
@@ -273,7 +272,7 @@ fn accessor(
     root: &mut json::Root,
     bin: &mut Vec<u8>,
     buffer: json::Index<json::Buffer>,
-    data: Vec<u8>,
+    data: &[u8],
     kind: AccessorKind,
 ) -> json::Index<json::Accessor> {
     debug_assert_eq!(data.len() % 4, 0);
@@ -287,7 +286,7 @@ fn accessor(
         extensions: None,
         extras: Default::default(),
     });
-    bin.extend_from_slice(&data);
+    bin.extend_from_slice(data);
     let (min, max) = match kind.bounds {
         Some((min, max)) => (
             Some(json::Value::from(min.to_vec())),
