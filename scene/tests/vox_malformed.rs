@@ -387,7 +387,7 @@ fn bad_materials_are_refused() {
         w.model([1, 1, 1], &[[0, 0, 0, 1]]).matl(9, properties);
         refused(&w.bytes(), &["material 9", "'MATL' at byte 64", key]);
     }
-    for id in [-1, 256] {
+    for id in [-1, 257] {
         let mut w = VoxWriter::new();
         w.model([1, 1, 1], &[[0, 0, 0, 1]]).matl(id, &[]);
         refused(&w.bytes(), &["material id", &id.to_string()]);

@@ -221,8 +221,14 @@ fn overlapping_models_keep_the_later_voxel_and_count_the_overlap() {
 fn unknown_chunks_are_skipped_and_reported() {
     let mut w = VoxWriter::new();
     w.chunk(b"rOBJ", writer::dict(&[("_type", "_bloom")]))
-        .model([1, 1, 1], &[[0, 0, 0, 1]])
-        .chunk(b"ZZZZ", vec![1, 2, 3]);
+        .model([1, 1, 1], &[[0, 0, 0, 1]]);
+    // MagicaVoxel's other renderer settings and notes are skipped without a note.
+    for id in [
+        b"rCAM", b"rLIT", b"rAIR", b"rLEN", b"rDIS", b"POST", b"NOTE", b"IMAP",
+    ] {
+        w.chunk(id, vec![0; 8]);
+    }
+    w.chunk(b"ZZZZ", vec![1, 2, 3]);
     let scene = load(&w.bytes());
     assert_eq!(scene.voxel_count, 1);
     let unknown: Vec<String> = scene
@@ -233,7 +239,7 @@ fn unknown_chunks_are_skipped_and_reported() {
         .collect();
     assert_eq!(
         unknown,
-        vec![format!("chunk 'ZZZZ' at byte {}", w.offset_of(3))]
+        vec![format!("chunk 'ZZZZ' at byte {}", w.offset_of(11))]
     );
 }
 

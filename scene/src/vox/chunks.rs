@@ -2,9 +2,10 @@
 //! materials, scene nodes and layers, each remembering the chunk it came from.
 //!
 //! Chunks that do not change geometry or colour are skipped by name: `IMAP` (the editor's
-//! palette display order), `rOBJ` (render settings), `rCAM` (cameras), `NOTE` (palette notes).
-//! Any other unknown id is skipped too (the format is meant to grow that way) and listed in
-//! [`RawFile::unknown`], so callers can tell the user.
+//! palette display order), `NOTE` (palette notes) and MagicaVoxel's renderer settings (`rOBJ`,
+//! `rCAM`, `rLIT`, `rAIR`, `rLEN`, `rDIS`, `POST`). Any other unknown id is skipped too (the
+//! format is meant to grow that way) and listed in [`RawFile::unknown`], so callers can tell
+//! the user.
 
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
@@ -97,7 +98,13 @@ pub(crate) struct RawFile {
 }
 
 /// Chunk ids skipped on purpose (see the module docs).
-const IGNORED: [&[u8; 4]; 4] = [b"IMAP", b"rOBJ", b"rCAM", b"NOTE"];
+const IGNORED: [&[u8; 4]; 9] = [
+    b"IMAP", b"NOTE", b"rOBJ", b"rCAM", b"rLIT", b"rAIR", b"rLEN", b"rDIS", b"POST",
+];
+
+/// The material id MagicaVoxel writes for the palette's unused 256th entry (files of some
+/// versions hold materials 1 to 256, of others 0 to 255): accepted and not used.
+const UNUSED_MATERIAL: i32 = 256;
 
 /// Parses and checks every chunk.
 pub(crate) fn parse(chunks: &[Chunk<'_>]) -> Result<RawFile, VoxError> {
@@ -269,19 +276,23 @@ fn voxels(c: &mut Cursor<'_>, model: usize, size: [u32; 3]) -> Result<Vec<[u8; 4
     Ok(out)
 }
 
-/// Adds a material for colour index `index` (0..=255), once per index.
+/// Adds a material for colour index `index` (0..=255), once per index; id 256 is accepted and
+/// dropped (see [`UNUSED_MATERIAL`]).
 fn push_material(
     file: &mut RawFile,
     index: i32,
     material: RawMaterial,
     at: ChunkAt,
 ) -> Result<(), VoxError> {
+    if index == UNUSED_MATERIAL {
+        return Ok(());
+    }
     let Ok(index) = u8::try_from(index) else {
         return Err(VoxError::BadValue {
             owner: at.to_string(),
             key: "material id".into(),
             value: index.to_string(),
-            expected: "a colour index from 0 to 255",
+            expected: "a colour index from 0 to 256",
         });
     };
     if file.materials.iter().any(|(i, _, _)| *i == index) {
