@@ -17,7 +17,7 @@
 //!   A voxel at file position `(x, y, z)` lands at world `(x, z, -1 - y)`.
 //! - **Colours.** Colour index `i` (1..=255) becomes block id `i`. [`VoxScene::materials`] holds
 //!   each index's colour (the `RGBA` chunk, or MagicaVoxel's default palette) and material
-//!   (`MATL`, or the older `MATT`; see [`materials`](self::materials)); [`VoxScene::palette`]
+//!   (`MATL`, or the older `MATT`; see [`materials`]); [`VoxScene::palette`]
 //!   is the same as the renderer's [`MaterialPalette`].
 //! - **Overlaps.** Where models overlap, the one drawn later (scene-graph order) wins;
 //!   [`LoadReport::overwritten_voxels`] counts the voxels that were covered.
