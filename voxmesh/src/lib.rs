@@ -14,7 +14,8 @@
 //! The stages, one module each: [`cli`] (arguments) -> [`input`] (load) -> [`mesh`] (surface
 //! extraction per chunk, in parallel) -> [`geometry`] (triangles per material) -> [`glb`] or
 //! [`obj`] (encoding) -> [`output`] (temporary files renamed into place only when everything
-//! is written). [`progress`] draws the bar, [`run`] ties the stages together.
+//! is written). [`pbr`] maps MagicaVoxel materials to glTF's, [`progress`] draws the bar,
+//! [`run`] ties the stages together.
 
 pub mod cli;
 pub mod geometry;

@@ -21,6 +21,10 @@
 //!   is the same as the renderer's [`MaterialPalette`].
 //! - **Overlaps.** Where models overlap, the one drawn later (scene-graph order) wins;
 //!   [`LoadReport::overwritten_voxels`] counts the voxels that were covered.
+//! - **Other chunks.** MagicaVoxel's renderer settings, palette notes and palette display
+//!   order are skipped; a chunk id nobody knows is skipped too and listed in
+//!   [`LoadReport::unknown_chunks`]. A material for the palette's unused 256th entry (id 256,
+//!   which some MagicaVoxel versions write) is accepted and not used.
 //!
 //! # What is refused
 //!
