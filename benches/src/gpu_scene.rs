@@ -1,7 +1,7 @@
-//! The GPU benchmark's scene: the viewer's procedural terrain (heightmap, caves, water) over a
-//! square of `side x side` block columns centred on the origin, downsampled into levels of
-//! detail and meshed per node ([`mesher::lod`]): quads with AO, skirts, and the far-draw blocks
-//! with their hiding masks.
+//! The GPU benchmark's scene: the procedural terrain of `voxel-scene` (the viewer's built-in
+//! scene: heightmap, caves, water) over a square of `side x side` block columns centred on the
+//! origin, downsampled into levels of detail and meshed per node ([`mesher::lod`]): quads with
+//! AO, skirts, and the far-draw blocks with their hiding masks.
 //!
 //! Generation and meshing run on rayon's pool. Which nodes are meshed is up to the caller
 //! ([`LodTerrain::generate`]'s `keep`): everything for a scene that fits, or only what the
@@ -21,9 +21,9 @@ use std::time::Instant;
 
 use mesher::lod::{NodeMesh, NodeSettings, downsample_levels, mesh_nodes};
 use mesher::{BlockClasses, MeshError, MeshSettings};
-use viewer::scene::terrain_scene;
 use voxel_core::storage::{VoxelStorage, WorldMap};
 use voxel_core::{ChunkCoord, ChunkSize, MaterialPalette};
+use voxel_scene::terrain_scene;
 
 /// Highest block the terrain reaches, with margin: `Terrain::base_height + amplitude`, rounded
 /// up (the sea is lower).

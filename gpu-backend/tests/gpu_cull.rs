@@ -457,13 +457,10 @@ fn extra_views_and_overflow() {
         let args: Vec<gpu_backend::cull::DrawIndexedArgs> =
             bytemuck::pod_collect_to_vec(&read(&args_a));
         let per_page = layout.commands_per_page as usize;
-        for page in 0..layout.page_count as usize {
-            assert_eq!(
-                counts[page], expected[0].wanted[page],
-                "first view, page {page}"
-            );
+        for (page, &count) in counts.iter().take(layout.page_count as usize).enumerate() {
+            assert_eq!(count, expected[0].wanted[page], "first view, page {page}");
             let start = page * per_page;
-            let range = start..start + counts[page] as usize;
+            let range = start..start + count as usize;
             let got: Vec<gpu_backend::cull::Command> = args[range.clone()]
                 .iter()
                 .zip(&records[range])

@@ -139,7 +139,7 @@ proptest! {
             prop_assert_eq!(bits[i / 32] >> (i % 32) & 1 == 1, hides, "padded ({}, {}, {})", x, y, z);
         }
         let used = (p * p * p) as usize;
-        if used % 32 != 0 {
+        if !used.is_multiple_of(32) {
             prop_assert_eq!(bits[used / 32] >> (used % 32), 0, "bits past the box are zero");
         }
     }

@@ -3,6 +3,7 @@
 //! node's hiding mask), must match the deferred CPU raycaster within the image tests'
 //! tolerance, as the meshed render does.
 
+#[allow(dead_code, reason = "each test file uses part of the shared helpers")]
 mod image_support;
 
 use gpu_backend::DeviceOptions;

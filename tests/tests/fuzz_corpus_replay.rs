@@ -3,7 +3,8 @@
 //!
 //! For each target `T`, every file of `fuzz/corpus/T/` (which must exist and not be empty) and,
 //! when the folder exists, of `fuzz/artifacts/T/` is run through `bodies::T`, the same function
-//! the fuzz target `T` runs (`fuzz/bodies.rs` is included by both).
+//! the fuzz target `T` runs (`fuzz/bodies.rs` is included by both; the `vox_loader` body is in
+//! `fuzz/vox_body.rs`).
 //!
 //! The seed inputs (`seed-*` files: small valid encodings of every format, and malformed ones)
 //! are built by [`seeds`]. `seed_corpus_is_current` checks that the committed files match them;
@@ -12,6 +13,10 @@
 
 #[path = "../../fuzz/bodies.rs"]
 mod bodies;
+#[path = "../../fuzz/vox_body.rs"]
+mod vox_body;
+#[path = "../../scene/tests/support/writer.rs"]
+mod vox_writer;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
@@ -30,7 +35,7 @@ use voxel_core::{BlockId, ChunkCoord, ChunkSize, LocalPos, VoxelStorage};
 type Target = (&'static str, fn(&[u8]));
 
 /// Every fuzz target, in the order of `fuzz/Cargo.toml`.
-const TARGETS: [Target; 11] = [
+const TARGETS: [Target; 12] = [
     ("chunk_codec", bodies::chunk_codec),
     ("draw_block", bodies::draw_block),
     ("packed_quad", bodies::packed_quad),
@@ -42,6 +47,7 @@ const TARGETS: [Target; 11] = [
     ("compact_quad", bodies::compact_quad),
     ("blocky_mesh", bodies::blocky_mesh),
     ("smooth_density", bodies::smooth_density),
+    ("vox_loader", vox_body::vox_loader),
 ];
 
 fn fuzz_dir() -> PathBuf {
@@ -137,6 +143,7 @@ replay_tests!(
     compact_quad,
     blocky_mesh,
     smooth_density,
+    vox_loader,
 );
 
 #[test]
@@ -174,6 +181,7 @@ fn seeds() -> Vec<(&'static str, Seeds)> {
         ("compact_quad", compact_quad_seeds()),
         ("blocky_mesh", blocky_mesh_seeds()),
         ("smooth_density", smooth_density_seeds()),
+        ("vox_loader", vox_loader_seeds()),
     ]
 }
 
@@ -812,4 +820,90 @@ fn smooth_density_seeds() -> Seeds {
             f32_grid([2; 3], &|i| if i % 4 == 0 { -0.0 } else { -1.0 }, 125),
         ),
     ]
+}
+
+/// `.vox` files for `vox_loader`, built by the test writer of `voxel-scene`: valid scenes with
+/// transforms, hidden nodes and layers, animations and every material chunk, and one file per
+/// kind of malformation the loader refuses.
+fn vox_loader_seeds() -> Seeds {
+    use vox_writer::{VoxWriter, two_model_scene};
+    let one_voxel = || {
+        let mut w = VoxWriter::new();
+        w.model([2, 2, 2], &[[0, 0, 0, 1], [1, 1, 1, 2]]);
+        w
+    };
+    let mut seeds: Seeds = vec![
+        ("valid-two-models", two_model_scene().bytes()),
+        ("valid-one-model-no-graph", one_voxel().bytes()),
+    ];
+    let mut hidden = VoxWriter::new();
+    hidden
+        .model([1, 1, 1], &[[0, 0, 0, 1]])
+        .model([2, 1, 1], &[[0, 0, 0, 2], [1, 0, 0, 2]])
+        .transform(0, &[], 1, -1, &[])
+        .group(1, &[], &[2, 4])
+        .transform(2, &[("_hidden", "1")], 3, 0, &[("_t", "5 0 0")])
+        .shape(3, &[], &[0])
+        .transform(4, &[], 5, 1, &[("_t", "-5 1 2"), ("_r", "40")])
+        .shape(5, &[], &[1])
+        .layer(0, &[])
+        .layer(1, &[("_hidden", "1")]);
+    seeds.push(("valid-hidden-node-and-layer", hidden.bytes()));
+    let mut animated = VoxWriter::new();
+    animated
+        .chunk(b"PACK", 2u32.to_le_bytes().to_vec())
+        .model([3, 3, 3], &[[2, 1, 0, 7]])
+        .model([3, 3, 3], &[[0, 0, 0, 8]]);
+    seeds.push(("valid-pack-frames", animated.bytes()));
+    let mut materials = one_voxel();
+    materials
+        .matl(1, &[("_type", "_glass"), ("_trans", "0.5")])
+        .matl(2, &[("_type", "_emit"), ("_emit", "2"), ("_flux", "1")])
+        .chunk(b"MATT", {
+            let mut c = 3i32.to_le_bytes().to_vec();
+            c.extend(1u32.to_le_bytes());
+            c.extend(0.5f32.to_le_bytes());
+            c.extend(0x82u32.to_le_bytes());
+            c.extend([0.2f32, 0.3].iter().flat_map(|v| v.to_le_bytes()));
+            c
+        })
+        .chunk(b"rOBJ", vec![0, 0, 0, 0]);
+    seeds.push(("valid-materials-and-skipped-chunks", materials.bytes()));
+
+    let valid = two_model_scene().bytes();
+    seeds.push(("bad-truncated-half", valid[..valid.len() / 2].to_vec()));
+    seeds.push(("bad-truncated-header", valid[..30].to_vec()));
+    let mut outside = VoxWriter::new();
+    outside.model([2, 2, 2], &[[0, 2, 0, 1]]);
+    seeds.push(("bad-voxel-outside-model", outside.bytes()));
+    for (name, size) in [
+        ("bad-size-zero", [0, 2, 2]),
+        ("bad-size-negative", [2, -1, 2]),
+        ("bad-size-huge", [2, 2, 300]),
+    ] {
+        let mut w = VoxWriter::new();
+        w.model(size, &[]);
+        seeds.push((name, w.bytes()));
+    }
+    let mut lying = one_voxel().bytes();
+    lying[20 + 24 + 12] = 9; // the XYZI count
+    seeds.push(("bad-voxel-count", lying));
+    let mut zero = VoxWriter::new();
+    zero.model([2, 2, 2], &[[1, 0, 1, 0]]);
+    seeds.push(("bad-colour-index-zero", zero.bytes()));
+    seeds.push(("bad-no-model", VoxWriter::new().bytes()));
+    let mut cycle = one_voxel();
+    cycle.transform(0, &[], 1, -1, &[]).group(1, &[], &[0]);
+    seeds.push(("bad-scene-cycle", cycle.bytes()));
+    let mut rotation = one_voxel();
+    rotation
+        .transform(0, &[], 1, -1, &[("_r", "3")])
+        .shape(1, &[], &[0]);
+    seeds.push(("bad-rotation", rotation.bytes()));
+    // The names tell the truth: valid seeds load, bad ones are refused.
+    for (name, bytes) in &seeds {
+        let loaded = voxel_scene::vox::load_vox_bytes(bytes, ChunkSize::S16, 1 << 16);
+        assert_eq!(loaded.is_ok(), name.starts_with("valid-"), "seed {name}");
+    }
+    seeds
 }

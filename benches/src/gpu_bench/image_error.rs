@@ -15,7 +15,7 @@ pub const OFF_THRESHOLD: u8 = 8;
 /// The error of RGBA8 image `image` against `reference` (alpha ignored), or `None` when their
 /// sizes differ.
 pub fn image_error(image: &[u8], reference: &[u8]) -> Option<ImageError> {
-    if image.len() != reference.len() || image.len() % 4 != 0 || image.is_empty() {
+    if image.len() != reference.len() || !image.len().is_multiple_of(4) || image.is_empty() {
         return None;
     }
     let mut sum = 0u64;

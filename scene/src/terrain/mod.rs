@@ -3,8 +3,12 @@
 //! Deterministic for a seed: the same seed gives the same blocks on every machine, so tests and
 //! benchmarks can use it as a fixed input.
 
+mod region;
+
 use fastnoise_lite::{FastNoiseLite, FractalType, NoiseType};
 use voxel_core::{BlockId, Material, MaterialClass, MaterialPalette};
+
+pub use region::{TERRAIN_TOP, TerrainScene, terrain_columns, terrain_scene};
 
 /// Block ids of the terrain's materials, in the order [`TerrainBlocks::palette`] adds them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
