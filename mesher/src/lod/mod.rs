@@ -3,17 +3,23 @@
 //! # Downsampling rule
 //!
 //! A chunk at level `k + 1` covers `2 x 2 x 2` chunks of level `k`; each of its voxels stands
-//! for `2 x 2 x 2` voxels ("children") of the finer level:
+//! for `2 x 2 x 2` voxels ("children") of the finer level. A coarse voxel shows what is on top
+//! of its children, the face most views of terrain see:
 //!
-//! 1. if any child is opaque, the coarse voxel takes the opaque id that occurs most often among
-//!    the children (ties: the id found in the upper half first, so grass-topped ground stays
-//!    grass on top, then the smaller id);
-//! 2. otherwise, if any child is transparent, the most common transparent id (same tie rule);
-//! 3. otherwise it is air.
+//! 1. the *deciding half* is the upper half (the 4 children with `dy = 1`) if any of them is not
+//!    air, else the lower half;
+//! 2. if any child of the deciding half is opaque, the coarse voxel takes the opaque id that
+//!    occurs most often there (ties: the smaller id);
+//! 3. otherwise, if any is transparent, the most common transparent id (same tie rule);
+//! 4. otherwise (all 8 children air) it is air.
 //!
-//! A coarse voxel is air only when all its children are, so a surface one voxel thin (a wall, a
-//! floor, a leaf layer) is never lost at any level: it thickens to the coarse voxel size instead.
-//! Volume can grow by up to one coarse voxel per surface; it never shrinks.
+//! So grass-topped ground stays grass on top whatever lies under it, and a lake stays water
+//! at every level (its sand bottom sinks by up to one coarse voxel instead of rising to the
+//! surface). A coarse voxel is air only when all its children are, so a surface one voxel thin
+//! (a wall, a floor, a leaf layer) is never lost at any level: it thickens to the coarse voxel
+//! size instead (an opaque floor under a transparent layer in the same coarse voxel shows as
+//! that transparent layer). Volume can grow by up to one coarse voxel per surface; it never
+//! shrinks.
 //!
 //! # Borders between levels
 //!
@@ -51,17 +57,26 @@ pub use skirts::{Skirts, skirt_blocks, skirt_quads};
 /// Picks the coarse id for 8 children, by the rule in the [module docs](self). Indices 4..8 are
 /// the upper half (`dy = 1`). Returns the id of a child the palette does not know as an error.
 fn coarse_id(children: &[BlockId; 8], classes: &BlockClasses) -> Result<BlockId, BlockId> {
-    // Rank = (count, occurs in the upper half, smaller id): the largest rank wins.
-    let rank = |id: BlockId| {
-        let count = children.iter().filter(|&&c| c == id).count();
-        (count, children[4..].contains(&id), core::cmp::Reverse(id))
+    let upper = &children[4..];
+    let half = if upper.iter().any(|id| !id.is_air()) {
+        upper
+    } else {
+        &children[..4]
     };
+    // Rank = (count in the deciding half, smaller id): the largest rank wins.
+    let rank = |id: BlockId| {
+        let count = half.iter().filter(|&&c| c == id).count();
+        (count, core::cmp::Reverse(id))
+    };
+    // Every child's id must be known, whichever half decides.
+    if let Some(&unknown) = children.iter().find(|&&id| classes.class(id).is_none()) {
+        return Err(unknown);
+    }
     let mut best_opaque: Option<BlockId> = None;
     let mut best_transparent: Option<BlockId> = None;
-    for &id in children {
+    for &id in half {
         let slot = match classes.class(id) {
-            None => return Err(id),
-            Some(MaterialClass::Air) => continue,
+            None | Some(MaterialClass::Air) => continue,
             Some(MaterialClass::Transparent) => &mut best_transparent,
             Some(_) => &mut best_opaque,
         };
@@ -256,31 +271,37 @@ mod tests {
     fn coarse_id_follows_the_documented_rule() {
         let (c, stone, grass, water) = classes();
         let a = BlockId::AIR;
-        // Majority opaque wins.
+        // The upper half decides when it holds anything: grass on top of more stone.
         assert_eq!(
-            coarse_id(&[stone, stone, stone, a, grass, a, a, a], &c),
-            Ok(stone)
-        );
-        // A tie goes to the id in the upper half.
-        assert_eq!(
-            coarse_id(&[stone, stone, a, a, grass, grass, a, a], &c),
+            coarse_id(&[stone, stone, stone, stone, grass, a, a, a], &c),
             Ok(grass)
         );
-        // Opaque beats a transparent majority; a lone opaque child keeps a thin surface.
+        // Majority within the deciding half; ties go to the smaller id.
         assert_eq!(
-            coarse_id(
-                &[water, water, water, water, water, water, water, stone],
-                &c
-            ),
+            coarse_id(&[a, a, a, a, grass, stone, stone, a], &c),
+            Ok(stone)
+        );
+        assert_eq!(coarse_id(&[a, a, a, a, grass, stone, a, a], &c), Ok(stone));
+        // An empty upper half: the lower half decides.
+        assert_eq!(
+            coarse_id(&[stone, grass, grass, a, a, a, a, a], &c),
+            Ok(grass)
+        );
+        // Water over sand stays water; opaque beats transparent within the deciding half.
+        assert_eq!(
+            coarse_id(&[stone, stone, stone, stone, water, water, water, a], &c),
+            Ok(water)
+        );
+        assert_eq!(
+            coarse_id(&[a, a, a, a, water, water, water, stone], &c),
             Ok(stone)
         );
         assert_eq!(coarse_id(&[water, a, a, a, a, a, a, a], &c), Ok(water));
         assert_eq!(coarse_id(&[a; 8], &c), Ok(a));
+        // Unknown ids are errors in either half.
         assert_eq!(
-            coarse_id(&[a, a, a, BlockId(99), a, a, a, a], &c),
+            coarse_id(&[a, a, a, BlockId(99), stone, a, a, a], &c),
             Err(BlockId(99))
         );
-        // Equal counts, both in the upper half: the smaller id.
-        assert_eq!(coarse_id(&[a, a, a, a, grass, stone, a, a], &c), Ok(stone));
     }
 }
