@@ -1077,8 +1077,8 @@ const CLASSES: [MaterialClass; 4] = [
 
 /// A padded chunk, its palette and the mesher options decoded from fuzz bytes:
 ///
-/// - byte 0: bit 0 chunk size (8 or 16), bit 1 ambient occlusion, bits 2 and 4 the
-///   instruction set (neither: the detected one; bit 2: the baseline; bit 4: x86-64-v3; both:
+/// - byte 0: bits 0 and 5 the chunk size (neither: 8, bit 0: 16, bit 5: 32, both: 62, whose
+///   padded rows fill a 64-bit word), bit 1 ambient occlusion, bits 2 and 4 the instruction set (neither: the detected one; bit 2: the baseline; bit 4: x86-64-v3; both:
 ///   x86-64-v4; a set this CPU does not run falls back to the detected one), bit 3 a wide
 ///   palette (opaque entries up to id 70, so ids 64..=70 are known);
 /// - byte 1 (low 3 bits): palette entries `1..=n`; bytes 2-3: their classes, 2 bits each;
@@ -1101,11 +1101,8 @@ pub fn blocky_input(data: &[u8]) -> Option<BlockyInput> {
     let [head, count, c0, c1, voxels @ ..] = data else {
         return None;
     };
-    let size = if head & 1 == 0 {
-        ChunkSize::S8
-    } else {
-        ChunkSize::S16
-    };
+    let size = [ChunkSize::S8, ChunkSize::S16, ChunkSize::S32, ChunkSize::S62]
+        [usize::from(head & 1 | (head >> 4) & 2)];
     let class_bits = u16::from_le_bytes([*c0, *c1]);
     let mut palette = MaterialPalette::new();
     for i in 0..(count & 7) {

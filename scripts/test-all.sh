@@ -5,6 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 scripts/setup-debian.sh
+# The Khronos glTF validator for voxmesh's output tests (node and npm when missing).
+scripts/install-gltf-validator.sh
 
 # Mesa's Vulkan loader layers complain on every device creation when this is unset (CI has no
 # login session); a private empty folder is all they need.

@@ -19,8 +19,8 @@ use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use mesher::{BlockClasses, ClutterParams, MeshSettings, SurfaceMode, mesh_chunks};
-use viewer::scene::terrain_scene;
 use voxel_core::{ChunkCoord, ChunkSize};
+use voxel_scene::terrain_scene;
 
 fn batch(c: &mut Criterion) {
     let scene = terrain_scene(7, ChunkSize::S32, 8, 2, 8);

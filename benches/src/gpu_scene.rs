@@ -1,92 +1,150 @@
-//! The GPU benchmark's scene: the viewer's procedural terrain (heightmap, caves, water) over a
-//! square of `side x side` block columns, meshed by the mesher into greedy quads, its chunks
-//! ordered nearest to the centre column first so that "the first `n` chunks" is a smaller
-//! square of the same terrain.
+//! The GPU benchmark's scene: the procedural terrain of `voxel-scene` (the viewer's built-in
+//! scene: heightmap, caves, water) over a square of `side x side` block columns centred on the
+//! origin, downsampled into levels of detail and meshed per node ([`mesher::lod`]): quads with
+//! AO, skirts, and the far-draw blocks with their hiding masks.
+//!
+//! Generation and meshing run on rayon's pool. Which nodes are meshed is up to the caller
+//! ([`LodTerrain::generate`]'s `keep`): everything for a scene that fits, or only what the
+//! benchmark's views can select, so that a large terrain keeps only what its views need.
 //!
 //! ```
-//! use benches::gpu_scene::MeshedTerrain;
+//! use benches::gpu_scene::LodTerrain;
 //! use voxel_core::ChunkSize;
 //!
-//! let terrain = MeshedTerrain::generate(64, ChunkSize::S16, 1).unwrap();
-//! assert!(terrain.meshes.iter().all(|m| !m.is_empty()));
-//! assert!(terrain.quad_count(terrain.meshes.len()) > 0);
+//! let terrain = LodTerrain::generate(128, ChunkSize::S8, 1, 2, |_, _| true).unwrap();
+//! assert_eq!(terrain.levels.len(), 3);
+//! assert!(terrain.levels.iter().all(|nodes| !nodes.is_empty()));
+//! assert!(terrain.quad_count() > 0);
 //! ```
 
 use std::time::Instant;
 
-use mesher::{BlockClasses, ChunkMesh, MeshError, MeshSettings, mesh_chunks};
-use viewer::scene::terrain_scene;
+use mesher::lod::{NodeMesh, NodeSettings, downsample_levels, mesh_nodes};
+use mesher::{BlockClasses, MeshError, MeshSettings};
+use voxel_core::storage::{VoxelStorage, WorldMap};
 use voxel_core::{ChunkCoord, ChunkSize, MaterialPalette};
+use voxel_scene::terrain_scene;
 
 /// Highest block the terrain reaches, with margin: `Terrain::base_height + amplitude`, rounded
 /// up (the sea is lower).
 const TERRAIN_TOP: u32 = 40;
 
-/// A meshed terrain and what making it cost.
-pub struct MeshedTerrain {
+/// A terrain meshed at every level of detail, and what making it cost.
+pub struct LodTerrain {
     /// Chunk edge.
     pub size: ChunkSize,
     /// Block columns per side of the square.
     pub side: u32,
     /// The materials the quads' block ids index.
     pub palette: MaterialPalette,
-    /// Every chunk with something to draw, nearest to the centre column first (square rings:
-    /// by the larger of `|x|` and `|z|`, then by coordinate).
-    pub meshes: Vec<ChunkMesh>,
-    /// Seconds to generate the voxels (all threads).
+    /// Per level (index = level), the nodes kept, nearest to the centre column first.
+    pub levels: Vec<Vec<NodeMesh>>,
+    /// Chunks per level before the choice of what to mesh.
+    pub chunks_per_level: Vec<usize>,
+    /// Seconds to generate the level-0 voxels (all threads).
     pub generate_seconds: f64,
-    /// Seconds to mesh every chunk (all threads).
+    /// Seconds to downsample the coarser levels (all threads).
+    pub downsample_seconds: f64,
+    /// Seconds to mesh the kept nodes (all threads).
     pub mesh_seconds: f64,
-    /// Chunks meshed, empty ones included.
-    pub chunks_meshed: usize,
 }
 
-impl MeshedTerrain {
-    /// Generates and meshes the terrain of `side x side` columns (rounded up to whole chunks),
-    /// centred on the origin, with greedy quads and ambient occlusion.
-    pub fn generate(side: u32, size: ChunkSize, seed: i32) -> Result<MeshedTerrain, MeshError> {
+impl LodTerrain {
+    /// Generates the terrain of `side x side` columns (rounded up to whole chunks), its levels
+    /// `1..=top_level`, and meshes the nodes `keep(level, coord)` accepts (with far-draw blocks
+    /// when the chunks are at most 16^3), each level's nodes nearest to the centre first.
+    pub fn generate(
+        side: u32,
+        size: ChunkSize,
+        seed: i32,
+        top_level: u32,
+        keep: impl Fn(u32, ChunkCoord) -> bool + Sync,
+    ) -> Result<LodTerrain, MeshError> {
         let edge = size.edge();
         let across = side.div_ceil(edge).max(1) as i32;
         let tall = TERRAIN_TOP.div_ceil(edge) as i32;
         let started = Instant::now();
         let scene = terrain_scene(seed, size, across, tall, across);
         let generate_seconds = started.elapsed().as_secs_f64();
-        let mut coords: Vec<ChunkCoord> = scene.world.iter().map(|(c, _)| c).collect();
-        coords.sort_by_key(|c| (c.x.abs().max(c.z.abs()), c.x, c.z, c.y));
         let classes = BlockClasses::from_palette(&scene.palette);
         let started = Instant::now();
-        let meshes = mesh_chunks(&scene.world, &coords, &classes, &MeshSettings::default())?;
-        let mesh_seconds = started.elapsed().as_secs_f64();
-        Ok(MeshedTerrain {
+        let coarse = downsample_levels(&scene.world, &classes, top_level)?;
+        let downsample_seconds = started.elapsed().as_secs_f64();
+        let settings = NodeSettings {
+            mesh: MeshSettings::default(),
+            far_blocks: edge <= 16,
+        };
+        let started = Instant::now();
+        let mut levels = Vec::new();
+        let mut chunks_per_level = Vec::new();
+        let (count, nodes) = mesh_level(&scene.world, 0, &classes, &settings, &keep)?;
+        chunks_per_level.push(count);
+        levels.push(nodes);
+        for (i, world) in coarse.iter().enumerate() {
+            let (count, nodes) = mesh_level(world, i as u32 + 1, &classes, &settings, &keep)?;
+            chunks_per_level.push(count);
+            levels.push(nodes);
+        }
+        Ok(LodTerrain {
             size,
             side: across as u32 * edge,
             palette: scene.palette,
-            chunks_meshed: meshes.len(),
-            meshes: meshes.into_iter().filter(|m| !m.is_empty()).collect(),
+            levels,
+            chunks_per_level,
             generate_seconds,
-            mesh_seconds,
+            downsample_seconds,
+            mesh_seconds: started.elapsed().as_secs_f64(),
         })
     }
 
-    /// Greedy quads (both layers) of the first `n` chunks.
-    pub fn quad_count(&self, n: usize) -> u64 {
-        self.meshes[..n.min(self.meshes.len())]
-            .iter()
-            .map(|m| m.blocky.len() as u64)
+    /// Every kept node, level after level.
+    pub fn nodes(&self) -> impl Iterator<Item = &NodeMesh> {
+        self.levels.iter().flatten()
+    }
+
+    /// Quads (both layers and the skirts) of every kept node.
+    pub fn quad_count(&self) -> u64 {
+        self.nodes()
+            .map(|n| {
+                n.mesh.blocky.len() as u64
+                    + n.skirts
+                        .quad_counts()
+                        .iter()
+                        .map(|&c| u64::from(c))
+                        .sum::<u64>()
+            })
             .sum()
     }
 
-    /// Block columns per side of the square the first `n` chunks cover (the larger of their
-    /// x and z spans).
-    pub fn covered_side(&self, n: usize) -> u32 {
-        let chunks = &self.meshes[..n.min(self.meshes.len())];
-        let span = |axis: fn(&ChunkMesh) -> i32| {
-            let lo = chunks.iter().map(axis).min().unwrap_or(0);
-            let hi = chunks.iter().map(axis).max().unwrap_or(-1);
-            (hi - lo + 1) as u32
-        };
-        span(|m| m.coord.x).max(span(|m| m.coord.z)) * self.size.edge()
+    /// Draw-block words (blocks, skirt blocks, hiding masks) of every kept node.
+    pub fn draw_block_words(&self) -> u64 {
+        self.nodes()
+            .map(|n| {
+                (n.blocks.len() + n.hiding_mask.len() + n.transparent_mask.len()) as u64
+                    + n.skirts
+                        .block_counts()
+                        .iter()
+                        .map(|&c| u64::from(c))
+                        .sum::<u64>()
+            })
+            .sum()
     }
+}
+
+/// Meshes the kept chunks of one level, nearest to the centre column first (square rings, then
+/// by coordinate); returns the level's chunk count and the nodes.
+fn mesh_level<C: VoxelStorage + Sync>(
+    world: &WorldMap<C>,
+    level: u32,
+    classes: &BlockClasses,
+    settings: &NodeSettings,
+    keep: &(impl Fn(u32, ChunkCoord) -> bool + Sync),
+) -> Result<(usize, Vec<NodeMesh>), MeshError> {
+    let mut coords: Vec<ChunkCoord> = world.iter().map(|(c, _)| c).collect();
+    let count = coords.len();
+    coords.retain(|&c| keep(level, c));
+    coords.sort_by_key(|c| (c.x.abs().max(c.z.abs()), c.x, c.z, c.y));
+    Ok((count, mesh_nodes(world, level, &coords, classes, settings)?))
 }
 
 #[cfg(test)]
@@ -94,29 +152,32 @@ mod tests {
     use super::*;
 
     #[test]
-    fn chunks_come_nearest_first_and_cover_the_square() {
-        let terrain = MeshedTerrain::generate(96, ChunkSize::S16, 3).unwrap();
+    fn levels_cover_the_square_and_keep_follows_the_filter() {
+        let terrain = LodTerrain::generate(96, ChunkSize::S16, 3, 1, |_, _| true).unwrap();
         assert_eq!(terrain.side, 96);
-        let rings: Vec<i32> = terrain
-            .meshes
+        let level0 = &terrain.levels[0];
+        let rings: Vec<i32> = level0
             .iter()
             .map(|m| m.coord.x.abs().max(m.coord.z.abs()))
             .collect();
         assert!(rings.windows(2).all(|w| w[0] <= w[1]), "rings ascend");
-        // Every column of chunks has ground, so every (x, z) appears.
         for x in -3..3 {
             for z in -3..3 {
                 assert!(
-                    terrain
-                        .meshes
-                        .iter()
-                        .any(|m| m.coord.x == x && m.coord.z == z),
-                    "column ({x}, {z}) has no meshed chunk"
+                    level0.iter().any(|m| m.coord.x == x && m.coord.z == z),
+                    "column ({x}, {z}) has no node"
                 );
             }
         }
-        assert!(terrain.chunks_meshed >= terrain.meshes.len());
-        assert!(terrain.quad_count(1) < terrain.quad_count(terrain.meshes.len()));
-        assert_eq!(terrain.covered_side(1), 16);
+        assert!(terrain.levels[1].iter().all(|n| n.level == 1));
+        assert!(
+            terrain.draw_block_words() > 0,
+            "16^3 chunks carry far-draw blocks"
+        );
+        let only_coarse =
+            LodTerrain::generate(96, ChunkSize::S16, 3, 1, |level, _| level == 1).unwrap();
+        assert!(only_coarse.levels[0].is_empty());
+        assert_eq!(only_coarse.levels[1].len(), terrain.levels[1].len());
+        assert_eq!(only_coarse.chunks_per_level, terrain.chunks_per_level);
     }
 }

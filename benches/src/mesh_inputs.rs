@@ -17,11 +17,11 @@
 
 use std::path::{Path, PathBuf};
 
-use viewer::scene::TerrainBlocks;
-use viewer::scene::vox::load_vox_file;
 use voxel_core::{
     BlockId, ChunkSize, Material, MaterialPalette, PaddedChunk, gather_neighbourhood,
 };
+use voxel_scene::TerrainBlocks;
+use voxel_scene::vox::load_vox_file;
 
 use crate::inputs::chunks::{TERRAIN_CENTRE, terrain_world_dense};
 use crate::rng::Rng;

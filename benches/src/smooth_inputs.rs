@@ -83,10 +83,10 @@ pub fn to_i8(samples: &[f32]) -> Vec<i8> {
         .collect()
 }
 
-/// The terrain palette (`viewer::scene::TerrainBlocks`) with grass, dirt, sand and snow
+/// The terrain palette (`voxel_scene::TerrainBlocks`) with grass, dirt, sand and snow
 /// smoothable; stone stays a cube and water is transparent.
 pub fn nocubes_palette() -> MaterialPalette {
-    let (mut palette, blocks) = viewer::scene::TerrainBlocks::palette();
+    let (mut palette, blocks) = voxel_scene::TerrainBlocks::palette();
     for id in [blocks.grass, blocks.dirt, blocks.sand, blocks.snow] {
         let material = *palette.get(id).expect("the terrain palette has its ids");
         palette

@@ -1,62 +1,97 @@
-//! The GPU benchmark on a small terrain (lavapipe in CI): every pass is timed, the quad
-//! gigabuffer holds exactly 8 bytes per greedy quad, scenes grow as asked, and the image shows
-//! terrain.
+//! The GPU benchmark on a small LOD terrain (lavapipe in CI): every pass is timed, the runs
+//! follow the settings asked for, the full-detail run draws only level 0 with meshes, a budget
+//! run draws coarser levels and far blocks, image errors are measured against full detail,
+//! the resident bytes are reported, and the image shows terrain.
 
-use benches::gpu_bench::{BenchConfig, run};
-use benches::gpu_scene::MeshedTerrain;
+use benches::gpu_bench::{BenchConfig, SceneSummary, run};
+use benches::gpu_scene::LodTerrain;
 use gpu_backend::DeviceOptions;
+use gpu_backend::render::FullscreenPath;
+use gpu_backend::render::far::{FarPath, FarRequest};
 use gpu_backend::test_support::headless_or_skip;
 use voxel_core::ChunkSize;
 
 #[test]
-fn small_terrain_scenes() {
+fn small_lod_terrain_runs() {
     let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
         return;
     };
-    let terrain = MeshedTerrain::generate(96, ChunkSize::S8, 1).unwrap();
-    let total = terrain.meshes.len();
-    assert!(total > 100, "{total} chunks");
-    let config = BenchConfig {
-        scene_chunks: vec![20, 100, total],
-        width: 96,
-        height: 64,
-        frames: 2,
-    };
-    let (reports, image) = run(&ctx, &terrain, &config).unwrap();
-    assert_eq!(
-        reports.iter().map(|r| r.chunks).collect::<Vec<_>>(),
-        [20, 100, total]
+    let terrain = LodTerrain::generate(256, ChunkSize::S8, 1, 3, |_, _| true).unwrap();
+    assert!(
+        terrain.levels[0].len() > 500,
+        "{} nodes",
+        terrain.levels[0].len()
     );
-    for r in &reports {
-        assert_eq!(r.quads, terrain.quad_count(r.chunks));
-        assert_eq!(
-            r.bytes_per_quad(),
-            8.0,
-            "quad gigabuffer holds only packed quads"
-        );
-        for pass in [
-            "cull",
-            "cull transparent",
-            "gbuffer",
-            "lighting",
-            "transparent",
-            "tonemap",
-        ] {
-            assert!(r.pass(pass).is_some(), "pass {pass} not timed");
+    let config = BenchConfig {
+        width: 160,
+        height: 90,
+        frames: 2,
+        budgets: vec![1.0, 8.0],
+        reference: true,
+        far: vec![FarRequest::Path(FarPath::Splat)],
+        far_cell_px: vec![0.0, 4.0],
+        fullscreen: vec![FullscreenPath::Compute],
+    };
+    let mut scene = SceneSummary::default();
+    let (runs, images, choices) = run(&ctx, &terrain, &config, &mut scene).unwrap();
+    assert_eq!(choices[0].path, FarPath::Splat);
+    // Full detail, then 2 budgets x 2 far thresholds.
+    assert_eq!(runs.len(), 5);
+    assert_eq!(runs[0].budget_px, None);
+    assert_eq!(
+        runs[0].drawn.selected_per_level.len(),
+        1,
+        "full detail: level 0 only"
+    );
+    assert_eq!(runs[0].drawn.far_nodes, 0);
+    assert!(runs[0].image_error.is_none());
+    for run in &runs[1..] {
+        let error = run.image_error.expect("measured against full detail");
+        assert!(error.mean_abs.is_finite() && error.share_over_8 <= 1.0);
+        for pass in ["cull", "gbuffer", "hiz", "cull late", "lighting", "tonemap"] {
+            assert!(
+                run.passes.iter().any(|p| p.label == pass),
+                "pass {pass} not timed"
+            );
         }
-        assert!(r.cpu_frame_us > 0.0);
+        assert!(run.cpu_frame_us > 0.0);
     }
-    assert!(reports[0].covered_side < reports[2].covered_side);
+    let coarse = &runs[3];
+    assert_eq!(coarse.budget_px, Some(8.0));
+    assert!(
+        coarse.drawn.selected_per_level.len() > 1,
+        "an 8-pixel budget selects coarser levels: {:?}",
+        coarse.drawn.selected_per_level
+    );
+    let far = &runs[4];
+    assert!(
+        far.drawn.far_nodes > 0 && far.drawn.far_blocks > 0,
+        "{:?}",
+        far.drawn
+    );
+    assert!(
+        runs[1].image_error.unwrap().mean_abs <= coarse.image_error.unwrap().mean_abs,
+        "a tighter budget is closer to full detail"
+    );
+    let bytes = |name: &str| {
+        scene
+            .resident_bytes
+            .iter()
+            .find(|(k, _)| k == name)
+            .map(|(_, v)| *v)
+    };
+    assert_eq!(bytes("quads"), Some(terrain.quad_count() * 8));
+    assert_eq!(bytes("draw blocks"), Some(terrain.draw_block_words() * 4));
     // Terrain covers the lower part of the image: those pixels are not the sky's colour.
+    let image = images.last.expect("last image");
     let sky = &image.rgba[..4];
     let bottom_row = &image.rgba[(image.height as usize - 1) * image.width as usize * 4..];
     let ground = bottom_row.chunks(4).filter(|p| *p != sky).count();
     assert!(ground > image.width as usize / 2, "{ground} ground pixels");
 
     let bad = BenchConfig {
-        scene_chunks: vec![100, 20],
+        far: Vec::new(),
         ..config
     };
-    let err = run(&ctx, &terrain, &bad).unwrap_err();
-    assert!(err.to_string().contains("ascending"), "{err}");
+    assert!(run(&ctx, &terrain, &bad, &mut scene).is_err());
 }

@@ -18,21 +18,27 @@ use super::{chunk_positions, id_at};
 const PARAMS_LEN: usize = 14;
 
 /// The coarse id of 8 children (indices 4..8 the upper half), by the rule in the docs of
-/// `mesher::lod`, written independently: the most common opaque id (ties: one found in the
-/// upper half, then the smaller id), else the most common transparent id (same ties), else
-/// air. `Err` with the first unknown child.
+/// `mesher::lod`, written independently: the deciding half is the upper half when any of its
+/// children is not air, else the lower half; its most common opaque id (ties: the smaller id),
+/// else its most common transparent id (same ties), else air. `Err` with the first unknown
+/// child, whichever half decides.
 fn reference_coarse(children: [BlockId; 8], classes: &BlockClasses) -> Result<BlockId, BlockId> {
     if let Some(&id) = children.iter().find(|&&id| classes.class(id).is_none()) {
         return Err(id);
     }
+    let half = if children[4..].iter().all(|id| id.is_air()) {
+        &children[..4]
+    } else {
+        &children[4..]
+    };
     for transparent in [false, true] {
-        let best = children
+        let best = half
             .iter()
             .copied()
             .filter(|&id| !id.is_air() && classes.is_transparent(id) == transparent)
             .max_by_key(|&id| {
-                let count = children.iter().filter(|&&c| c == id).count();
-                (count, children[4..].contains(&id), std::cmp::Reverse(id))
+                let count = half.iter().filter(|&&c| c == id).count();
+                (count, std::cmp::Reverse(id))
             });
         if let Some(id) = best {
             return Ok(id);

@@ -8,6 +8,8 @@
 //! | `MULTI_DRAW_INDIRECT_COUNT`         | one draw call per layer, count on GPU    | `multi_draw_indexed_indirect` over the whole command buffer, culled commands zeroed (`instance_count = 0`) |
 //! | `TIMESTAMP_QUERY` (+ `_INSIDE_ENCODERS`, `_INSIDE_PASSES`) | per-pass GPU time        | CPU wall-clock timing around submissions   |
 //! | `INDIRECT_FIRST_INSTANCE`           | per-draw data through `first_instance`   | per-draw data read by draw index elsewhere |
+//! | `SHADER_INT64` + `SHADER_INT64_ATOMIC_MIN_MAX` | far draws splatted in compute (64-bit atomic max of depth and payload) | far draws rasterised as ray-box sprites |
+//! | `SHADER_EARLY_DEPTH_TEST`           | sprites' conservative depth (early depth test kept with `frag_depth`) | the depth test after the sprite's fragment shader |
 //!
 //! What was chosen is recorded in [`GpuCapabilities`], which the passes read; nothing else
 //! queries the device's features. [`DeviceOptions`] can force each fallback so tests exercise
@@ -48,6 +50,10 @@ pub struct DeviceOptions {
     pub disable_timestamps: bool,
     /// Do not enable `INDIRECT_FIRST_INSTANCE` even if supported.
     pub disable_indirect_first_instance: bool,
+    /// Do not enable the 64-bit atomics of the compute splat even if supported.
+    pub disable_int64_atomics: bool,
+    /// Do not enable `SHADER_EARLY_DEPTH_TEST` (conservative depth) even if supported.
+    pub disable_early_depth_test: bool,
 }
 
 impl Default for DeviceOptions {
@@ -59,18 +65,22 @@ impl Default for DeviceOptions {
             disable_indirect_count: false,
             disable_timestamps: false,
             disable_indirect_first_instance: false,
+            disable_int64_atomics: false,
+            disable_early_depth_test: false,
         }
     }
 }
 
 impl DeviceOptions {
     /// Options that force every fallback path (no indirect count, no timestamps, no
-    /// indirect first instance).
+    /// indirect first instance, no 64-bit atomics, no conservative depth).
     pub fn all_fallbacks() -> Self {
         DeviceOptions {
             disable_indirect_count: true,
             disable_timestamps: true,
             disable_indirect_first_instance: true,
+            disable_int64_atomics: true,
+            disable_early_depth_test: true,
             ..DeviceOptions::default()
         }
     }
@@ -138,6 +148,12 @@ pub struct GpuCapabilities {
     /// `INDIRECT_FIRST_INSTANCE` is enabled: indirect commands may use a non-zero
     /// `first_instance`.
     pub indirect_first_instance: bool,
+    /// `SHADER_INT64` and `SHADER_INT64_ATOMIC_MIN_MAX` are enabled: far draws can be splatted
+    /// in compute.
+    pub int64_atomics: bool,
+    /// `SHADER_EARLY_DEPTH_TEST` is enabled: fragment shaders that write depth can keep the
+    /// early depth test with a conservative depth.
+    pub early_depth_test: bool,
     /// Largest storage buffer binding, bytes (lavapipe 128 MiB, NVIDIA 2 GiB or more).
     pub max_storage_buffer_binding_size: u64,
     /// Largest buffer, bytes.
@@ -363,6 +379,9 @@ impl GpuContext {
                 TimingPath::Cpu
             },
             indirect_first_instance: enabled.contains(Features::INDIRECT_FIRST_INSTANCE),
+            int64_atomics: enabled
+                .contains(Features::SHADER_INT64 | Features::SHADER_INT64_ATOMIC_MIN_MAX),
+            early_depth_test: enabled.contains(Features::SHADER_EARLY_DEPTH_TEST),
             max_storage_buffer_binding_size: limits.max_storage_buffer_binding_size,
             max_buffer_size: limits.max_buffer_size,
             max_storage_buffers_per_shader_stage: limits.max_storage_buffers_per_shader_stage,
@@ -395,6 +414,13 @@ fn wanted_features(adapter: Features, options: &DeviceOptions) -> Features {
     }
     if !options.disable_indirect_first_instance {
         wanted |= Features::INDIRECT_FIRST_INSTANCE;
+    }
+    let int64 = Features::SHADER_INT64 | Features::SHADER_INT64_ATOMIC_MIN_MAX;
+    if !options.disable_int64_atomics && adapter.contains(int64) {
+        wanted |= int64;
+    }
+    if !options.disable_early_depth_test {
+        wanted |= Features::SHADER_EARLY_DEPTH_TEST;
     }
     wanted & adapter
 }

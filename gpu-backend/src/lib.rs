@@ -26,12 +26,14 @@
 //!
 //! Only the Vulkan backend is compiled (lavapipe in CI, the vendor driver on GPU machines).
 
+mod bind;
 pub mod chunk_table;
 pub mod cull;
 pub mod device;
 mod dirty_ranges;
 mod fullscreen;
 pub mod gigabuffer;
+pub mod hiz;
 pub mod present;
 pub mod readback;
 pub mod render;

@@ -13,6 +13,8 @@ use voxel_core::formats::FORMATS_WGSL;
 /// One shader: a name and the WGSL body that follows the formats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ShaderSpec {
+    /// Optional naga capabilities the shader needs to validate (the device features it needs).
+    pub capabilities: naga::valid::Capabilities,
     /// Name, used as the module label.
     pub name: &'static str,
     /// The WGSL after [`voxel_core::formats::FORMATS_WGSL`].
@@ -22,6 +24,7 @@ pub struct ShaderSpec {
 /// Decodes every packed format with its WGSL twin and writes the fields out (the format
 /// parity test's compute shader; entry points `decode_<format>`).
 pub const FORMAT_PARITY: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
     name: "format_parity",
     body: include_str!("shaders/format_parity.wgsl"),
 };
@@ -29,13 +32,20 @@ pub const FORMAT_PARITY: ShaderSpec = ShaderSpec {
 /// The cull pass: table slots to per-page multi-draw-indirect commands (entry point `cull`;
 /// see [`crate::cull`]).
 pub const CULL: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
     name: "cull",
-    body: include_str!("shaders/cull.wgsl"),
+    body: concat!(
+        include_str!("shaders/node.wgsl"),
+        include_str!("shaders/lod.wgsl"),
+        include_str!("shaders/hiz.wgsl"),
+        include_str!("shaders/cull.wgsl")
+    ),
 };
 
 /// The renderer's geometry passes (entry points `vs_quad`, `vs_quad_transparent`, `vs_smooth`,
 /// `fs_gbuffer`, `fs_transparent`; see [`crate::render`]).
 pub const GBUFFER: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
     name: "gbuffer",
     body: concat!(
         include_str!("shaders/render_common.wgsl"),
@@ -46,6 +56,7 @@ pub const GBUFFER: ShaderSpec = ShaderSpec {
 /// The renderer's full-screen passes (entry points `vs_fullscreen`, `fs_lighting`,
 /// `fs_tonemap`; see [`crate::render`]).
 pub const DEFERRED: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
     name: "deferred",
     body: concat!(
         include_str!("shaders/render_common.wgsl"),
@@ -56,12 +67,73 @@ pub const DEFERRED: ShaderSpec = ShaderSpec {
 /// Window presentation: the renderer's output copied into the swapchain image (entry points
 /// `vs_present`, `fs_present`, `fs_present_encode`; see [`crate::present`]).
 pub const PRESENT: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
     name: "present",
     body: include_str!("shaders/present.wgsl"),
 };
 
+/// The far draws' compute splat (see [`crate::render::far`]): needs 64-bit atomic min/max.
+pub const SPLAT: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::SHADER_INT64
+        .union(naga::valid::Capabilities::SHADER_INT64_ATOMIC_MIN_MAX),
+    name: "splat",
+    body: concat!(
+        include_str!("shaders/render_common.wgsl"),
+        include_str!("shaders/node.wgsl"),
+        include_str!("shaders/splat.wgsl")
+    ),
+};
+
+/// One thread between a cull record and its splat: the splat's dispatch and entry range.
+pub const FAR_ARGS: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "far_args",
+    body: include_str!("shaders/far_args.wgsl"),
+};
+
+/// The Hi-Z test functions (`hiz_rect_visible` and its steps; see [`crate::hiz`]): no bindings,
+/// prepended to a shader that declares `var hiz_texture: texture_2d<f32>`, e.g. a body of
+/// `concat!(include_str!("shaders/hiz.wgsl"), include_str!("shaders/cull.wgsl"))`.
+pub const HIZ_FUNCTIONS: &str = include_str!("shaders/hiz.wgsl");
+
+/// The depth pyramid's build (entry points `hiz_level0`, `hiz_reduce`; see [`crate::hiz`]).
+pub const HIZ_BUILD: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "hiz_build",
+    body: include_str!("shaders/hiz_build.wgsl"),
+};
+
+/// [`HIZ_FUNCTIONS`] run on a list of rectangles (entry point `hiz_probe`): the GPU test of the
+/// Hi-Z test, and an example of including it.
+pub const HIZ_PROBE: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "hiz_probe",
+    body: concat!(
+        include_str!("shaders/hiz.wgsl"),
+        include_str!("shaders/hiz_probe.wgsl")
+    ),
+};
+
+/// One thread before an ordered cull over the transparent list: its dispatch's workgroups.
+pub const LIST_ARGS: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "list_args",
+    body: include_str!("shaders/list_args.wgsl"),
+};
+
 /// Every shader of the crate.
-pub const ALL_SHADERS: &[ShaderSpec] = &[FORMAT_PARITY, CULL, GBUFFER, DEFERRED, PRESENT];
+pub const ALL_SHADERS: &[ShaderSpec] = &[
+    FORMAT_PARITY,
+    CULL,
+    GBUFFER,
+    DEFERRED,
+    PRESENT,
+    SPLAT,
+    FAR_ARGS,
+    LIST_ARGS,
+    HIZ_BUILD,
+    HIZ_PROBE,
+];
 
 /// `FORMATS_WGSL` followed by `body`: the one place shader sources are put together.
 pub fn compose(name: &str, body: &str) -> String {
@@ -103,6 +175,15 @@ impl std::error::Error for ShaderError {}
 /// Parses and validates WGSL with naga at the WebGPU baseline capabilities (what any adapter
 /// accepts), returning the module.
 pub fn validate(name: &str, source: &str) -> Result<naga::Module, ShaderError> {
+    validate_with(name, source, naga::valid::Capabilities::empty())
+}
+
+/// [`validate`] with optional `capabilities` (those the device enables for the shader).
+pub fn validate_with(
+    name: &str,
+    source: &str,
+    capabilities: naga::valid::Capabilities,
+) -> Result<naga::Module, ShaderError> {
     let error = |message: String| ShaderError {
         name: name.to_owned(),
         message,
@@ -111,7 +192,7 @@ pub fn validate(name: &str, source: &str) -> Result<naga::Module, ShaderError> {
         .map_err(|e| error(e.emit_to_string_with_path(source, name)))?;
     naga::valid::Validator::new(
         naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::default(),
+        naga::valid::Capabilities::default() | capabilities,
     )
     .validate(&module)
     .map_err(|e| error(e.emit_to_string_with_path(source, name)))?;
@@ -145,7 +226,8 @@ mod tests {
     #[test]
     fn every_composed_shader_validates() {
         for spec in ALL_SHADERS {
-            let module = validate(spec.name, &spec.source()).unwrap_or_else(|e| panic!("{e}"));
+            let module = validate_with(spec.name, &spec.source(), spec.capabilities)
+                .unwrap_or_else(|e| panic!("{e}"));
             assert!(
                 !module.entry_points.is_empty(),
                 "{} has no entry point",

@@ -172,7 +172,7 @@ fn random_tables_match_the_cpu_reference() {
                     let cpu = cull_reference(&scene.records, camera, layer, &layout);
                     assert_matches(&gpu, &cpu, &layout, zeroed, &context);
                     let gpu_commands: Vec<Vec<_>> = (0..layout.page_count as usize)
-                        .map(|p| gpu.records[p][..gpu.written(p)].to_vec())
+                        .map(|p| gpu.commands(p))
                         .collect();
                     assert_eq!(
                         visible_chunks(&gpu_commands),
@@ -271,7 +271,7 @@ fn hand_checked_face_groups_and_frustum() {
             );
             let gpu = run(ctx, &pass, &mut table, &camera, CullLayer::Opaque, &output);
             assert_eq!(gpu.wanted, vec![0, expected.len() as u32, 0], "{name}");
-            let commands = &gpu.records[1][..gpu.written(1)];
+            let commands = &gpu.commands(1);
             assert_eq!(
                 faces_drawn(commands, &chunk, CullLayer::Opaque, &layout),
                 *expected,
@@ -283,13 +283,18 @@ fn hand_checked_face_groups_and_frustum() {
                 .iter()
                 .map(|&f| {
                     let before: u32 = counts[..f].iter().sum();
-                    voxel_core::formats::ChunkDrawIndirect {
-                        index_count: 6 * counts[f],
-                        instance_count: 1,
-                        first_index: 0,
-                        base_vertex: 4 * (100 + before) as i32,
-                        first_instance: 0,
-                        chunk: cam_chunk.map(|c| -c),
+                    gpu_backend::cull::Command {
+                        args: gpu_backend::cull::DrawIndexedArgs {
+                            index_count: 6 * counts[f],
+                            instance_count: 1,
+                            first_index: 0,
+                            base_vertex: 4 * (100 + before) as i32,
+                            first_instance: 0,
+                        },
+                        record: gpu_backend::cull::DrawRecord {
+                            chunk: cam_chunk.map(|c| -c),
+                            level: 0,
+                        },
                     }
                 })
                 .collect();
@@ -315,14 +320,16 @@ fn hand_checked_face_groups_and_frustum() {
             ChunkCull::Visible {
                 page: 0,
                 start: 0,
-                faces: 1 << NX | 1 << NZ
+                faces: 1 << NX | 1 << NZ,
+                skirts: 0,
+                smooth: None,
             },
             "eye at x = 8 < 80: -X faces; z = 8 within 0..16: both z groups, +Z empty"
         );
         let gpu = run(ctx, &pass, &mut table, &camera, CullLayer::Opaque, &output);
         assert_eq!(gpu.wanted, vec![2, 6, 0]);
         assert_eq!(
-            faces_drawn(&gpu.records[0][..2], &sparse, CullLayer::Opaque, &layout),
+            faces_drawn(&gpu.commands(0), &sparse, CullLayer::Opaque, &layout),
             vec![NX, NZ]
         );
 
@@ -359,7 +366,7 @@ fn hand_checked_face_groups_and_frustum() {
         // -Y and +Z (the eye is at z above its max).
         assert_eq!(gpu.wanted, vec![5, 0, 0]);
         assert_eq!(
-            faces_drawn(&gpu.records[0][..5], &front, CullLayer::Opaque, &layout),
+            faces_drawn(&gpu.commands(0), &front, CullLayer::Opaque, &layout),
             vec![PX, NX, PY, NY, PZ]
         );
         assert!(gpu.records[0][..5].iter().all(|c| c.chunk == [0, 0, -3]));
@@ -422,14 +429,16 @@ fn extra_views_and_overflow() {
                 mapped_at_creation: false,
             })
         };
-        let (records_a, counts_a) = (
+        let (records_a, args_a, counts_a) = (
             copy("records a", output.records()),
+            copy("args a", output.args()),
             copy("counts a", output.counts()),
         );
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         pass.record(&mut encoder, &table, &cameras[0], CullLayer::Opaque, output)
             .unwrap();
         encoder.copy_buffer_to_buffer(output.records(), 0, &records_a, 0, None);
+        encoder.copy_buffer_to_buffer(output.args(), 0, &args_a, 0, None);
         encoder.copy_buffer_to_buffer(output.counts(), 0, &counts_a, 0, None);
         pass.record(&mut encoder, &table, &cameras[1], CullLayer::Opaque, output)
             .unwrap();
@@ -446,18 +455,22 @@ fn extra_views_and_overflow() {
             gpu_backend::readback::read_buffer(&ctx.device, &ctx.queue, b, 0, b.size()).unwrap()
         };
         let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&read(&counts_a));
-        let records: Vec<voxel_core::formats::ChunkDrawIndirect> =
+        let records: Vec<gpu_backend::cull::DrawRecord> =
             bytemuck::pod_collect_to_vec(&read(&records_a));
+        let args: Vec<gpu_backend::cull::DrawIndexedArgs> =
+            bytemuck::pod_collect_to_vec(&read(&args_a));
         let per_page = layout.commands_per_page as usize;
-        for page in 0..layout.page_count as usize {
-            assert_eq!(
-                counts[page], expected[0].wanted[page],
-                "first view, page {page}"
-            );
+        for (page, &count) in counts.iter().take(layout.page_count as usize).enumerate() {
+            assert_eq!(count, expected[0].wanted[page], "first view, page {page}");
             let start = page * per_page;
-            let got = &records[start..start + counts[page] as usize];
+            let range = start..start + count as usize;
+            let got: Vec<gpu_backend::cull::Command> = args[range.clone()]
+                .iter()
+                .zip(&records[range])
+                .map(|(&args, &record)| gpu_backend::cull::Command { args, record })
+                .collect();
             assert_eq!(
-                sorted(got),
+                sorted(&got),
                 sorted(&expected[0].commands[page]),
                 "first view, page {page}"
             );
@@ -495,7 +508,7 @@ fn extra_views_and_overflow() {
             let written = gpu.written(page);
             assert_eq!(written, (expected[2].wanted[page] as usize).min(5));
             let all = sorted(&expected[2].commands[page]);
-            for command in &gpu.records[page][..written] {
+            for command in &gpu.commands(page) {
                 assert!(
                     all.contains(&gpu_cull_support::unordered(*command)),
                     "page {page}: {command:?} is not a reference command"

@@ -15,6 +15,7 @@ mod common;
 mod gpu_cull_support;
 
 use common::Rng;
+use gpu_backend::cull::Command;
 use gpu_backend::cull::{
     CullConfig, CullLayer, CullPass, DrawIndexedArgs, cull_reference, quad_indices,
 };
@@ -24,7 +25,6 @@ use gpu_backend::shaders::compose;
 use gpu_backend::test_support::{headless_or_skip, skip};
 use gpu_backend::{DeviceOptions, GpuContext, MeshedChunkTable};
 use gpu_cull_support::{random_camera, random_scene, unordered};
-use voxel_core::formats::ChunkDrawIndirect;
 use voxel_core::{ChunkCoord, ChunkSize};
 use wgpu::util::DeviceExt;
 
@@ -35,7 +35,8 @@ const PAGES: u32 = 8;
 const WRONG_RECORD: u32 = u32::MAX;
 
 const PROBE: &str = r"
-@group(0) @binding(0) var<storage, read> records: array<ChunkDrawIndirect>;
+// cull::DrawRecord: level-0 chunk difference, level.
+@group(0) @binding(0) var<storage, read> records: array<vec4<i32>>;
 
 struct Varyings {
     @builtin(position) position: vec4<f32>,
@@ -53,7 +54,8 @@ fn vs(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32
     let y = f32(quad / WIDTH) + f32(corner >= 2u);
     var out: Varyings;
     out.position = vec4<f32>(x / f32(WIDTH) * 2.0 - 1.0, 1.0 - y / f32(HEIGHT) * 2.0, 0.0, 1.0);
-    out.value = select(0xffffffffu, instance + 1u, records[instance].first_instance == instance);
+    // Every chunk of these scenes is level 0: another level means a wrong record was read.
+    out.value = select(0xffffffffu, instance + 1u, records[instance].w == 0);
     return out;
 }
 
@@ -265,15 +267,21 @@ fn commands_drive_multi_draws() {
                     .unwrap();
                 ctx.queue.submit([encoder.finish()]);
                 let gpu = output.read(&ctx.device, &ctx.queue).unwrap();
-                let records: Vec<ChunkDrawIndirect> = gpu.records.concat();
+                let commands: Vec<Command> = gpu
+                    .args
+                    .concat()
+                    .into_iter()
+                    .zip(gpu.records.concat())
+                    .map(|(args, record)| Command { args, record })
+                    .collect();
                 let cpu = cull_reference(&scene.records, camera, layer, &layout);
                 for page in 0..layout.page_count {
                     // Which reference command should cover each quad of the page.
-                    let mut expected: Vec<Option<ChunkDrawIndirect>> =
-                        vec![None; PAGE_QUADS as usize];
+                    let mut expected: Vec<Option<Command>> = vec![None; PAGE_QUADS as usize];
                     for command in &cpu.commands[page as usize] {
-                        let first = command.base_vertex as usize / 4;
-                        for slot in &mut expected[first..first + command.index_count as usize / 6] {
+                        let first = command.args.base_vertex as usize / 4;
+                        let quads = command.args.index_count as usize / 6;
+                        for slot in &mut expected[first..first + quads] {
                             assert!(slot.is_none(), "{context}: overlapping commands");
                             *slot = Some(unordered(*command));
                         }
@@ -300,7 +308,7 @@ fn commands_drive_multi_draws() {
                                      of another page"
                                 );
                                 assert_eq!(
-                                    unordered(records[index]),
+                                    unordered(commands[index]),
                                     *want,
                                     "{context}: page {page} quad {quad}"
                                 );

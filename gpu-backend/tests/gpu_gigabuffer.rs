@@ -28,6 +28,10 @@ struct Owned {
     quads32: Vec<[u32; 4]>,
     clutter: Vec<ClutterUnit>,
     draw_blocks: Vec<DrawBlock>,
+    opaque_skirts: [Vec<PackedQuad>; 6],
+    block_skirts: [Vec<DrawBlock>; 6],
+    hiding_mask: Vec<u32>,
+    transparent_mask: Vec<u32>,
 }
 
 impl Owned {
@@ -85,6 +89,15 @@ impl Owned {
         o.clutter = rng.bytes(clutter);
         let blocks = n(rng);
         o.draw_blocks = rng.bytes(blocks);
+        for face in 0..6 {
+            let (a, b) = (n(rng), n(rng));
+            o.opaque_skirts[face] = rng.bytes(a / 12);
+            o.block_skirts[face] = rng.bytes(b / 12);
+        }
+        let mask = n(rng);
+        o.hiding_mask = rng.bytes(mask / 4);
+        let mask = n(rng);
+        o.transparent_mask = rng.bytes(mask / 4);
         o
     }
 
@@ -96,6 +109,10 @@ impl Owned {
             smooth_quads: self.smooth_quads(),
             clutter_units: &self.clutter,
             draw_blocks: &self.draw_blocks,
+            opaque_skirts: std::array::from_fn(|f| self.opaque_skirts[f].as_slice()),
+            draw_block_skirts: std::array::from_fn(|f| self.block_skirts[f].as_slice()),
+            hiding_mask: &self.hiding_mask,
+            transparent_mask: &self.transparent_mask,
         }
     }
 
@@ -111,9 +128,12 @@ impl Owned {
     fn expected(&self, kind: DataKind) -> Vec<u8> {
         let bytes = |s: &[u8]| s.to_vec();
         match kind {
+            // Each opaque face group followed by its side's skirt, then the transparent groups.
             DataKind::Quads => self
                 .opaque
                 .iter()
+                .zip(&self.opaque_skirts)
+                .flat_map(|(face, skirt)| [face, skirt])
                 .chain(&self.transparent)
                 .flat_map(|f| bytemuck::cast_slice::<_, u8>(f).to_vec())
                 .collect(),
@@ -126,7 +146,16 @@ impl Owned {
                 b
             }
             DataKind::Clutter => bytes(bytemuck::cast_slice(&self.clutter)),
-            DataKind::DrawBlocks => bytes(bytemuck::cast_slice(&self.draw_blocks)),
+            // The blocks, the skirt blocks side after side, the hiding mask.
+            DataKind::DrawBlocks => {
+                let mut b = bytes(bytemuck::cast_slice(&self.draw_blocks));
+                for skirt in &self.block_skirts {
+                    b.extend_from_slice(bytemuck::cast_slice(skirt));
+                }
+                b.extend_from_slice(bytemuck::cast_slice(&self.hiding_mask));
+                b.extend_from_slice(bytemuck::cast_slice(&self.transparent_mask));
+                b
+            }
         }
     }
 }
@@ -176,9 +205,36 @@ fn check_resident(
 }
 
 fn check_face_ranges(chunk: &Owned, ranges: &ChunkRanges) {
-    let opaque = chunk.opaque.each_ref().map(|f| f.len() as u32);
+    let skirts = chunk.opaque_skirts.each_ref().map(|f| f.len() as u32);
+    let opaque: [u32; 6] = std::array::from_fn(|f| chunk.opaque[f].len() as u32 + skirts[f]);
     let transparent = chunk.transparent.each_ref().map(|f| f.len() as u32);
-    assert_eq!(ranges.opaque_quads.counts, opaque);
+    assert_eq!(
+        ranges.opaque_quads.counts, opaque,
+        "face groups hold their skirts"
+    );
+    assert_eq!(ranges.opaque_skirts, skirts);
+    assert_eq!(
+        ranges.draw_block_skirts,
+        chunk.block_skirts.each_ref().map(|b| b.len() as u32)
+    );
+    assert_eq!(ranges.draw_blocks.count as usize, chunk.draw_blocks.len());
+    assert_eq!(ranges.hiding_mask.count as usize, chunk.hiding_mask.len());
+    assert_eq!(
+        ranges.hiding_mask.offset,
+        ranges.draw_blocks.offset
+            + ranges.draw_blocks.count
+            + ranges.draw_block_skirts.iter().sum::<u32>(),
+        "the mask follows the skirt blocks"
+    );
+    assert_eq!(
+        ranges.transparent_mask.offset,
+        ranges.hiding_mask.offset + ranges.hiding_mask.count,
+        "the transparent mask follows the hiding mask"
+    );
+    assert_eq!(
+        ranges.transparent_mask.count as usize,
+        chunk.transparent_mask.len()
+    );
     assert_eq!(ranges.transparent_quads.counts, transparent);
     if ranges.opaque_quads.total() + ranges.transparent_quads.total() > 0 {
         assert_eq!(

@@ -66,6 +66,7 @@ fn uploads_appear_and_frees_disappear() {
     layers.opaque_quads[FaceDirection::PosY.index() as usize] = &quads;
     let mesh = ChunkMeshData {
         coord: ChunkCoord::new(0, 0, 0),
+        lod: 0,
         layers,
     };
 
@@ -79,8 +80,11 @@ fn uploads_appear_and_frees_disappear() {
         labels,
         [
             "cull",
-            "cull transparent",
             "gbuffer",
+            "hiz",
+            "cull late",
+            "gbuffer late",
+            "cull transparent",
             "lighting",
             "transparent",
             "tonemap"
@@ -129,6 +133,7 @@ fn bad_input_is_an_error() {
     for x in 0..2 {
         let mesh = ChunkMeshData {
             coord: ChunkCoord::new(x, 0, 0),
+            lod: 0,
             layers,
         };
         renderer.upload_chunk(&mesh).unwrap();
@@ -136,6 +141,7 @@ fn bad_input_is_an_error() {
     let used = renderer.gigabuffer().resident();
     let third = ChunkMeshData {
         coord: ChunkCoord::new(2, 0, 0),
+        lod: 0,
         layers,
     };
     let err = renderer.upload_chunk(&third).unwrap_err();
@@ -233,6 +239,7 @@ fn smooth_quads_render_alike_in_every_form() {
         renderer.set_camera(&camera_above());
         let mesh = ChunkMeshData {
             coord: ChunkCoord::new(0, 0, 0),
+            lod: 0,
             layers: ChunkLayersData {
                 smooth_vertices: &vertices,
                 smooth_quads: quads,

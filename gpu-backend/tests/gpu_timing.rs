@@ -197,6 +197,14 @@ fn time_frame(ctx: &GpuContext, timer: &mut GpuTimer) -> (Vec<PassTime>, u128) {
     (times, wall)
 }
 
+/// Whether timestamps bracket compute work on this adapter. llvmpipe (lavapipe) records a
+/// timestamp when its rasteriser's binned scene is flushed, not in step with compute
+/// dispatches, so there "heavy took longer than light" is not a property of our timer; a CI
+/// run once measured heavy at 25 µs and light at 38 µs. Elsewhere the ordering is checked.
+fn timestamps_follow_compute(ctx: &GpuContext) -> bool {
+    ctx.capabilities.adapter.device_type != "Cpu"
+}
+
 fn get<'a>(times: &'a [PassTime], label: &str) -> &'a PassTime {
     times
         .iter()
@@ -229,11 +237,15 @@ fn timestamps_time_dispatched_passes() {
         get(&times, "heavy pass"),
     );
     assert!(heavy.nanoseconds > 0 && pass.nanoseconds > 0 && cull.nanoseconds > 0);
-    assert!(
-        heavy.nanoseconds > light.nanoseconds,
-        "20,000 iterations per thread take longer than 1"
-    );
-    assert!(pass.nanoseconds > light.nanoseconds);
+    if timestamps_follow_compute(&ctx) {
+        assert!(
+            heavy.nanoseconds > light.nanoseconds,
+            "20,000 iterations per thread take longer than 1"
+        );
+        assert!(pass.nanoseconds > light.nanoseconds);
+    } else {
+        println!("on a CPU adapter: the ordering of heavy against light is not checked");
+    }
     // GPU time of the scopes fits in the wall time around the whole submission.
     let sum: u64 = times.iter().map(|t| t.nanoseconds).sum();
     assert!(
@@ -249,7 +261,9 @@ fn timestamps_time_dispatched_passes() {
     assert_eq!(timer.collect(), Err(TimerError::NotResolved));
     let (again, _) = time_frame(&ctx, &mut timer);
     assert_eq!(again.len(), 4);
-    assert!(get(&again, "heavy").nanoseconds > get(&again, "light").nanoseconds);
+    if timestamps_follow_compute(&ctx) {
+        assert!(get(&again, "heavy").nanoseconds > get(&again, "light").nanoseconds);
+    }
 }
 
 #[test]
@@ -270,7 +284,9 @@ fn timestamps_without_encoder_writes_use_empty_passes() {
     let mut timer = GpuTimer::with_capabilities(&ctx.device, &ctx.queue, &caps, 4);
     let (times, wall) = time_frame(&ctx, &mut timer);
     assert_eq!(times.len(), 4);
-    assert!(get(&times, "heavy").nanoseconds > get(&times, "light").nanoseconds);
+    if timestamps_follow_compute(&ctx) {
+        assert!(get(&times, "heavy").nanoseconds > get(&times, "light").nanoseconds);
+    }
     assert!(u128::from(get(&times, "heavy").nanoseconds) <= wall);
     // Scopes past the capacity (4) are not timed.
     let mut encoder = ctx.device.create_command_encoder(&Default::default());

@@ -128,6 +128,35 @@ impl ChunkMesher {
     }
 }
 
+impl ChunkMesher {
+    /// Meshes an already gathered neighbourhood (`padded`, the chunk at `coord` with its
+    /// border) into `out` (cleared first). On error `out` is left empty.
+    pub fn mesh_gathered(
+        &mut self,
+        padded: &PaddedChunk,
+        coord: ChunkCoord,
+        classes: &BlockClasses,
+        settings: &MeshSettings,
+        out: &mut ChunkMesh,
+    ) -> Result<(), MeshError> {
+        out.clear();
+        out.coord = coord;
+        let result = mesh_padded(
+            padded,
+            coord,
+            classes,
+            settings,
+            &mut self.greedy,
+            &mut self.nocubes,
+            out,
+        );
+        if result.is_err() {
+            out.clear();
+        }
+        result
+    }
+}
+
 fn mesh_padded(
     padded: &PaddedChunk,
     coord: ChunkCoord,
@@ -158,7 +187,7 @@ fn mesh_padded(
 
 /// True when the chunk has no faces to mesh, known without gathering it: it is not stored (all
 /// air), or it is uniform opaque and so are its six face neighbours.
-fn is_trivially_empty<C: VoxelStorage>(
+pub(crate) fn is_trivially_empty<C: VoxelStorage>(
     world: &WorldMap<C>,
     coord: ChunkCoord,
     classes: &BlockClasses,

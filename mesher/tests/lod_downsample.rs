@@ -19,18 +19,23 @@ fn palette() -> MaterialPalette {
     p
 }
 
-/// The rule of `mesher::lod`, written per voxel from world reads.
+/// The rule of `mesher::lod`, written per voxel from world reads: the upper half decides when
+/// it holds anything, opaque before transparent, then the most common id, ties to the smaller.
 fn reference(children: [BlockId; 8], classes: &BlockClasses) -> BlockId {
+    let half: &[BlockId] = if children[4..].iter().any(|c| !c.is_air()) {
+        &children[4..]
+    } else {
+        &children[..4]
+    };
     let candidates = |transparent: bool| {
-        children
-            .iter()
+        half.iter()
             .copied()
             .filter(move |&id| !id.is_air() && classes.is_transparent(id) == transparent)
     };
     for transparent in [false, true] {
         let best = candidates(transparent).max_by_key(|&id| {
-            let count = children.iter().filter(|&&c| c == id).count();
-            (count, children[4..].contains(&id), std::cmp::Reverse(id))
+            let count = half.iter().filter(|&&c| c == id).count();
+            (count, std::cmp::Reverse(id))
         });
         if let Some(id) = best {
             return id;

@@ -2,9 +2,9 @@
 //! libFuzzer) keeps every input that fuzzing found interesting, and every crash it found, fixed.
 //!
 //! For each target `T`, every file of `fuzz/corpus/T/` (which must exist and not be empty) and,
-//! when the folder exists, of `fuzz/artifacts/T/` is run through `bodies::T` or
-//! `mesher_bodies::T`, the same function the fuzz target `T` runs (`fuzz/bodies.rs` and
-//! `fuzz/mesher_bodies/` are included by both).
+//! when the folder exists, of `fuzz/artifacts/T/` is run through `bodies::T`,
+//! `mesher_bodies::T` or `vox_body::vox_loader`, the same function the fuzz target `T` runs
+//! (`fuzz/bodies.rs`, `fuzz/mesher_bodies/` and `fuzz/vox_body.rs` are included by both).
 //!
 //! The seed inputs (`seed-*` files: small valid encodings of every format, and malformed ones)
 //! are built by [`seeds`]. `seed_corpus_is_current` checks that the committed files match them;
@@ -17,6 +17,10 @@ mod bodies;
 mod mesher_bodies;
 // The seeds of the `mesher_bodies` targets.
 mod fuzz_mesher_seeds;
+#[path = "../../fuzz/vox_body.rs"]
+mod vox_body;
+#[path = "../../scene/tests/support/writer.rs"]
+mod vox_writer;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
@@ -35,7 +39,7 @@ use voxel_core::{BlockId, ChunkCoord, ChunkSize, LocalPos, VoxelStorage};
 type Target = (&'static str, fn(&[u8]));
 
 /// Every fuzz target, in the order of `fuzz/Cargo.toml`.
-const TARGETS: [Target; 15] = [
+const TARGETS: [Target; 16] = [
     ("chunk_codec", bodies::chunk_codec),
     ("draw_block", bodies::draw_block),
     ("packed_quad", bodies::packed_quad),
@@ -51,6 +55,7 @@ const TARGETS: [Target; 15] = [
     ("surface_blocks", mesher_bodies::surface_blocks),
     ("place_clutter", mesher_bodies::place_clutter),
     ("lod", mesher_bodies::lod),
+    ("vox_loader", vox_body::vox_loader),
 ];
 
 fn fuzz_dir() -> PathBuf {
@@ -150,6 +155,7 @@ replay_tests!(
     surface_blocks,
     place_clutter,
     lod,
+    vox_loader,
 );
 
 #[test]
@@ -191,6 +197,7 @@ fn seeds() -> Vec<(&'static str, Seeds)> {
         ("surface_blocks", fuzz_mesher_seeds::chunk_seeds()),
         ("place_clutter", fuzz_mesher_seeds::clutter_seeds()),
         ("lod", fuzz_mesher_seeds::lod_seeds()),
+        ("vox_loader", vox_loader_seeds()),
     ]
 }
 
@@ -666,8 +673,22 @@ fn blocky_mesh_seeds() -> Seeds {
         }
         bytes
     };
+    // Chunks of 32^3 and 62^3 from one period of voxel bytes (`blocky_input` repeats them):
+    // `voxel(i)` gives byte `i` of the period.
+    let periodic = |head: u8, classes: &[u16], period: usize, voxel: &dyn Fn(usize) -> u8| {
+        let class_bits = classes
+            .iter()
+            .enumerate()
+            .fold(0u16, |bits, (i, c)| bits | c << (2 * i));
+        let [c0, c1] = class_bits.to_le_bytes();
+        let mut bytes = vec![head, classes.len() as u8, c0, c1];
+        bytes.extend((0..period).map(voxel));
+        bytes
+    };
     const AO: u8 = 2;
     const S16: u8 = 1;
+    const S32: u8 = 32;
+    const S62: u8 = S16 | S32;
     const BASELINE: u8 = 4;
     const WIDE: u8 = 8;
     const X86_V3: u8 = 16;
@@ -683,6 +704,35 @@ fn blocky_mesh_seeds() -> Seeds {
     };
     vec![
         ("air-8", vec![0, 0, 0, 0]),
+        // A height field over x and y of the padded 64^3 chunk (one 64 x 64 period), the same
+        // for every z: full-width rows of faces along z, steps for AO, by the AVX-512 kernel
+        // where the CPU has it.
+        (
+            "ridges-ao-x86v4-62",
+            periodic(S62 | AO | X86_V4, &[0, 0, 1], 64 * 64, &|i| {
+                let (x, y) = (i % 64, i / 64);
+                let h = 20 + (x * 7) % 23;
+                match y {
+                    _ if y < h => 1 + u8::from(x % 9 == 0),
+                    _ if y < 30 => 3,
+                    _ => 0,
+                }
+            }),
+        ),
+        // Stripes across x (one 34-voxel period is a padded row): full rows in y and z.
+        (
+            "stripes-baseline-32",
+            periodic(S32 | BASELINE, &[0, 1], 34, &|x| [0, 1, 1, 2][x % 4]),
+        ),
+        // A period one longer than the padded row: a diagonal pattern of single voxels.
+        (
+            "diagonal-ao-62",
+            periodic(S62 | AO, &[0], 65, &|i| u8::from(i % 3 == 0)),
+        ),
+        (
+            "diagonal-x86v3-32",
+            periodic(S32 | X86_V3, &[0, 3], 35, &|i| [1, 0, 2, 0, 0][i % 5]),
+        ),
         ("slab-ao-8", chunk(AO, &[0], &|_, y, _| u8::from(y < 5))),
         (
             "hills-water-clutter-ao-16",
@@ -829,4 +879,90 @@ fn smooth_density_seeds() -> Seeds {
             f32_grid([2; 3], &|i| if i % 4 == 0 { -0.0 } else { -1.0 }, 125),
         ),
     ]
+}
+
+/// `.vox` files for `vox_loader`, built by the test writer of `voxel-scene`: valid scenes with
+/// transforms, hidden nodes and layers, animations and every material chunk, and one file per
+/// kind of malformation the loader refuses.
+fn vox_loader_seeds() -> Seeds {
+    use vox_writer::{VoxWriter, two_model_scene};
+    let one_voxel = || {
+        let mut w = VoxWriter::new();
+        w.model([2, 2, 2], &[[0, 0, 0, 1], [1, 1, 1, 2]]);
+        w
+    };
+    let mut seeds: Seeds = vec![
+        ("valid-two-models", two_model_scene().bytes()),
+        ("valid-one-model-no-graph", one_voxel().bytes()),
+    ];
+    let mut hidden = VoxWriter::new();
+    hidden
+        .model([1, 1, 1], &[[0, 0, 0, 1]])
+        .model([2, 1, 1], &[[0, 0, 0, 2], [1, 0, 0, 2]])
+        .transform(0, &[], 1, -1, &[])
+        .group(1, &[], &[2, 4])
+        .transform(2, &[("_hidden", "1")], 3, 0, &[("_t", "5 0 0")])
+        .shape(3, &[], &[0])
+        .transform(4, &[], 5, 1, &[("_t", "-5 1 2"), ("_r", "40")])
+        .shape(5, &[], &[1])
+        .layer(0, &[])
+        .layer(1, &[("_hidden", "1")]);
+    seeds.push(("valid-hidden-node-and-layer", hidden.bytes()));
+    let mut animated = VoxWriter::new();
+    animated
+        .chunk(b"PACK", 2u32.to_le_bytes().to_vec())
+        .model([3, 3, 3], &[[2, 1, 0, 7]])
+        .model([3, 3, 3], &[[0, 0, 0, 8]]);
+    seeds.push(("valid-pack-frames", animated.bytes()));
+    let mut materials = one_voxel();
+    materials
+        .matl(1, &[("_type", "_glass"), ("_trans", "0.5")])
+        .matl(2, &[("_type", "_emit"), ("_emit", "2"), ("_flux", "1")])
+        .chunk(b"MATT", {
+            let mut c = 3i32.to_le_bytes().to_vec();
+            c.extend(1u32.to_le_bytes());
+            c.extend(0.5f32.to_le_bytes());
+            c.extend(0x82u32.to_le_bytes());
+            c.extend([0.2f32, 0.3].iter().flat_map(|v| v.to_le_bytes()));
+            c
+        })
+        .chunk(b"rOBJ", vec![0, 0, 0, 0]);
+    seeds.push(("valid-materials-and-skipped-chunks", materials.bytes()));
+
+    let valid = two_model_scene().bytes();
+    seeds.push(("bad-truncated-half", valid[..valid.len() / 2].to_vec()));
+    seeds.push(("bad-truncated-header", valid[..30].to_vec()));
+    let mut outside = VoxWriter::new();
+    outside.model([2, 2, 2], &[[0, 2, 0, 1]]);
+    seeds.push(("bad-voxel-outside-model", outside.bytes()));
+    for (name, size) in [
+        ("bad-size-zero", [0, 2, 2]),
+        ("bad-size-negative", [2, -1, 2]),
+        ("bad-size-huge", [2, 2, 300]),
+    ] {
+        let mut w = VoxWriter::new();
+        w.model(size, &[]);
+        seeds.push((name, w.bytes()));
+    }
+    let mut lying = one_voxel().bytes();
+    lying[20 + 24 + 12] = 9; // the XYZI count
+    seeds.push(("bad-voxel-count", lying));
+    let mut zero = VoxWriter::new();
+    zero.model([2, 2, 2], &[[1, 0, 1, 0]]);
+    seeds.push(("bad-colour-index-zero", zero.bytes()));
+    seeds.push(("bad-no-model", VoxWriter::new().bytes()));
+    let mut cycle = one_voxel();
+    cycle.transform(0, &[], 1, -1, &[]).group(1, &[], &[0]);
+    seeds.push(("bad-scene-cycle", cycle.bytes()));
+    let mut rotation = one_voxel();
+    rotation
+        .transform(0, &[], 1, -1, &[("_r", "3")])
+        .shape(1, &[], &[0]);
+    seeds.push(("bad-rotation", rotation.bytes()));
+    // The names tell the truth: valid seeds load, bad ones are refused.
+    for (name, bytes) in &seeds {
+        let loaded = voxel_scene::vox::load_vox_bytes(bytes, ChunkSize::S16, 1 << 16);
+        assert_eq!(loaded.is_ok(), name.starts_with("valid-"), "seed {name}");
+    }
+    seeds
 }

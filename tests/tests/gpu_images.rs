@@ -29,8 +29,11 @@ fn gpu_matches_cpu(name: &str, scene: &TestScene) -> Option<Image> {
         labels,
         [
             "cull",
-            "cull transparent",
             "gbuffer",
+            "hiz",
+            "cull late",
+            "gbuffer late",
+            "cull transparent",
             "lighting",
             "transparent",
             "tonemap"

@@ -6,6 +6,7 @@ use std::fmt;
 use gpu_backend::gigabuffer::{ChunkHandle, ChunkLayersData};
 use gpu_backend::render::{ChunkMeshData, RenderCamera, RenderError, Renderer, RendererConfig};
 use gpu_backend::{DeviceError, DeviceOptions, GpuContext, PassTime};
+use mesher::lod::NodeMesh;
 use mesher::{BlockClasses, ChunkMesh, MeshError, MeshSettings};
 use voxel_core::storage::{VoxelStorage, WorldMap};
 use voxel_core::{ChunkCoord, ChunkSize, FaceDirection, MaterialPalette};
@@ -69,6 +70,41 @@ pub fn layers_of(mesh: &ChunkMesh) -> ChunkLayersData<'_> {
     layers
 }
 
+/// The upload view of a level-of-detail node ([`NodeMesh`]): its layers as [`layers_of`]
+/// gives them, plus its skirts and its far-draw blocks with their hiding mask.
+pub fn node_layers(node: &NodeMesh) -> ChunkLayersData<'_> {
+    let mut layers = layers_of(&node.mesh);
+    for face in FaceDirection::ALL {
+        let i = usize::from(face.index());
+        layers.opaque_skirts[i] = node.skirts.quads(face);
+        layers.draw_block_skirts[i] = node.skirts.blocks(face);
+    }
+    layers.draw_blocks = &node.blocks;
+    layers.hiding_mask = &node.hiding_mask;
+    layers.transparent_mask = &node.transparent_mask;
+    layers
+}
+
+/// Uploads `nodes` (from `mesher::lod::mesh_nodes`) to `renderer` at their levels. Returns
+/// their handles.
+pub fn upload_nodes(
+    renderer: &mut Renderer,
+    nodes: &[NodeMesh],
+) -> Result<Vec<ChunkHandle>, GpuViewError> {
+    nodes
+        .iter()
+        .map(|node| {
+            renderer
+                .upload_chunk(&ChunkMeshData {
+                    coord: node.coord,
+                    lod: node.level,
+                    layers: node_layers(node),
+                })
+                .map_err(|e| GpuViewError::Render(node.coord, e))
+        })
+        .collect()
+}
+
 /// Meshes every stored chunk of `world` (greedy quads with AO, in parallel) and uploads the
 /// non-empty ones to `renderer`. Returns their handles.
 pub fn upload_world<C: VoxelStorage + Sync>(
@@ -99,6 +135,7 @@ pub fn upload_world_with<C: VoxelStorage + Sync>(
     {
         let data = ChunkMeshData {
             coord: mesh.coord,
+            lod: 0,
             layers: layers_of(mesh),
         };
         let handle = renderer

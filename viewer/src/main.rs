@@ -10,21 +10,29 @@
 //! it wrote it. The frame comes from the GPU renderer (deferred shading) when a Vulkan adapter
 //! exists (lavapipe counts), and from the CPU reference raycaster otherwise or with `--cpu`; it
 //! prints which one it used.
+//!
+//! `--camera X,Y,Z,YAW,PITCH` and `--fov DEG` set the first view (the PNG's, and the window's
+//! start; parsed in `camera_arg.rs`); otherwise the scene suggests one. `--vox FILE` shows a
+//! MagicaVoxel file instead of the terrain (`--seed` and `--chunks` are then refused),
+//! `--hidden` its hidden nodes too.
+
+mod camera_arg;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
+use camera_arg::{CameraArg, parse_camera, parse_fov};
 use clap::Parser;
 use viewer::gpu_view::render_scene;
 use viewer::reference_raycast::{Lighting, encode_png, render};
-use viewer::scene::vox::{VoxError, load_vox_file};
+use viewer::scene::vox::{VoxError, VoxOptions, load_vox_file_with};
 use viewer::scene::{Scene, camera_looking_at, terrain_scene};
 use viewer::window::mode::{Mode, choose_mode, display_present};
 use viewer::window::{WindowOptions, run_window};
 use voxel_core::ChunkSize;
 
-/// Renders the built-in procedural terrain.
+/// Shows the built-in procedural terrain or a MagicaVoxel file, in a window or as a PNG.
 #[derive(Parser, Debug)]
 #[command(version, about)]
 struct Args {
@@ -59,15 +67,27 @@ struct Args {
     /// Image (or window) height in pixels.
     #[arg(long, default_value_t = 540, value_parser = clap::value_parser!(u32).range(1..=8192))]
     height: u32,
-    /// Terrain seed.
-    #[arg(long, default_value_t = 1)]
+    /// Terrain seed (not with --vox).
+    #[arg(long, default_value_t = 1, conflicts_with = "vox")]
     seed: i32,
-    /// Terrain extent in 32^3 chunks along x and z.
-    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(i32).range(1..=64))]
+    /// Terrain extent in 32^3 chunks along x and z (not with --vox).
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(i32).range(1..=64), conflicts_with = "vox")]
     chunks: i32,
     /// Show this MagicaVoxel `.vox` file instead of the built-in terrain.
     #[arg(long)]
     vox: Option<PathBuf>,
+    /// With --vox: show hidden nodes and hidden layers too.
+    #[arg(long, requires = "vox")]
+    hidden: bool,
+    /// Start the camera (headless frame or window) at world position X,Y,Z (voxels, y up),
+    /// turned YAW degrees about +y (0 looks along -z, 90 along -x) and PITCH degrees above the
+    /// horizon (-90 to 90). Default: a view chosen for the scene.
+    #[arg(long, value_name = "X,Y,Z,YAW,PITCH", value_parser = parse_camera, allow_hyphen_values = true)]
+    camera: Option<CameraArg>,
+    /// Vertical field of view in degrees (1 to 179). Default: the scene's view (70 for the
+    /// terrain, 60 for .vox files).
+    #[arg(long, value_name = "DEG", value_parser = parse_fov, allow_hyphen_values = true)]
+    fov: Option<f64>,
     /// Render with the CPU reference raycaster even when a GPU is available.
     #[arg(long)]
     cpu: bool,
@@ -77,8 +97,17 @@ struct Args {
 /// far below this; the limit keeps a corrupt or hostile file from exhausting memory).
 const MAX_VOX_VOXELS: usize = 64 << 20;
 
-fn vox_scene(path: &std::path::Path) -> Result<Scene, VoxError> {
-    let vox = load_vox_file(path, ChunkSize::S32, MAX_VOX_VOXELS)?;
+/// Loads a `.vox` file (hidden nodes and layers too with `include_hidden`) and tells the user
+/// what was left out.
+fn vox_scene(path: &std::path::Path, include_hidden: bool) -> Result<Scene, VoxError> {
+    let options = VoxOptions {
+        include_hidden,
+        ..VoxOptions::new(ChunkSize::S32, MAX_VOX_VOXELS)
+    };
+    let vox = load_vox_file_with(path, &options)?;
+    for note in vox.report.notes() {
+        eprintln!("viewer: note: {}: {note}", path.display());
+    }
     let (lo, hi) = vox.bounds.unwrap_or_default();
     Ok(Scene {
         world: vox.world,
@@ -104,9 +133,9 @@ fn main() -> ExitCode {
     let mode = choose_mode(args.headless, args.window, display_present());
 
     let started = Instant::now();
-    let scene = match &args.vox {
+    let mut scene = match &args.vox {
         None => terrain_scene(args.seed, ChunkSize::S32, args.chunks, 2, args.chunks),
-        Some(path) => match vox_scene(path) {
+        Some(path) => match vox_scene(path, args.hidden) {
             Ok(scene) => scene,
             Err(e) => {
                 eprintln!("viewer: {}: {e}", path.display());
@@ -115,6 +144,15 @@ fn main() -> ExitCode {
         },
     };
     let generated = started.elapsed();
+    // --camera and --fov replace the scene's first view, for the PNG and the window alike.
+    let fov_y = args.fov.unwrap_or(scene.suggested_view.fov_y);
+    scene.suggested_view = match args.camera {
+        Some(camera) => camera.camera(fov_y),
+        None => viewer::reference_raycast::Camera {
+            fov_y,
+            ..scene.suggested_view
+        },
+    };
     if let Mode::Window { forced } = mode {
         let options = WindowOptions {
             frames: args.frames,
@@ -219,7 +257,7 @@ fn headless(args: &Args, scene: &Scene, generated: Duration) -> ExitCode {
 
 #[cfg(test)]
 mod tests {
-    use super::parse_size;
+    use super::{Args, Parser, parse_size};
 
     #[test]
     fn sizes_parse_and_bad_ones_are_refused() {
@@ -227,6 +265,35 @@ mod tests {
         assert_eq!(parse_size("8X9"), Ok((8, 9)));
         for bad in ["200", "0x10", "10x0", "9000x10", "ax1", "-1x2", ""] {
             assert!(parse_size(bad).is_err(), "{bad:?} accepted");
+        }
+    }
+
+    fn parse(args: &[&str]) -> Result<Args, String> {
+        Args::try_parse_from(std::iter::once("viewer").chain(args.iter().copied()))
+            .map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn terrain_options_with_vox_are_an_error() {
+        for extra in [&["--seed", "3"][..], &["--chunks", "2"][..]] {
+            let mut args = vec!["--vox", "model.vox"];
+            args.extend_from_slice(extra);
+            let err = parse(&args).expect_err("conflict");
+            assert!(err.contains(extra[0]) && err.contains("--vox"), "{err}");
+        }
+        assert!(parse(&["--vox", "model.vox"]).is_ok());
+        assert!(parse(&["--seed", "3", "--chunks", "2"]).is_ok());
+        assert!(parse(&["--hidden"]).unwrap_err().contains("--vox"));
+    }
+
+    #[test]
+    fn camera_and_fov_reach_the_arguments() {
+        let a = parse(&["--camera", "-10.5,40,3,90,-30", "--fov", "45"]).unwrap();
+        let camera = a.camera.unwrap();
+        assert_eq!(camera.yaw_degrees, 90.0);
+        assert_eq!(a.fov, Some(45f64.to_radians()));
+        for bad in [&["--camera", "1,2,3"][..], &["--fov", "-5"][..]] {
+            assert!(parse(bad).is_err(), "{bad:?}");
         }
     }
 }

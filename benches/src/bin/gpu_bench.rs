@@ -1,55 +1,108 @@
-//! The GPU benchmark: the mesher's terrain made resident in growing amounts and drawn by the
-//! deferred renderer, with GPU time per pass, resident bytes and CPU frame time per scene
-//! (see `benches::gpu_bench`). Prints a Markdown table; `--out FILE` also writes it there.
+//! The GPU benchmark: the viewer's terrain at every level of detail, drawn by the deferred
+//! renderer for each error budget, far path and full-screen path asked for, with GPU time per
+//! pass, what was drawn, resident bytes, CPU frame time and the image error against full
+//! detail (see `benches::gpu_bench`). Prints Markdown tables; `--out FILE` also writes them,
+//! `--json FILE` writes every figure.
 //!
 //! ```sh
-//! cargo run --release -p benches --bin gpu_bench -- --side 4096 --chunk 8
+//! cargo run --release -p benches --bin gpu_bench -- --side 4096 --budget 1 --far splat
 //! ```
 
 use std::process::ExitCode;
 use std::time::Instant;
 
-use benches::gpu_bench::{BenchConfig, markdown_table, run};
-use benches::gpu_scene::MeshedTerrain;
-use clap::Parser;
+use benches::gpu_bench::{BenchConfig, BenchReport, SceneSummary, bench_camera, markdown, run};
+use benches::gpu_scene::LodTerrain;
+use clap::{Parser, ValueEnum};
+use gpu_backend::cull::{LodParams, lod};
+use gpu_backend::render::FullscreenPath;
+use gpu_backend::render::far::{FarPath, FarRequest};
 use gpu_backend::{DeviceOptions, GpuContext};
 use voxel_core::ChunkSize;
 
+/// A far path on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Far {
+    /// Every node meshed.
+    Off,
+    /// Compute splat (needs 64-bit atomics).
+    Splat,
+    /// The best the device runs.
+    Auto,
+}
+
+/// A full-screen path on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Screen {
+    /// Compute passes.
+    Compute,
+    /// Fragment passes.
+    Fragment,
+}
+
+/// Whether to render full detail.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Reference {
+    /// When the terrain is at most 4096 columns wide (full detail must fit).
+    Auto,
+    /// Always.
+    On,
+    /// Never (no image errors).
+    Off,
+}
+
 /// Command-line options.
 #[derive(Parser, Debug)]
-#[command(about = "GPU benchmark: terrain from the mesher, drawn by the deferred renderer")]
+#[command(about = "GPU benchmark: LOD terrain drawn by the deferred renderer, per error budget")]
 struct Args {
-    /// Block columns per side of the terrain square.
+    /// Block columns per side of the terrain square (up to 16384).
     #[arg(long, default_value_t = 4096)]
     side: u32,
-    /// Chunk edge (8, 16, 32 or 62).
+    /// Chunk edge (8 or 16 for far draws; 32 and 62 mesh only).
     #[arg(long, default_value_t = 8)]
     chunk: u32,
-    /// Resident chunk counts to measure, ascending; "all" is the whole terrain.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "10000,50000,100000,200000,400000,all"
-    )]
-    scenes: Vec<String>,
+    /// Highest level of detail built.
+    #[arg(long, default_value_t = 6)]
+    top_level: u32,
+    /// Error budgets, pixels (repeatable or comma-separated).
+    #[arg(long, value_delimiter = ',', default_value = "1")]
+    budget: Vec<f32>,
+    /// Render full detail too (the image errors' reference).
+    #[arg(long, value_enum, default_value_t = Reference::Auto)]
+    reference: Reference,
+    /// Far paths (repeatable or comma-separated).
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "auto")]
+    far: Vec<Far>,
+    /// Far thresholds: nodes whose cells span at most this many pixels are far-drawn.
+    #[arg(long, value_delimiter = ',', default_value = "4")]
+    far_px: Vec<f32>,
+    /// Full-screen paths (repeatable or comma-separated).
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "compute")]
+    fullscreen: Vec<Screen>,
     /// Output width, pixels.
     #[arg(long, default_value_t = 1920)]
     width: u32,
     /// Output height, pixels.
     #[arg(long, default_value_t = 1080)]
     height: u32,
-    /// Timed frames per scene.
+    /// Timed frames per setting.
     #[arg(long, default_value_t = 20)]
     frames: usize,
     /// Terrain seed.
     #[arg(long, default_value_t = 1)]
     seed: i32,
-    /// Also write the table (and the setup lines) to this file.
+    /// Also write the tables (and the setup lines) to this file.
     #[arg(long)]
     out: Option<std::path::PathBuf>,
-    /// Write the last scene's image to this PNG.
+    /// Write every figure as JSON to this file.
+    #[arg(long)]
+    json: Option<std::path::PathBuf>,
+    /// Write the last setting's image to this PNG.
     #[arg(long)]
     png: Option<std::path::PathBuf>,
+    /// Write the full-detail image to this PNG.
+    #[arg(long)]
+    reference_png: Option<std::path::PathBuf>,
 }
 
 fn main() -> ExitCode {
@@ -64,65 +117,150 @@ fn main() -> ExitCode {
 
 fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     let size = ChunkSize::from_edge(args.chunk)?;
+    if args.side == 0 || args.side > 16384 {
+        return Err(format!("--side {} must be 1..=16384", args.side).into());
+    }
+    if let Some(b) = args.budget.iter().find(|b| !b.is_finite() || **b < 0.0) {
+        return Err(format!("--budget {b} must be finite and at least 0").into());
+    }
+    let reference = match args.reference {
+        Reference::Auto => args.side <= 4096,
+        Reference::On => true,
+        Reference::Off => false,
+    };
     let ctx = GpuContext::new_headless(&DeviceOptions::default())?;
     eprintln!("adapter: {}", ctx.capabilities.adapter);
+    let camera = bench_camera(size);
+    // What the views can select: every node some budget selects from the bench camera (and all
+    // of level 0 for the full-detail reference).
+    let params: Vec<LodParams> = args
+        .budget
+        .iter()
+        .map(|&budget_px| LodParams {
+            anchor_chunk: [camera.chunk.x, camera.chunk.y, camera.chunk.z],
+            top_level: args.top_level,
+            anchor_offset: camera.offset,
+            budget_px,
+            focal_px: lod::focal_px(camera.fov_y, args.height),
+            hysteresis: 0.0,
+            chunk_edge: size.edge() as f32,
+            pad: 0,
+        })
+        .collect();
+    let keep = |level: u32, coord: voxel_core::ChunkCoord| {
+        (reference && level == 0)
+            || params
+                .iter()
+                .any(|p| lod::selected(p, [coord.x, coord.y, coord.z], level))
+    };
     let started = Instant::now();
-    let terrain = MeshedTerrain::generate(args.side, size, args.seed)?;
-    let total = terrain.meshes.len();
-    let mut scene_chunks = Vec::new();
-    for s in &args.scenes {
-        let n = if s == "all" {
-            total
-        } else {
-            s.parse::<usize>()
-                .map_err(|e| format!("scene size {s:?}: {e}"))?
-        };
-        scene_chunks.push(n.min(total));
-    }
-    scene_chunks.dedup();
+    let terrain = LodTerrain::generate(args.side, size, args.seed, args.top_level, keep)?;
+    let resident: Vec<usize> = terrain.levels.iter().map(Vec::len).collect();
+    let mut scene = SceneSummary {
+        adapter: ctx.capabilities.adapter.to_string(),
+        side: terrain.side,
+        chunk_edge: size.edge(),
+        width: args.width,
+        height: args.height,
+        chunks_per_level: terrain.chunks_per_level.clone(),
+        resident_per_level: resident,
+        resident_quads: terrain.quad_count(),
+        resident_draw_block_words: terrain.draw_block_words(),
+        generate_seconds: terrain.generate_seconds,
+        downsample_seconds: terrain.downsample_seconds,
+        mesh_seconds: terrain.mesh_seconds,
+        frames: args.frames,
+        ..Default::default()
+    };
     let mut lines = vec![
         format!("adapter: {}", ctx.capabilities.adapter),
         format!(
-            "terrain: {}² columns, {}³ chunks, {} chunks meshed, {} non-empty, {} quads; \
-             generated in {:.2} s, meshed in {:.2} s ({} threads), {:.1} s in all",
+            "terrain: {}² columns, {}³ chunks, levels 0..={}: {:?} chunks, {:?} resident; {} quads, \
+             {} draw-block words; generated {:.2} s, downsampled {:.2} s, meshed {:.2} s ({} \
+             threads), {:.1} s in all",
             terrain.side,
             size.edge(),
-            terrain.chunks_meshed,
-            total,
-            terrain.quad_count(total),
+            args.top_level,
+            scene.chunks_per_level,
+            scene.resident_per_level,
+            scene.resident_quads,
+            scene.resident_draw_block_words,
             terrain.generate_seconds,
+            terrain.downsample_seconds,
             terrain.mesh_seconds,
             rayon::current_num_threads(),
             started.elapsed().as_secs_f64()
-        ),
-        format!(
-            "frames: {} x {}, {} timed per scene; times are medians",
-            args.width, args.height, args.frames
         ),
     ];
     for line in &lines {
         eprintln!("{line}");
     }
     let config = BenchConfig {
-        scene_chunks,
         width: args.width,
         height: args.height,
         frames: args.frames,
+        budgets: args.budget.clone(),
+        reference,
+        far: args
+            .far
+            .iter()
+            .map(|f| match f {
+                Far::Off => FarRequest::Off,
+                Far::Splat => FarRequest::Path(FarPath::Splat),
+                Far::Auto => FarRequest::Auto,
+            })
+            .collect(),
+        far_cell_px: args.far_px.clone(),
+        fullscreen: args
+            .fullscreen
+            .iter()
+            .map(|s| match s {
+                Screen::Compute => FullscreenPath::Compute,
+                Screen::Fragment => FullscreenPath::Fragment,
+            })
+            .collect(),
     };
-    let (reports, image) = run(&ctx, &terrain, &config)?;
-    let table = markdown_table(&reports);
+    let (runs, images, choices) = run(&ctx, &terrain, &config, &mut scene)?;
+    for choice in &choices {
+        lines.push(format!("far draws: {choice}"));
+    }
+    lines.push(format!(
+        "frames: {} x {}, {} timed per setting (medians); upload {:.0} ms; resident bytes: {}",
+        args.width,
+        args.height,
+        args.frames,
+        scene.upload_ms,
+        scene
+            .resident_bytes
+            .iter()
+            .map(|(k, v)| format!("{k} {v}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    ));
+    let report = BenchReport { scene, runs };
+    let table = markdown(&report);
     println!("{table}");
     lines.push(String::new());
     lines.push(table);
     if let Some(path) = &args.out {
         std::fs::write(path, lines.join("\n"))?;
     }
-    if let Some(path) = &args.png {
+    if let Some(path) = &args.json {
+        std::fs::write(path, serde_json::to_string_pretty(&report)?)?;
+    }
+    let write_png = |path: &std::path::Path, image: &gpu_backend::render::FrameImage| {
         std::fs::write(
             path,
             viewer::reference_raycast::encode_png(image.width, image.height, &image.rgba)?,
         )?;
         eprintln!("image: {}", path.display());
+        Ok::<(), Box<dyn std::error::Error>>(())
+    };
+    if let (Some(path), Some(image)) = (&args.png, &images.last) {
+        write_png(path, image)?;
+    }
+    if let (Some(path), Some(image)) = (&args.reference_png, &images.reference) {
+        write_png(path, image)?;
     }
     Ok(())
 }

@@ -1,49 +1,60 @@
-//! The GPU benchmark (binary `gpu_bench`): the mesher's terrain made resident in growing
-//! amounts (the nearest `n` chunks of one meshed terrain, so each scene is a square of the same
-//! world), each drawn for a number of frames by the [`Renderer`] with GPU timestamps per pass.
+//! The GPU benchmark (binary `gpu_bench`): the viewer's terrain at every level of detail made
+//! resident, then drawn by the [`Renderer`] for each requested setting (error budget, far path,
+//! far threshold, full-screen path), each for a number of frames with GPU timestamps per pass.
 //!
-//! Per scene it reports: resident chunks and quads, gigabuffer bytes per quad and per chunk
-//! (with the per-chunk overhead of the chunk table and the cull's command slots stated
-//! separately), the median GPU time of each pass, and the median CPU time to record and
-//! submit a frame (the CPU cost the renderer adds per frame, which must not grow with the
-//! chunk count).
+//! Per setting it reports the median GPU time of each pass and in total, the median CPU time to
+//! record and submit a frame, what the last frame drew (nodes per level and representation,
+//! quads, far blocks, culled nodes), and the image error against the full-detail frame (level 0
+//! only, every node meshed) when that is rendered; per scene, the resident bytes by kind.
 //!
-//! The uploads of a scene are flushed by one frame, and three more warm up, before the timed
-//! frames start.
+//! Each setting gets three untimed frames first (the first uploads, and the driver settles).
 
+mod image_error;
 mod report;
 
 use std::time::Instant;
 
 use gpu_backend::GpuContext;
-use gpu_backend::gigabuffer::{ChunkLayersData, DataKind, GigabufferConfig};
-use gpu_backend::render::RenderError;
+use gpu_backend::cull::LodSettings;
+use gpu_backend::gigabuffer::{DataKind, GigabufferConfig};
+use gpu_backend::render::far::{FarChoice, FarRequest};
 use gpu_backend::render::{
-    ChunkMeshData, FrameImage, LightingParams, RenderCamera, Renderer, RendererConfig,
+    ChunkMeshData, FrameImage, FullscreenPath, LightingParams, RenderCamera, RenderError, Renderer,
+    RendererConfig,
 };
-use mesher::blocky::BlockyLayer;
 use voxel_core::WorldPos;
-use voxel_core::formats::{ChunkDrawIndirect, MeshedChunkInfo};
 
-use crate::gpu_scene::MeshedTerrain;
+use crate::gpu_scene::LodTerrain;
 
-pub use report::{PassMedian, SceneReport, markdown_table};
+pub use image_error::{ImageError, OFF_THRESHOLD, image_error};
+pub use report::{
+    BenchReport, DrawnCounts, ImageErrorReport, PassMedian, RunReport, SceneSummary, markdown,
+    median, pass_medians,
+};
 
-/// Untimed frames after each scene's upload frame.
+/// Untimed frames before each setting's timed ones.
 const WARM_UP_FRAMES: usize = 3;
 
 /// What to measure.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BenchConfig {
-    /// Resident chunk counts to measure, ascending; counts above the terrain's chunk count are
-    /// measured at the whole terrain.
-    pub scene_chunks: Vec<usize>,
     /// Output width, pixels.
     pub width: u32,
     /// Output height, pixels.
     pub height: u32,
-    /// Timed frames per scene (after the untimed upload and warm-up frames).
+    /// Timed frames per setting.
     pub frames: usize,
+    /// Error budgets to measure, pixels.
+    pub budgets: Vec<f32>,
+    /// Also render full detail (level 0 only, meshes only): its time, and the reference of
+    /// every image error.
+    pub reference: bool,
+    /// Far paths to measure (one renderer each).
+    pub far: Vec<FarRequest>,
+    /// Far thresholds to measure, pixels.
+    pub far_cell_px: Vec<f32>,
+    /// Full-screen paths to measure.
+    pub fullscreen: Vec<FullscreenPath>,
 }
 
 /// Why the benchmark stopped.
@@ -51,15 +62,15 @@ pub struct BenchConfig {
 pub enum BenchError {
     /// The renderer refused the configuration or an upload.
     Render(RenderError),
-    /// The scene list is empty or not ascending.
-    BadScenes(String),
+    /// A setting is invalid.
+    BadConfig(String),
 }
 
 impl std::fmt::Display for BenchError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             BenchError::Render(e) => write!(f, "renderer: {e}"),
-            BenchError::BadScenes(why) => write!(f, "scene list: {why}"),
+            BenchError::BadConfig(why) => write!(f, "configuration: {why}"),
         }
     }
 }
@@ -72,122 +83,199 @@ impl From<RenderError> for BenchError {
     }
 }
 
-/// The camera every scene is drawn from: 16 blocks above the highest hills at the terrain's
+/// The camera every run is drawn from: 16 blocks above the highest hills at the terrain's
 /// centre, looking out over it (yaw 40 degrees, 12 degrees down, 70-degree vertical field of
 /// view), so the far terrain fills the top of the image up to the horizon.
-pub fn bench_camera(terrain: &MeshedTerrain) -> RenderCamera {
+pub fn bench_camera(size: voxel_core::ChunkSize) -> RenderCamera {
     RenderCamera::from_world(
         WorldPos::new(0, 48, 0),
         [0.5; 3],
-        terrain.size,
+        size,
         40f64.to_radians(),
         -12f64.to_radians(),
         70f64.to_radians(),
     )
 }
 
-/// A renderer with room for every chunk of `terrain`: its quads (both layers, with 1/16 slack
-/// for allocator fragmentation) and its chunk count.
+/// The renderer for `terrain` and far path `far`: room for every node's quads and draw blocks
+/// (1/16 slack for allocator fragmentation) and its node count.
 pub fn renderer_for(
     ctx: &GpuContext,
-    terrain: &MeshedTerrain,
+    terrain: &LodTerrain,
     width: u32,
     height: u32,
+    far: FarRequest,
 ) -> Result<Renderer, RenderError> {
-    let quads = terrain.quad_count(terrain.meshes.len());
-    let quad_bytes = (quads + quads / 16 + 4096) * 8;
-    let chunks = terrain.meshes.len().max(1) as u32;
+    let slack = |n: u64| n + n / 16 + 4096;
+    let nodes = terrain.nodes().count().max(1) as u32;
     let mut config = RendererConfig::new(width, height, terrain.size);
     config.gigabuffer = GigabufferConfig::empty()
-        .with_bytes(DataKind::Quads, quad_bytes)
-        .with_max_chunks(chunks);
-    config.max_chunks = chunks;
+        .with_bytes(DataKind::Quads, slack(terrain.quad_count()) * 8)
+        .with_max_chunks(nodes);
+    config.max_chunks = nodes;
+    let config = match far {
+        FarRequest::Off => config,
+        far => config.with_far(far, slack(terrain.draw_block_words()) * 4),
+    };
     Renderer::new(ctx, &config, &terrain.palette)
 }
 
-/// Runs the benchmark: for each scene size, uploads the chunks it adds, flushes them with one
-/// frame, then times `config.frames` frames. Returns the reports and the last frame's image.
-pub fn run(
-    ctx: &GpuContext,
-    terrain: &MeshedTerrain,
-    config: &BenchConfig,
-) -> Result<(Vec<SceneReport>, FrameImage), BenchError> {
-    if config.scene_chunks.is_empty() || !config.scene_chunks.is_sorted() {
-        return Err(BenchError::BadScenes(format!(
-            "{:?} must be non-empty and ascending",
-            config.scene_chunks
-        )));
+/// Uploads every node of `terrain`; returns the CPU milliseconds it took.
+pub fn upload_terrain(renderer: &mut Renderer, terrain: &LodTerrain) -> Result<f64, RenderError> {
+    let started = Instant::now();
+    for node in terrain.nodes() {
+        renderer.upload_chunk(&ChunkMeshData {
+            coord: node.coord,
+            lod: node.level,
+            layers: viewer::gpu_view::node_layers(node),
+        })?;
     }
-    let mut renderer = renderer_for(ctx, terrain, config.width, config.height)?;
-    renderer.set_camera(&bench_camera(terrain));
-    renderer.set_lighting(&LightingParams::default());
-    let mut resident = 0usize;
-    let mut reports = Vec::new();
-    for &wanted in &config.scene_chunks {
-        let target = wanted.min(terrain.meshes.len());
-        let started = Instant::now();
-        for mesh in &terrain.meshes[resident..target] {
-            let opaque = mesh.blocky.layer(BlockyLayer::Opaque);
-            let transparent = mesh.blocky.layer(BlockyLayer::Transparent);
-            let layers = ChunkLayersData {
-                opaque_quads: faces(opaque),
-                transparent_quads: faces(transparent),
-                ..Default::default()
-            };
-            renderer.upload_chunk(&ChunkMeshData {
-                coord: mesh.coord,
-                layers,
-            })?;
-        }
-        let upload_cpu = started.elapsed();
-        resident = target;
-        // One frame flushes the uploads (staging copies); a few more let the driver finish
-        // compiling pipelines and settle its memory (the first scene's first frames are
-        // several times slower on an H200).
-        let started = Instant::now();
-        renderer.render()?;
-        let flush_frame = started.elapsed();
-        for _ in 0..WARM_UP_FRAMES {
-            renderer.render()?;
-        }
-        let mut passes: Vec<Vec<(String, u64)>> = Vec::new();
-        let mut cpu_frame_ns = Vec::new();
-        for _ in 0..config.frames {
-            let started = Instant::now();
-            let mut encoder = ctx.device.create_command_encoder(&Default::default());
-            renderer.record_frame(&mut encoder)?;
-            ctx.queue.submit([encoder.finish()]);
-            cpu_frame_ns.push(started.elapsed().as_nanos() as u64);
-            let times = renderer.collect_timings()?;
-            passes.push(
-                times
-                    .into_iter()
-                    .map(|t| (t.label, t.nanoseconds))
-                    .collect(),
-            );
-        }
-        let usage = renderer.gigabuffer().resident();
-        let quad_bytes = usage.kinds.get(DataKind::Quads).used_bytes;
-        let quads = terrain.quad_count(resident);
-        reports.push(SceneReport {
-            chunks: resident,
-            quads,
-            covered_side: terrain.covered_side(resident),
-            quad_bytes,
-            table_bytes_per_chunk: size_of::<MeshedChunkInfo>() as u64,
-            // The cull's exact default: six command slots per table slot, each a 20-byte
-            // DrawIndexedIndirect plus a 32-byte record.
-            command_bytes_per_chunk: 6 * (20 + size_of::<ChunkDrawIndirect>() as u64),
-            upload_cpu_ms: upload_cpu.as_secs_f64() * 1e3,
-            flush_frame_ms: flush_frame.as_secs_f64() * 1e3,
-            passes: report::pass_medians(&passes),
-            cpu_frame_us: report::median(&mut cpu_frame_ns) as f64 / 1e3,
-        });
-    }
-    Ok((reports, renderer.read_image()?))
+    Ok(started.elapsed().as_secs_f64() * 1e3)
 }
 
-/// A quad layer's six face groups.
-fn faces(layer: &mesher::QuadLayer) -> [&[voxel_core::formats::PackedQuad]; 6] {
-    voxel_core::FaceDirection::ALL.map(|face| layer.face(face))
+/// One setting measured: warm-up, timed frames, the last frame's counts and image.
+fn measure(
+    ctx: &GpuContext,
+    renderer: &mut Renderer,
+    frames: usize,
+) -> Result<(Vec<PassMedian>, f64, DrawnCounts, FrameImage), BenchError> {
+    for _ in 0..WARM_UP_FRAMES {
+        renderer.render()?;
+    }
+    let mut passes: Vec<Vec<(String, u64)>> = Vec::new();
+    let mut cpu_frame_ns = Vec::new();
+    for _ in 0..frames {
+        let started = Instant::now();
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        renderer.record_frame(&mut encoder)?;
+        ctx.queue.submit([encoder.finish()]);
+        cpu_frame_ns.push(started.elapsed().as_nanos() as u64);
+        let times = renderer.collect_timings()?;
+        passes.push(
+            times
+                .into_iter()
+                .map(|t| (t.label, t.nanoseconds))
+                .collect(),
+        );
+    }
+    let (cull, splat) = renderer.read_frame_stats()?;
+    let mut per_level = cull.per_level.to_vec();
+    while per_level.last() == Some(&0) {
+        per_level.pop();
+    }
+    let drawn = DrawnCounts {
+        selected: cull.selected,
+        selected_per_level: per_level,
+        frustum_culled: cull.frustum_culled,
+        occluded: cull.occluded,
+        mesh_nodes: cull.mesh_nodes,
+        far_nodes: cull.far_nodes,
+        mesh_quads: cull.mesh_quads,
+        transparent_quads: cull.transparent_quads,
+        smooth_quads: cull.smooth_quads,
+        far_blocks: cull.far_blocks,
+        splat_pixels: splat.pixels,
+        splat_skipped: splat.skipped,
+    };
+    let image = renderer.read_image()?;
+    Ok((
+        pass_medians(&passes),
+        median(&mut cpu_frame_ns) as f64 / 1e3,
+        drawn,
+        image,
+    ))
+}
+
+/// The images a run kept: the full-detail reference and the last setting's frame.
+pub struct BenchImages {
+    /// The full-detail frame, when rendered.
+    pub reference: Option<FrameImage>,
+    /// The last measured frame.
+    pub last: Option<FrameImage>,
+}
+
+/// Runs the benchmark over `terrain` (already generated): per far path a renderer with every
+/// node resident, then each setting. `scene` is filled with the resident figures.
+pub fn run(
+    ctx: &GpuContext,
+    terrain: &LodTerrain,
+    config: &BenchConfig,
+    scene: &mut SceneSummary,
+) -> Result<(Vec<RunReport>, BenchImages, Vec<FarChoice>), BenchError> {
+    if config.far.is_empty() || config.fullscreen.is_empty() {
+        return Err(BenchError::BadConfig(
+            "at least one far path and one full-screen path".to_owned(),
+        ));
+    }
+    let camera = bench_camera(terrain.size);
+    let mut runs = Vec::new();
+    let mut images = BenchImages {
+        reference: None,
+        last: None,
+    };
+    let mut choices = Vec::new();
+    for (far_index, &far) in config.far.iter().enumerate() {
+        let mut renderer = renderer_for(ctx, terrain, config.width, config.height, far)?;
+        let far_choice = renderer.far_choice().clone();
+        eprintln!("far draws: {far_choice}");
+        choices.push(far_choice.clone());
+        renderer.set_camera(&camera);
+        renderer.set_lighting(&LightingParams::default());
+        scene.upload_ms = upload_terrain(&mut renderer, terrain)?;
+        scene.resident_bytes = renderer
+            .resident_bytes()
+            .into_iter()
+            .map(|(k, v)| (k.to_owned(), v))
+            .collect();
+        for &fullscreen in &config.fullscreen {
+            renderer.set_fullscreen_path(fullscreen);
+            let fullscreen_name = format!("{fullscreen:?}");
+            if config.reference && far_index == 0 {
+                renderer.set_lod(None)?;
+                let (passes, cpu, drawn, image) = measure(ctx, &mut renderer, config.frames)?;
+                runs.push(RunReport {
+                    budget_px: None,
+                    far: "Off".to_owned(),
+                    far_cell_px: 0.0,
+                    fullscreen: fullscreen_name.clone(),
+                    occlusion: false,
+                    gpu_total_us: passes.iter().map(|p| p.micros).sum(),
+                    passes,
+                    cpu_frame_us: cpu,
+                    drawn,
+                    image_error: None,
+                });
+                images.reference.get_or_insert(image);
+            }
+            for &budget in &config.budgets {
+                for &far_cell_px in &config.far_cell_px {
+                    renderer.set_lod(Some(LodSettings {
+                        budget_px: budget,
+                        far_cell_px,
+                        ..LodSettings::default()
+                    }))?;
+                    let (passes, cpu, drawn, image) = measure(ctx, &mut renderer, config.frames)?;
+                    let error = images
+                        .reference
+                        .as_ref()
+                        .and_then(|r| image_error(&image.rgba, &r.rgba))
+                        .map(ImageErrorReport::from);
+                    runs.push(RunReport {
+                        budget_px: Some(budget),
+                        far: format!("{:?}", far_choice.path),
+                        far_cell_px,
+                        fullscreen: fullscreen_name.clone(),
+                        occlusion: false,
+                        gpu_total_us: passes.iter().map(|p| p.micros).sum(),
+                        passes,
+                        cpu_frame_us: cpu,
+                        drawn,
+                        image_error: error,
+                    });
+                    images.last = Some(image);
+                }
+            }
+        }
+    }
+    Ok((runs, images, choices))
 }

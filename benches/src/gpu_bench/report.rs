@@ -1,69 +1,143 @@
-//! The GPU benchmark's results: one [`SceneReport`] per scene, medians, and the Markdown table.
+//! The GPU benchmark's results: one [`RunReport`] per measured setting, medians, the Markdown
+//! tables and the JSON document.
 
 use std::fmt::Write;
 
-/// The median GPU time of one pass over a scene's timed frames.
-#[derive(Clone, Debug, PartialEq)]
+use serde::Serialize;
+
+use super::image_error::ImageError;
+
+/// The median GPU time of one pass over a run's timed frames.
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct PassMedian {
-    /// The pass's timer label (`cull`, `gbuffer`, `lighting`, `transparent`, `tonemap`).
+    /// The pass's timer label (`cull`, `far splat`, `gbuffer`, `lighting`, ...).
     pub label: String,
     /// Median, microseconds.
     pub micros: f64,
 }
 
-/// One scene's measurements.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SceneReport {
-    /// Resident chunks.
-    pub chunks: usize,
-    /// Resident greedy quads (both layers).
-    pub quads: u64,
-    /// Block columns per side of the square the chunks cover.
-    pub covered_side: u32,
-    /// Bytes of the quad gigabuffer in use.
-    pub quad_bytes: u64,
-    /// Chunk-table bytes per resident chunk (one `MeshedChunkInfo`).
-    pub table_bytes_per_chunk: u64,
-    /// Cull-output bytes per table slot (command slots: args + records).
-    pub command_bytes_per_chunk: u64,
-    /// CPU time to upload the chunks this scene added, milliseconds.
-    pub upload_cpu_ms: f64,
-    /// Wall time of the frame that flushed those uploads, milliseconds.
-    pub flush_frame_ms: f64,
-    /// Median GPU time per pass.
-    pub passes: Vec<PassMedian>,
-    /// Median CPU time to record and submit a frame, microseconds.
-    pub cpu_frame_us: f64,
+/// What the cull and the splat counted in a run's last frame.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct DrawnCounts {
+    /// Nodes selected at their level (all levels).
+    pub selected: u32,
+    /// Selected nodes per level (index = level; trailing zeros cut).
+    pub selected_per_level: Vec<u32>,
+    /// Selected nodes outside the frustum.
+    pub frustum_culled: u32,
+    /// Selected nodes hidden by the depth pyramid.
+    pub occluded: u32,
+    /// Nodes drawn from quads.
+    pub mesh_nodes: u32,
+    /// Nodes drawn from surface blocks.
+    pub far_nodes: u32,
+    /// Opaque quads drawn (skirts included).
+    pub mesh_quads: u32,
+    /// Transparent quads drawn.
+    pub transparent_quads: u32,
+    /// Smooth quads drawn.
+    pub smooth_quads: u32,
+    /// Far blocks drawn (skirt blocks included).
+    pub far_blocks: u32,
+    /// Pixel centres the splat tested.
+    pub splat_pixels: u32,
+    /// Blocks the splat skipped (too large on screen, or at the near plane).
+    pub splat_skipped: u32,
 }
 
-impl SceneReport {
-    /// Quad-gigabuffer bytes per resident quad (8 when nothing but the packed quads is stored).
-    pub fn bytes_per_quad(&self) -> f64 {
-        self.quad_bytes as f64 / self.quads.max(1) as f64
+impl DrawnCounts {
+    /// The share of selected nodes in the frustum that occlusion culling removed.
+    pub fn occluded_fraction(&self) -> f64 {
+        let in_frustum = self.selected.saturating_sub(self.frustum_culled);
+        f64::from(self.occluded) / f64::from(in_frustum.max(1))
     }
+}
 
-    /// Per-chunk overhead on top of the quads: table record plus command slots.
-    pub fn overhead_per_chunk(&self) -> u64 {
-        self.table_bytes_per_chunk + self.command_bytes_per_chunk
-    }
+/// One measured setting.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RunReport {
+    /// The error budget, pixels; `None` for full detail (level 0 only, meshes only).
+    pub budget_px: Option<f32>,
+    /// The far path (`Off`, `Splat`, ...).
+    pub far: String,
+    /// Nodes whose cells span at most this many pixels are far-drawn.
+    pub far_cell_px: f32,
+    /// How the full-screen passes ran (`Compute` or `Fragment`).
+    pub fullscreen: String,
+    /// Two-phase occlusion culling on.
+    pub occlusion: bool,
+    /// Median GPU time per pass.
+    pub passes: Vec<PassMedian>,
+    /// Sum of the pass medians, microseconds.
+    pub gpu_total_us: f64,
+    /// Median CPU time to record and submit a frame, microseconds.
+    pub cpu_frame_us: f64,
+    /// What the last frame drew.
+    pub drawn: DrawnCounts,
+    /// Error against the full-detail frame, when one was rendered.
+    pub image_error: Option<ImageErrorReport>,
+}
 
-    /// All resident bytes (quads, table, command slots) per chunk.
-    pub fn bytes_per_chunk(&self) -> f64 {
-        self.quad_bytes as f64 / self.chunks.max(1) as f64 + self.overhead_per_chunk() as f64
-    }
+/// [`ImageError`] for the JSON document.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ImageErrorReport {
+    /// Mean absolute error on 8-bit RGB.
+    pub mean_abs: f64,
+    /// Share of pixels off by more than 8/255.
+    pub share_over_8: f64,
+}
 
-    /// The median of pass `label`, microseconds.
-    pub fn pass(&self, label: &str) -> Option<f64> {
-        self.passes
-            .iter()
-            .find(|p| p.label == label)
-            .map(|p| p.micros)
+impl From<ImageError> for ImageErrorReport {
+    fn from(e: ImageError) -> Self {
+        ImageErrorReport {
+            mean_abs: e.mean_abs,
+            share_over_8: e.share_over_8,
+        }
     }
+}
 
-    /// The sum of every pass's median, microseconds.
-    pub fn gpu_total_us(&self) -> f64 {
-        self.passes.iter().map(|p| p.micros).sum()
-    }
+/// The scene every run of one benchmark invocation shares.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct SceneSummary {
+    /// The adapter.
+    pub adapter: String,
+    /// Block columns per side.
+    pub side: u32,
+    /// Chunk edge.
+    pub chunk_edge: u32,
+    /// Output size.
+    pub width: u32,
+    /// Output size.
+    pub height: u32,
+    /// Chunks per level of the whole terrain.
+    pub chunks_per_level: Vec<usize>,
+    /// Nodes resident per level.
+    pub resident_per_level: Vec<usize>,
+    /// Quads resident (both layers and skirts).
+    pub resident_quads: u64,
+    /// Draw-block words resident (blocks, skirt blocks, hiding masks).
+    pub resident_draw_block_words: u64,
+    /// GPU bytes by kind: name, bytes.
+    pub resident_bytes: Vec<(String, u64)>,
+    /// Seconds to generate, downsample and mesh.
+    pub generate_seconds: f64,
+    /// Seconds to downsample the coarser levels.
+    pub downsample_seconds: f64,
+    /// Seconds to mesh the resident nodes.
+    pub mesh_seconds: f64,
+    /// Milliseconds of CPU to upload everything.
+    pub upload_ms: f64,
+    /// Timed frames per run.
+    pub frames: usize,
+}
+
+/// The whole benchmark's output.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BenchReport {
+    /// The scene.
+    pub scene: SceneSummary,
+    /// One entry per measured setting.
+    pub runs: Vec<RunReport>,
 }
 
 /// The median of `values` (the upper one of an even count); 0 for none.
@@ -96,40 +170,79 @@ pub fn pass_medians(frames: &[Vec<(String, u64)>]) -> Vec<PassMedian> {
         .collect()
 }
 
-/// The Markdown table of `reports` (one row per scene).
-pub fn markdown_table(reports: &[SceneReport]) -> String {
-    let labels: Vec<String> = reports
-        .first()
-        .map(|r| r.passes.iter().map(|p| p.label.clone()).collect())
-        .unwrap_or_default();
-    let mut out = String::from("| chunks | columns | quads | B/quad | B/chunk |");
+fn budget_label(budget: Option<f32>) -> String {
+    budget.map_or("full".to_owned(), |b| format!("{b} px"))
+}
+
+/// The Markdown tables of `report`: time per pass, and what was drawn with its image error.
+pub fn markdown(report: &BenchReport) -> String {
+    let mut labels: Vec<String> = Vec::new();
+    for run in &report.runs {
+        for p in &run.passes {
+            if !labels.contains(&p.label) {
+                labels.push(p.label.clone());
+            }
+        }
+    }
+    let mut out = String::from("| budget | far | far px | screen passes | occlusion |");
     for label in &labels {
         let _ = write!(out, " {label} µs |");
     }
-    out.push_str(" GPU total µs | CPU frame µs | upload ms |\n|");
-    for _ in 0..labels.len() + 8 {
+    out.push_str(" GPU total µs | CPU frame µs |\n|");
+    for _ in 0..labels.len() + 7 {
         out.push_str(" ---: |");
     }
     out.push('\n');
-    for r in reports {
+    for r in &report.runs {
         let _ = write!(
             out,
-            "| {} | {}² | {} | {:.2} | {:.0} |",
-            r.chunks,
-            r.covered_side,
-            r.quads,
-            r.bytes_per_quad(),
-            r.bytes_per_chunk()
+            "| {} | {} | {} | {} | {} |",
+            budget_label(r.budget_px),
+            r.far,
+            r.far_cell_px,
+            r.fullscreen,
+            if r.occlusion { "on" } else { "off" }
         );
         for label in &labels {
-            let _ = write!(out, " {:.1} |", r.pass(label).unwrap_or(f64::NAN));
+            match r.passes.iter().find(|p| &p.label == label) {
+                Some(p) => {
+                    let _ = write!(out, " {:.1} |", p.micros);
+                }
+                None => out.push_str(" - |"),
+            }
         }
+        let _ = writeln!(out, " {:.1} | {:.1} |", r.gpu_total_us, r.cpu_frame_us);
+    }
+    out.push_str(
+        "\n| budget | far | far px | selected per level | mesh nodes | far nodes | quads | far \
+         blocks | splat pixels | frustum-culled | occluded | MAE | > 8/255 |\n",
+    );
+    out.push_str("| ---: | ---: | ---: | :--- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    for r in &report.runs {
+        let d = &r.drawn;
+        let (mae, share) = r.image_error.map_or(("-".to_owned(), "-".to_owned()), |e| {
+            (
+                format!("{:.3}", e.mean_abs),
+                format!("{:.3} %", 100.0 * e.share_over_8),
+            )
+        });
         let _ = writeln!(
             out,
-            " {:.1} | {:.1} | {:.1} |",
-            r.gpu_total_us(),
-            r.cpu_frame_us,
-            r.upload_cpu_ms
+            "| {} | {} | {} | {:?} | {} | {} | {} | {} | {} | {} | {} ({:.1} %) | {} | {} |",
+            budget_label(r.budget_px),
+            r.far,
+            r.far_cell_px,
+            d.selected_per_level,
+            d.mesh_nodes,
+            d.far_nodes,
+            d.mesh_quads + d.transparent_quads + d.smooth_quads,
+            d.far_blocks,
+            d.splat_pixels,
+            d.frustum_culled,
+            d.occluded,
+            100.0 * d.occluded_fraction(),
+            mae,
+            share
         );
     }
     out
@@ -155,27 +268,48 @@ mod tests {
     }
 
     #[test]
-    fn table_has_a_row_per_scene_and_the_byte_figures() {
-        let report = SceneReport {
-            chunks: 2,
-            quads: 100,
-            covered_side: 16,
-            quad_bytes: 800,
-            table_bytes_per_chunk: 112,
-            command_bytes_per_chunk: 312,
-            upload_cpu_ms: 1.0,
-            flush_frame_ms: 2.0,
+    fn tables_have_a_row_per_run_and_json_round_trips_the_figures() {
+        let run = RunReport {
+            budget_px: Some(1.0),
+            far: "Splat".to_owned(),
+            far_cell_px: 4.0,
+            fullscreen: "Compute".to_owned(),
+            occlusion: false,
             passes: vec![PassMedian {
                 label: "cull".to_owned(),
                 micros: 3.0,
             }],
+            gpu_total_us: 3.0,
             cpu_frame_us: 4.0,
+            drawn: DrawnCounts {
+                selected: 10,
+                frustum_culled: 2,
+                occluded: 4,
+                ..Default::default()
+            },
+            image_error: Some(ImageErrorReport {
+                mean_abs: 0.5,
+                share_over_8: 0.001,
+            }),
         };
-        assert_eq!(report.bytes_per_quad(), 8.0);
-        assert_eq!(report.bytes_per_chunk(), 400.0 + 424.0);
-        let table = markdown_table(&[report.clone(), report]);
-        assert_eq!(table.lines().count(), 4);
-        assert!(table.contains("cull µs"));
-        assert!(table.contains("| 2 | 16² | 100 | 8.00 | 824 | 3.0 |"));
+        assert!((run.drawn.occluded_fraction() - 0.5).abs() < 1e-12);
+        let report = BenchReport {
+            scene: SceneSummary::default(),
+            runs: vec![
+                run.clone(),
+                RunReport {
+                    budget_px: None,
+                    image_error: None,
+                    ..run
+                },
+            ],
+        };
+        let table = markdown(&report);
+        assert!(table.contains("| 1 px | Splat | 4 | Compute | off | 3.0 | 3.0 | 4.0 |"));
+        assert!(table.contains("| full |"));
+        assert!(table.contains("0.500 | 0.100 %"));
+        let json = serde_json::to_value(&report).unwrap();
+        assert_eq!(json["runs"][0]["gpu_total_us"], 3.0);
+        assert_eq!(json["runs"][1]["budget_px"], serde_json::Value::Null);
     }
 }

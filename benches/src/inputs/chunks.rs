@@ -1,16 +1,16 @@
-//! Chunk inputs: terrain with caves from the viewer's generator, a 3 x 3 x 3 world around it,
+//! Chunk inputs: terrain with caves from the procedural generator, a 3 x 3 x 3 world around it,
 //! uniform chunks, random chunks with a chosen number of ids, and random positions.
 //!
-//! The terrain is [`viewer::scene::Terrain`] with seed [`TERRAIN_SEED`]: rolling hills around
+//! The terrain is [`voxel_scene::Terrain`] with seed [`TERRAIN_SEED`]: rolling hills around
 //! y = 18 (amplitude 14), a sea up to y = 14, 3-D noise caves from y = 1 up to 3 blocks below
 //! the ground, and 7 ids in all (air, grass, dirt, stone, sand, water, snow). Chunk
 //! [`TERRAIN_CENTRE`] at y = 0 holds the surface for every chunk size, so its voxels mix air,
 //! water, surface layers, stone and caves; at 32^3 and 62^3 the chunks below it are solid stone
 //! and the chunks above it are air, as in a real world.
 
-use viewer::scene::{Terrain, TerrainBlocks};
 use voxel_core::storage::{DenseChunk, PaletteChunk, WorldMap};
 use voxel_core::{BlockId, ChunkCoord, ChunkSize, LocalPos};
+use voxel_scene::{Terrain, TerrainBlocks};
 
 use crate::rng::Rng;
 

@@ -8,6 +8,7 @@ use bytemuck::{Pod, Zeroable};
 use voxel_core::ChunkSize;
 
 use super::camera::{CullCamera, CullLayer};
+use super::lod::LodParams;
 use crate::gigabuffer::{DataKind, PageLayout};
 
 /// Largest page count of the quad gigabuffer one cull handles (the shader's workgroup arrays).
@@ -22,6 +23,30 @@ pub const MAX_PAGE_QUADS: u32 = 1 << 29;
 /// Largest `max_quads_per_draw`: keeps `6 * count` and the shader's sums far from `u32`
 /// overflow.
 pub const MAX_QUADS_PER_DRAW: u32 = 1 << 26;
+
+/// Largest number of (smooth-vertex page, smooth-quad page) pairs one cull handles (the
+/// shader's workgroup arrays): a smooth draw binds one page of each.
+pub const MAX_SMOOTH_PAIRS: u32 = 64;
+
+/// `CullUniforms::flags` bit: select nodes by level of detail (else only level 0 is drawn).
+pub const CULL_LOD: u32 = 1;
+/// `CullUniforms::flags` bit: far-draw nodes whose cells are small enough.
+pub const CULL_FAR: u32 = 2;
+/// `CullUniforms::flags` bit: write the smooth layer's draws.
+pub const CULL_SMOOTH: u32 = 4;
+/// `CullUniforms::flags` bit: two-phase occlusion culling against the depth pyramid.
+pub const CULL_OCCLUSION: u32 = 8;
+/// `CullUniforms::flags` bit: an ordered record culls the transparent list the opaque
+/// records of the frame appended, not the whole table.
+pub const CULL_FROM_LIST: u32 = 16;
+
+/// Occlusion phase of a cull record: the nodes visible last frame.
+pub const PHASE_EARLY: u32 = 0;
+/// Occlusion phase: every node tested against the early phase's depth pyramid; the visible
+/// ones not drawn early are drawn, and every tested node's visibility bit is updated.
+pub const PHASE_LATE: u32 = 1;
+/// Occlusion phase: tested against the depth pyramid, bits untouched (a second layer).
+pub const PHASE_TEST: u32 = 2;
 
 /// wgpu's `DrawIndexedIndirectArgs` (20 bytes, the stride `multi_draw_indexed_indirect(_count)`
 /// reads), as the cull pass writes it.
@@ -66,7 +91,7 @@ impl DrawIndexedArgs {
     }
 }
 
-/// The cull shader's uniform block (`CullUniforms` in `cull.wgsl`), 160 bytes; a unit test
+/// The cull shader's uniform block (`CullUniforms` in `cull.wgsl`), 320 bytes; a unit test
 /// checks every offset against naga's layout of the WGSL struct.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -93,14 +118,75 @@ pub struct CullUniforms {
     pub commands_per_page: u32,
     /// Quads one command may draw at most.
     pub max_quads_per_draw: u32,
-    /// Padding to 16 bytes.
-    pub pad: [u32; 2],
+    /// `CULL_*` bits.
+    pub flags: u32,
+    /// Occlusion phase (0 early, 1 late).
+    pub phase: u32,
+    /// Nodes whose cells span at most this many pixels are far-drawn.
+    pub far_cell_px: f32,
+    /// Entries of the far list.
+    pub far_capacity: u32,
+    /// Smooth vertices per page.
+    pub smooth_vertex_page_capacity: u32,
+    /// Smooth-quad words per page.
+    pub smooth_quad_page_capacity: u32,
+    /// Smooth-quad pages.
+    pub smooth_quad_pages: u32,
+    /// Smooth draw slots per (vertex page, quad page) pair.
+    pub smooth_commands_per_pair: u32,
+    /// Pairs with draw slots (0: no smooth draws).
+    pub smooth_pairs: u32,
+    /// Pixels per unit of tangent (the far test).
+    pub focal_px: f32,
+    /// The level-of-detail selection.
+    pub lod: LodParams,
+    /// Camera-relative view-projection (reversed-Z), for the occlusion test.
+    pub view_proj: [[f32; 4]; 4],
+    /// Output size, pixels.
+    pub screen: [f32; 2],
+    /// Near plane, blocks.
+    pub near: f32,
+    /// Zero.
+    pub pad: u32,
 }
 
 const _: () = assert!(
-    size_of::<CullUniforms>() == 160,
-    "CullUniforms is 160 bytes"
+    size_of::<CullUniforms>() == 320,
+    "CullUniforms is 320 bytes"
 );
+
+/// What the occlusion test projects boxes with.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct OcclusionView {
+    /// Camera-relative view-projection (reversed-Z, column-major).
+    pub view_proj: [[f32; 4]; 4],
+    /// Output width, pixels.
+    pub width: u32,
+    /// Output height, pixels.
+    pub height: u32,
+    /// Near plane, blocks.
+    pub near: f32,
+}
+
+/// What one cull record selects and writes beyond its camera and layer.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CullParams {
+    /// Select nodes by level of detail; `None` draws level 0 only (full detail).
+    pub lod: Option<LodParams>,
+    /// Far-draw nodes whose cells span at most this many pixels (needs `lod` for the focal
+    /// length); `None` meshes every node.
+    pub far_cell_px: Option<f32>,
+    /// Write the smooth layer's draws (opaque layer).
+    pub smooth: bool,
+    /// Two-phase occlusion culling: the view the boxes are projected with (the record's
+    /// inputs then bind the visibility bits and the depth pyramid); `None`: off.
+    pub occlusion: Option<OcclusionView>,
+    /// Occlusion phase ([`PHASE_EARLY`], [`PHASE_LATE`] or [`PHASE_TEST`]).
+    pub phase: u32,
+    /// An ordered record culls the frame's transparent list (the meshed nodes with
+    /// transparent quads the opaque records drew) instead of every slot.
+    pub from_list: bool,
+}
 
 impl CullUniforms {
     /// The uniforms of one record.
@@ -109,7 +195,29 @@ impl CullUniforms {
         camera: &CullCamera,
         layer: CullLayer,
         slot_bound: u32,
+        params: &CullParams,
     ) -> Self {
+        let mut flags = 0;
+        if params.lod.is_some() {
+            flags |= CULL_LOD;
+        }
+        if params.far_cell_px.is_some() && params.lod.is_some() {
+            flags |= CULL_FAR;
+        }
+        if params.smooth && layout.smooth_pairs > 0 {
+            flags |= CULL_SMOOTH;
+        }
+        if params.occlusion.is_some() {
+            flags |= CULL_OCCLUSION;
+        }
+        if params.from_list {
+            flags |= CULL_FROM_LIST;
+        }
+        let view = params.occlusion.unwrap_or_default();
+        let lod = params.lod.unwrap_or(LodParams {
+            chunk_edge: layout.chunk_edge as f32,
+            ..LodParams::default()
+        });
         CullUniforms {
             planes: camera.planes,
             camera_chunk: [camera.chunk.x, camera.chunk.y, camera.chunk.z],
@@ -122,8 +230,53 @@ impl CullUniforms {
             last_page_capacity: layout.last_page_capacity,
             commands_per_page: layout.commands_per_page,
             max_quads_per_draw: layout.max_quads_per_draw,
-            pad: [0; 2],
+            flags,
+            phase: params.phase,
+            far_cell_px: params.far_cell_px.unwrap_or(0.0),
+            far_capacity: layout.far_capacity,
+            smooth_vertex_page_capacity: layout.smooth.vertex_page_capacity.max(1),
+            smooth_quad_page_capacity: layout.smooth.quad_page_capacity.max(1),
+            smooth_quad_pages: layout.smooth.quad_pages,
+            smooth_commands_per_pair: layout.smooth_commands_per_pair,
+            smooth_pairs: layout.smooth_pairs,
+            focal_px: lod.focal_px,
+            lod,
+            view_proj: view.view_proj,
+            screen: [view.width as f32, view.height as f32],
+            near: view.near,
+            pad: 0,
         }
+    }
+}
+
+/// The page split of the smooth layer's two gigabuffers, as the cull needs it to group smooth
+/// draws by the pages they bind.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SmoothPages {
+    /// Smooth vertices per page.
+    pub vertex_page_capacity: u32,
+    /// Smooth-vertex pages.
+    pub vertex_pages: u32,
+    /// Smooth-quad words per page.
+    pub quad_page_capacity: u32,
+    /// Smooth-quad pages.
+    pub quad_pages: u32,
+}
+
+impl SmoothPages {
+    /// The split of `vertices` and `quads` (`Gigabuffer::layout` of the two smooth kinds).
+    pub fn of(vertices: &PageLayout, quads: &PageLayout) -> SmoothPages {
+        SmoothPages {
+            vertex_page_capacity: vertices.page_capacity,
+            vertex_pages: vertices.page_count,
+            quad_page_capacity: quads.page_capacity,
+            quad_pages: quads.page_count,
+        }
+    }
+
+    /// (vertex page, quad page) pairs.
+    pub fn pairs(&self) -> u32 {
+        self.vertex_pages.saturating_mul(self.quad_pages)
     }
 }
 
@@ -141,6 +294,10 @@ pub struct CullConfig {
     /// indices); `None`: `edge^3`, the most quads one face direction of a chunk can have (one
     /// face per voxel; greedy merging only lowers it).
     pub max_quads_per_draw: Option<u32>,
+    /// The smooth layer's pages; `None` (or no pages): no smooth draws.
+    pub smooth: Option<SmoothPages>,
+    /// Entries of the far list; `None`: the table capacity (never overflows).
+    pub far_capacity: Option<u32>,
 }
 
 impl CullConfig {
@@ -151,6 +308,8 @@ impl CullConfig {
             table_capacity,
             commands_per_page: None,
             max_quads_per_draw: None,
+            smooth: None,
+            far_capacity: None,
         }
     }
 }
@@ -189,8 +348,16 @@ pub enum CullError {
         /// `page_count * commands_per_page`.
         total: u64,
     },
+    /// The smooth layer has more (vertex page, quad page) pairs than one cull handles
+    /// ([`MAX_SMOOTH_PAIRS`]).
+    TooManySmoothPairs {
+        /// Pairs.
+        pairs: u32,
+    },
     /// An output created by a pass of another layout was given to `record`.
     OutputMismatch,
+    /// A record asked for occlusion culling without the visibility bits and depth pyramid.
+    OcclusionInputsMissing,
 }
 
 impl fmt::Display for CullError {
@@ -227,6 +394,16 @@ impl fmt::Display for CullError {
                 f,
                 "{total} command slots over all pages; command indices are 32-bit"
             ),
+            CullError::TooManySmoothPairs { pairs } => write!(
+                f,
+                "the smooth layer spans {pairs} (vertex page, quad page) pairs; one cull handles \
+                 at most {MAX_SMOOTH_PAIRS}: raise the page size"
+            ),
+            CullError::OcclusionInputsMissing => write!(
+                f,
+                "occlusion culling needs the visibility bits and the depth pyramid in the \
+                 record's inputs"
+            ),
             CullError::OutputMismatch => {
                 write!(
                     f,
@@ -259,6 +436,14 @@ pub struct CullLayout {
     pub commands_per_page: u32,
     /// Quads one command may draw.
     pub max_quads_per_draw: u32,
+    /// The smooth layer's pages (all zero without one).
+    pub smooth: SmoothPages,
+    /// (vertex page, quad page) pairs with draw slots.
+    pub smooth_pairs: u32,
+    /// Smooth draw slots per pair.
+    pub smooth_commands_per_pair: u32,
+    /// Entries of the far list.
+    pub far_capacity: u32,
 }
 
 impl CullLayout {
@@ -293,6 +478,13 @@ impl CullLayout {
         if total > u64::from(u32::MAX) {
             return Err(CullError::TooManyCommands { total });
         }
+        let smooth = config.smooth.unwrap_or_default();
+        let smooth_pairs = smooth.pairs();
+        if smooth_pairs > MAX_SMOOTH_PAIRS {
+            return Err(CullError::TooManySmoothPairs {
+                pairs: smooth_pairs,
+            });
+        }
         Ok(CullLayout {
             chunk_edge: edge,
             page_count: quads.page_count,
@@ -300,6 +492,10 @@ impl CullLayout {
             last_page_capacity: quads.last_page_capacity,
             commands_per_page,
             max_quads_per_draw: max_quads,
+            smooth,
+            smooth_pairs,
+            smooth_commands_per_pair: config.table_capacity.max(1),
+            far_capacity: config.far_capacity.unwrap_or(config.table_capacity).max(1),
         })
     }
 

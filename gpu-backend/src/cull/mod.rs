@@ -77,21 +77,34 @@
 
 mod camera;
 mod layout;
+pub mod lod;
+mod node;
 mod order;
+mod output;
 mod pass;
 mod reference;
+mod stats;
 
 pub use camera::{CullCamera, CullLayer, PLANE_KEEP_ALL};
 pub use layout::{
-    CullConfig, CullError, CullLayout, CullUniforms, DrawIndexedArgs, MAX_PAGE_QUADS, MAX_PAGES,
-    MAX_QUADS_PER_DRAW, quad_indices,
+    CULL_FAR, CULL_FROM_LIST, CULL_LOD, CULL_OCCLUSION, CULL_SMOOTH, CullConfig, CullError,
+    CullLayout, CullParams, CullUniforms, DrawIndexedArgs, MAX_PAGE_QUADS, MAX_PAGES,
+    MAX_QUADS_PER_DRAW, MAX_SMOOTH_PAIRS, OcclusionView, PHASE_EARLY, PHASE_LATE, PHASE_TEST,
+    SmoothPages, quad_indices,
 };
-pub use order::{ORDER_KEYS, cull_reference_ordered, depth_key};
-pub use pass::{CullOutput, CullPass, CullReadback};
+pub use lod::{LodAnchor, LodParams, LodSettings};
+pub use node::{
+    DrawRecord, NODE_HAS_BLOCKS, NODE_TRANSPARENT_MASK, NodeRecord, SkirtTooLarge, skirt_count,
+};
+pub use order::{ORDER_KEYS, cull_reference_ordered, cull_reference_ordered_with, depth_key};
+pub use output::{CullFrame, CullOutput, CullReadback};
+pub use pass::{CullInputs, CullPass, OcclusionInputs};
 pub use reference::{
-    ChunkCull, CullReference, cull_chunk, cull_reference, face_mask, in_frustum, layer_range,
+    ChunkCull, Command, CullReference, SmoothCommand, cull_chunk, cull_node, cull_reference,
+    cull_reference_with, face_draw_count, face_mask, in_frustum, layer_range, node_box, node_rel,
     relative_box, relative_chunk,
 };
+pub use stats::{CullStats, STAT_COUNT};
 
 #[cfg(doc)]
 use crate::device::MultiDrawPath;
@@ -103,44 +116,77 @@ mod tests {
 
     #[test]
     fn uniforms_match_the_wgsl_struct() {
+        use std::mem::offset_of;
         let module = validate(CULL.name, &CULL.source()).unwrap_or_else(|e| panic!("{e}"));
         let (members, size) = struct_layout(&module, "CullUniforms");
         assert_eq!(size, size_of::<CullUniforms>());
         let expected = [
-            ("planes", std::mem::offset_of!(CullUniforms, planes)),
-            (
-                "camera_chunk",
-                std::mem::offset_of!(CullUniforms, camera_chunk),
-            ),
-            ("layer", std::mem::offset_of!(CullUniforms, layer)),
-            (
-                "camera_offset",
-                std::mem::offset_of!(CullUniforms, camera_offset),
-            ),
-            ("chunk_edge", std::mem::offset_of!(CullUniforms, chunk_edge)),
-            ("slot_bound", std::mem::offset_of!(CullUniforms, slot_bound)),
-            ("page_count", std::mem::offset_of!(CullUniforms, page_count)),
-            (
-                "page_capacity",
-                std::mem::offset_of!(CullUniforms, page_capacity),
-            ),
+            ("planes", offset_of!(CullUniforms, planes)),
+            ("camera_chunk", offset_of!(CullUniforms, camera_chunk)),
+            ("layer", offset_of!(CullUniforms, layer)),
+            ("camera_offset", offset_of!(CullUniforms, camera_offset)),
+            ("chunk_edge", offset_of!(CullUniforms, chunk_edge)),
+            ("slot_bound", offset_of!(CullUniforms, slot_bound)),
+            ("page_count", offset_of!(CullUniforms, page_count)),
+            ("page_capacity", offset_of!(CullUniforms, page_capacity)),
             (
                 "last_page_capacity",
-                std::mem::offset_of!(CullUniforms, last_page_capacity),
+                offset_of!(CullUniforms, last_page_capacity),
             ),
             (
                 "commands_per_page",
-                std::mem::offset_of!(CullUniforms, commands_per_page),
+                offset_of!(CullUniforms, commands_per_page),
             ),
             (
                 "max_quads_per_draw",
-                std::mem::offset_of!(CullUniforms, max_quads_per_draw),
+                offset_of!(CullUniforms, max_quads_per_draw),
             ),
-            ("pad0", std::mem::offset_of!(CullUniforms, pad)),
-            ("pad1", std::mem::offset_of!(CullUniforms, pad) + 4),
+            ("flags", offset_of!(CullUniforms, flags)),
+            ("phase", offset_of!(CullUniforms, phase)),
+            ("far_cell_px", offset_of!(CullUniforms, far_cell_px)),
+            ("far_capacity", offset_of!(CullUniforms, far_capacity)),
+            (
+                "smooth_vertex_page_capacity",
+                offset_of!(CullUniforms, smooth_vertex_page_capacity),
+            ),
+            (
+                "smooth_quad_page_capacity",
+                offset_of!(CullUniforms, smooth_quad_page_capacity),
+            ),
+            (
+                "smooth_quad_pages",
+                offset_of!(CullUniforms, smooth_quad_pages),
+            ),
+            (
+                "smooth_commands_per_pair",
+                offset_of!(CullUniforms, smooth_commands_per_pair),
+            ),
+            ("smooth_pairs", offset_of!(CullUniforms, smooth_pairs)),
+            ("focal_px", offset_of!(CullUniforms, focal_px)),
+            ("lod", offset_of!(CullUniforms, lod)),
+            ("view_proj", offset_of!(CullUniforms, view_proj)),
+            ("screen", offset_of!(CullUniforms, screen)),
+            ("near", offset_of!(CullUniforms, near)),
+            ("pad", offset_of!(CullUniforms, pad)),
         ];
         let got: Vec<(&str, usize)> = members.iter().map(|(n, o)| (n.as_str(), *o)).collect();
         assert_eq!(got, expected);
+        let (members, size) = struct_layout(&module, "LodParams");
+        assert_eq!(size, size_of::<LodParams>());
+        let got: Vec<(&str, usize)> = members.iter().map(|(n, o)| (n.as_str(), *o)).collect();
+        assert_eq!(
+            got,
+            [
+                ("anchor_chunk", offset_of!(LodParams, anchor_chunk)),
+                ("top_level", offset_of!(LodParams, top_level)),
+                ("anchor_offset", offset_of!(LodParams, anchor_offset)),
+                ("budget_px", offset_of!(LodParams, budget_px)),
+                ("focal_px", offset_of!(LodParams, focal_px)),
+                ("hysteresis", offset_of!(LodParams, hysteresis)),
+                ("chunk_edge", offset_of!(LodParams, chunk_edge)),
+                ("pad", offset_of!(LodParams, pad)),
+            ]
+        );
     }
 
     #[test]

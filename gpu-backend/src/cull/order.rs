@@ -27,7 +27,9 @@ use voxel_core::formats::MeshedChunkInfo;
 
 use super::camera::{CullCamera, CullLayer};
 use super::layout::CullLayout;
-use super::reference::{ChunkCull, CullReference, cull_chunk, push_commands, relative_box};
+use super::layout::CullParams;
+use super::node::NodeRecord;
+use super::reference::{ChunkCull, CullReference, VisibleNode, cull_node, node_box, push_commands};
 
 /// Depth keys per page (`ORDER_KEYS` in `cull.wgsl`): 256 per octave of squared distance over
 /// 48 octaves.
@@ -62,34 +64,67 @@ pub fn cull_reference_ordered(
     layer: CullLayer,
     layout: &CullLayout,
 ) -> CullReference {
+    let nodes = vec![NodeRecord::default(); records.len()];
+    cull_reference_ordered_with(
+        records,
+        &nodes,
+        camera,
+        layer,
+        layout,
+        &CullParams::default(),
+    )
+}
+
+/// [`cull_reference_ordered`] with node records and parameters (far-drawn nodes are skipped).
+pub fn cull_reference_ordered_with(
+    records: &[MeshedChunkInfo],
+    nodes: &[NodeRecord],
+    camera: &CullCamera,
+    layer: CullLayer,
+    layout: &CullLayout,
+    params: &CullParams,
+) -> CullReference {
     let pages = layout.page_count as usize;
     let mut out = CullReference {
         commands: vec![Vec::new(); pages],
         wanted: vec![0; pages],
         ..Default::default()
     };
-    // (page, key, slot, start, faces) of every visible chunk.
+    // (page, key, slot, visible node) of every visible chunk.
     let mut visible = Vec::new();
-    for (slot, info) in records.iter().enumerate() {
-        match cull_chunk(info, camera, layer, layout) {
+    for (slot, (info, node)) in records.iter().zip(nodes).enumerate() {
+        match cull_node(info, node, camera, layer, layout, params) {
             ChunkCull::Malformed => out.malformed += 1,
-            ChunkCull::Visible { page, start, faces } if faces != 0 => {
-                let (c, _) = relative_box(info, camera, layout.chunk_edge);
-                visible.push((page, depth_key(c), slot, start, faces));
+            ChunkCull::Visible {
+                page,
+                start,
+                faces,
+                skirts,
+                ..
+            } if faces != 0 => {
+                let (c, _) = node_box(info, camera, layout.chunk_edge);
+                let node_visible = VisibleNode {
+                    page,
+                    start,
+                    faces,
+                    skirts,
+                };
+                visible.push((page, depth_key(c), slot, node_visible));
             }
             _ => {}
         }
     }
-    visible.sort_by_key(|&(page, key, slot, _, _)| (page, std::cmp::Reverse(key), slot));
-    for (page, _, slot, start, faces) in visible {
-        out.visible_slots.push(slot as u32);
+    visible.sort_by_key(|&(page, key, slot, _)| (page, std::cmp::Reverse(key), slot));
+    for (_, _, slot, node_visible) in &visible {
+        out.visible_slots.push(*slot as u32);
         push_commands(
             &mut out,
-            &records[slot],
+            &records[*slot],
+            &nodes[*slot],
             camera,
             layer,
             layout,
-            (page, start, faces),
+            node_visible,
         );
     }
     out.visible_slots.sort_unstable();

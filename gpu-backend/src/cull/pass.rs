@@ -1,28 +1,57 @@
-//! The cull pass on the GPU: pipeline ([`CullPass`]) and per-view output buffers
-//! ([`CullOutput`]).
+//! The cull pass on the GPU: the pipelines ([`CullPass`]) and how a record binds its inputs and
+//! outputs ([`CullOutput`], [`CullFrame`] in `output`).
 
 use wgpu::util::DeviceExt;
 use wgpu::{
-    BindGroupLayout, BindGroupLayoutEntry, BindingType, Buffer, BufferBindingType,
-    BufferDescriptor, BufferUsages, CommandEncoder, ComputePipeline, Device, Queue, RenderPass,
-    ShaderStages,
+    BindGroupLayout, BindGroupLayoutEntry, BindingType, Buffer, BufferBindingType, BufferUsages,
+    CommandEncoder, ComputePipeline, Device, ShaderStages,
 };
 
-use voxel_core::formats::{ChunkDrawIndirect, MeshedChunkInfo};
+use voxel_core::formats::MeshedChunkInfo;
 
 use super::camera::{CullCamera, CullLayer};
-use super::layout::{CullConfig, CullError, CullLayout, CullUniforms, DrawIndexedArgs};
-use super::order::ORDER_KEYS;
+use super::layout::{CullConfig, CullError, CullLayout, CullParams, CullUniforms};
+use super::node::NodeRecord;
+use super::output::{CullFrame, CullOutput, OutputFactory};
+use crate::bind::buffer_entry;
 use crate::chunk_table::GpuTable;
 use crate::device::{GpuContext, MultiDrawPath};
 use crate::gigabuffer::PageLayout;
-use crate::readback::{ReadbackError, read_buffer};
-use crate::shaders::CULL;
+use crate::shaders::{CULL, LIST_ARGS};
 
 /// Invocations per workgroup (`CULL_WORKGROUP` in the shader).
 const WORKGROUP: u32 = 64;
 /// Largest workgroup count of one dispatch dimension (WebGPU's default limit).
 const MAX_GROUPS_PER_DIM: u32 = 65_535;
+/// Buffer bindings of the cull's bind group (the depth pyramid follows them).
+const BINDINGS: u32 = 14;
+
+/// What a record reads besides its camera: the chunk table, the node table in the same slots
+/// (`None`: no node records, as for chunks uploaded without smooth quads, blocks or skirts),
+/// and the frame's shared buffers (`None`: the pass's own, for records whose far list and
+/// statistics nobody reads).
+#[derive(Clone, Copy, Debug)]
+pub struct CullInputs<'a> {
+    /// The chunk table.
+    pub table: &'a GpuTable<MeshedChunkInfo>,
+    /// The node table, slot for slot.
+    pub nodes: Option<&'a GpuTable<NodeRecord>>,
+    /// The frame's far list and statistics.
+    pub frame: Option<&'a CullFrame>,
+    /// Occlusion culling's inputs (needed when the record's parameters turn it on).
+    pub occlusion: Option<OcclusionInputs<'a>>,
+}
+
+/// What two-phase occlusion culling reads and writes: a bit per table slot (visible in the last
+/// late phase; `ceil(capacity / 32)` words, zeroed at creation) and the depth pyramid of the
+/// early phase ([`DepthPyramid::texture_view`](crate::hiz::DepthPyramid::texture_view)).
+#[derive(Clone, Copy, Debug)]
+pub struct OcclusionInputs<'a> {
+    /// The visibility bits.
+    pub visible: &'a Buffer,
+    /// The depth pyramid, all mips.
+    pub pyramid: &'a wgpu::TextureView,
+}
 
 /// The cull pipeline for one quad gigabuffer layout (see the [module docs](super)).
 #[derive(Debug)]
@@ -34,6 +63,13 @@ pub struct CullPass {
     layout: CullLayout,
     multi_draw: MultiDrawPath,
     max_binding_bytes: u64,
+    /// Zeroed node records for records without a node table.
+    no_nodes: Buffer,
+    /// The frame buffers of records without a frame.
+    own_frame: CullFrame,
+    /// Bound when a record has no occlusion inputs.
+    no_visible: Buffer,
+    no_pyramid: wgpu::TextureView,
 }
 
 impl CullPass {
@@ -76,6 +112,15 @@ impl CullPass {
                 storage(4, false),
                 storage(5, false),
                 storage(6, false),
+                storage(7, true),
+                storage(8, false),
+                storage(9, false),
+                storage(10, false),
+                storage(11, false),
+                storage(12, false),
+                storage(13, false),
+                crate::hiz::DepthPyramid::layout_entry(14, ShaderStages::COMPUTE),
+                storage(15, false),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -95,11 +140,75 @@ impl CullPass {
             })
         };
         let pipeline = pipeline_for("cull");
+        let list_args_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("transparent list dispatch"),
+            entries: &[storage(0, false), storage(1, false), storage(2, true)],
+        });
+        let list_args = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("transparent list dispatch"),
+            layout: Some(
+                &device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some("transparent list dispatch"),
+                    bind_group_layouts: &[Some(&list_args_layout)],
+                    immediate_size: 0,
+                }),
+            ),
+            module: &LIST_ARGS.create_module(device),
+            entry_point: Some("transparent_args"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
         let ordered = OrderedPipelines {
             count: pipeline_for("cull_count"),
             prefix: pipeline_for("order_prefix"),
             scatter: pipeline_for("cull_scatter"),
+            list_args,
+            list_args_layout,
         };
+        let max_binding_bytes = ctx.capabilities.max_page_bytes();
+        let factory = OutputFactory {
+            device,
+            layout,
+            multi_draw: ctx.capabilities.multi_draw,
+            max_binding_bytes,
+        };
+        let own_frame = factory.frame("unread")?;
+        let node_bytes = u64::from(config.table_capacity.max(1)) * size_of::<NodeRecord>() as u64;
+        if node_bytes > max_binding_bytes {
+            return Err(CullError::OutputTooLarge {
+                buffer: "node records",
+                bytes: node_bytes,
+                max_bytes: max_binding_bytes,
+            });
+        }
+        let no_nodes = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("cull: no node records"),
+            size: node_bytes,
+            usage: BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        let no_visible = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("cull: no visibility bits"),
+            size: 16,
+            usage: BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        let no_pyramid = device
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("cull: no depth pyramid"),
+                size: wgpu::Extent3d {
+                    width: 1,
+                    height: 1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::R32Float,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+            .create_view(&Default::default());
         Ok(CullPass {
             device: device.clone(),
             pipeline,
@@ -107,7 +216,11 @@ impl CullPass {
             bind_group_layout,
             layout,
             multi_draw: ctx.capabilities.multi_draw,
-            max_binding_bytes: ctx.capabilities.max_page_bytes(),
+            max_binding_bytes,
+            no_nodes,
+            own_frame,
+            no_visible,
+            no_pyramid,
         })
     }
 
@@ -121,59 +234,32 @@ impl CullPass {
         self.multi_draw
     }
 
-    /// Buffers for one view's commands: `total_commands` args (20 B) and records (32 B), the
-    /// per-page counts and the uniforms. One output per (view, layer) whose commands must live
-    /// at the same time; an output may also be recorded again once its draws are recorded.
-    pub fn create_output(&self, label: &str) -> Result<CullOutput, CullError> {
-        let total = self.layout.total_commands();
-        let check = |buffer: &'static str, bytes: u64| {
-            if bytes > self.max_binding_bytes {
-                Err(CullError::OutputTooLarge {
-                    buffer,
-                    bytes,
-                    max_bytes: self.max_binding_bytes,
-                })
-            } else {
-                Ok(bytes)
-            }
-        };
-        let args_bytes = check("args", total * size_of::<DrawIndexedArgs>() as u64)?;
-        let records_bytes = check("records", total * size_of::<ChunkDrawIndirect>() as u64)?;
-        let order_bytes = check(
-            "order counts",
-            u64::from(self.layout.page_count) * u64::from(ORDER_KEYS) * 4,
-        )?;
-        let buffer = |suffix: &str, size: u64, usage: BufferUsages| {
-            self.device.create_buffer(&BufferDescriptor {
-                label: Some(&format!("{label} cull {suffix}")),
-                size,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
-        let readable = BufferUsages::STORAGE | BufferUsages::COPY_SRC | BufferUsages::COPY_DST;
-        Ok(CullOutput {
-            args: buffer("args", args_bytes, readable | BufferUsages::INDIRECT),
-            records: buffer("records", records_bytes, readable),
-            counts: buffer(
-                "counts",
-                u64::from(self.layout.page_count + 1) * 4,
-                readable | BufferUsages::INDIRECT,
-            ),
-            uniforms: buffer(
-                "uniforms",
-                size_of::<CullUniforms>() as u64,
-                BufferUsages::UNIFORM | BufferUsages::COPY_DST,
-            ),
-            order_counts: buffer("order counts", order_bytes, readable),
-            order_cursors: buffer("order cursors", order_bytes, BufferUsages::STORAGE),
+    fn factory(&self) -> OutputFactory<'_> {
+        OutputFactory {
+            device: &self.device,
             layout: self.layout,
             multi_draw: self.multi_draw,
-        })
+            max_binding_bytes: self.max_binding_bytes,
+        }
+    }
+
+    /// Buffers for one view's commands: `total_commands` args (20 B) and records (16 B), the
+    /// per-page counts, the smooth draws per page pair, and the uniforms. One output per (view,
+    /// layer) whose commands must live at the same time; an output may also be recorded again
+    /// once its draws are recorded.
+    pub fn create_output(&self, label: &str) -> Result<CullOutput, CullError> {
+        self.factory().output(label)
+    }
+
+    /// The buffers a frame's records share: the far list (`far_capacity` entries) and the
+    /// statistics.
+    pub fn create_frame(&self, label: &str) -> Result<CullFrame, CullError> {
+        self.factory().frame(label)
     }
 
     /// Records the cull of `layer` of `table`'s slots `0..slot_bound` for `camera` into
-    /// `encoder`, writing `output`; commands come in any order.
+    /// `encoder`, writing `output`; commands come in any order. Level 0 only, no far draws, no
+    /// smooth draws: the near-field cull of a table of full-detail chunks.
     ///
     /// In encoder order: the uniforms are copied in (so several records of one output in one
     /// encoder each see their own camera), the counts cleared, with
@@ -187,7 +273,36 @@ impl CullPass {
         layer: CullLayer,
         output: &CullOutput,
     ) -> Result<(), CullError> {
-        let Some((bind_group, groups)) = self.prepare(encoder, table, camera, layer, output)?
+        let inputs = CullInputs {
+            table,
+            nodes: None,
+            frame: None,
+            occlusion: None,
+        };
+        self.record_with(
+            encoder,
+            &inputs,
+            camera,
+            layer,
+            output,
+            &CullParams::default(),
+        )
+    }
+
+    /// Like [`record`](Self::record), with node records, the frame's far list and statistics,
+    /// and `params`: level-of-detail selection, far draws, smooth draws (see
+    /// [`cull::lod`](super::lod) for the rule).
+    pub fn record_with(
+        &self,
+        encoder: &mut CommandEncoder,
+        inputs: &CullInputs<'_>,
+        camera: &CullCamera,
+        layer: CullLayer,
+        output: &CullOutput,
+        params: &CullParams,
+    ) -> Result<(), CullError> {
+        let Some((bind_group, groups)) =
+            self.prepare(encoder, inputs, camera, layer, output, params)?
         else {
             return Ok(());
         };
@@ -213,18 +328,73 @@ impl CullPass {
         layer: CullLayer,
         output: &CullOutput,
     ) -> Result<(), CullError> {
-        let Some((bind_group, groups)) = self.prepare(encoder, table, camera, layer, output)?
+        let inputs = CullInputs {
+            table,
+            nodes: None,
+            frame: None,
+            occlusion: None,
+        };
+        self.record_ordered_with(
+            encoder,
+            &inputs,
+            camera,
+            layer,
+            output,
+            &CullParams::default(),
+        )
+    }
+
+    /// [`record_ordered`](Self::record_ordered) with the inputs and parameters of
+    /// [`record_with`](Self::record_with). Far-drawn nodes are skipped (the far draw shades
+    /// their transparent blocks) and never listed.
+    pub fn record_ordered_with(
+        &self,
+        encoder: &mut CommandEncoder,
+        inputs: &CullInputs<'_>,
+        camera: &CullCamera,
+        layer: CullLayer,
+        output: &CullOutput,
+        params: &CullParams,
+    ) -> Result<(), CullError> {
+        let Some((bind_group, groups)) =
+            self.prepare(encoder, inputs, camera, layer, output, params)?
         else {
             return Ok(());
         };
         encoder.clear_buffer(&output.order_counts, 0, None);
+        let frame = inputs.frame.unwrap_or(&self.own_frame);
+        if params.from_list {
+            let args_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("transparent list dispatch"),
+                layout: &self.ordered.list_args_layout,
+                entries: &[
+                    buffer_entry(0, &frame.stats),
+                    buffer_entry(1, &frame.list_args),
+                    buffer_entry(2, &frame.transparent_list),
+                ],
+            });
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("transparent list dispatch"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.ordered.list_args);
+            pass.set_bind_group(0, &args_group, &[]);
+            pass.dispatch_workgroups(1, 1, 1);
+        }
         let mut pass = cull_pass(encoder, "ordered cull", &bind_group);
+        let dispatch = |pass: &mut wgpu::ComputePass<'_>| {
+            if params.from_list {
+                pass.dispatch_workgroups_indirect(&frame.list_args, 0);
+            } else {
+                dispatch_slots(pass, groups);
+            }
+        };
         pass.set_pipeline(&self.ordered.count);
-        dispatch_slots(&mut pass, groups);
+        dispatch(&mut pass);
         pass.set_pipeline(&self.ordered.prefix);
         pass.dispatch_workgroups(self.layout.page_count, 1, 1);
         pass.set_pipeline(&self.ordered.scatter);
-        dispatch_slots(&mut pass, groups);
+        dispatch(&mut pass);
         Ok(())
     }
 
@@ -233,16 +403,30 @@ impl CullPass {
     fn prepare(
         &self,
         encoder: &mut CommandEncoder,
-        table: &GpuTable<MeshedChunkInfo>,
+        inputs: &CullInputs<'_>,
         camera: &CullCamera,
         layer: CullLayer,
         output: &CullOutput,
+        params: &CullParams,
     ) -> Result<Option<(wgpu::BindGroup, u32)>, CullError> {
         if output.layout != self.layout || output.multi_draw != self.multi_draw {
             return Err(CullError::OutputMismatch);
         }
+        let table = inputs.table;
+        if inputs
+            .nodes
+            .is_some_and(|n| n.capacity() < table.slot_bound())
+        {
+            return Err(CullError::OutputMismatch);
+        }
+        if inputs.nodes.is_none() && u64::from(table.slot_bound()) * 64 > self.no_nodes.size() {
+            return Err(CullError::OutputMismatch);
+        }
+        if params.occlusion.is_some() && inputs.occlusion.is_none() {
+            return Err(CullError::OcclusionInputsMissing);
+        }
         let slot_bound = table.slot_bound();
-        let uniforms = CullUniforms::new(&self.layout, camera, layer, slot_bound);
+        let uniforms = CullUniforms::new(&self.layout, camera, layer, slot_bound, params);
         let staging = self
             .device
             .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -252,14 +436,26 @@ impl CullPass {
             });
         encoder.copy_buffer_to_buffer(&staging, 0, &output.uniforms, 0, None);
         encoder.clear_buffer(&output.counts, 0, None);
+        encoder.clear_buffer(&output.smooth_counts, 0, None);
         if self.multi_draw == MultiDrawPath::ZeroedCommands {
             encoder.clear_buffer(&output.args, 0, None);
+            encoder.clear_buffer(&output.smooth_args, 0, None);
+        }
+        let frame = inputs.frame.unwrap_or(&self.own_frame);
+        if inputs.frame.is_none() {
+            frame.clear(encoder);
         }
         let groups = slot_bound.div_ceil(WORKGROUP);
         if groups == 0 {
             return Ok(None);
         }
-        let buffers = [
+        let nodes = inputs.nodes.map_or(&self.no_nodes, |n| n.buffer());
+        let (visible, pyramid) = inputs
+            .occlusion
+            .map_or((&self.no_visible, &self.no_pyramid), |o| {
+                (o.visible, o.pyramid)
+            });
+        let buffers: [&Buffer; BINDINGS as usize] = [
             &output.uniforms,
             table.buffer(),
             &output.args,
@@ -267,8 +463,15 @@ impl CullPass {
             &output.counts,
             &output.order_counts,
             &output.order_cursors,
+            nodes,
+            &frame.far_list,
+            &output.smooth_args,
+            &output.smooth_records,
+            &output.smooth_counts,
+            &frame.stats,
+            visible,
         ];
-        let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+        let mut entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
             .iter()
             .enumerate()
             .map(|(binding, buffer)| wgpu::BindGroupEntry {
@@ -276,6 +479,11 @@ impl CullPass {
                 resource: buffer.as_entire_binding(),
             })
             .collect();
+        entries.push(wgpu::BindGroupEntry {
+            binding: BINDINGS,
+            resource: wgpu::BindingResource::TextureView(pyramid),
+        });
+        entries.push(buffer_entry(BINDINGS + 1, &frame.transparent_list));
         let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("cull"),
             layout: &self.bind_group_layout,
@@ -285,12 +493,15 @@ impl CullPass {
     }
 }
 
-/// The ordered cull's three pipelines (entry points of `cull.wgsl`).
+/// The ordered cull's three pipelines (entry points of `cull.wgsl`), and the one that sizes
+/// its dispatches over the transparent list (`list_args.wgsl`).
 #[derive(Debug)]
 struct OrderedPipelines {
     count: ComputePipeline,
     prefix: ComputePipeline,
     scatter: ComputePipeline,
+    list_args: ComputePipeline,
+    list_args_layout: BindGroupLayout,
 }
 
 /// A compute pass with the cull's bind group set.
@@ -313,128 +524,4 @@ fn dispatch_slots(pass: &mut wgpu::ComputePass<'_>, groups: u32) {
     let x = groups.min(MAX_GROUPS_PER_DIM);
     let y = groups.div_ceil(x);
     pass.dispatch_workgroups(x, y, 1);
-}
-
-/// One view's cull results on the GPU (see the [module docs](super) for the layout).
-#[derive(Debug)]
-pub struct CullOutput {
-    args: Buffer,
-    records: Buffer,
-    counts: Buffer,
-    uniforms: Buffer,
-    order_counts: Buffer,
-    order_cursors: Buffer,
-    layout: CullLayout,
-    multi_draw: MultiDrawPath,
-}
-
-impl CullOutput {
-    /// Tightly packed [`DrawIndexedArgs`], one range of `commands_per_page` per page: the
-    /// indirect buffer of the draws.
-    pub fn args(&self) -> &Buffer {
-        &self.args
-    }
-
-    /// The [`ChunkDrawIndirect`] of every command, at the same index as its args: the vertex
-    /// shader reads `records[instance_index]` (`first_instance` is the command index).
-    pub fn records(&self) -> &Buffer {
-        &self.records
-    }
-
-    /// `u32` per page (commands wanted; the draw count is `min(count, commands_per_page)`),
-    /// then the malformed-layer count: the count buffer of the draws.
-    pub fn counts(&self) -> &Buffer {
-        &self.counts
-    }
-
-    /// The sizes of this output.
-    pub fn layout(&self) -> &CullLayout {
-        &self.layout
-    }
-
-    /// Byte offset of page `page`'s commands in [`args`](Self::args).
-    pub fn args_offset(&self, page: u32) -> u64 {
-        self.layout.page_commands(page).start * size_of::<DrawIndexedArgs>() as u64
-    }
-
-    /// Byte offset of page `page`'s count in [`counts`](Self::counts).
-    pub fn count_offset(&self, page: u32) -> u64 {
-        u64::from(page) * 4
-    }
-
-    /// Records the draw of page `page`'s commands into `pass`, whose pipeline, index buffer
-    /// (see [`quad_indices`](super::quad_indices)) and bind groups (with page `page` of the
-    /// quad gigabuffer and [`records`](Self::records)) are set: one
-    /// `multi_draw_indexed_indirect_count` with [`MultiDrawPath::IndirectCount`], one
-    /// `multi_draw_indexed_indirect` over the whole (zero-padded) range otherwise. Needs
-    /// `INDIRECT_FIRST_INSTANCE` (the commands' `first_instance` is not 0).
-    pub fn draw_page(&self, pass: &mut RenderPass<'_>, page: u32) {
-        let max = self.layout.commands_per_page;
-        match self.multi_draw {
-            MultiDrawPath::IndirectCount => pass.multi_draw_indexed_indirect_count(
-                &self.args,
-                self.args_offset(page),
-                &self.counts,
-                self.count_offset(page),
-                max,
-            ),
-            MultiDrawPath::ZeroedCommands => {
-                pass.multi_draw_indexed_indirect(&self.args, self.args_offset(page), max)
-            }
-        }
-    }
-
-    /// Reads everything back (tests, debugging). Blocks until the GPU is done.
-    pub fn read(&self, device: &Device, queue: &Queue) -> Result<CullReadback, ReadbackError> {
-        let counts: Vec<u32> = cast(read_buffer(
-            device,
-            queue,
-            &self.counts,
-            0,
-            self.counts.size(),
-        )?)?;
-        let args: Vec<DrawIndexedArgs> =
-            cast(read_buffer(device, queue, &self.args, 0, self.args.size())?)?;
-        let records: Vec<ChunkDrawIndirect> = cast(read_buffer(
-            device,
-            queue,
-            &self.records,
-            0,
-            self.records.size(),
-        )?)?;
-        let per_page = self.layout.commands_per_page as usize;
-        let pages = self.layout.page_count as usize;
-        Ok(CullReadback {
-            wanted: counts[..pages].to_vec(),
-            malformed: counts[pages],
-            args: args.chunks(per_page).map(<[_]>::to_vec).collect(),
-            records: records.chunks(per_page).map(<[_]>::to_vec).collect(),
-        })
-    }
-}
-
-fn cast<T: bytemuck::Pod>(bytes: Vec<u8>) -> Result<Vec<T>, ReadbackError> {
-    bytemuck::try_cast_slice(&bytes)
-        .map(<[T]>::to_vec)
-        .map_err(|e| ReadbackError(format!("cannot cast {} bytes: {e}", bytes.len())))
-}
-
-/// A [`CullOutput`] read back.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct CullReadback {
-    /// Per page, the commands the cull wanted (`counts[page]`).
-    pub wanted: Vec<u32>,
-    /// Malformed chunk layers skipped.
-    pub malformed: u32,
-    /// Per page, every command slot's args (the whole range, used or not).
-    pub args: Vec<Vec<DrawIndexedArgs>>,
-    /// Per page, every command slot's record.
-    pub records: Vec<Vec<ChunkDrawIndirect>>,
-}
-
-impl CullReadback {
-    /// Commands of page `page` that were written: `min(wanted, commands_per_page)`.
-    pub fn written(&self, page: usize) -> usize {
-        (self.wanted[page] as usize).min(self.args[page].len())
-    }
 }

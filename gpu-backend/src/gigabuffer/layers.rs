@@ -35,8 +35,22 @@ pub struct ChunkLayersData<'a> {
     pub smooth_quads: SmoothQuads<'a>,
     /// Clutter instances.
     pub clutter_units: &'a [ClutterUnit],
-    /// Surface blocks (far-field raycast data).
+    /// Surface blocks (far-field data): the chunk's `SurfaceBlocks` list.
     pub draw_blocks: &'a [DrawBlock],
+    /// Opaque skirt quads per side (`mesher::lod::Skirts`): stored right after the opaque
+    /// quads of the same face direction, drawn only while the neighbour on that side is drawn
+    /// at another level of detail.
+    pub opaque_skirts: [&'a [PackedQuad]; 6],
+    /// Skirt blocks per side, stored after `draw_blocks` (drawn like the skirt quads).
+    pub draw_block_skirts: [&'a [DrawBlock]; 6],
+    /// The hiding occupancy of the chunk's padded neighbourhood
+    /// (`mesher::surface_blocks::hiding_mask`), stored after the skirt blocks in the
+    /// draw-block gigabuffer: far draws read it for ambient occlusion.
+    pub hiding_mask: &'a [u32],
+    /// The transparent occupancy of the same neighbourhood
+    /// (`mesher::surface_blocks::transparent_mask`; empty when it has no transparent voxel),
+    /// stored right after the hiding mask.
+    pub transparent_mask: &'a [u32],
 }
 
 impl<'a> ChunkLayersData<'a> {
@@ -58,10 +72,20 @@ impl<'a> ChunkLayersData<'a> {
         }))
     }
 
-    /// Opaque plus transparent quads.
+    /// Opaque quads, their skirts and transparent quads.
     pub fn quad_count(&self) -> u64 {
         let sum = |faces: &[&[PackedQuad]; 6]| faces.iter().map(|f| f.len() as u64).sum::<u64>();
-        sum(&self.opaque_quads) + sum(&self.transparent_quads)
+        sum(&self.opaque_quads) + sum(&self.opaque_skirts) + sum(&self.transparent_quads)
+    }
+
+    /// Draw blocks, their skirts and the hiding mask's words: the chunk's elements of
+    /// [`DataKind::DrawBlocks`].
+    pub fn draw_block_words(&self) -> u64 {
+        let skirts: u64 = self.draw_block_skirts.iter().map(|s| s.len() as u64).sum();
+        self.draw_blocks.len() as u64
+            + skirts
+            + self.hiding_mask.len() as u64
+            + self.transparent_mask.len() as u64
     }
 
     /// Elements of each kind this chunk needs.
@@ -71,7 +95,7 @@ impl<'a> ChunkLayersData<'a> {
         *counts.get_mut(DataKind::SmoothVertices) = self.smooth_vertices.len() as u64;
         *counts.get_mut(DataKind::SmoothQuads) = self.smooth_quads.word_len() as u64;
         *counts.get_mut(DataKind::Clutter) = self.clutter_units.len() as u64;
-        *counts.get_mut(DataKind::DrawBlocks) = self.draw_blocks.len() as u64;
+        *counts.get_mut(DataKind::DrawBlocks) = self.draw_block_words();
         counts
     }
 
@@ -88,12 +112,17 @@ impl<'a> ChunkLayersData<'a> {
 /// offset in page, see [`PageLayout`](super::PageLayout)) and counts, per layer. Empty layers
 /// have offset 0 and count 0.
 ///
-/// The quads of a chunk are one allocation: opaque groups first, then transparent ones, so
-/// `transparent_quads.offset = opaque_quads.offset + opaque total`.
+/// The quads of a chunk are one allocation: opaque groups first (each face direction's quads
+/// followed by that side's skirt quads, counted in the group), then transparent ones, so
+/// `transparent_quads.offset = opaque_quads.offset + opaque total`. The draw-block allocation
+/// holds the blocks, then the skirt blocks side by side, then the hiding mask.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ChunkRanges {
-    /// Opaque quads, by face direction, in the quad gigabuffer.
+    /// Opaque quads, by face direction, in the quad gigabuffer: each group is the face's
+    /// quads followed by its skirt quads.
     pub opaque_quads: FaceLayerRange,
+    /// The skirt quads at the end of each opaque group.
+    pub opaque_skirts: [u32; 6],
     /// Transparent quads, by face direction, in the quad gigabuffer.
     pub transparent_quads: FaceLayerRange,
     /// Smooth vertices, in the smooth-vertex gigabuffer.
@@ -109,8 +138,14 @@ pub struct ChunkRanges {
     pub smooth_quad_form: SmoothQuadForm,
     /// Clutter units, in the clutter gigabuffer.
     pub clutter_units: LayerRange,
-    /// Surface blocks, in the draw-block gigabuffer.
+    /// Surface blocks, in the draw-block gigabuffer (without their skirts).
     pub draw_blocks: LayerRange,
+    /// Skirt blocks per side, stored one side after the other right after `draw_blocks`.
+    pub draw_block_skirts: [u32; 6],
+    /// The hiding mask's words, after the skirt blocks (count 0 when none was uploaded).
+    pub hiding_mask: LayerRange,
+    /// The transparent mask's words, right after the hiding mask (count 0 when none).
+    pub transparent_mask: LayerRange,
 }
 
 impl ChunkRanges {
@@ -134,7 +169,13 @@ impl ChunkRanges {
             DataKind::SmoothVertices => self.smooth_vertices,
             DataKind::SmoothQuads => self.smooth_quads,
             DataKind::Clutter => self.clutter_units,
-            DataKind::DrawBlocks => self.draw_blocks,
+            DataKind::DrawBlocks => LayerRange {
+                offset: self.draw_blocks.offset,
+                count: self.draw_blocks.count
+                    + self.draw_block_skirts.iter().sum::<u32>()
+                    + self.hiding_mask.count
+                    + self.transparent_mask.count,
+            },
         }
     }
 }

@@ -219,13 +219,26 @@ impl Gigabuffer {
         allocations: &[Option<PoolAllocation>; DataKind::COUNT],
     ) -> ChunkRanges {
         let quads = self.global(DataKind::Quads, &allocations[DataKind::Quads.index()]);
-        let opaque_counts = layers.opaque_quads.map(|f| f.len() as u32);
+        let opaque_skirts = layers.opaque_skirts.map(|f| f.len() as u32);
+        let mut opaque_counts = layers.opaque_quads.map(|f| f.len() as u32);
+        for (count, skirt) in opaque_counts.iter_mut().zip(opaque_skirts) {
+            // Both are parts of one allocation, whose size fits u32.
+            *count += skirt;
+        }
         let opaque_total: u32 = opaque_counts.iter().sum();
+        let blocks = self.global(
+            DataKind::DrawBlocks,
+            &allocations[DataKind::DrawBlocks.index()],
+        );
+        let block_count = layers.draw_blocks.len() as u32;
+        let draw_block_skirts = layers.draw_block_skirts.map(|s| s.len() as u32);
+        let skirt_total: u32 = draw_block_skirts.iter().sum();
         ChunkRanges {
             opaque_quads: FaceLayerRange {
                 offset: quads.offset,
                 counts: opaque_counts,
             },
+            opaque_skirts,
             transparent_quads: FaceLayerRange {
                 // Within one allocation, so this cannot overflow.
                 offset: quads.offset + opaque_total,
@@ -243,10 +256,19 @@ impl Gigabuffer {
             smooth_quad_count: layers.smooth_quads.len() as u32,
             smooth_quad_form: layers.smooth_quads.form(),
             clutter_units: self.global(DataKind::Clutter, &allocations[DataKind::Clutter.index()]),
-            draw_blocks: self.global(
-                DataKind::DrawBlocks,
-                &allocations[DataKind::DrawBlocks.index()],
-            ),
+            draw_blocks: LayerRange {
+                offset: blocks.offset,
+                count: block_count,
+            },
+            draw_block_skirts,
+            hiding_mask: LayerRange {
+                offset: blocks.offset + block_count + skirt_total,
+                count: layers.hiding_mask.len() as u32,
+            },
+            transparent_mask: LayerRange {
+                offset: blocks.offset + block_count + skirt_total + layers.hiding_mask.len() as u32,
+                count: layers.transparent_mask.len() as u32,
+            },
         }
     }
 
@@ -265,9 +287,12 @@ impl Gigabuffer {
                 dst += part.len() as u64;
             }
         };
+        // Each opaque face group, then that side's skirt; then the transparent groups.
         let quads: Vec<&[u8]> = layers
             .opaque_quads
             .iter()
+            .zip(&layers.opaque_skirts)
+            .flat_map(|(face, skirt)| [face, skirt])
             .chain(&layers.transparent_quads)
             .map(|f| bytemuck::cast_slice(f))
             .collect();
@@ -290,10 +315,19 @@ impl Gigabuffer {
             DataKind::Clutter,
             &[bytemuck::cast_slice(layers.clutter_units)],
         );
-        push(
-            DataKind::DrawBlocks,
-            &[bytemuck::cast_slice(layers.draw_blocks)],
-        );
+        let blocks: Vec<&[u8]> = std::iter::once(bytemuck::cast_slice(layers.draw_blocks))
+            .chain(
+                layers
+                    .draw_block_skirts
+                    .iter()
+                    .map(|s| bytemuck::cast_slice(s)),
+            )
+            .chain(std::iter::once(bytemuck::cast_slice(layers.hiding_mask)))
+            .chain(std::iter::once(bytemuck::cast_slice(
+                layers.transparent_mask,
+            )))
+            .collect();
+        push(DataKind::DrawBlocks, &blocks);
     }
 
     /// Frees a chunk's space. A stale handle is an error and frees nothing.

@@ -5,7 +5,7 @@ use std::fmt;
 use voxel_core::FormatError;
 
 use crate::chunk_table::TableError;
-use crate::cull::CullError;
+use crate::cull::{CullError, SkirtTooLarge, lod::BadLodSetting};
 use crate::gigabuffer::{ChunkHandle, GigabufferError};
 use crate::readback::ReadbackError;
 use crate::timing::TimerError;
@@ -38,6 +38,19 @@ pub enum RenderError {
     Readback(ReadbackError),
     /// Collecting the per-pass times failed.
     Timer(TimerError),
+    /// A chunk's level of detail is above 15 (`MeshedChunkInfo::MAX_LOD`).
+    BadLevel(u32),
+    /// A chunk's far-draw data does not fit the renderer (what is wrong, in words).
+    BadFarData(String),
+    /// A chunk has more skirt elements on one side than a node records.
+    Skirt(SkirtTooLarge),
+    /// A level-of-detail setting is not a finite non-negative number.
+    Lod(BadLodSetting),
+    /// The far-draw path asked for cannot run on this device or configuration (why, in
+    /// words).
+    FarDrawsUnavailable(String),
+    /// The depth pyramid of occlusion culling could not be built.
+    Hiz(crate::hiz::HizError),
 }
 
 impl fmt::Display for RenderError {
@@ -59,6 +72,14 @@ impl fmt::Display for RenderError {
             }
             RenderError::Readback(e) => write!(f, "{e}"),
             RenderError::Timer(e) => write!(f, "pass timing: {e}"),
+            RenderError::BadLevel(level) => {
+                write!(f, "chunk level of detail {level} is above the largest, 15")
+            }
+            RenderError::BadFarData(why) => write!(f, "far-draw data: {why}"),
+            RenderError::Skirt(e) => write!(f, "skirts: {e}"),
+            RenderError::Lod(e) => write!(f, "{e}"),
+            RenderError::FarDrawsUnavailable(why) => write!(f, "far draws unavailable: {why}"),
+            RenderError::Hiz(e) => write!(f, "depth pyramid: {e}"),
         }
     }
 }
@@ -81,3 +102,5 @@ from_error!(CullError, Cull);
 from_error!(FormatError, Format);
 from_error!(ReadbackError, Readback);
 from_error!(TimerError, Timer);
+from_error!(SkirtTooLarge, Skirt);
+from_error!(BadLodSetting, Lod);

@@ -6,7 +6,7 @@ use super::camera::RenderCamera;
 use super::lighting::{LightingParams, LightingUniforms};
 
 /// The uniforms every renderer shader reads (twin of the WGSL `FrameUniforms` in
-/// `shaders/render_common.wgsl`; a unit test checks the layout with naga). 176 bytes.
+/// `shaders/render_common.wgsl`; a unit test checks the layout with naga). 224 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct FrameUniforms {
@@ -30,9 +30,26 @@ pub struct FrameUniforms {
     pub height: u32,
     /// Light and sky.
     pub lighting: LightingUniforms,
+    /// The view direction (world axes).
+    pub forward: [f32; 3],
+    /// Near plane, blocks.
+    pub near: f32,
+    /// Screen right, scaled by the tangent of half the horizontal field of view: the ray
+    /// through pixel `(x, y)` is `forward + u * right + v * up` with `u, v` in `-1..1`.
+    pub right: [f32; 3],
+    /// `FRAME_*` bits.
+    pub flags: u32,
+    /// Screen up, scaled by the tangent of half the vertical field of view.
+    pub up: [f32; 3],
+    /// Zero.
+    pub pad: u32,
 }
 
-const _: () = assert!(size_of::<FrameUniforms>() == 176);
+const _: () = assert!(size_of::<FrameUniforms>() == 224);
+
+/// `FrameUniforms::flags` bit: far draws were splatted into the visibility buffers this frame,
+/// and the lighting pass resolves them.
+pub const FRAME_SPLAT: u32 = 1;
 
 /// What [`FrameUniforms::new`] needs besides the camera and lighting.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,11 +66,16 @@ pub struct FrameShape {
     pub smooth_extent: f32,
     /// Smooth vertex origin.
     pub smooth_origin: f32,
+    /// `FRAME_*` bits.
+    pub flags: u32,
 }
 
 impl FrameUniforms {
     /// The uniforms of one frame.
     pub fn new(camera: &RenderCamera, lighting: &LightingParams, shape: &FrameShape) -> Self {
+        let basis = camera.basis();
+        let (half_w, half_h) = camera.half_extents(shape.width, shape.height);
+        let f32s = |v: [f64; 3], scale: f64| v.map(|c| (c * scale) as f32);
         FrameUniforms {
             view_proj: camera.view_projection(shape.width, shape.height),
             camera_offset: camera.offset,
@@ -65,17 +87,23 @@ impl FrameUniforms {
             width: shape.width,
             height: shape.height,
             lighting: LightingUniforms::new(lighting),
+            forward: f32s(basis.forward, 1.0),
+            near: camera.near as f32,
+            right: f32s(basis.right, half_w),
+            flags: shape.flags,
+            up: f32s(basis.up, half_h),
+            pad: 0,
         }
     }
 }
 
 /// One chunk's smooth layer as the smooth draw reads it (twin of the WGSL `SmoothDraw`),
-/// 32 bytes. Written by the renderer each frame for the resident smooth chunks (a side table:
-/// `MeshedChunkInfo` has no smooth-quad range).
+/// 32 bytes. Written by the cull pass for each visible smooth chunk (from the chunk's
+/// `NodeRecord`: `MeshedChunkInfo` has no smooth-quad range).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
 pub struct SmoothDraw {
-    /// Chunk minus camera chunk (wrapping), x, y, z.
+    /// Level-0 chunk difference to the camera chunk (wrapping), x, y, z.
     pub chunk: [i32; 3],
     /// First vertex in the smooth-vertex page (quad indices are relative to it).
     pub vertex_offset: u32,
@@ -85,8 +113,8 @@ pub struct SmoothDraw {
     pub quad_count: u32,
     /// The quads' form: a `SmoothQuadForm` tag (`SMOOTH_QUADS_*` in WGSL).
     pub quad_form: u32,
-    /// Zero.
-    pub pad: u32,
+    /// Level of detail: positions scale by `2^level`.
+    pub level: u32,
 }
 
 const _: () = assert!(size_of::<SmoothDraw>() == 32);
@@ -124,6 +152,12 @@ mod tests {
                     ("width", offset_of!(FrameUniforms, width)),
                     ("height", offset_of!(FrameUniforms, height)),
                     ("lighting", offset_of!(FrameUniforms, lighting)),
+                    ("forward", offset_of!(FrameUniforms, forward)),
+                    ("near", offset_of!(FrameUniforms, near)),
+                    ("right", offset_of!(FrameUniforms, right)),
+                    ("flags", offset_of!(FrameUniforms, flags)),
+                    ("up", offset_of!(FrameUniforms, up)),
+                    ("pad", offset_of!(FrameUniforms, pad)),
                 ],
             );
             check(
@@ -157,6 +191,17 @@ mod tests {
         let module = validate(GBUFFER.name, &GBUFFER.source()).unwrap();
         check(
             &module,
+            "DrawRecord",
+            size_of::<crate::cull::DrawRecord>(),
+            &[
+                ("chunk_x", 0),
+                ("chunk_y", 4),
+                ("chunk_z", 8),
+                ("level", 12),
+            ],
+        );
+        check(
+            &module,
             "SmoothDraw",
             size_of::<SmoothDraw>(),
             &[
@@ -167,7 +212,7 @@ mod tests {
                 ("quad_offset", offset_of!(SmoothDraw, quad_offset)),
                 ("quad_count", offset_of!(SmoothDraw, quad_count)),
                 ("quad_form", offset_of!(SmoothDraw, quad_form)),
-                ("pad", offset_of!(SmoothDraw, pad)),
+                ("level", offset_of!(SmoothDraw, level)),
             ],
         );
     }

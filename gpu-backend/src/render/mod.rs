@@ -42,10 +42,11 @@
 //!
 //! **T-junctions.** Greedy quads of different sizes meet at T-junctions, where the rasterizer
 //! can leave pinholes (seen on lavapipe: single sky pixels inside terrain). `vs_quad` grows each
-//! opaque quad in its own plane by a hair (1/8192 of its distance, at least 1/4096 block: about
-//! 1/100 pixel in the image tests, 128 x 96 at 60 degrees) so neighbours overlap. The price is
-//! a sliver that thin past convex edges, which a pixel centre hits rarely (the image tests skip
-//! depth and colour at creases for that reason). Transparent quads are not grown: an overlap
+//! opaque quad in its own plane by a hair (1/64 pixel at its distance, at least 1/4096 block)
+//! so neighbours overlap. The price is a sliver that thin past convex edges, which a pixel
+//! centre hits rarely (the image tests skip depth and colour at creases for that reason; a
+//! hair of 1/8192 of the distance, 1/10 pixel at 1080p, flipped a few percent of the pixels of
+//! far terrain whose blocks are about a pixel wide). Transparent quads are not grown: an overlap
 //! would be blended twice.
 //!
 //! **Smooth layer bookkeeping.** `MeshedChunkInfo` has a smooth-vertex range but no
@@ -76,6 +77,7 @@
 
 pub mod camera;
 mod error;
+pub mod far;
 pub mod frame;
 pub mod lighting;
 pub mod materials;
@@ -90,6 +92,7 @@ pub use error::RenderError;
 pub use frame::{FrameShape, FrameUniforms, SmoothDraw};
 pub use lighting::LightingParams;
 pub use materials::{GpuMaterial, gpu_materials};
+pub use pipelines::FullscreenPath;
 pub use renderer::{Renderer, RendererConfig};
 pub use residency::{ChunkMeshData, SmoothFrame, SmoothRanges, chunk_record, mesh_bounds};
 pub use targets::{FrameImage, RenderTargets};

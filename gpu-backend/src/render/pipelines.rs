@@ -5,8 +5,11 @@
 //! | 0     | `frame`          | 0 frame uniforms, 1 materials                              |
 //! | 1     | `quads`          | 0 one page of the quad gigabuffer, 1 command records       |
 //! | 1     | `smooth`         | 2 smooth-vertex page, 3 smooth-quad page, 4 smooth draws   |
-//! | 1     | `gbuffer_read`   | 0 albedo, 1 normal, 2 depth (lighting pass)                 |
-//! | 1     | `hdr_read`       | 3 hdr (tonemap pass)                                        |
+//! | 1     | `gbuffer_read`   | 0 albedo, 1 normal, 2 depth, 4 and 5 far visibility buffers, 6 hdr out (compute) (lighting pass) |
+//! | 1     | `hdr_read`       | 3 hdr, 7 output out (compute) (tonemap pass)                |
+//!
+//! The full-screen passes run as fragment passes or as compute passes ([`FullscreenPath`]);
+//! only the chosen path's pipelines are built.
 //!
 //! [`Renderer`]: super::Renderer
 
@@ -16,8 +19,41 @@ use wgpu::{
     ShaderStages, TextureSampleType,
 };
 
-use super::targets::{ALBEDO_FORMAT, DEPTH_FORMAT, HDR_FORMAT, NORMAL_FORMAT, OUTPUT_FORMAT};
+use super::targets::{
+    ALBEDO_FORMAT, DEPTH_FORMAT, HDR_FORMAT, NORMAL_FORMAT, OUTPUT_FORMAT, OUTPUT_STORAGE_FORMAT,
+};
 use crate::shaders::{DEFERRED, GBUFFER};
+
+/// How the full-screen passes (lighting, tonemap) run: the same per-pixel function either way.
+/// On compute-heavy GPUs (the H100 rasterises through a few units) compute is faster; see
+/// BENCHMARKS.md for the measured pair.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum FullscreenPath {
+    /// A full-screen triangle per pass.
+    Fragment,
+    /// 8 x 8-pixel workgroups writing storage textures.
+    #[default]
+    Compute,
+}
+
+/// The lighting and tonemap pipelines of one [`FullscreenPath`].
+#[derive(Debug)]
+pub enum FullscreenPipelines {
+    /// Fragment pipelines.
+    Fragment {
+        /// G-buffer to HDR.
+        lighting: RenderPipeline,
+        /// HDR to the sRGB output.
+        tonemap: RenderPipeline,
+    },
+    /// Compute pipelines.
+    Compute {
+        /// G-buffer to HDR.
+        lighting: wgpu::ComputePipeline,
+        /// HDR to the output.
+        tonemap: wgpu::ComputePipeline,
+    },
+}
 
 /// Every layout and pipeline the renderer draws with.
 #[derive(Debug)]
@@ -38,10 +74,8 @@ pub struct Pipelines {
     pub smooth_gbuffer: RenderPipeline,
     /// Transparent greedy quads, lit and blended into the HDR target.
     pub quad_transparent: RenderPipeline,
-    /// G-buffer to HDR.
-    pub lighting: RenderPipeline,
-    /// HDR to the sRGB output.
-    pub tonemap: RenderPipeline,
+    /// Lighting and tonemap.
+    pub fullscreen: FullscreenPipelines,
 }
 
 fn buffer_entry(
@@ -61,10 +95,14 @@ fn buffer_entry(
     }
 }
 
-fn texture_entry(binding: u32, sample_type: TextureSampleType) -> BindGroupLayoutEntry {
+fn texture_entry(
+    binding: u32,
+    visibility: ShaderStages,
+    sample_type: TextureSampleType,
+) -> BindGroupLayoutEntry {
     BindGroupLayoutEntry {
         binding,
-        visibility: ShaderStages::FRAGMENT,
+        visibility,
         ty: BindingType::Texture {
             sample_type,
             view_dimension: wgpu::TextureViewDimension::D2,
@@ -138,17 +176,22 @@ fn depth_state(write: bool) -> Option<DepthStencilState> {
 }
 
 impl Pipelines {
-    /// Compiles the renderer's shaders and builds its pipelines on `device`.
-    pub fn new(device: &Device) -> Pipelines {
+    /// Compiles the renderer's shaders and builds its pipelines on `device`, the full-screen
+    /// passes for `path`.
+    pub fn new(device: &Device, path: FullscreenPath) -> Pipelines {
         let vertex = ShaderStages::VERTEX;
-        let both = ShaderStages::VERTEX | ShaderStages::FRAGMENT;
+        let all = ShaderStages::VERTEX | ShaderStages::FRAGMENT | ShaderStages::COMPUTE;
+        let screen = match path {
+            FullscreenPath::Fragment => ShaderStages::FRAGMENT,
+            FullscreenPath::Compute => ShaderStages::COMPUTE,
+        };
         let storage = BufferBindingType::Storage { read_only: true };
         let frame_layout = layout(
             device,
             "frame",
             &[
-                buffer_entry(0, both, BufferBindingType::Uniform),
-                buffer_entry(1, both, storage),
+                buffer_entry(0, all, BufferBindingType::Uniform),
+                buffer_entry(1, all, storage),
             ],
         );
         let quad_layout = layout(
@@ -169,16 +212,30 @@ impl Pipelines {
             ],
         );
         let unfilterable = TextureSampleType::Float { filterable: false };
-        let gbuffer_read_layout = layout(
-            device,
-            "gbuffer read",
-            &[
-                texture_entry(0, unfilterable),
-                texture_entry(1, TextureSampleType::Uint),
-                texture_entry(2, TextureSampleType::Depth),
-            ],
-        );
-        let hdr_read_layout = layout(device, "hdr read", &[texture_entry(3, unfilterable)]);
+        let storage_texture = |binding, format| BindGroupLayoutEntry {
+            binding,
+            visibility: ShaderStages::COMPUTE,
+            ty: BindingType::StorageTexture {
+                access: wgpu::StorageTextureAccess::WriteOnly,
+                format,
+                view_dimension: wgpu::TextureViewDimension::D2,
+            },
+            count: None,
+        };
+        let mut gbuffer_read = vec![
+            texture_entry(0, screen, unfilterable),
+            texture_entry(1, screen, TextureSampleType::Uint),
+            texture_entry(2, screen, TextureSampleType::Depth),
+            buffer_entry(4, screen, storage),
+            buffer_entry(5, screen, storage),
+        ];
+        let mut hdr_read = vec![texture_entry(3, screen, unfilterable)];
+        if path == FullscreenPath::Compute {
+            gbuffer_read.push(storage_texture(6, HDR_FORMAT));
+            hdr_read.push(storage_texture(7, OUTPUT_STORAGE_FORMAT));
+        }
+        let gbuffer_read_layout = layout(device, "gbuffer read", &gbuffer_read);
+        let hdr_read_layout = layout(device, "hdr read", &hdr_read);
 
         let geometry = GBUFFER.create_module(device);
         let fullscreen = DEFERRED.create_module(device);
@@ -226,32 +283,57 @@ impl Pipelines {
                 cull_back: true,
             },
         );
-        let lighting = pipeline(
-            device,
-            PipelineDesc {
-                label: "lighting",
-                module: &fullscreen,
-                vertex: "vs_fullscreen",
-                fragment: "fs_lighting",
-                groups: [&frame_layout, &gbuffer_read_layout],
-                targets: &[Some(HDR_FORMAT.into())],
-                depth: None,
-                cull_back: false,
+        let fullscreen = match path {
+            FullscreenPath::Fragment => FullscreenPipelines::Fragment {
+                lighting: pipeline(
+                    device,
+                    PipelineDesc {
+                        label: "lighting",
+                        module: &fullscreen,
+                        vertex: "vs_fullscreen",
+                        fragment: "fs_lighting",
+                        groups: [&frame_layout, &gbuffer_read_layout],
+                        targets: &[Some(HDR_FORMAT.into())],
+                        depth: None,
+                        cull_back: false,
+                    },
+                ),
+                tonemap: pipeline(
+                    device,
+                    PipelineDesc {
+                        label: "tonemap",
+                        module: &fullscreen,
+                        vertex: "vs_fullscreen",
+                        fragment: "fs_tonemap",
+                        groups: [&frame_layout, &hdr_read_layout],
+                        targets: &[Some(OUTPUT_FORMAT.into())],
+                        depth: None,
+                        cull_back: false,
+                    },
+                ),
             },
-        );
-        let tonemap = pipeline(
-            device,
-            PipelineDesc {
-                label: "tonemap",
-                module: &fullscreen,
-                vertex: "vs_fullscreen",
-                fragment: "fs_tonemap",
-                groups: [&frame_layout, &hdr_read_layout],
-                targets: &[Some(OUTPUT_FORMAT.into())],
-                depth: None,
-                cull_back: false,
-            },
-        );
+            FullscreenPath::Compute => {
+                let compute = |label, read: &BindGroupLayout, entry| {
+                    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                        label: Some(label),
+                        bind_group_layouts: &[Some(&frame_layout), Some(read)],
+                        immediate_size: 0,
+                    });
+                    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                        label: Some(label),
+                        layout: Some(&layout),
+                        module: &fullscreen,
+                        entry_point: Some(entry),
+                        compilation_options: Default::default(),
+                        cache: None,
+                    })
+                };
+                FullscreenPipelines::Compute {
+                    lighting: compute("lighting", &gbuffer_read_layout, "cs_lighting"),
+                    tonemap: compute("tonemap", &hdr_read_layout, "cs_tonemap"),
+                }
+            }
+        };
         Pipelines {
             frame_layout,
             quad_layout,
@@ -261,8 +343,7 @@ impl Pipelines {
             quad_gbuffer,
             smooth_gbuffer,
             quad_transparent,
-            lighting,
-            tonemap,
+            fullscreen,
         }
     }
 }

@@ -8,13 +8,16 @@ use voxel_core::formats::{
 
 use crate::gigabuffer::{ChunkLayersData, ChunkRanges};
 
-/// One chunk's mesh, ready to upload: its coordinate and its packed layers (borrowed from
-/// the mesher's output; see [`ChunkLayersData`]).
+/// One chunk's mesh, ready to upload: its coordinate, its level of detail and its packed layers
+/// (borrowed from the mesher's output; see [`ChunkLayersData`]).
 #[derive(Clone, Copy, Debug)]
 pub struct ChunkMeshData<'a> {
-    /// The chunk's coordinate.
+    /// The chunk's coordinate at its level: a node of level `k` covers the level-0 chunks
+    /// `coord * 2^k ..= coord * 2^k + 2^k - 1` on each axis.
     pub coord: ChunkCoord,
-    /// Its packed layers. Clutter and draw blocks are stored but not drawn yet.
+    /// Level of detail, `0..=15`: the chunk's voxels are `2^lod` blocks wide.
+    pub lod: u32,
+    /// Its packed layers. Clutter is stored but not drawn yet.
     pub layers: ChunkLayersData<'a>,
 }
 
@@ -65,7 +68,11 @@ pub fn mesh_bounds(
             hi[i] = hi[i].max(p[i]);
         }
     };
-    let quads = layers.opaque_quads.iter().chain(&layers.transparent_quads);
+    let quads = layers
+        .opaque_quads
+        .iter()
+        .chain(&layers.opaque_skirts)
+        .chain(&layers.transparent_quads);
     for quad in quads.flat_map(|f| f.iter()) {
         // A quad that does not decode is drawn as garbage by the GPU but cannot be bounded;
         // bound it by its raw position so it still lands in the box.
@@ -74,6 +81,16 @@ pub fn mesh_bounds(
             Ok(f) => f.corners().iter().for_each(|c| grow(c.map(|v| v as f32))),
             Err(_) => grow([0.0; 3]),
         }
+    }
+    // Far-draw blocks (skirt blocks too) as their unit cubes; positions are 4-bit fields.
+    let blocks = layers
+        .draw_blocks
+        .iter()
+        .chain(layers.draw_block_skirts.iter().flat_map(|s| s.iter()));
+    for block in blocks {
+        let p = block.decode().position.map(|c| c as f32);
+        grow(p);
+        grow(p.map(|c| c + 1.0));
     }
     let extent = UnormExtent::new(smooth.extent).unwrap_or(UnormExtent::UNIT);
     for v in layers.smooth_vertices {
@@ -88,15 +105,17 @@ pub fn mesh_bounds(
     })
 }
 
-/// The chunk-table record of a chunk uploaded at `ranges`.
+/// The chunk-table record of a chunk of level `lod` uploaded at `ranges`.
 pub fn chunk_record(
     coord: ChunkCoord,
+    lod: u32,
     bounds: Option<([f32; 3], [f32; 3])>,
     ranges: &ChunkRanges,
 ) -> Result<MeshedChunkInfo, voxel_core::FormatError> {
     let (centre, extent) = bounds.unwrap_or(([0.0; 3], [0.0; 3]));
     let mut fields = MeshedChunkInfoFields {
         chunk: coord,
+        lod,
         centre: centre.into(),
         extent: extent.into(),
         ..Default::default()

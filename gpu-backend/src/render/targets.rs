@@ -6,7 +6,7 @@
 //! | normal  | `Rg32Uint`        | octahedral 16+16 normal (`oct32`), block id (material) |
 //! | depth   | `Depth32Float`    | reversed-Z `near / view_z`, cleared to 0 (sky)         |
 //! | hdr     | `Rgba16Float`     | lit linear colour; transparent faces blend into it     |
-//! | output  | `Rgba8UnormSrgb`  | tonemapped, sRGB-encoded by the hardware               |
+//! | output  | `Rgba8Unorm`, viewed as `Rgba8UnormSrgb` | tonemapped, sRGB-encoded (by the hardware through the sRGB view, or by the compute tonemap, which writes the encoded bytes through a plain view: storage textures cannot be sRGB) |
 //!
 //! Albedo is stored sRGB-encoded and decoded in the lighting pass, so the palette's bytes pass
 //! through exactly; the material id lets the lighting pass read emission (and, later,
@@ -25,8 +25,10 @@ pub const NORMAL_FORMAT: TextureFormat = TextureFormat::Rg32Uint;
 pub const DEPTH_FORMAT: TextureFormat = TextureFormat::Depth32Float;
 /// Lit linear colour.
 pub const HDR_FORMAT: TextureFormat = TextureFormat::Rgba16Float;
-/// The tonemapped output.
+/// The tonemapped output as the render passes and the present blit see it.
 pub const OUTPUT_FORMAT: TextureFormat = TextureFormat::Rgba8UnormSrgb;
+/// The output texture's own format (the compute tonemap's storage view).
+pub const OUTPUT_STORAGE_FORMAT: TextureFormat = TextureFormat::Rgba8Unorm;
 
 /// The textures of one output size.
 #[derive(Debug)]
@@ -47,8 +49,10 @@ pub struct RenderTargets {
     pub hdr: TextureView,
     /// Output texture (read back by [`read_output`]; usable as a copy source).
     pub output_texture: Texture,
-    /// Output view.
+    /// Output view, sRGB ([`OUTPUT_FORMAT`]).
     pub output: TextureView,
+    /// Output view for storage writes ([`OUTPUT_STORAGE_FORMAT`]: the bytes are the same).
+    pub output_storage: TextureView,
 }
 
 impl RenderTargets {
@@ -59,6 +63,7 @@ impl RenderTargets {
             return Err(RenderError::BadSize { width, height, max });
         }
         let texture = |label: &str, format: TextureFormat, usage: TextureUsages| {
+            let srgb_view = [OUTPUT_FORMAT];
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
                 size: Extent3d {
@@ -71,7 +76,11 @@ impl RenderTargets {
                 dimension: wgpu::TextureDimension::D2,
                 format,
                 usage,
-                view_formats: &[],
+                view_formats: if format == OUTPUT_STORAGE_FORMAT {
+                    &srgb_view
+                } else {
+                    &[]
+                },
             })
         };
         let attachment = TextureUsages::RENDER_ATTACHMENT | TextureUsages::TEXTURE_BINDING;
@@ -79,12 +88,19 @@ impl RenderTargets {
         let albedo = texture("gbuffer albedo", ALBEDO_FORMAT, attachment);
         let normal = texture("gbuffer normal", NORMAL_FORMAT, attachment);
         let depth_texture = texture("depth", DEPTH_FORMAT, attachment | TextureUsages::COPY_SRC);
-        let hdr = texture("hdr", HDR_FORMAT, attachment);
+        let storable = attachment | TextureUsages::STORAGE_BINDING;
+        let hdr = texture("hdr", HDR_FORMAT, storable);
         let output_texture = texture(
             "output",
-            OUTPUT_FORMAT,
-            attachment | TextureUsages::COPY_SRC,
+            OUTPUT_STORAGE_FORMAT,
+            storable | TextureUsages::COPY_SRC,
         );
+        // The sRGB view is never a storage binding (sRGB formats cannot be).
+        let srgb = output_texture.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(OUTPUT_FORMAT),
+            usage: Some(attachment),
+            ..Default::default()
+        });
         Ok(RenderTargets {
             width,
             height,
@@ -93,7 +109,8 @@ impl RenderTargets {
             depth: view(&depth_texture),
             depth_texture,
             hdr: view(&hdr),
-            output: view(&output_texture),
+            output: srgb,
+            output_storage: view(&output_texture),
             output_texture,
         })
     }

@@ -53,13 +53,13 @@ mod tests {
         let infos = [chunk(-1, 0), chunk(-3, 100), chunk(-2, 200)];
         let draws = cull_reference_ordered(&infos, &camera, CullLayer::Transparent, &layout);
         let draws = &draws.commands[0];
-        let order: Vec<i32> = draws.iter().map(|d| d.chunk[2]).collect();
+        let order: Vec<i32> = draws.iter().map(|d| d.record.chunk[2]).collect();
         assert_eq!(order, [-3, -2, -1], "farthest first");
         for (i, d) in draws.iter().enumerate() {
-            assert_eq!(d.first_instance, i as u32);
-            assert_eq!(d.index_count, 6 * 3, "only the 3 +Z quads");
+            assert_eq!(d.args.first_instance, i as u32);
+            assert_eq!(d.args.index_count, 6 * 3, "only the 3 +Z quads");
         }
         // The +Z group starts after the groups of lower directions (all empty here).
-        assert_eq!(draws[0].base_vertex, 4 * 100);
+        assert_eq!(draws[0].args.base_vertex, 4 * 100);
     }
 }

@@ -1,5 +1,7 @@
-// Full-screen passes of the deferred renderer: lighting (G-buffer to linear HDR) and tonemap
-// (HDR to the sRGB output). render_common.wgsl comes before this body.
+// Full-screen passes of the deferred renderer, each as a fragment pass (full-screen triangle)
+// and as a compute pass (8 x 8 pixels per workgroup), the same per-pixel function either way:
+// lighting (G-buffer and visibility buffers to linear HDR) and tonemap (HDR to the sRGB
+// output). render_common.wgsl comes before this body.
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(1) var<storage, read> materials: array<GpuMaterial>;
@@ -9,6 +11,80 @@
 @group(1) @binding(2) var gbuffer_depth: texture_depth_2d;
 
 @group(1) @binding(3) var hdr: texture_2d<f32>;
+
+// The far draws' visibility buffers (render::far): per pixel, x = payload, y = reversed-Z
+// depth bits (0 = nothing); read only when FRAME_SPLAT is set.
+@group(1) @binding(4) var<storage, read> visibility: array<vec2<u32>>;
+@group(1) @binding(5) var<storage, read> transparent: array<vec2<u32>>;
+
+// The compute passes' outputs.
+@group(1) @binding(6) var hdr_out: texture_storage_2d<rgba16float, write>;
+@group(1) @binding(7) var output_out: texture_storage_2d<rgba8unorm, write>;
+
+// A splat payload (render::far): block id, face, AO in 255ths of 3.
+struct Splat {
+    block: u32,
+    face: u32,
+    ao: f32,
+}
+
+fn splat_of(payload: u32) -> Splat {
+    return Splat(payload & 0xffffu, (payload >> 16u) & 7u, f32((payload >> 19u) & 0xffu) / 85.0);
+}
+
+// The shaded colour of a splatted surface.
+fn shade_splat(s: Splat) -> vec4<f32> {
+    let m = material_of(s.block);
+    let srgba = material_srgba(m);
+    let n = vec3<f32>(face_normal(s.face));
+    return vec4<f32>(shade(srgb_to_linear(srgba.rgb), n, s.ao, material_emission(m)), srgba.a);
+}
+
+// Linear colour of pixel p: the nearer of the G-buffer and the opaque far draws, sky where
+// neither drew, then the nearest transparent far draw blended over it when it is in front.
+fn lit_pixel(p: vec2<u32>) -> vec3<f32> {
+    let texel = vec2<i32>(p);
+    var depth = textureLoad(gbuffer_depth, texel, 0);
+    var colour = frame.lighting.sky_colour;
+    var splatted = false;
+    let at = p.y * frame.width + p.x;
+    if (frame.flags & FRAME_SPLAT) != 0u {
+        let v = visibility[at];
+        let d = bitcast<f32>(v.y);
+        // Reversed-Z: nearer is greater; 0 is the cleared far plane.
+        if d > depth {
+            depth = d;
+            colour = shade_splat(splat_of(v.x)).rgb;
+            splatted = true;
+        }
+    }
+    if !splatted && depth > 0.0 {
+        let albedo_ao = textureLoad(gbuffer_albedo, texel, 0);
+        let normal_material = textureLoad(gbuffer_normal, texel, 0);
+        let n = oct32_decode(normal_material.x);
+        let m = material_of(normal_material.y);
+        colour = shade(srgb_to_linear(albedo_ao.rgb), n, albedo_ao.a * 3.0, material_emission(m));
+    }
+    if (frame.flags & FRAME_SPLAT) != 0u {
+        let t = transparent[at];
+        if bitcast<f32>(t.y) > depth {
+            let over = shade_splat(splat_of(t.x));
+            colour = mix(colour, over.rgb, over.a);
+        }
+    }
+    return colour;
+}
+
+// ACES on the exposed colour (linear, 0..=1).
+fn tonemapped(p: vec2<u32>) -> vec3<f32> {
+    let c = textureLoad(hdr, vec2<i32>(p), 0).rgb;
+    return aces(c * frame.lighting.exposure);
+}
+
+// The sRGB transfer function, linear 0..=1 to encoded 0..=1 (what an *Srgb target does).
+fn linear_to_srgb(c: vec3<f32>) -> vec3<f32> {
+    return select(1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055, c * 12.92, c <= vec3<f32>(0.0031308));
+}
 
 // One triangle covering the screen.
 @vertex
@@ -20,22 +96,26 @@ fn vs_fullscreen(@builtin(vertex_index) vertex: u32) -> @builtin(position) vec4<
 
 @fragment
 fn fs_lighting(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
-    let p = vec2<i32>(position.xy);
-    // Reversed-Z: 0 is the cleared far plane, i.e. sky.
-    if textureLoad(gbuffer_depth, p, 0) <= 0.0 {
-        return vec4<f32>(frame.lighting.sky_colour, 1.0);
-    }
-    let albedo_ao = textureLoad(gbuffer_albedo, p, 0);
-    let normal_material = textureLoad(gbuffer_normal, p, 0);
-    let n = oct32_decode(normal_material.x);
-    let m = material_of(normal_material.y);
-    let colour = shade(srgb_to_linear(albedo_ao.rgb), n, albedo_ao.a * 3.0, material_emission(m));
-    return vec4<f32>(colour, 1.0);
+    return vec4<f32>(lit_pixel(vec2<u32>(position.xy)), 1.0);
 }
 
 @fragment
 fn fs_tonemap(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
-    let c = textureLoad(hdr, vec2<i32>(position.xy), 0).rgb;
     // The output target is *Srgb: the hardware encodes.
-    return vec4<f32>(aces(c * frame.lighting.exposure), 1.0);
+    return vec4<f32>(tonemapped(vec2<u32>(position.xy)), 1.0);
+}
+
+@compute @workgroup_size(8, 8)
+fn cs_lighting(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x < frame.width && id.y < frame.height {
+        textureStore(hdr_out, id.xy, vec4<f32>(lit_pixel(id.xy), 1.0));
+    }
+}
+
+@compute @workgroup_size(8, 8)
+fn cs_tonemap(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x < frame.width && id.y < frame.height {
+        // A storage texture cannot be *Srgb: encode here.
+        textureStore(output_out, id.xy, vec4<f32>(linear_to_srgb(tonemapped(id.xy)), 1.0));
+    }
 }

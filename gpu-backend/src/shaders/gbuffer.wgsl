@@ -5,16 +5,25 @@
 // Quads: the shared index buffer holds 4q + (0, 1, 2, 0, 2, 3); draws start at index 0 with
 // base_vertex = 4 * (in-page index of the first quad), so vertex_index >> 2 is the quad in the
 // bound page and vertex_index & 3 the corner slot. records[instance_index] is the draw's
-// ChunkDrawIndirect (first_instance = its index), holding the camera-relative chunk.
+// DrawRecord (first_instance = its index): the node's level-0 chunk difference to the camera
+// chunk and its level of detail, whose voxels are 2^level blocks wide.
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(1) var<storage, read> materials: array<GpuMaterial>;
 
-@group(1) @binding(0) var<storage, read> quads: array<PackedQuad>;
-@group(1) @binding(1) var<storage, read> records: array<ChunkDrawIndirect>;
+// Twin of cull::DrawRecord (a unit test checks the layout with naga).
+struct DrawRecord {
+    chunk_x: i32,
+    chunk_y: i32,
+    chunk_z: i32,
+    level: u32,
+}
 
-// One smooth chunk: its camera-relative chunk and where its vertices and quads live (twin of
-// render::SmoothDraw).
+@group(1) @binding(0) var<storage, read> quads: array<PackedQuad>;
+@group(1) @binding(1) var<storage, read> records: array<DrawRecord>;
+
+// One smooth chunk: its level-0 chunk difference to the camera chunk and where its vertices and
+// quads live (twin of render::SmoothDraw, written by the cull pass).
 struct SmoothDraw {
     chunk_x: i32,
     chunk_y: i32,
@@ -24,7 +33,8 @@ struct SmoothDraw {
     quad_offset: u32,
     quad_count: u32,
     quad_form: u32,
-    pad: u32,
+    // Level of detail: positions scale by 2^level.
+    level: u32,
 }
 
 @group(1) @binding(2) var<storage, read> smooth_vertices: array<BlockVertex>;
@@ -32,9 +42,11 @@ struct SmoothDraw {
 @group(1) @binding(3) var<storage, read> smooth_quads: array<u32>;
 @group(1) @binding(4) var<storage, read> smooth_draws: array<SmoothDraw>;
 
-// How far vs_quad grows a quad in its plane, relative to its distance from the eye, and the
-// least it grows it, blocks (see vs_quad).
-const DILATION: f32 = 1.0 / 8192.0;
+// How far vs_quad grows a quad in its plane, in pixels at the quad's distance, and the least
+// it grows it, blocks (see vs_quad). Rasterisers snap to 1/256 pixel or finer, so 1/64 pixel
+// closes T-junction pinholes; more would move edges: a pixel centre within the hair of a
+// crease sees the wrong face.
+const DILATION_PX: f32 = 1.0 / 64.0;
 const MIN_DILATION: f32 = 1.0 / 4096.0;
 
 struct SurfaceVaryings {
@@ -61,14 +73,19 @@ fn quad_vertex(vertex: u32, instance: u32, grow: bool) -> SurfaceVaryings {
     // they are brighter, by renaming corner slot k to corner (k + 1) & 3.
     let flip = packed_quad_ao(q, 1u) + packed_quad_ao(q, 3u) > packed_quad_ao(q, 0u) + packed_quad_ao(q, 2u);
     let corner = ((vertex & 3u) + u32(flip)) & 3u;
-    let rel = chunk_draw_indirect_chunk(records[instance]);
-    var local = vec3<f32>(packed_quad_corner(q, corner));
+    let record = records[instance];
+    let rel = vec3<i32>(record.chunk_x, record.chunk_y, record.chunk_z);
+    let scale = f32(1u << min(record.level, 15u));
+    let cell = vec3<f32>(packed_quad_corner(q, corner));
+    var local = cell * scale;
     if grow {
         // The normal axis of (corner - centre) is 0, so sign() keeps the quad in its plane.
         let centre = 0.5 * (vec3<f32>(packed_quad_corner(q, 0u)) + vec3<f32>(packed_quad_corner(q, 2u)));
         let origin = vec3<f32>(rel) * frame.chunk_edge - frame.camera_offset;
-        let hair = max(length(origin + local) * DILATION, MIN_DILATION);
-        local += sign(local - centre) * hair;
+        // One pixel spans distance * 2 tan(fov_y / 2) / height blocks; |up| = tan(fov_y / 2).
+        let pixel = 2.0 * length(frame.up) / f32(frame.height);
+        let hair = max(length(origin + local) * pixel * DILATION_PX, MIN_DILATION);
+        local += sign(cell - centre) * hair;
     }
     var out: SurfaceVaryings;
     out.position = relative_position(rel, local);
@@ -79,8 +96,8 @@ fn quad_vertex(vertex: u32, instance: u32, grow: bool) -> SurfaceVaryings {
 }
 
 // Opaque quads. Greedy quads meet at T-junctions, where rasterization can leave pinholes: each
-// quad is grown in its own plane by a hair (DILATION of its distance, at least MIN_DILATION
-// blocks, about 1/100 pixel at the tests' resolution), so neighbours overlap instead.
+// quad is grown in its own plane by a hair (DILATION_PX of a pixel at its distance, at least
+// MIN_DILATION blocks), so neighbours overlap instead.
 @vertex
 fn vs_quad(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> SurfaceVaryings {
     return quad_vertex(vertex, instance, true);
@@ -104,7 +121,8 @@ fn vs_smooth(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instan
     let next = min(w + 1u, arrayLength(&smooth_quads) - 1u);
     let index = smooth_quad_corner(draw.quad_form, q, slot, smooth_quads[w], smooth_quads[next]);
     let v = smooth_vertices[draw.vertex_offset + index];
-    let local = block_vertex_position(v, frame.smooth_extent) - vec3<f32>(frame.smooth_origin);
+    let scale = f32(1u << min(draw.level, 15u));
+    let local = (block_vertex_position(v, frame.smooth_extent) - vec3<f32>(frame.smooth_origin)) * scale;
     let n = block_vertex_normal(v);
     var out: SurfaceVaryings;
     out.position = relative_position(vec3<i32>(draw.chunk_x, draw.chunk_y, draw.chunk_z), local);

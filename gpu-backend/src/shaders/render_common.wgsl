@@ -28,6 +28,27 @@ struct FrameUniforms {
     width: u32,
     height: u32,
     lighting: Lighting,
+    // The camera's basis (world axes): the ray through pixel centre (x, y) is
+    // forward + u * right + v * up, u = 2 (x + 0.5) / width - 1, v = 1 - 2 (y + 0.5) / height
+    // (right and up are scaled by the half field of view's tangents), and its point at
+    // parameter t lies t blocks in front of the eye (reversed-Z depth near / t).
+    forward: vec3<f32>,
+    near: f32,
+    right: vec3<f32>,
+    // FRAME_* bits.
+    flags: u32,
+    up: vec3<f32>,
+    pad: u32,
+}
+
+// Far draws were splatted into the visibility buffers this frame (render::FRAME_SPLAT).
+const FRAME_SPLAT: u32 = 1u;
+
+// The ray direction through the centre of pixel p (unit component along forward).
+fn pixel_ray(p: vec2<u32>) -> vec3<f32> {
+    let u = 2.0 * (f32(p.x) + 0.5) / f32(frame.width) - 1.0;
+    let v = 1.0 - 2.0 * (f32(p.y) + 0.5) / f32(frame.height);
+    return frame.forward + u * frame.right + v * frame.up;
 }
 
 struct GpuMaterial {

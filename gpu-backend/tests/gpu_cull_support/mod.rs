@@ -7,10 +7,11 @@
 use gpu_backend::GpuContext;
 use gpu_backend::chunk_table::MeshedChunkTable;
 use gpu_backend::cull::{
-    CullCamera, CullLayer, CullLayout, CullReadback, CullReference, cull_chunk, layer_range,
+    Command, CullCamera, CullLayer, CullLayout, CullReadback, CullReference, cull_chunk,
+    layer_range,
 };
 use voxel_core::ChunkCoord;
-use voxel_core::formats::{ChunkDrawIndirect, FaceLayerRange, MeshedChunkInfo};
+use voxel_core::formats::{FaceLayerRange, MeshedChunkInfo};
 
 use crate::common::Rng;
 
@@ -278,21 +279,28 @@ pub fn random_scene(
 }
 
 /// A command with its position-dependent `first_instance` cleared, for order-free comparison.
-pub fn unordered(mut c: ChunkDrawIndirect) -> ChunkDrawIndirect {
-    c.first_instance = 0;
+pub fn unordered(mut c: Command) -> Command {
+    c.args.first_instance = 0;
     c
 }
 
 /// Sorted, `first_instance`-free commands of one page.
-pub fn sorted(commands: &[ChunkDrawIndirect]) -> Vec<ChunkDrawIndirect> {
+pub fn sorted(commands: &[Command]) -> Vec<Command> {
     let mut v: Vec<_> = commands.iter().copied().map(unordered).collect();
-    v.sort_by_key(|c| (c.base_vertex, c.index_count, c.chunk));
+    v.sort_by_key(|c| {
+        (
+            c.args.base_vertex,
+            c.args.index_count,
+            c.record.chunk,
+            c.record.level,
+        )
+    });
     v
 }
 
 /// Checks a GPU readback against the CPU reference: counts, malformed count, every written
-/// command's args equal to its record's first 20 bytes and `first_instance` equal to its own
-/// index, the command lists equal as sets, and (`zeroed`) every slot past the count zero.
+/// command's `first_instance` equal to its own index, the command lists (args and records)
+/// equal as sets, and (`zeroed`) every slot past the count zero.
 pub fn assert_matches(
     gpu: &CullReadback,
     cpu: &CullReference,
@@ -305,21 +313,16 @@ pub fn assert_matches(
     for page in 0..layout.page_count as usize {
         let written = gpu.written(page);
         assert_eq!(written, cpu.commands[page].len(), "{context}: page {page}");
-        let records = &gpu.records[page][..written];
-        for (i, (args, record)) in gpu.args[page][..written].iter().zip(records).enumerate() {
+        let commands = gpu.commands(page);
+        for (i, command) in commands.iter().enumerate() {
             let at = page as u32 * layout.commands_per_page + i as u32;
             assert_eq!(
-                bytemuck::bytes_of(args),
-                &bytemuck::bytes_of(record)[..20],
-                "{context}: page {page} command {i}: args and record differ"
-            );
-            assert_eq!(
-                record.first_instance, at,
+                command.args.first_instance, at,
                 "{context}: first_instance is the command index"
             );
         }
         assert_eq!(
-            sorted(records),
+            sorted(&commands),
             sorted(&cpu.commands[page]),
             "{context}: page {page} commands"
         );
@@ -335,15 +338,15 @@ pub fn assert_matches(
     }
 }
 
-/// The chunk coordinates (camera-relative) of every command.
-pub fn visible_chunks(commands: &[Vec<ChunkDrawIndirect>]) -> std::collections::BTreeSet<[i32; 3]> {
-    commands.iter().flatten().map(|c| c.chunk).collect()
+/// The chunk coordinates (camera-relative, level 0) of every command.
+pub fn visible_chunks(commands: &[Vec<Command>]) -> std::collections::BTreeSet<[i32; 3]> {
+    commands.iter().flatten().map(|c| c.record.chunk).collect()
 }
 
 /// The face directions drawn for the chunk of `info` in `cpu`-style commands: the group a
 /// command's `base_vertex` starts.
 pub fn faces_drawn(
-    commands: &[ChunkDrawIndirect],
+    commands: &[Command],
     info: &MeshedChunkInfo,
     layer: CullLayer,
     layout: &CullLayout,
@@ -353,7 +356,7 @@ pub fn faces_drawn(
     let mut faces: Vec<usize> = commands
         .iter()
         .map(|c| {
-            let first = c.base_vertex as u32 / 4;
+            let first = c.args.base_vertex as u32 / 4;
             let mut at = start;
             (0..6)
                 .find(|&f| {

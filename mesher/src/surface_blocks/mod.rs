@@ -38,6 +38,7 @@
 //! (vectorized compares against the palette's transparent ids when it has at most 8).
 
 pub(crate) mod exposure;
+pub mod occupancy;
 
 use alloc::vec::Vec;
 use core::ops::Range;
@@ -47,6 +48,7 @@ use voxel_core::{BlockId, MaterialClass, PaddedChunk};
 
 use crate::{BlockClasses, MeshError};
 use exposure::{ExposureScratch, nothing_exposed};
+pub use occupancy::{hiding_mask, hiding_mask_words, transparent_mask};
 
 /// Edge of one sub-block in voxels: the 16 positions a [`DrawBlock`] axis can address.
 pub const SUB_BLOCK_EDGE: u32 = DrawBlock::MAX_POSITION + 1;

@@ -1,13 +1,11 @@
-//! Scenes the viewer can show. Today: the built-in procedural terrain.
+//! Scenes the viewer shows: the built-in procedural terrain and MagicaVoxel `.vox` files, both
+//! generated or loaded by the `voxel-scene` crate (re-exported here as [`terrain`] and
+//! [`vox`]), with a first camera view.
 
-pub mod terrain;
-pub mod vox;
+use voxel_core::storage::{PaletteChunk, WorldMap};
+use voxel_core::{ChunkSize, MaterialPalette};
 
-use rayon::prelude::*;
-use voxel_core::storage::{DenseChunk, PaletteChunk, VoxelStorage, WorldMap};
-use voxel_core::{BlockId, ChunkCoord, ChunkSize, LocalPos, MaterialPalette};
-
-pub use terrain::{Terrain, TerrainBlocks};
+pub use voxel_scene::{Terrain, TerrainBlocks, terrain, vox};
 
 /// A world ready to mesh or render: its chunks and the materials their ids index.
 pub struct Scene {
@@ -29,43 +27,11 @@ pub fn terrain_scene(
     chunks_y: i32,
     chunks_z: i32,
 ) -> Scene {
-    let (palette, blocks) = TerrainBlocks::palette();
-    let terrain = Terrain::new(seed, blocks);
-    let edge = size.edge() as i32;
-    let coords: Vec<ChunkCoord> = (-chunks_z / 2..chunks_z - chunks_z / 2)
-        .flat_map(|z| {
-            (0..chunks_y).flat_map(move |y| {
-                (-chunks_x / 2..chunks_x - chunks_x / 2).map(move |x| ChunkCoord::new(x, y, z))
-            })
-        })
-        .collect();
-    let chunks: Vec<(ChunkCoord, PaletteChunk)> = coords
-        .par_iter()
-        .filter_map(|&coord| {
-            let mut dense = DenseChunk::new(size);
-            let (x0, y0, z0) = (coord.x * edge, coord.y * edge, coord.z * edge);
-            for lz in 0..edge {
-                for lx in 0..edge {
-                    let ground = terrain.height(x0 + lx, z0 + lz);
-                    for ly in 0..edge {
-                        let id = terrain.block_in_column(x0 + lx, y0 + ly, z0 + lz, ground);
-                        if id != BlockId::AIR {
-                            let local = LocalPos::new(lx as u32, ly as u32, lz as u32, size)
-                                .expect("loop bounds are inside the chunk");
-                            dense.set(local, id).expect("local position checked above");
-                        }
-                    }
-                }
-            }
-            (dense.non_air_count() > 0).then(|| (coord, PaletteChunk::from_dense(&dense)))
-        })
-        .collect();
-    let mut world = WorldMap::new(size);
-    for (coord, chunk) in chunks {
-        world
-            .insert(coord, chunk)
-            .expect("every chunk was made with the world's size");
-    }
+    let voxel_scene::TerrainScene {
+        world,
+        palette,
+        terrain,
+    } = voxel_scene::terrain_scene(seed, size, chunks_x, chunks_y, chunks_z);
     let eye_y = terrain.height(0, 40).max(terrain.sea_level) + 14;
     let suggested_view = crate::reference_raycast::Camera {
         voxel: voxel_core::WorldPos::new(0, eye_y, 40),

@@ -1,28 +1,34 @@
 //! [`Renderer`]: resident chunks, camera and lighting in; one frame recorded into one encoder.
-//! The passes' recording is in [`passes`].
+//! The frame's order is in [`record`], the draw passes' recording in [`passes`].
 
 mod passes;
+mod record;
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 
 use wgpu::util::DeviceExt;
-use wgpu::{Buffer, BufferUsages, CommandEncoder, Device, Queue};
+use wgpu::{Buffer, BufferUsages, Device, Queue};
 
 use voxel_core::{ChunkSize, MaterialPalette};
 
 use super::camera::RenderCamera;
 use super::error::RenderError;
-use super::frame::{FrameShape, FrameUniforms};
+use super::far::splat::FarSplat;
+use super::far::{FarChoice, FarPath, FarRequest};
+use super::frame::FrameUniforms;
 use super::lighting::LightingParams;
 use super::materials::gpu_materials;
-use super::pipelines::Pipelines;
+use super::pipelines::{FullscreenPath, Pipelines};
 use super::residency::{ChunkMeshData, SmoothFrame, SmoothRanges, chunk_record, mesh_bounds};
 use super::targets::{FrameImage, RenderTargets, read_output};
-use crate::chunk_table::{MeshedChunkTable, TableSlot};
-use crate::cull::{CullConfig, CullLayer, CullOutput, CullPass, quad_indices};
+use crate::chunk_table::{GpuTable, MeshedChunkTable, TableError, TableSlot};
+use crate::cull::{
+    CullConfig, CullFrame, CullOutput, CullPass, LodAnchor, LodSettings, NodeRecord, SmoothPages,
+    quad_indices,
+};
 use crate::device::GpuContext;
 use crate::gigabuffer::{ChunkHandle, DataKind, Gigabuffer, GigabufferConfig};
-use crate::timing::{GpuTimer, PassTime};
+use crate::timing::GpuTimer;
 
 /// How a [`Renderer`] is sized.
 #[derive(Clone, Debug, PartialEq)]
@@ -39,6 +45,15 @@ pub struct RendererConfig {
     pub max_chunks: u32,
     /// How smooth vertex positions map to chunk-local blocks.
     pub smooth: SmoothFrame,
+    /// Far draws: which path (see [`far`](crate::render::far)); far draws also need space for
+    /// draw blocks in `gigabuffer` and level-of-detail selection ([`Renderer::set_lod`]).
+    pub far: FarRequest,
+    /// How the full-screen passes run.
+    pub fullscreen: FullscreenPath,
+    /// Two-phase occlusion culling against a depth pyramid (see [`crate::hiz`]): the nodes
+    /// visible last frame are drawn first, the pyramid built from their depth, then every other
+    /// node tested against it.
+    pub occlusion: bool,
 }
 
 impl RendererConfig {
@@ -58,7 +73,19 @@ impl RendererConfig {
                 .with_max_chunks(4096),
             max_chunks: 4096,
             smooth: SmoothFrame::nocubes(size),
+            far: FarRequest::Off,
+            fullscreen: FullscreenPath::default(),
+            occlusion: true,
         }
+    }
+
+    /// This configuration with far draws `far` and `draw_block_bytes` of draw-block space.
+    pub fn with_far(mut self, far: FarRequest, draw_block_bytes: u64) -> RendererConfig {
+        self.far = far;
+        self.gigabuffer = self
+            .gigabuffer
+            .with_bytes(DataKind::DrawBlocks, draw_block_bytes);
+        self
     }
 }
 
@@ -66,7 +93,38 @@ impl RendererConfig {
 #[derive(Debug)]
 struct Resident {
     slot: TableSlot,
+    level: u32,
     smooth: Option<SmoothRanges>,
+}
+
+/// What two-phase occlusion culling keeps between frames.
+#[derive(Debug)]
+struct Occlusion {
+    late_commands: CullOutput,
+    pyramid: crate::hiz::DepthPyramid,
+    visible: Buffer,
+}
+
+impl Occlusion {
+    fn new(
+        device: &Device,
+        cull: &CullPass,
+        capacity: u32,
+        width: u32,
+        height: u32,
+    ) -> Result<Occlusion, RenderError> {
+        Ok(Occlusion {
+            late_commands: cull.create_output("opaque late")?,
+            pyramid: crate::hiz::DepthPyramid::new(device, width, height)
+                .map_err(RenderError::Hiz)?,
+            visible: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("visibility bits"),
+                size: u64::from(capacity.div_ceil(32).max(1)) * 4,
+                usage: BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            }),
+        })
+    }
 }
 
 /// The deferred voxel renderer (see the [module docs](super) for a frame's passes).
@@ -77,20 +135,35 @@ pub struct Renderer {
     config: RendererConfig,
     gigabuffer: Gigabuffer,
     table: MeshedChunkTable,
+    /// Per table slot, what the chunk record does not hold (same slots as `table`).
+    nodes: GpuTable<NodeRecord>,
     chunks: HashMap<ChunkHandle, Resident>,
-    /// The resident chunks with a smooth layer (drawn one by one; the others only through
-    /// the cull's commands, so a frame's CPU work does not grow with them).
-    smooth_chunks: HashSet<ChunkHandle>,
+    /// Resident chunks per level of detail (the top level is the highest with any).
+    per_level: [u32; 16],
     cull: CullPass,
+    cull_frame: CullFrame,
     opaque_commands: CullOutput,
     transparent_commands: CullOutput,
+    /// Occlusion culling: the late phase's commands, the depth pyramid, the visibility bits.
+    occlusion: Option<Occlusion>,
+    /// Level-of-detail selection; `None` draws level 0 only (full detail).
+    lod: Option<LodSettings>,
+    anchor: LodAnchor,
     pipelines: Pipelines,
+    /// The far path in use and why.
+    far_choice: FarChoice,
+    /// The compute splat, when that is the far path.
+    splat: Option<FarSplat>,
+    /// Read by the full-screen passes when there is no splat.
+    no_visibility: Buffer,
     targets: RenderTargets,
     quad_indices: Buffer,
     materials: Buffer,
     material_count: u32,
     frame_uniforms: Buffer,
     timer: GpuTimer,
+    /// The device's largest storage binding (the visibility buffers' limit).
+    gigabuffer_max_page: u64,
     camera: RenderCamera,
     lighting: LightingParams,
 }
@@ -114,12 +187,63 @@ impl Renderer {
             config.max_chunks,
             ctx.capabilities.max_storage_buffer_binding_size,
         )?;
-        let cull = CullPass::new(
-            ctx,
-            gigabuffer.layout(DataKind::Quads),
-            &CullConfig::new(config.chunk_size, config.max_chunks),
+        let nodes = GpuTable::new(
+            device,
+            config.max_chunks,
+            ctx.capabilities.max_storage_buffer_binding_size,
         )?;
+        let cull_config = CullConfig {
+            smooth: Some(SmoothPages::of(
+                gigabuffer.layout(DataKind::SmoothVertices),
+                gigabuffer.layout(DataKind::SmoothQuads),
+            )),
+            ..CullConfig::new(config.chunk_size, config.max_chunks)
+        };
+        let cull = CullPass::new(ctx, gigabuffer.layout(DataKind::Quads), &cull_config)?;
+        let cull_frame = cull.create_frame("renderer")?;
+        let far_choice = config
+            .far
+            .resolve(&ctx.capabilities)
+            .map_err(RenderError::FarDrawsUnavailable)?;
+        let splat = match far_choice.path {
+            FarPath::Off => None,
+            FarPath::Splat => {
+                let blocks = gigabuffer.layout(DataKind::DrawBlocks);
+                if blocks.page_count != 1 {
+                    return Err(RenderError::FarDrawsUnavailable(format!(
+                        "the splat binds the draw-block gigabuffer as one page; {} bytes of \
+                         draw blocks make {} pages of at most {} bytes",
+                        config.gigabuffer.bytes.get(DataKind::DrawBlocks),
+                        blocks.page_count,
+                        ctx.capabilities.max_page_bytes()
+                    )));
+                }
+                Some(FarSplat::new(
+                    device,
+                    config.width,
+                    config.height,
+                    ctx.capabilities.max_page_bytes(),
+                )?)
+            }
+        };
+        let no_visibility = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("no far visibility"),
+            size: 16,
+            usage: BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
         let opaque_commands = cull.create_output("opaque")?;
+        let occlusion = if config.occlusion {
+            Some(Occlusion::new(
+                device,
+                &cull,
+                config.max_chunks,
+                config.width,
+                config.height,
+            )?)
+        } else {
+            None
+        };
         let transparent_commands = cull.create_output("transparent")?;
         let indices = quad_indices(cull.layout().max_quads_per_draw);
         let quad_indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -140,18 +264,30 @@ impl Renderer {
             queue: ctx.queue.clone(),
             gigabuffer,
             table,
+            nodes,
             chunks: HashMap::new(),
-            smooth_chunks: HashSet::new(),
+            per_level: [0; 16],
             cull,
+            cull_frame,
             opaque_commands,
             transparent_commands,
-            pipelines: Pipelines::new(device),
+            occlusion,
+            lod: None,
+            anchor: LodAnchor {
+                chunk: voxel_core::ChunkCoord::new(0, 0, 0),
+                offset: [0.0; 3],
+            },
+            pipelines: Pipelines::new(device, config.fullscreen),
+            far_choice,
+            splat,
+            no_visibility,
             targets,
             quad_indices,
             materials,
             material_count,
             frame_uniforms,
             timer: GpuTimer::new(ctx, 16),
+            gigabuffer_max_page: ctx.capabilities.max_page_bytes(),
             camera: RenderCamera::from_world(
                 voxel_core::WorldPos::new(edge / 2, edge / 2, edge / 2),
                 [0.5; 3],
@@ -170,9 +306,42 @@ impl Renderer {
         (self.materials, self.material_count) = material_buffer(&self.device, palette);
     }
 
-    /// Sets the camera of the next frames.
+    /// Sets the camera of the next frames. The level-of-detail anchor follows it with the
+    /// selection's hysteresis (see [`cull::lod`](crate::cull::lod)); a caller that streams
+    /// chunks in sets the anchor itself with [`set_lod_anchor`](Self::set_lod_anchor) after this.
     pub fn set_camera(&mut self, camera: &RenderCamera) {
         self.camera = *camera;
+        let hysteresis = self.lod.map_or(0.0, |l| l.hysteresis);
+        self.anchor = self.anchor.follow(
+            camera.chunk,
+            camera.offset,
+            self.config.chunk_size.edge(),
+            hysteresis,
+        );
+    }
+
+    /// Turns level-of-detail selection on with `settings` (see
+    /// [`cull::lod`](crate::cull::lod)), or off with `None`: then only level-0 chunks are drawn
+    /// (full detail). Refuses a non-finite or negative setting.
+    pub fn set_lod(&mut self, settings: Option<LodSettings>) -> Result<(), RenderError> {
+        self.lod = settings.map(LodSettings::validate).transpose()?;
+        Ok(())
+    }
+
+    /// The level-of-detail settings in use.
+    pub fn lod(&self) -> Option<LodSettings> {
+        self.lod
+    }
+
+    /// Moves the level-of-detail anchor (where distances are measured from): a streaming
+    /// caller moves it only once the chunks the new selection needs are resident.
+    pub fn set_lod_anchor(&mut self, anchor: LodAnchor) {
+        self.anchor = anchor;
+    }
+
+    /// The level-of-detail anchor.
+    pub fn lod_anchor(&self) -> LodAnchor {
+        self.anchor
     }
 
     /// The current camera.
@@ -185,9 +354,35 @@ impl Renderer {
         self.lighting = *lighting;
     }
 
+    /// The far path in use and why it was chosen.
+    pub fn far_choice(&self) -> &FarChoice {
+        &self.far_choice
+    }
+
+    /// Changes how the full-screen passes run (rebuilds the pipelines when it changes).
+    pub fn set_fullscreen_path(&mut self, path: FullscreenPath) {
+        if path != self.config.fullscreen {
+            self.config.fullscreen = path;
+            self.pipelines = Pipelines::new(&self.device, path);
+        }
+    }
+
+    /// How the full-screen passes run.
+    pub fn fullscreen_path(&self) -> FullscreenPath {
+        self.config.fullscreen
+    }
+
     /// Changes the output size (recreates the targets).
     pub fn resize(&mut self, width: u32, height: u32) -> Result<(), RenderError> {
+        if let Some(splat) = &mut self.splat {
+            let max = self.gigabuffer_max_page;
+            splat.resize(width, height, max)?;
+        }
         self.targets = RenderTargets::new(&self.device, width, height)?;
+        if let Some(occlusion) = &mut self.occlusion {
+            occlusion.pyramid = crate::hiz::DepthPyramid::new(&self.device, width, height)
+                .map_err(RenderError::Hiz)?;
+        }
         self.config.width = width;
         self.config.height = height;
         Ok(())
@@ -208,6 +403,40 @@ impl Renderer {
         self.chunks.len()
     }
 
+    /// GPU bytes the renderer holds, by kind: the gigabuffer's used bytes per data kind, the
+    /// chunk and node tables, the cull's outputs and far list, the far visibility buffers.
+    /// (Render targets are not counted: they depend on the output size only.)
+    pub fn resident_bytes(&self) -> Vec<(&'static str, u64)> {
+        let used = self.gigabuffer.resident();
+        let mut out: Vec<(&'static str, u64)> = DataKind::ALL
+            .iter()
+            .map(|&kind| (kind.name(), used.kinds.get(kind).used_bytes))
+            .collect();
+        out.push(("chunk table", self.table.buffer().size()));
+        out.push(("node table", self.nodes.buffer().size()));
+        let late = self
+            .occlusion
+            .as_ref()
+            .map_or(0, |o| o.late_commands.byte_size() + o.visible.size());
+        out.push((
+            "cull outputs",
+            self.opaque_commands.byte_size() + self.transparent_commands.byte_size() + late,
+        ));
+        out.push(("far list", self.cull_frame.far_list().size()));
+        if let Some(splat) = &self.splat {
+            out.push((
+                "far visibility buffers",
+                splat.visibility().size() + splat.transparent().size(),
+            ));
+        }
+        out
+    }
+
+    /// True when a resident chunk has a smooth layer.
+    fn has_smooth(&self) -> bool {
+        self.chunks.values().any(|r| r.smooth.is_some())
+    }
+
     /// Smooth quads of the resident chunks.
     pub fn smooth_quad_count(&self) -> u64 {
         self.chunks
@@ -220,12 +449,13 @@ impl Renderer {
     /// Uploads a chunk's mesh (its bytes reach the GPU with the next recorded frame) and
     /// returns its handle. On error nothing stays allocated.
     pub fn upload_chunk(&mut self, mesh: &ChunkMeshData<'_>) -> Result<ChunkHandle, RenderError> {
+        if mesh.lod > voxel_core::formats::MeshedChunkInfo::MAX_LOD {
+            return Err(RenderError::BadLevel(mesh.lod));
+        }
+        self.check_far_data(&mesh.layers)?;
         let bounds = mesh_bounds(&mesh.layers, self.config.smooth);
         let uploaded = self.gigabuffer.upload(&mesh.layers)?;
-        let record = chunk_record(mesh.coord, bounds, &uploaded.ranges)
-            .map_err(RenderError::from)
-            .and_then(|record| self.table.insert(record).map_err(RenderError::from));
-        let slot = match record {
+        let slot = match self.insert_records(mesh, bounds, &uploaded.ranges) {
             Ok(slot) => slot,
             Err(e) => {
                 // The upload succeeded; give its space back before reporting.
@@ -240,12 +470,82 @@ impl Renderer {
             quad_count: ranges.smooth_quad_count,
             form: ranges.smooth_quad_form,
         });
-        if smooth.is_some() {
-            self.smooth_chunks.insert(uploaded.handle);
-        }
-        self.chunks
-            .insert(uploaded.handle, Resident { slot, smooth });
+        self.per_level[mesh.lod as usize] += 1;
+        self.chunks.insert(
+            uploaded.handle,
+            Resident {
+                slot,
+                level: mesh.lod,
+                smooth,
+            },
+        );
         Ok(uploaded.handle)
+    }
+
+    /// The chunk and node records of an uploaded chunk, in the same slot of both tables.
+    fn insert_records(
+        &mut self,
+        mesh: &ChunkMeshData<'_>,
+        bounds: Option<([f32; 3], [f32; 3])>,
+        ranges: &crate::gigabuffer::ChunkRanges,
+    ) -> Result<TableSlot, RenderError> {
+        let record = chunk_record(mesh.coord, mesh.lod, bounds, ranges)?;
+        let node = NodeRecord::new(ranges)?;
+        let slot = self.table.insert(record)?;
+        match self.nodes.insert(node) {
+            // Both tables hand out the lowest free slot and change together, so they agree.
+            Ok(node_slot) if node_slot == slot => Ok(slot),
+            Ok(node_slot) => {
+                self.nodes.remove(node_slot)?;
+                self.table.remove(slot)?;
+                Err(RenderError::Table(TableError::VacantSlot(node_slot)))
+            }
+            Err(e) => {
+                self.table.remove(slot)?;
+                Err(e.into())
+            }
+        }
+    }
+
+    /// Far-draw data must come whole: blocks with the hiding mask of the chunk's padded
+    /// neighbourhood, in chunks a `DrawBlock` can address.
+    fn check_far_data(
+        &self,
+        layers: &crate::gigabuffer::ChunkLayersData<'_>,
+    ) -> Result<(), RenderError> {
+        let blocks = layers.draw_blocks.len()
+            + layers
+                .draw_block_skirts
+                .iter()
+                .map(|s| s.len())
+                .sum::<usize>();
+        if blocks == 0 && layers.hiding_mask.is_empty() && layers.transparent_mask.is_empty() {
+            return Ok(());
+        }
+        let edge = self.config.chunk_size.edge();
+        if edge > voxel_core::formats::DrawBlock::MAX_POSITION + 1 {
+            return Err(RenderError::BadFarData(format!(
+                "chunks of edge {edge} have draw blocks, but a DrawBlock addresses 16^3: far \
+                 draws need chunks of at most 16^3"
+            )));
+        }
+        let p = (edge + 2) as usize;
+        let words = (p * p * p).div_ceil(32);
+        if layers.hiding_mask.len() != words {
+            return Err(RenderError::BadFarData(format!(
+                "{blocks} draw blocks come with a hiding mask of {} words; chunks of edge \
+                 {edge} need {words} (mesher::surface_blocks::hiding_mask)",
+                layers.hiding_mask.len()
+            )));
+        }
+        if !layers.transparent_mask.is_empty() && layers.transparent_mask.len() != words {
+            return Err(RenderError::BadFarData(format!(
+                "a transparent mask of {} words; chunks of edge {edge} need {words} or none \
+                 (mesher::surface_blocks::transparent_mask)",
+                layers.transparent_mask.len()
+            )));
+        }
+        Ok(())
     }
 
     /// Frees a resident chunk: its space and table slot. A stale or foreign handle is an
@@ -255,91 +555,32 @@ impl Renderer {
             .chunks
             .remove(&handle)
             .ok_or(RenderError::UnknownChunk(handle))?;
-        self.smooth_chunks.remove(&handle);
+        self.per_level[resident.level as usize] -= 1;
         self.table.remove(resident.slot)?;
+        self.nodes.remove(resident.slot)?;
         self.gigabuffer.free(handle)?;
         Ok(())
     }
 
-    /// Records a whole frame into `encoder`: pending uploads, the cull, the G-buffer pass
-    /// (opaque quads, then smooth quads), lighting, the transparent pass and the tonemap, each
-    /// timed by the renderer's [`GpuTimer`], then the timer's resolve. Submit the encoder (on
-    /// the CPU timing path the timer submits parts of it itself), then call
-    /// [`collect_timings`](Self::collect_timings) if wanted.
-    pub fn record_frame(&mut self, encoder: &mut CommandEncoder) -> Result<(), RenderError> {
-        let (width, height) = (self.targets.width, self.targets.height);
-        self.gigabuffer.flush(encoder);
-        self.table.flush(&self.queue);
-        let shape = FrameShape {
-            width,
-            height,
-            chunk_edge: self.config.chunk_size.edge(),
-            material_count: self.material_count,
-            smooth_extent: self.config.smooth.extent,
-            smooth_origin: self.config.smooth.origin,
-        };
-        let uniforms = FrameUniforms::new(&self.camera, &self.lighting, &shape);
-        self.queue
-            .write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&uniforms));
-        let frame_group = self.frame_group();
-        let cull_camera = self.camera.cull_camera(width, height);
-
-        let scope = self.timer.begin(encoder, "cull");
-        self.cull.record(
-            encoder,
-            &self.table,
-            &cull_camera,
-            CullLayer::Opaque,
-            &self.opaque_commands,
-        )?;
-        self.timer.end(encoder, scope);
-
-        // The transparent layer, back to front (see `render::transparent`).
-        let scope = self.timer.begin(encoder, "cull transparent");
-        self.cull.record_ordered(
-            encoder,
-            &self.table,
-            &cull_camera,
-            CullLayer::Transparent,
-            &self.transparent_commands,
-        )?;
-        self.timer.end(encoder, scope);
-
-        let scope = self.timer.begin(encoder, "gbuffer");
-        self.record_gbuffer(encoder, &frame_group, &cull_camera);
-        self.timer.end(encoder, scope);
-
-        let scope = self.timer.begin(encoder, "lighting");
-        self.record_fullscreen(encoder, &frame_group, false);
-        self.timer.end(encoder, scope);
-
-        let scope = self.timer.begin(encoder, "transparent");
-        self.record_transparent(encoder, &frame_group);
-        self.timer.end(encoder, scope);
-
-        let scope = self.timer.begin(encoder, "tonemap");
-        self.record_fullscreen(encoder, &frame_group, true);
-        self.timer.end(encoder, scope);
-        self.timer.resolve(encoder);
-        Ok(())
-    }
-
-    /// Records and submits one frame, waits for it, and returns its per-pass times.
-    pub fn render(&mut self) -> Result<Vec<PassTime>, RenderError> {
-        let mut encoder = self.device.create_command_encoder(&Default::default());
-        self.record_frame(&mut encoder)?;
-        self.queue.submit([encoder.finish()]);
-        self.collect_timings()
-    }
-
-    /// The last submitted frame's per-pass times (waits for the GPU).
-    pub fn collect_timings(&mut self) -> Result<Vec<PassTime>, RenderError> {
-        self.timer.collect().map_err(RenderError::Timer)
-    }
-
     /// Reads the last frame's output and depth back (blocks).
+    ///
+    /// The depth is the frame's: where a far draw was splatted nearer than the rasterised
+    /// depth, the splat's.
     pub fn read_image(&self) -> Result<FrameImage, RenderError> {
-        read_output(&self.device, &self.queue, &self.targets)
+        let mut image = read_output(&self.device, &self.queue, &self.targets)?;
+        if let Some(splat) = &self.splat {
+            let words: Vec<[u32; 2]> = bytemuck::pod_collect_to_vec(&crate::readback::read_buffer(
+                &self.device,
+                &self.queue,
+                splat.visibility(),
+                0,
+                splat.visibility().size(),
+            )?);
+            for (depth, word) in image.depth.iter_mut().zip(words) {
+                *depth = depth.max(f32::from_bits(word[1]));
+            }
+        }
+        Ok(image)
     }
 }
 

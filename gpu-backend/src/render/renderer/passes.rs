@@ -1,15 +1,13 @@
 //! Recording the renderer's passes: bind groups, the G-buffer pass (opaque quads from the cull
 //! pass's commands, then smooth chunks), the transparent pass and the two full-screen passes.
 
-use std::collections::HashMap;
-
-use wgpu::util::DeviceExt;
-use wgpu::{BindGroup, Buffer, BufferUsages, CommandEncoder};
+use wgpu::{BindGroup, Buffer, CommandEncoder};
 
 use super::Renderer;
-use crate::cull::{CullCamera, in_frustum, relative_box};
+use crate::bind::buffer_entry;
+use crate::cull::CullOutput;
 use crate::gigabuffer::DataKind;
-use crate::render::frame::SmoothDraw;
+use crate::render::pipelines::FullscreenPipelines;
 
 impl Renderer {
     pub(super) fn frame_group(&self) -> BindGroup {
@@ -48,24 +46,52 @@ impl Renderer {
         }))
     }
 
+    /// Group 1 of the smooth pipeline: smooth pair `pair`'s pages and `commands`' smooth
+    /// records.
+    fn smooth_group(&self, pair: u32, commands: &CullOutput) -> Option<BindGroup> {
+        let quad_pages = self.cull.layout().smooth.quad_pages.max(1);
+        let vertices = self
+            .gigabuffer
+            .page(DataKind::SmoothVertices, pair / quad_pages)?;
+        let quads = self
+            .gigabuffer
+            .page(DataKind::SmoothQuads, pair % quad_pages)?;
+        Some(self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("smooth"),
+            layout: &self.pipelines.smooth_layout,
+            entries: &[
+                buffer_entry(2, vertices),
+                buffer_entry(3, quads),
+                buffer_entry(4, commands.smooth_records()),
+            ],
+        }))
+    }
+
+    /// The G-buffer pass of `commands` (opaque quads per page, then smooth quads per page
+    /// pair): clearing the G-buffer first, or drawing over it.
     pub(super) fn record_gbuffer(
         &self,
         encoder: &mut CommandEncoder,
         frame_group: &BindGroup,
-        camera: &CullCamera,
+        commands: &CullOutput,
+        clear_first: bool,
     ) {
+        let colour_load = if clear_first {
+            wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
+        } else {
+            wgpu::LoadOp::Load
+        };
         let clear = |view| {
             Some(wgpu::RenderPassColorAttachment {
                 view,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    load: colour_load,
                     store: wgpu::StoreOp::Store,
                 },
             })
         };
-        let smooth = self.smooth_batches(camera);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("gbuffer"),
             color_attachments: &[clear(&self.targets.albedo), clear(&self.targets.normal)],
@@ -73,7 +99,11 @@ impl Renderer {
                 view: &self.targets.depth,
                 // Reversed-Z: 0 is infinitely far.
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
+                    load: if clear_first {
+                        wgpu::LoadOp::Clear(0.0)
+                    } else {
+                        wgpu::LoadOp::Load
+                    },
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,
@@ -86,99 +116,22 @@ impl Renderer {
         pass.set_bind_group(0, frame_group, &[]);
         pass.set_index_buffer(self.quad_indices.slice(..), wgpu::IndexFormat::Uint32);
         for page in 0..self.cull.layout().page_count {
-            if let Some(group) = self.quad_group(page, self.opaque_commands.records()) {
+            if let Some(group) = self.quad_group(page, commands.records()) {
                 pass.set_bind_group(1, &group, &[]);
-                self.opaque_commands.draw_page(&mut pass, page);
+                commands.draw_page(&mut pass, page);
             }
         }
-        if !smooth.is_empty() {
+        let pairs = self.cull.layout().smooth_pairs;
+        if pairs > 0 && self.has_smooth() {
             pass.set_pipeline(&self.pipelines.smooth_gbuffer);
             pass.set_bind_group(0, frame_group, &[]);
-            for (group, draws) in &smooth {
-                pass.set_bind_group(1, group, &[]);
-                for (i, draw) in draws {
-                    pass.draw(0..6 * draw.quad_count, *i..*i + 1);
+            for pair in 0..pairs {
+                if let Some(group) = self.smooth_group(pair, commands) {
+                    pass.set_bind_group(1, &group, &[]);
+                    commands.draw_smooth_pair(&mut pass, pair);
                 }
             }
         }
-    }
-
-    /// The smooth draws of the resident chunks, grouped by the pages they read.
-    /// Smooth chunks are culled here, on the CPU, by their boxes against the frustum (the cull
-    /// pass reads only the quad layers); there are few of them.
-    fn smooth_batches(&self, camera: &CullCamera) -> Vec<(BindGroup, Vec<(u32, SmoothDraw)>)> {
-        let edge = self.config.chunk_size.edge();
-        let vertices = self
-            .gigabuffer
-            .layout(DataKind::SmoothVertices)
-            .page_capacity;
-        let quads = self.gigabuffer.layout(DataKind::SmoothQuads).page_capacity;
-        let eye_chunk = self.camera.chunk;
-        let mut by_pages: HashMap<(u32, u32), Vec<SmoothDraw>> = HashMap::new();
-        for resident in self.smooth_chunks.iter().filter_map(|h| self.chunks.get(h)) {
-            let (Some(smooth), Some(info)) = (resident.smooth, self.table.get(resident.slot))
-            else {
-                continue;
-            };
-            let (centre, extent) = relative_box(info, camera, edge);
-            if !in_frustum(&camera.planes, centre, extent) {
-                continue;
-            }
-            let (Some(vp), Some(qp)) = (
-                smooth.vertices.offset.checked_div(vertices),
-                smooth.quads.offset.checked_div(quads),
-            ) else {
-                continue;
-            };
-            by_pages.entry((vp, qp)).or_default().push(SmoothDraw {
-                chunk: [
-                    info.chunk[0].wrapping_sub(eye_chunk.x),
-                    info.chunk[1].wrapping_sub(eye_chunk.y),
-                    info.chunk[2].wrapping_sub(eye_chunk.z),
-                ],
-                vertex_offset: smooth.vertices.offset % vertices,
-                quad_offset: smooth.quads.offset % quads,
-                quad_count: smooth.quad_count,
-                quad_form: smooth.form as u32,
-                pad: 0,
-            });
-        }
-        let mut batches = Vec::new();
-        for ((vp, qp), draws) in by_pages {
-            let (Some(vertex_page), Some(quad_page)) = (
-                self.gigabuffer.page(DataKind::SmoothVertices, vp),
-                self.gigabuffer.page(DataKind::SmoothQuads, qp),
-            ) else {
-                continue;
-            };
-            let records = self
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("smooth draws"),
-                    contents: bytemuck::cast_slice(&draws),
-                    usage: BufferUsages::STORAGE,
-                });
-            let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("smooth"),
-                layout: &self.pipelines.smooth_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: vertex_page.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: quad_page.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 4,
-                        resource: records.as_entire_binding(),
-                    },
-                ],
-            });
-            batches.push((group, (0u32..).zip(draws).collect()));
-        }
-        batches
     }
 
     /// The transparent pass: the ordered cull's commands, one multi-draw per quad page,
@@ -219,8 +172,8 @@ impl Renderer {
         }
     }
 
-    /// The lighting pass (`tonemap = false`: G-buffer to HDR) or the tonemap pass (HDR to the
-    /// output).
+    /// The lighting pass (`tonemap = false`: G-buffer and far visibility to HDR) or the
+    /// tonemap pass (HDR to the output), as a fragment or a compute pass.
     pub(super) fn record_fullscreen(
         &self,
         encoder: &mut CommandEncoder,
@@ -232,38 +185,66 @@ impl Renderer {
             binding,
             resource: wgpu::BindingResource::TextureView(view),
         };
-        let (pipeline, layout, entries, target) = if tonemap {
-            (
-                &self.pipelines.tonemap,
-                &self.pipelines.hdr_read_layout,
-                vec![texture(3, &t.hdr)],
-                &t.output,
-            )
+        let compute = matches!(
+            self.pipelines.fullscreen,
+            FullscreenPipelines::Compute { .. }
+        );
+        let (visibility, transparent) = match &self.splat {
+            Some(splat) => (splat.visibility(), splat.transparent()),
+            None => (&self.no_visibility, &self.no_visibility),
+        };
+        let (layout, mut entries) = if tonemap {
+            (&self.pipelines.hdr_read_layout, vec![texture(3, &t.hdr)])
         } else {
             (
-                &self.pipelines.lighting,
                 &self.pipelines.gbuffer_read_layout,
                 vec![
                     texture(0, &t.albedo),
                     texture(1, &t.normal),
                     texture(2, &t.depth),
+                    buffer_entry(4, visibility),
+                    buffer_entry(5, transparent),
                 ],
-                &t.hdr,
             )
         };
+        if compute {
+            entries.push(if tonemap {
+                texture(7, &t.output_storage)
+            } else {
+                texture(6, &t.hdr)
+            });
+        }
         let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(if tonemap { "hdr read" } else { "gbuffer read" }),
             layout,
             entries: &entries,
         });
-        let mut pass = crate::fullscreen::fullscreen_pass(
-            encoder,
-            if tonemap { "tonemap" } else { "lighting" },
-            target,
-        );
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, frame_group, &[]);
-        pass.set_bind_group(1, &group, &[]);
-        pass.draw(0..3, 0..1);
+        let label = if tonemap { "tonemap" } else { "lighting" };
+        match &self.pipelines.fullscreen {
+            FullscreenPipelines::Fragment {
+                lighting,
+                tonemap: tone,
+            } => {
+                let target = if tonemap { &t.output } else { &t.hdr };
+                let mut pass = crate::fullscreen::fullscreen_pass(encoder, label, target);
+                pass.set_pipeline(if tonemap { tone } else { lighting });
+                pass.set_bind_group(0, frame_group, &[]);
+                pass.set_bind_group(1, &group, &[]);
+                pass.draw(0..3, 0..1);
+            }
+            FullscreenPipelines::Compute {
+                lighting,
+                tonemap: tone,
+            } => {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(label),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(if tonemap { tone } else { lighting });
+                pass.set_bind_group(0, frame_group, &[]);
+                pass.set_bind_group(1, &group, &[]);
+                pass.dispatch_workgroups(t.width.div_ceil(8), t.height.div_ceil(8), 1);
+            }
+        }
     }
 }

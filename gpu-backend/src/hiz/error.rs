@@ -1,0 +1,147 @@
+//! Why a depth pyramid, a build or a reference refused its input.
+
+use std::fmt;
+
+use crate::readback::ReadbackError;
+
+/// An error of the depth pyramid: each names the problem, none is a panic.
+#[derive(Clone, Debug, PartialEq)]
+pub enum HizError {
+    /// The screen size is zero or larger than the device's (or the CPU side's) limit.
+    BadSize {
+        /// Width asked for, pixels.
+        width: u32,
+        /// Height asked for, pixels.
+        height: u32,
+        /// The largest edge accepted.
+        max: u32,
+    },
+    /// A CPU depth image whose length is not `width * height`.
+    DepthLength {
+        /// `width * height`.
+        expected: usize,
+        /// Values given.
+        found: usize,
+    },
+    /// A CPU visibility buffer whose length is not `width * height`.
+    VisibilityLength {
+        /// `width * height`.
+        expected: usize,
+        /// Values given.
+        found: usize,
+    },
+    /// CPU levels that are not the pyramid of the stated screen: wrong level count.
+    LevelCount {
+        /// Levels of the screen's pyramid.
+        expected: usize,
+        /// Levels given.
+        found: usize,
+    },
+    /// CPU levels that are not the pyramid of the stated screen: a level of the wrong length.
+    LevelLength {
+        /// The level.
+        level: usize,
+        /// Its `width * height`.
+        expected: usize,
+        /// Values given.
+        found: usize,
+    },
+    /// The depth texture is not `Depth32Float`.
+    DepthFormat(wgpu::TextureFormat),
+    /// The depth texture is not the pyramid's screen size.
+    DepthSize {
+        /// The pyramid's screen, pixels.
+        expected: (u32, u32),
+        /// The texture's size.
+        found: (u32, u32),
+    },
+    /// The depth texture cannot be bound for `textureLoad`: it lacks `TEXTURE_BINDING` usage,
+    /// is multisampled, or is not a 2D texture.
+    DepthNotSampleable,
+    /// The visibility buffer lacks `STORAGE` usage.
+    VisibilityNotStorage,
+    /// The visibility buffer is smaller than `width * height * 8` bytes.
+    VisibilityTooSmall {
+        /// Bytes the screen needs.
+        needed: u64,
+        /// The buffer's size.
+        found: u64,
+    },
+    /// `width * height * 8` bytes exceed the device's storage binding limit.
+    VisibilityTooLarge {
+        /// Bytes the screen needs.
+        needed: u64,
+        /// `max_storage_buffer_binding_size`.
+        max: u64,
+    },
+    /// Reading the levels back failed.
+    Readback(ReadbackError),
+}
+
+impl fmt::Display for HizError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            HizError::BadSize { width, height, max } => write!(
+                f,
+                "depth pyramid screen {width}x{height} is invalid: each side must be 1..={max}"
+            ),
+            HizError::DepthLength { expected, found } => write!(
+                f,
+                "depth image has {found} values, the screen needs {expected}"
+            ),
+            HizError::VisibilityLength { expected, found } => write!(
+                f,
+                "visibility buffer has {found} values, the screen needs {expected}"
+            ),
+            HizError::LevelCount { expected, found } => write!(
+                f,
+                "{found} pyramid levels given, the screen's pyramid has {expected}"
+            ),
+            HizError::LevelLength {
+                level,
+                expected,
+                found,
+            } => write!(
+                f,
+                "pyramid level {level} has {found} values, it should have {expected}"
+            ),
+            HizError::DepthFormat(format) => {
+                write!(
+                    f,
+                    "depth texture is {format:?}, the pyramid reads Depth32Float"
+                )
+            }
+            HizError::DepthSize { expected, found } => write!(
+                f,
+                "depth texture is {}x{}, the pyramid's screen is {}x{}",
+                found.0, found.1, expected.0, expected.1
+            ),
+            HizError::DepthNotSampleable => write!(
+                f,
+                "depth texture cannot be bound for textureLoad (it needs TEXTURE_BINDING usage, \
+                 one sample and two dimensions)"
+            ),
+            HizError::VisibilityNotStorage => {
+                write!(f, "visibility buffer lacks STORAGE usage")
+            }
+            HizError::VisibilityTooSmall { needed, found } => write!(
+                f,
+                "visibility buffer holds {found} bytes, the screen needs {needed}"
+            ),
+            HizError::VisibilityTooLarge { needed, max } => write!(
+                f,
+                "the screen's visibility buffer needs {needed} bytes, more than the device's \
+                 storage binding limit of {max}"
+            ),
+            HizError::Readback(e) => write!(f, "depth pyramid: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for HizError {}
+
+impl From<ReadbackError> for HizError {
+    fn from(e: ReadbackError) -> Self {
+        HizError::Readback(e)
+    }
+}

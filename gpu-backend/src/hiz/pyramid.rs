@@ -1,0 +1,370 @@
+//! The depth pyramid on the GPU: its texture, the two build pipelines, the bind groups made
+//! once, and the per-frame recording.
+
+use std::sync::Mutex;
+
+use wgpu::{
+    BindGroup, BindGroupLayout, BindGroupLayoutEntry, BindingResource, Buffer, BufferUsages,
+    CommandEncoder, ComputePassTimestampWrites, ComputePipeline, Device, ShaderStages, Texture,
+    TextureUsages, TextureView,
+};
+
+use super::bindings::{
+    LEVEL0_DEPTH, LEVEL0_ENTRIES, LEVEL0_OUT, LEVEL0_VISIBILITY, PYRAMID_FORMAT, PYRAMID_SAMPLED,
+    REDUCE_ENTRIES, REDUCE_OUT, REDUCE_SOURCE, layout,
+};
+use super::error::HizError;
+use super::levels::{check_screen, level_sizes};
+use crate::shaders::HIZ_BUILD;
+
+/// Invocations per workgroup edge (`HIZ_BUILD_WORKGROUP` in the shader).
+const WORKGROUP: u32 = 8;
+
+/// Level-0 bind groups kept per pyramid: one per (depth view, visibility buffer) pair seen
+/// last, so a renderer that alternates a few inputs never rebuilds one.
+const CACHED_INPUTS: usize = 4;
+
+/// The depth pyramid (Hi-Z) of one screen size: an `R32Float` texture whose mips are the
+/// levels, built from the renderer's depth (and a splatting pass's visibility buffer) by
+/// [`record_build`](Self::record_build). See the [module docs](super).
+#[derive(Debug)]
+pub struct DepthPyramid {
+    device: Device,
+    width: u32,
+    height: u32,
+    sizes: Vec<(u32, u32)>,
+    texture: Texture,
+    all_mips: TextureView,
+    level0_layout: BindGroupLayout,
+    level0_pipeline: ComputePipeline,
+    reduce_pipeline: ComputePipeline,
+    /// `reduce_groups[m - 1]` reads mip `m - 1` and writes mip `m`.
+    reduce_groups: Vec<BindGroup>,
+    /// Level 0's single-mip storage view.
+    level0_view: TextureView,
+    /// One zero word, bound when a build has no visibility buffer.
+    dummy_visibility: Buffer,
+    max_visibility_bytes: u64,
+    inputs: Mutex<Vec<CachedInputs>>,
+}
+
+/// A level-0 bind group and the inputs it binds.
+#[derive(Debug)]
+struct CachedInputs {
+    depth: TextureView,
+    visibility: Option<Buffer>,
+    bind_group: BindGroup,
+}
+
+impl DepthPyramid {
+    /// The pyramid of a `width x height` screen: texture, pipelines and every bind group that
+    /// does not depend on the frame's inputs. [`HizError::BadSize`] when a side is zero or
+    /// larger than the device's `max_texture_dimension_2d` (or 2^15).
+    pub fn new(device: &Device, width: u32, height: u32) -> Result<DepthPyramid, HizError> {
+        let limits = device.limits();
+        check_screen(width, height, limits.max_texture_dimension_2d)?;
+        let sizes = level_sizes(width, height)?;
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("hiz pyramid"),
+            size: wgpu::Extent3d {
+                width: sizes[0].0,
+                height: sizes[0].1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: sizes.len() as u32,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: PYRAMID_FORMAT,
+            usage: TextureUsages::TEXTURE_BINDING
+                | TextureUsages::STORAGE_BINDING
+                | TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let mip = |m: u32| {
+            texture.create_view(&wgpu::TextureViewDescriptor {
+                label: Some("hiz level"),
+                base_mip_level: m,
+                mip_level_count: Some(1),
+                ..Default::default()
+            })
+        };
+        let mips: Vec<TextureView> = (0..sizes.len() as u32).map(mip).collect();
+        let level0_layout = layout(device, "hiz level 0", &LEVEL0_ENTRIES);
+        let reduce_layout = layout(device, "hiz reduce", &REDUCE_ENTRIES);
+        let module = HIZ_BUILD.create_module(device);
+        let pipeline = |entry_point: &str, group: &BindGroupLayout| {
+            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(entry_point),
+                bind_group_layouts: &[Some(group)],
+                immediate_size: 0,
+            });
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry_point),
+                layout: Some(&pipeline_layout),
+                module: &module,
+                entry_point: Some(entry_point),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let level0_pipeline = pipeline("hiz_level0", &level0_layout);
+        let reduce_pipeline = pipeline("hiz_reduce", &reduce_layout);
+        let reduce_groups = mips
+            .windows(2)
+            .map(|pair| {
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("hiz reduce"),
+                    layout: &reduce_layout,
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: REDUCE_SOURCE,
+                            resource: BindingResource::TextureView(&pair[0]),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: REDUCE_OUT,
+                            resource: BindingResource::TextureView(&pair[1]),
+                        },
+                    ],
+                })
+            })
+            .collect();
+        let dummy_visibility = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hiz no visibility"),
+            size: 8,
+            usage: BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        let all_mips = texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("hiz pyramid"),
+            ..Default::default()
+        });
+        let level0_view = mips[0].clone();
+        Ok(DepthPyramid {
+            device: device.clone(),
+            width,
+            height,
+            sizes,
+            texture,
+            all_mips,
+            level0_layout,
+            level0_pipeline,
+            reduce_pipeline,
+            reduce_groups,
+            level0_view,
+            dummy_visibility,
+            max_visibility_bytes: limits.max_storage_buffer_binding_size,
+            inputs: Mutex::new(Vec::with_capacity(CACHED_INPUTS)),
+        })
+    }
+
+    /// The screen's width, pixels.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// The screen's height, pixels.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// Number of levels (mips), level 0 the finest, the last 1 x 1.
+    pub fn levels(&self) -> u32 {
+        self.sizes.len() as u32
+    }
+
+    /// `(width, height)` of level `m`, or `None` past the last level.
+    pub fn level_size(&self, m: u32) -> Option<(u32, u32)> {
+        self.sizes.get(m as usize).copied()
+    }
+
+    /// Every level's size, level 0 first.
+    pub fn level_sizes(&self) -> &[(u32, u32)] {
+        &self.sizes
+    }
+
+    /// The texture (`R32Float`, one mip per level; `TEXTURE_BINDING | STORAGE_BINDING |
+    /// COPY_SRC`).
+    pub fn texture(&self) -> &Texture {
+        &self.texture
+    }
+
+    /// A view of every level, for `textureLoad(hiz_texture, texel, level)`: bind it as
+    /// `hiz_texture` (entry from [`layout_entry`](Self::layout_entry)).
+    pub fn texture_view(&self) -> &TextureView {
+        &self.all_mips
+    }
+
+    /// [`texture_view`](Self::texture_view) as a bind group resource.
+    pub fn binding_resource(&self) -> BindingResource<'_> {
+        BindingResource::TextureView(&self.all_mips)
+    }
+
+    /// The bind group layout entry of `hiz_texture` at `binding`, visible to `stages`: a 2D,
+    /// unfilterable float texture, not multisampled. Does not depend on the screen size, so a
+    /// caller can build its layout before any pyramid exists.
+    pub fn layout_entry(binding: u32, stages: ShaderStages) -> BindGroupLayoutEntry {
+        BindGroupLayoutEntry {
+            binding,
+            visibility: stages,
+            ty: PYRAMID_SAMPLED,
+            count: None,
+        }
+    }
+
+    /// Records the build of every level into `encoder`: one compute pass, one dispatch per
+    /// level, no render pass. `depth` is a view of the whole `Depth32Float` depth texture of
+    /// the pyramid's screen (mip 0, created with `TEXTURE_BINDING`); `visibility`, when given,
+    /// the splatting pass's buffer of `width * height` 64-bit words (`STORAGE` usage; see the
+    /// [module docs](super)).
+    ///
+    /// CPU cost per call: a few checks, a lookup among the cached level-0 bind groups (a new
+    /// pair of inputs creates one, evicting the oldest of 4; each holds a reference to its
+    /// inputs until evicted or the pyramid is dropped), one pass, two pipelines,
+    /// [`levels`](Self::levels) bind groups and dispatches.
+    ///
+    /// Errors (nothing is recorded): [`HizError::DepthFormat`], [`HizError::DepthSize`],
+    /// [`HizError::DepthNotSampleable`], [`HizError::VisibilityNotStorage`],
+    /// [`HizError::VisibilityTooSmall`], [`HizError::VisibilityTooLarge`].
+    pub fn record_build(
+        &self,
+        encoder: &mut CommandEncoder,
+        depth: &TextureView,
+        visibility: Option<&Buffer>,
+    ) -> Result<(), HizError> {
+        self.record_build_timed(encoder, depth, visibility, None)
+    }
+
+    /// [`record_build`](Self::record_build) with the pass's timestamp writes (e.g.
+    /// `GpuTimer::compute_pass_writes("hiz")`).
+    pub fn record_build_timed(
+        &self,
+        encoder: &mut CommandEncoder,
+        depth: &TextureView,
+        visibility: Option<&Buffer>,
+        timestamp_writes: Option<ComputePassTimestampWrites<'_>>,
+    ) -> Result<(), HizError> {
+        self.check_inputs(depth, visibility)?;
+        let level0 = self.level0_group(depth, visibility);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("hiz build"),
+            timestamp_writes,
+        });
+        pass.set_pipeline(&self.level0_pipeline);
+        pass.set_bind_group(0, &level0, &[]);
+        let groups = |(w, h): (u32, u32)| (w.div_ceil(WORKGROUP), h.div_ceil(WORKGROUP));
+        let (x, y) = groups(self.sizes[0]);
+        pass.dispatch_workgroups(x, y, 1);
+        if self.sizes.len() > 1 {
+            pass.set_pipeline(&self.reduce_pipeline);
+        }
+        for (group, &size) in self.reduce_groups.iter().zip(&self.sizes[1..]) {
+            pass.set_bind_group(0, group, &[]);
+            let (x, y) = groups(size);
+            pass.dispatch_workgroups(x, y, 1);
+        }
+        Ok(())
+    }
+
+    /// Refuses inputs that would fail wgpu's validation (which panics by default) or read
+    /// past the visibility buffer.
+    fn check_inputs(
+        &self,
+        depth: &TextureView,
+        visibility: Option<&Buffer>,
+    ) -> Result<(), HizError> {
+        if let Some(buffer) = visibility {
+            let needed = u64::from(self.width) * u64::from(self.height) * 8;
+            if needed > self.max_visibility_bytes {
+                return Err(HizError::VisibilityTooLarge {
+                    needed,
+                    max: self.max_visibility_bytes,
+                });
+            }
+            if !buffer.usage().contains(BufferUsages::STORAGE) {
+                return Err(HizError::VisibilityNotStorage);
+            }
+            if buffer.size() < needed {
+                return Err(HizError::VisibilityTooSmall {
+                    needed,
+                    found: buffer.size(),
+                });
+            }
+        }
+        let texture = depth.texture();
+        if texture.format() != wgpu::TextureFormat::Depth32Float {
+            return Err(HizError::DepthFormat(texture.format()));
+        }
+        if (texture.width(), texture.height()) != (self.width, self.height) {
+            return Err(HizError::DepthSize {
+                expected: (self.width, self.height),
+                found: (texture.width(), texture.height()),
+            });
+        }
+        if !texture.usage().contains(TextureUsages::TEXTURE_BINDING)
+            || texture.sample_count() != 1
+            || texture.dimension() != wgpu::TextureDimension::D2
+        {
+            return Err(HizError::DepthNotSampleable);
+        }
+        Ok(())
+    }
+
+    /// The level-0 bind group of these inputs, from the cache or made now.
+    fn level0_group(&self, depth: &TextureView, visibility: Option<&Buffer>) -> BindGroup {
+        // A poisoned lock only means another thread panicked mid-insert; the list is still
+        // a list of valid entries.
+        let mut cache = self.inputs.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(hit) = cache
+            .iter()
+            .find(|c| &c.depth == depth && c.visibility.as_ref() == visibility)
+        {
+            return hit.bind_group.clone();
+        }
+        let (buffer, size) = match visibility {
+            // Exactly W * H words, so arrayLength in the shader is W * H.
+            Some(b) => (
+                b,
+                wgpu::BufferSize::new(u64::from(self.width) * u64::from(self.height) * 8),
+            ),
+            None => (&self.dummy_visibility, None),
+        };
+        let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hiz level 0"),
+            layout: &self.level0_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: LEVEL0_DEPTH,
+                    resource: BindingResource::TextureView(depth),
+                },
+                wgpu::BindGroupEntry {
+                    binding: LEVEL0_VISIBILITY,
+                    resource: BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer,
+                        offset: 0,
+                        size,
+                    }),
+                },
+                wgpu::BindGroupEntry {
+                    binding: LEVEL0_OUT,
+                    resource: BindingResource::TextureView(&self.level0_view),
+                },
+            ],
+        });
+        if cache.len() == CACHED_INPUTS {
+            cache.remove(0);
+        }
+        cache.push(CachedInputs {
+            depth: depth.clone(),
+            visibility: visibility.cloned(),
+            bind_group: bind_group.clone(),
+        });
+        bind_group
+    }
+
+    /// Level-0 bind groups held now (at most 4): for tests of the cache.
+    pub fn cached_inputs(&self) -> usize {
+        self.inputs
+            .lock()
+            .map_or_else(|e| e.into_inner().len(), |c| c.len())
+    }
+}

@@ -1,0 +1,242 @@
+//! One frame, in order: uploads, the cull of both layers, the G-buffer pass, lighting, the
+//! transparent pass and the tonemap, each timed.
+
+use wgpu::CommandEncoder;
+
+use super::Renderer;
+use crate::cull::{
+    CullCamera, CullInputs, CullLayer, CullParams, CullStats, LodParams, OcclusionInputs,
+    OcclusionView, PHASE_EARLY, PHASE_LATE, PHASE_TEST, lod,
+};
+use crate::gigabuffer::DataKind;
+use crate::render::error::RenderError;
+use crate::render::far::splat::{SplatInputs, SplatStats};
+use crate::render::frame::{FRAME_SPLAT, FrameShape, FrameUniforms};
+use crate::timing::PassTime;
+
+impl Renderer {
+    /// The highest level of detail any resident chunk has.
+    pub fn top_level(&self) -> u32 {
+        self.per_level.iter().rposition(|&n| n > 0).unwrap_or(0) as u32
+    }
+
+    /// Resident chunks per level of detail.
+    pub fn chunks_per_level(&self) -> [u32; 16] {
+        self.per_level
+    }
+
+    /// The cull's parameters of the next frame: `smooth` draws the smooth layer, `phase` is
+    /// the occlusion phase (ignored without occlusion culling).
+    pub(super) fn cull_params(&self, smooth: bool, phase: u32) -> CullParams {
+        let (width, height) = (self.targets.width, self.targets.height);
+        let lod = self.lod.map(|settings| LodParams {
+            anchor_chunk: [
+                self.anchor.chunk.x,
+                self.anchor.chunk.y,
+                self.anchor.chunk.z,
+            ],
+            top_level: self.top_level(),
+            anchor_offset: self.anchor.offset,
+            budget_px: settings.budget_px,
+            focal_px: lod::focal_px(self.camera.fov_y, height),
+            hysteresis: settings.hysteresis,
+            chunk_edge: self.config.chunk_size.edge() as f32,
+            pad: 0,
+        });
+        let far_cell_px = match (&self.splat, self.lod) {
+            (Some(_), Some(settings)) => Some(settings.far_cell_px),
+            _ => None,
+        };
+        let occlusion = self.occlusion.as_ref().map(|_| OcclusionView {
+            view_proj: self.camera.view_projection(width, height),
+            width,
+            height,
+            near: self.camera.near as f32,
+        });
+        CullParams {
+            lod,
+            far_cell_px,
+            smooth,
+            occlusion,
+            phase,
+            from_list: false,
+        }
+    }
+
+    /// Records a whole frame into `encoder`, each pass timed by the renderer's
+    /// [`GpuTimer`](crate::timing::GpuTimer), then the timer's resolve. Submit the encoder (on
+    /// the CPU timing path the timer submits parts of it itself), then call
+    /// [`collect_timings`](Self::collect_timings) if wanted.
+    ///
+    /// ```text
+    ///  uploads ─► cull (opaque) ─► far splat ─► G-buffer            (all nodes, or with occlusion
+    ///                                                                culling the early phase:
+    ///                                                                the nodes visible last frame)
+    ///          [─► depth pyramid ─► cull late ─► far splat ─► G-buffer (load)]   occlusion only
+    ///          ─► cull transparent (back to front) ─► lighting ─► transparent ─► tonemap
+    /// ```
+    pub fn record_frame(&mut self, encoder: &mut CommandEncoder) -> Result<(), RenderError> {
+        let (width, height) = (self.targets.width, self.targets.height);
+        self.gigabuffer.flush(encoder);
+        self.table.flush(&self.queue);
+        self.nodes.flush(&self.queue);
+        let shape = FrameShape {
+            width,
+            height,
+            chunk_edge: self.config.chunk_size.edge(),
+            material_count: self.material_count,
+            smooth_extent: self.config.smooth.extent,
+            smooth_origin: self.config.smooth.origin,
+            flags: if self.splat.is_some() { FRAME_SPLAT } else { 0 },
+        };
+        let uniforms = FrameUniforms::new(&self.camera, &self.lighting, &shape);
+        self.queue
+            .write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&uniforms));
+        let frame_group = self.frame_group();
+        let cull_camera = self.camera.cull_camera(width, height);
+        self.cull_frame.clear(encoder);
+        if let Some(splat) = &self.splat {
+            splat.clear(encoder);
+        }
+
+        self.record_opaque_phase(encoder, &frame_group, &cull_camera, PHASE_EARLY)?;
+        if let Some(occlusion) = &self.occlusion {
+            let scope = self.timer.begin(encoder, "hiz");
+            occlusion
+                .pyramid
+                .record_build(
+                    encoder,
+                    &self.targets.depth,
+                    self.splat.as_ref().map(|s| s.visibility()),
+                )
+                .map_err(RenderError::Hiz)?;
+            self.timer.end(encoder, scope);
+            self.record_opaque_phase(encoder, &frame_group, &cull_camera, PHASE_LATE)?;
+        }
+
+        // The transparent layer, back to front (see `render::transparent`).
+        let scope = self.timer.begin(encoder, "cull transparent");
+        let inputs = self.cull_inputs();
+        self.cull.record_ordered_with(
+            encoder,
+            &inputs,
+            &cull_camera,
+            CullLayer::Transparent,
+            &self.transparent_commands,
+            &CullParams {
+                from_list: true,
+                ..self.cull_params(false, PHASE_TEST)
+            },
+        )?;
+        self.timer.end(encoder, scope);
+
+        let scope = self.timer.begin(encoder, "lighting");
+        self.record_fullscreen(encoder, &frame_group, false);
+        self.timer.end(encoder, scope);
+
+        let scope = self.timer.begin(encoder, "transparent");
+        self.record_transparent(encoder, &frame_group);
+        self.timer.end(encoder, scope);
+
+        let scope = self.timer.begin(encoder, "tonemap");
+        self.record_fullscreen(encoder, &frame_group, true);
+        self.timer.end(encoder, scope);
+        self.timer.resolve(encoder);
+        Ok(())
+    }
+
+    /// What every cull record of the frame reads.
+    fn cull_inputs(&self) -> CullInputs<'_> {
+        CullInputs {
+            table: &self.table,
+            nodes: Some(&self.nodes),
+            frame: Some(&self.cull_frame),
+            occlusion: self.occlusion.as_ref().map(|o| OcclusionInputs {
+                visible: &o.visible,
+                pyramid: o.pyramid.texture_view(),
+            }),
+        }
+    }
+
+    /// One opaque phase: the cull into its commands, the splat of the far nodes it listed, and
+    /// the G-buffer pass of its meshed nodes (the early phase clears the G-buffer, the late one
+    /// draws over it). Without occlusion culling the early phase draws every node.
+    fn record_opaque_phase(
+        &mut self,
+        encoder: &mut CommandEncoder,
+        frame_group: &wgpu::BindGroup,
+        camera: &CullCamera,
+        phase: u32,
+    ) -> Result<(), RenderError> {
+        let late = phase == PHASE_LATE;
+        let commands = match (&self.occlusion, late) {
+            (Some(o), true) => &o.late_commands,
+            _ => &self.opaque_commands,
+        };
+        let label =
+            |name: &'static str, late_name: &'static str| if late { late_name } else { name };
+        let scope = self.timer.begin(encoder, label("cull", "cull late"));
+        let inputs = self.cull_inputs();
+        self.cull.record_with(
+            encoder,
+            &inputs,
+            camera,
+            CullLayer::Opaque,
+            commands,
+            &self.cull_params(true, phase),
+        )?;
+        self.timer.end(encoder, scope);
+        if let (Some(splat), Some(blocks)) =
+            (&self.splat, self.gigabuffer.page(DataKind::DrawBlocks, 0))
+        {
+            let scope = self
+                .timer
+                .begin(encoder, label("far splat", "far splat late"));
+            splat.record(
+                encoder,
+                &SplatInputs {
+                    frame_uniforms: &self.frame_uniforms,
+                    table: self.table.buffer(),
+                    nodes: self.nodes.buffer(),
+                    blocks,
+                    frame: &self.cull_frame,
+                },
+            );
+            self.timer.end(encoder, scope);
+        }
+        let scope = self.timer.begin(encoder, label("gbuffer", "gbuffer late"));
+        self.record_gbuffer(encoder, frame_group, commands, !late);
+        self.timer.end(encoder, scope);
+        Ok(())
+    }
+
+    /// Records and submits one frame, waits for it, and returns its per-pass times.
+    pub fn render(&mut self) -> Result<Vec<PassTime>, RenderError> {
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        self.record_frame(&mut encoder)?;
+        self.queue.submit([encoder.finish()]);
+        self.collect_timings()
+    }
+
+    /// The last submitted frame's per-pass times (waits for the GPU).
+    pub fn collect_timings(&mut self) -> Result<Vec<PassTime>, RenderError> {
+        self.timer.collect().map_err(RenderError::Timer)
+    }
+
+    /// The last submitted frame's cull counters (nodes per level and representation, culled
+    /// nodes, primitives drawn) and the splat's (blocks until the GPU is done; for tests and
+    /// benchmarks).
+    pub fn read_frame_stats(&self) -> Result<(CullStats, SplatStats), RenderError> {
+        let words: Vec<u32> = bytemuck::pod_collect_to_vec(&crate::readback::read_buffer(
+            &self.device,
+            &self.queue,
+            self.cull_frame.stats(),
+            0,
+            self.cull_frame.stats().size(),
+        )?);
+        Ok((
+            CullStats::from_words(&words),
+            SplatStats::from_words(&words),
+        ))
+    }
+}

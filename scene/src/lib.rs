@@ -1,0 +1,25 @@
+//! # voxel-scene
+//!
+//! Voxel scenes to mesh or show, shared by the viewer, the `voxmesh` command-line mesher and
+//! the benchmarks:
+//!
+//! - [`terrain`]: the built-in procedural terrain (hills, caves, a sea), deterministic for a
+//!   seed, as a chunk map ([`terrain_scene`], [`terrain_columns`]);
+//! - [`vox`]: a strict MagicaVoxel `.vox` loader: every model of the scene graph with its
+//!   transforms, hidden nodes and layers left out, palette and materials, and a clear error
+//!   for every malformed file.
+//!
+//! ```
+//! use voxel_core::ChunkSize;
+//! use voxel_scene::terrain_columns;
+//!
+//! let scene = terrain_columns(7, ChunkSize::S16, 24);
+//! assert!(!scene.world.is_empty());
+//! ```
+
+pub mod terrain;
+pub mod vox;
+
+pub use terrain::{
+    TERRAIN_TOP, Terrain, TerrainBlocks, TerrainScene, terrain_columns, terrain_scene,
+};
