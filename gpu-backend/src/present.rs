@@ -37,6 +37,7 @@
 
 mod blit;
 mod format;
+mod windowed;
 
 use std::fmt;
 use std::sync::Arc;

@@ -77,6 +77,7 @@
 
 pub mod camera;
 mod error;
+pub mod external;
 pub mod far;
 pub mod frame;
 pub mod lighting;
@@ -89,6 +90,7 @@ pub mod transparent;
 
 pub use camera::{CameraBasis, RenderCamera};
 pub use error::RenderError;
+pub use external::{HostDepth, HostError, HostPass, HostTargets};
 pub use frame::{FrameShape, FrameUniforms, SmoothDraw};
 pub use lighting::LightingParams;
 pub use materials::{GpuMaterial, gpu_materials};

@@ -19,20 +19,27 @@
 //! gigabuffer depends on (`max_buffer_size`, `max_storage_buffer_binding_size`,
 //! `max_storage_buffers_per_shader_stage`).
 //!
-//! [`GpuContext::new_windowed`] does the same for a window: it creates the window's surface
-//! first and considers only adapters that can present to it, then returns the context with a
-//! [`WindowOutput`] configured for the window (see [`crate::present`]).
+//! [`GpuContext::new_windowed`] (in [`crate::present`], which builds on this module) does the
+//! same for a window: it creates the window's surface first and considers only adapters that
+//! can present to it, then returns the context with a window output.
+//!
+//! [`GpuContext::from_wgpu`] adopts a host engine's own instance, adapter, device and queue
+//! instead: nothing is requested, the capabilities are probed from what the device
+//! has enabled, and a device below the backend's required limits is refused with each missing
+//! limit named.
+
+mod adopt;
+mod error;
 
 use std::fmt;
-use std::sync::Arc;
 
-use wgpu::wgt::WgpuHasDisplayHandle;
 use wgpu::{
-    Adapter, Backends, CreateSurfaceError, Device, DeviceType, DisplayAndWindowHandle, Features,
-    Instance, InstanceDescriptor, Limits, PowerPreference, Queue, Surface,
+    Adapter, Backends, Device, DeviceType, Features, Instance, InstanceDescriptor, Limits,
+    PowerPreference, Queue,
 };
 
-use crate::present::{WindowOutput, choose_surface_format};
+pub use adopt::{optional_features, required_limits};
+pub use error::DeviceError;
 
 /// How the context is created. `Default` is the configuration for real use: Vulkan, the
 /// high-performance adapter, every optional feature the adapter has.
@@ -175,99 +182,6 @@ impl GpuCapabilities {
     }
 }
 
-/// Why no context could be created.
-#[derive(Debug)]
-pub enum DeviceError {
-    /// No adapter matched; says what was searched.
-    NoAdapter {
-        /// Backends searched.
-        backends: Backends,
-        /// Power preference asked for.
-        power_preference: PowerPreference,
-        /// Name filter, if any.
-        adapter_name: Option<String>,
-        /// Adapters found but rejected by the name filter.
-        rejected: Vec<String>,
-    },
-    /// The window's surface could not be created (the window or display handle is not one
-    /// the Vulkan driver can present to, e.g. no X11 / Wayland surface extension).
-    CreateSurface(Box<CreateSurfaceError>),
-    /// Adapters exist, but none can present to the window (a headless driver, or a surface
-    /// with no usable format).
-    NoPresentingAdapter {
-        /// The adapters found that cannot present (after the name filter).
-        adapters: Vec<String>,
-    },
-    /// The adapter refused the device request.
-    RequestDevice {
-        /// The adapter asked.
-        adapter: AdapterSummary,
-        /// wgpu's error (boxed: it is large).
-        source: Box<wgpu::RequestDeviceError>,
-    },
-}
-
-impl DeviceError {
-    /// True for [`DeviceError::NoAdapter`]: the machine has no usable GPU or driver, as
-    /// opposed to a failure on an adapter that exists (an adapter that cannot present to a
-    /// window is [`DeviceError::NoPresentingAdapter`], not this).
-    pub fn is_no_adapter(&self) -> bool {
-        matches!(self, DeviceError::NoAdapter { .. })
-    }
-}
-
-impl fmt::Display for DeviceError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            DeviceError::NoAdapter {
-                backends,
-                power_preference,
-                adapter_name,
-                rejected,
-            } => {
-                write!(
-                    f,
-                    "no GPU adapter found (backends {backends:?}, power preference \
-                     {power_preference:?}"
-                )?;
-                if let Some(name) = adapter_name {
-                    write!(f, ", name containing {name:?}")?;
-                }
-                write!(f, ")")?;
-                if !rejected.is_empty() {
-                    write!(f, "; rejected by the name filter: {}", rejected.join(", "))?;
-                }
-                write!(
-                    f,
-                    "; on Debian install a Vulkan driver, e.g. `mesa-vulkan-drivers` \
-                     (lavapipe) and `libvulkan1`"
-                )
-            }
-            DeviceError::CreateSurface(source) => {
-                write!(f, "the window's surface could not be created: {source}")
-            }
-            DeviceError::NoPresentingAdapter { adapters } => write!(
-                f,
-                "no adapter can present to this window (found, but cannot present: {})",
-                adapters.join(", ")
-            ),
-            DeviceError::RequestDevice { adapter, source } => {
-                write!(f, "adapter {adapter} refused the device request: {source}")
-            }
-        }
-    }
-}
-
-impl std::error::Error for DeviceError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        match self {
-            DeviceError::NoAdapter { .. } | DeviceError::NoPresentingAdapter { .. } => None,
-            DeviceError::CreateSurface(source) => Some(source.as_ref()),
-            DeviceError::RequestDevice { source, .. } => Some(source.as_ref()),
-        }
-    }
-}
-
 /// A wgpu device and queue with the capabilities this backend probed.
 #[derive(Debug)]
 pub struct GpuContext {
@@ -292,40 +206,6 @@ impl GpuContext {
         GpuContext::from_instance(instance, options)
     }
 
-    /// A context that presents to a window, and the window's output (its surface configured
-    /// for `width x height`; a zero size is allowed and waits for
-    /// [`WindowOutput::resize`]).
-    ///
-    /// `display` is the windowing system connection the window belongs to (with winit, the
-    /// event loop's `OwnedDisplayHandle`); `window` the window itself (e.g. an
-    /// `Arc<winit::window::Window>`), kept by the output so the surface can be re-created if it
-    /// is lost. Only adapters that can present to the window's surface are considered.
-    ///
-    /// Errors: [`DeviceError::CreateSurface`] when the surface cannot be created,
-    /// [`DeviceError::NoPresentingAdapter`] when adapters exist but none can present to it,
-    /// [`DeviceError::NoAdapter`] when there is none at all.
-    pub fn new_windowed<W>(
-        options: &DeviceOptions,
-        display: Box<dyn WgpuHasDisplayHandle>,
-        window: W,
-        width: u32,
-        height: u32,
-    ) -> Result<(GpuContext, WindowOutput), DeviceError>
-    where
-        W: DisplayAndWindowHandle + 'static,
-    {
-        let mut descriptor = InstanceDescriptor::new_with_display_handle_from_env(display);
-        descriptor.backends = options.backends;
-        let instance = Instance::new(descriptor);
-        let window: Arc<dyn DisplayAndWindowHandle> = Arc::new(window);
-        let surface = instance
-            .create_surface(Arc::clone(&window))
-            .map_err(|e| DeviceError::CreateSurface(Box::new(e)))?;
-        let ctx = GpuContext::create(instance, options, Some(&surface))?;
-        let output = WindowOutput::new(&ctx, surface, window, width, height)?;
-        Ok((ctx, output))
-    }
-
     /// Picks an adapter of `instance` and creates the device (no surface constraint; the
     /// windowed constructor adds one).
     pub fn from_instance(
@@ -335,59 +215,31 @@ impl GpuContext {
         GpuContext::create(instance, options, None)
     }
 
-    /// [`from_instance`](Self::from_instance), keeping only adapters that can present to
-    /// `surface` when one is given.
-    fn create(
+    /// [`from_instance`](Self::from_instance), keeping only adapters for which `presents`
+    /// holds when it is given (the windowed constructor's surface test).
+    pub(crate) fn create(
         instance: Instance,
         options: &DeviceOptions,
-        surface: Option<&Surface<'_>>,
+        presents: Option<&dyn Fn(&Adapter) -> bool>,
     ) -> Result<GpuContext, DeviceError> {
-        let adapter = choose_adapter(&instance, options, surface)?;
-        let summary = summarize(&adapter);
+        let adapter = choose_adapter(&instance, options, presents)?;
         let adapter_features = adapter.features();
-        let adapter_limits = adapter.limits();
         let wanted = wanted_features(adapter_features, options);
-        let limits = wanted_limits(&adapter_limits);
+        let limits = wanted_limits(&adapter.limits());
         let descriptor = wgpu::DeviceDescriptor {
             label: Some("gpu-backend device"),
             required_features: wanted,
-            required_limits: limits.clone(),
+            required_limits: limits,
             ..Default::default()
         };
         let (device, queue) =
             pollster::block_on(adapter.request_device(&descriptor)).map_err(|source| {
                 DeviceError::RequestDevice {
-                    adapter: summary.clone(),
+                    adapter: summarize(&adapter),
                     source: Box::new(source),
                 }
             })?;
-        let enabled = device.features();
-        let capabilities = GpuCapabilities {
-            adapter: summary,
-            multi_draw: if enabled.contains(Features::MULTI_DRAW_INDIRECT_COUNT) {
-                MultiDrawPath::IndirectCount
-            } else {
-                MultiDrawPath::ZeroedCommands
-            },
-            timing: if enabled.contains(Features::TIMESTAMP_QUERY) {
-                TimingPath::GpuTimestamps {
-                    inside_encoders: enabled.contains(Features::TIMESTAMP_QUERY_INSIDE_ENCODERS),
-                    inside_passes: enabled.contains(Features::TIMESTAMP_QUERY_INSIDE_PASSES),
-                    period_ns: queue.get_timestamp_period(),
-                }
-            } else {
-                TimingPath::Cpu
-            },
-            indirect_first_instance: enabled.contains(Features::INDIRECT_FIRST_INSTANCE),
-            int64_atomics: enabled
-                .contains(Features::SHADER_INT64 | Features::SHADER_INT64_ATOMIC_MIN_MAX),
-            early_depth_test: enabled.contains(Features::SHADER_EARLY_DEPTH_TEST),
-            max_storage_buffer_binding_size: limits.max_storage_buffer_binding_size,
-            max_buffer_size: limits.max_buffer_size,
-            max_storage_buffers_per_shader_stage: limits.max_storage_buffers_per_shader_stage,
-            adapter_features,
-            enabled_features: enabled,
-        };
+        let capabilities = probe(&adapter, &device, &queue, adapter_features);
         Ok(GpuContext {
             instance,
             adapter,
@@ -395,6 +247,44 @@ impl GpuContext {
             queue,
             capabilities,
         })
+    }
+}
+
+/// The capabilities of `device` as created: the paths follow the features it has enabled,
+/// the limits are the device's own. `adapter_features` is what the adapter offers.
+pub(crate) fn probe(
+    adapter: &Adapter,
+    device: &Device,
+    queue: &Queue,
+    adapter_features: Features,
+) -> GpuCapabilities {
+    let limits = device.limits();
+    let enabled = device.features();
+    GpuCapabilities {
+        adapter: summarize(adapter),
+        multi_draw: if enabled.contains(Features::MULTI_DRAW_INDIRECT_COUNT) {
+            MultiDrawPath::IndirectCount
+        } else {
+            MultiDrawPath::ZeroedCommands
+        },
+        timing: if enabled.contains(Features::TIMESTAMP_QUERY) {
+            TimingPath::GpuTimestamps {
+                inside_encoders: enabled.contains(Features::TIMESTAMP_QUERY_INSIDE_ENCODERS),
+                inside_passes: enabled.contains(Features::TIMESTAMP_QUERY_INSIDE_PASSES),
+                period_ns: queue.get_timestamp_period(),
+            }
+        } else {
+            TimingPath::Cpu
+        },
+        indirect_first_instance: enabled.contains(Features::INDIRECT_FIRST_INSTANCE),
+        int64_atomics: enabled
+            .contains(Features::SHADER_INT64 | Features::SHADER_INT64_ATOMIC_MIN_MAX),
+        early_depth_test: enabled.contains(Features::SHADER_EARLY_DEPTH_TEST),
+        max_storage_buffer_binding_size: limits.max_storage_buffer_binding_size,
+        max_buffer_size: limits.max_buffer_size,
+        max_storage_buffers_per_shader_stage: limits.max_storage_buffers_per_shader_stage,
+        adapter_features,
+        enabled_features: enabled,
     }
 }
 
@@ -426,7 +316,7 @@ fn wanted_features(adapter: Features, options: &DeviceOptions) -> Features {
 }
 
 /// WebGPU defaults, with the buffer limits raised to what the adapter offers.
-fn wanted_limits(adapter: &Limits) -> Limits {
+pub(crate) fn wanted_limits(adapter: &Limits) -> Limits {
     let defaults = Limits::default();
     Limits {
         max_buffer_size: adapter.max_buffer_size.max(defaults.max_buffer_size),
@@ -442,12 +332,12 @@ fn wanted_limits(adapter: &Limits) -> Limits {
     .or_worse_values_from(adapter)
 }
 
-/// The best adapter of the requested backends that passes the name filter and, when a
-/// surface is given, can present to it with a format [`WindowOutput`] can use.
+/// The best adapter of the requested backends that passes the name filter and, when
+/// `presents` is given, passes it (can present to the window).
 fn choose_adapter(
     instance: &Instance,
     options: &DeviceOptions,
-    surface: Option<&Surface<'_>>,
+    presents: Option<&dyn Fn(&Adapter) -> bool>,
 ) -> Result<Adapter, DeviceError> {
     let all = pollster::block_on(instance.enumerate_adapters(options.backends));
     let mut rejected = Vec::new();
@@ -459,8 +349,8 @@ fn choose_adapter(
             Some(filter) if !name.to_lowercase().contains(&filter.to_lowercase()) => {
                 rejected.push(name);
             }
-            _ => match surface {
-                Some(surface) if !can_present(&adapter, surface) => cannot_present.push(name),
+            _ => match presents {
+                Some(presents) if !presents(&adapter) => cannot_present.push(name),
                 _ => candidates.push(adapter),
             },
         }
@@ -481,12 +371,6 @@ fn choose_adapter(
             adapter_name: options.adapter_name.clone(),
             rejected,
         })
-}
-
-/// `adapter` can present to `surface`, in a format the window output can use.
-fn can_present(adapter: &Adapter, surface: &Surface<'_>) -> bool {
-    adapter.is_surface_supported(surface)
-        && choose_surface_format(&surface.get_capabilities(adapter).formats).is_some()
 }
 
 /// Lower is better: the device types in the order the power preference wants them. A CPU
@@ -512,7 +396,8 @@ fn rank(device_type: DeviceType, preference: PowerPreference) -> u8 {
         .map_or(order.len() as u8, |i| i as u8)
 }
 
-fn summarize(adapter: &Adapter) -> AdapterSummary {
+/// The adapter's description for reports.
+pub(crate) fn summarize(adapter: &Adapter) -> AdapterSummary {
     let info = adapter.get_info();
     let driver = if info.driver_info.is_empty() {
         info.driver.clone()
@@ -526,7 +411,6 @@ fn summarize(adapter: &Adapter) -> AdapterSummary {
         driver,
     }
 }
-
 #[cfg(test)]
 mod tests {
     use super::*;
