@@ -79,6 +79,7 @@ pub struct TableSlot(pub u32);
 
 /// Why a table operation failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum TableError {
     /// Every slot is in use.
     Full {

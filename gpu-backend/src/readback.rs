@@ -62,6 +62,7 @@ pub fn read_buffer(
 
 /// [`read_buffer`] over the whole buffer, cast to `T` (`size_of::<T>()` must divide the
 /// buffer size).
+#[cfg(feature = "test-support")]
 pub fn read_whole<T: bytemuck::Pod>(
     device: &Device,
     queue: &Queue,

@@ -66,6 +66,7 @@ pub enum TimingSource {
 
 /// Why figures could not be collected.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum TimerError {
     /// Timestamp scopes were recorded but [`GpuTimer::resolve`] was not called after them.
     NotResolved,

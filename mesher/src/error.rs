@@ -10,6 +10,7 @@ use crate::InstructionSet;
 /// Why a mesher could not mesh its input. Meshers check their input and report the first
 /// problem; they never panic and never emit a partial mesh as if it were whole.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum MeshError {
     /// A voxel holds an id the material palette does not know.
     UnknownBlock {

@@ -16,7 +16,9 @@ pub enum InstructionSet {
     /// The compilation target's own features (on x86-64 without `-C target-cpu`: SSE2).
     Baseline,
     /// x86-64 with AVX2, BMI1, BMI2, LZCNT and POPCNT: the integer and vector features of the
-    /// x86-64-v3 level, which every x86-64 CPU since 2015 has (Intel Haswell, AMD Zen).
+    /// x86-64-v3 level (Intel Core since Haswell, 2013; AMD since Excavator, 2015, and every
+    /// Zen). Not every later x86-64 CPU has it: Intel's Pentium, Celeron and Atom lines lacked
+    /// AVX2 for years after, hence the run-time check.
     X86V3,
     /// [`X86V3`](Self::X86V3) plus AVX-512 F, BW, CD, DQ and VL, the x86-64-v4 level (Intel
     /// server CPUs since Skylake-SP, AMD Zen 4 and later): the lines of faces that become

@@ -15,9 +15,9 @@ use image_support::scenes::{HEIGHT, TestScene, WIDTH, cpu_render};
 use image_support::{Image, Tolerance, assert_images_match};
 use mesher::lod::{NodeSettings, mesh_nodes};
 use mesher::{BlockClasses, MeshSettings};
-use viewer::deferred_reference::lighting_params;
+use viewer::camera::Camera;
 use viewer::gpu_view::{render_camera, upload_nodes};
-use viewer::reference_raycast::{Camera, Lighting};
+use viewer::lighting::{Lighting, lighting_params};
 
 /// Renders `scene` with every node far-drawn by `far` (level 0 only: budget 0; a far threshold
 /// no node exceeds), or every node meshed with `far_cell_px` 0.

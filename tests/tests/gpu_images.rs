@@ -15,8 +15,7 @@ use image_support::mesh_raster::{mesh_triangles, rasterise, smooth_pixels};
 use image_support::scenes::{self, TestScene, cpu_render, gpu_render, gpu_render_with};
 use image_support::{Image, Tolerance, assert_images_match, compare};
 use mesher::SurfaceMode;
-use viewer::deferred_reference::lighting_params;
-use viewer::reference_raycast::Lighting;
+use viewer::lighting::{Lighting, lighting_params};
 use voxel_core::ChunkSize;
 
 const TOLERANCE: Tolerance = Tolerance::LAVAPIPE;

@@ -1,7 +1,7 @@
 //! `--camera X,Y,Z,YAW,PITCH` and `--fov DEG`: parsing them, and the camera they make.
 
 use glam::DVec3;
-use viewer::reference_raycast::Camera;
+use viewer::camera::Camera;
 use voxel_core::WorldPos;
 
 /// `--camera`: an eye position and direction.

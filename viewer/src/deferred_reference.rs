@@ -19,18 +19,8 @@ use glam::DVec3;
 use gpu_backend::render::lighting::{LightingParams, blend, output_rgba8, shade, srgb_to_linear};
 use voxel_core::{BlockId, FaceDirection, MaterialPalette, WorldPos};
 
-use crate::reference_raycast::{Camera, Lighting, RenderedImage, render_pixels, trace_ray};
-
-/// The GPU lighting parameters matching the reference raycaster's [`Lighting`].
-pub fn lighting_params(lighting: &Lighting) -> LightingParams {
-    LightingParams {
-        sun_direction: lighting.sun_direction.to_array(),
-        sun_colour: lighting.sun_colour.to_array(),
-        sky_colour: lighting.sky_colour.to_array(),
-        ground_colour: lighting.ground_colour.to_array(),
-        ..LightingParams::default()
-    }
-}
+use crate::camera::Camera;
+use crate::reference_raycast::{RenderedImage, render_pixels, trace_ray};
 
 /// The face direction whose outward normal is `normal`, if any.
 pub fn face_of(normal: [i32; 3]) -> Option<FaceDirection> {

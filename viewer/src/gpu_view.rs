@@ -3,20 +3,22 @@
 
 use std::fmt;
 
-use gpu_backend::gigabuffer::{ChunkHandle, ChunkLayersData};
+use gpu_backend::from_mesher::{layers_of, node_layers};
+use gpu_backend::gigabuffer::ChunkHandle;
 use gpu_backend::render::{ChunkMeshData, RenderCamera, RenderError, Renderer, RendererConfig};
 use gpu_backend::{DeviceError, DeviceOptions, GpuContext, PassTime};
 use mesher::lod::NodeMesh;
-use mesher::{BlockClasses, ChunkMesh, MeshError, MeshSettings};
+use mesher::{BlockClasses, MeshError, MeshSettings};
 use voxel_core::storage::{VoxelStorage, WorldMap};
-use voxel_core::{ChunkCoord, ChunkSize, FaceDirection, MaterialPalette};
+use voxel_core::{ChunkCoord, ChunkSize, MaterialPalette};
 
-use crate::deferred_reference::lighting_params;
-use crate::reference_raycast::{Camera, Lighting};
+use crate::camera::Camera;
+use crate::lighting::{Lighting, lighting_params};
 use crate::scene::Scene;
 
 /// Why a scene could not be put on the GPU.
 #[derive(Debug)]
+#[non_exhaustive]
 pub enum GpuViewError {
     /// No device (no Vulkan adapter, or the adapter refused).
     Device(DeviceError),
@@ -52,37 +54,6 @@ pub fn render_camera(camera: &Camera, size: ChunkSize) -> RenderCamera {
         camera.pitch,
         camera.fov_y,
     )
-}
-
-/// The upload view of a meshed chunk's layers: the mesher's buffers as they are (the smooth
-/// quads in the form the mesh chose, compact where it fits).
-pub fn layers_of(mesh: &ChunkMesh) -> ChunkLayersData<'_> {
-    let mut layers = ChunkLayersData {
-        smooth_vertices: mesh.smooth.vertices(),
-        smooth_quads: mesh.smooth.quads(),
-        ..Default::default()
-    };
-    for face in FaceDirection::ALL {
-        let i = usize::from(face.index());
-        layers.opaque_quads[i] = mesh.blocky.opaque.face(face);
-        layers.transparent_quads[i] = mesh.blocky.transparent.face(face);
-    }
-    layers
-}
-
-/// The upload view of a level-of-detail node ([`NodeMesh`]): its layers as [`layers_of`]
-/// gives them, plus its skirts and its far-draw blocks with their hiding mask.
-pub fn node_layers(node: &NodeMesh) -> ChunkLayersData<'_> {
-    let mut layers = layers_of(&node.mesh);
-    for face in FaceDirection::ALL {
-        let i = usize::from(face.index());
-        layers.opaque_skirts[i] = node.skirts.quads(face);
-        layers.draw_block_skirts[i] = node.skirts.blocks(face);
-    }
-    layers.draw_blocks = &node.blocks;
-    layers.hiding_mask = &node.hiding_mask;
-    layers.transparent_mask = &node.transparent_mask;
-    layers
 }
 
 /// Uploads `nodes` (from `mesher::lod::mesh_nodes`) to `renderer` at their levels. Returns

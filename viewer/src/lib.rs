@@ -1,13 +1,18 @@
 //! # viewer
 //!
-//! Shows voxel scenes: the built-in procedural terrain (and, in later stages, MagicaVoxel models
-//! and glTF props), in a window ([`window`]) or, without a display, to a PNG file.
+//! Shows voxel scenes: the built-in procedural terrain and MagicaVoxel `.vox` models
+//! ([`scene`]), in a window ([`window`]: winit, egui, the GPU renderer) or, without a display,
+//! to a PNG file: from the GPU renderer ([`gpu_view`]) when a Vulkan adapter exists (lavapipe
+//! counts), else from the CPU reference raycaster ([`reference_raycast`]).
 //!
-//! The renderer today is [`reference_raycast`], the CPU ground truth that GPU images are tested
-//! against.
+//! The CPU references are the ground truth of the GPU image tests: [`reference_raycast`] (one
+//! ray per pixel through the voxels) and [`deferred_reference`] (the same rays shaded with the
+//! GPU's lighting model). Both renderers share the [`camera`] and the [`lighting`].
 
+pub mod camera;
 pub mod deferred_reference;
 pub mod gpu_view;
+pub mod lighting;
 pub mod reference_raycast;
 pub mod scene;
 pub mod window;

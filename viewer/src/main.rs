@@ -24,8 +24,10 @@ use std::time::{Duration, Instant};
 
 use camera_arg::{CameraArg, parse_camera, parse_fov};
 use clap::Parser;
+use gpu_backend::png::encode_png;
 use viewer::gpu_view::render_scene;
-use viewer::reference_raycast::{Lighting, encode_png, render};
+use viewer::lighting::Lighting;
+use viewer::reference_raycast::render;
 use viewer::scene::vox::{VoxError, VoxOptions, load_vox_file_with};
 use viewer::scene::{Scene, camera_looking_at, terrain_scene};
 use viewer::window::mode::{Mode, choose_mode, display_present};
@@ -148,7 +150,7 @@ fn main() -> ExitCode {
     let fov_y = args.fov.unwrap_or(scene.suggested_view.fov_y);
     scene.suggested_view = match args.camera {
         Some(camera) => camera.camera(fov_y),
-        None => viewer::reference_raycast::Camera {
+        None => viewer::camera::Camera {
             fov_y,
             ..scene.suggested_view
         },

@@ -10,65 +10,8 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use voxel_core::{BlockId, MaterialClass, MaterialPalette, WorldPos};
 
-/// A pinhole camera. The position is a world voxel plus a fraction inside it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Camera {
-    /// The voxel the eye is in.
-    pub voxel: WorldPos,
-    /// The eye's offset inside that voxel, each axis in `[0, 1)`.
-    pub fraction: DVec3,
-    /// Rotation about +y, radians; 0 looks along -z.
-    pub yaw: f64,
-    /// Rotation above the horizon, radians.
-    pub pitch: f64,
-    /// Vertical field of view, radians.
-    pub fov_y: f64,
-}
-
-impl Camera {
-    /// The unit view direction.
-    pub fn forward(&self) -> DVec3 {
-        let (sy, cy) = self.yaw.sin_cos();
-        let (sp, cp) = self.pitch.sin_cos();
-        DVec3::new(-sy * cp, sp, -cy * cp)
-    }
-
-    /// The direction through pixel `(px, py)` of a `width x height` image (pixel centres).
-    pub fn ray_direction(&self, px: u32, py: u32, width: u32, height: u32) -> DVec3 {
-        let forward = self.forward();
-        let right = forward.cross(DVec3::Y).normalize_or(DVec3::X);
-        let up = right.cross(forward);
-        let half_h = (self.fov_y * 0.5).tan();
-        let half_w = half_h * f64::from(width) / f64::from(height);
-        let u = (2.0 * (f64::from(px) + 0.5) / f64::from(width) - 1.0) * half_w;
-        let v = (1.0 - 2.0 * (f64::from(py) + 0.5) / f64::from(height)) * half_h;
-        (forward + right * u + up * v).normalize()
-    }
-}
-
-/// Light and sky used by the reference shading.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Lighting {
-    /// Unit direction towards the sun.
-    pub sun_direction: Vec3,
-    /// Linear sun radiance.
-    pub sun_colour: Vec3,
-    /// Linear sky colour (ambient from above, and the background).
-    pub sky_colour: Vec3,
-    /// Linear ambient from below.
-    pub ground_colour: Vec3,
-}
-
-impl Default for Lighting {
-    fn default() -> Self {
-        Lighting {
-            sun_direction: Vec3::new(0.45, 0.8, 0.35).normalize(),
-            sun_colour: Vec3::new(1.0, 0.95, 0.85) * 2.2,
-            sky_colour: Vec3::new(0.45, 0.62, 0.9),
-            ground_colour: Vec3::new(0.25, 0.22, 0.2),
-        }
-    }
-}
+use crate::camera::Camera;
+use crate::lighting::Lighting;
 
 /// What one ray hit.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -57,6 +57,7 @@ pub struct LocalPos {
 
 /// A coordinate conversion that would leave its valid range.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum CoordError {
     /// The chunk's voxels (or the requested one) lie outside the `i32` world range.
     ChunkOutOfWorld {

@@ -74,6 +74,7 @@ impl Material {
 
 /// An error from [`MaterialPalette`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum PaletteError {
     /// The block id has no material in this palette.
     UnknownBlock(BlockId),

@@ -251,7 +251,7 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     let write_png = |path: &std::path::Path, image: &gpu_backend::render::FrameImage| {
         std::fs::write(
             path,
-            viewer::reference_raycast::encode_png(image.width, image.height, &image.rgba)?,
+            gpu_backend::png::encode_png(image.width, image.height, &image.rgba)?,
         )?;
         eprintln!("image: {}", path.display());
         Ok::<(), Box<dyn std::error::Error>>(())

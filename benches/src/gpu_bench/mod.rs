@@ -16,6 +16,7 @@ use std::time::Instant;
 
 use gpu_backend::GpuContext;
 use gpu_backend::cull::LodSettings;
+use gpu_backend::from_mesher::node_layers;
 use gpu_backend::gigabuffer::{DataKind, GigabufferConfig};
 use gpu_backend::render::far::{FarChoice, FarRequest};
 use gpu_backend::render::{
@@ -127,7 +128,7 @@ pub fn upload_terrain(renderer: &mut Renderer, terrain: &LodTerrain) -> Result<f
         renderer.upload_chunk(&ChunkMeshData {
             coord: node.coord,
             lod: node.level,
-            layers: viewer::gpu_view::node_layers(node),
+            layers: node_layers(node),
         })?;
     }
     Ok(started.elapsed().as_secs_f64() * 1e3)

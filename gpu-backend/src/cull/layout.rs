@@ -316,6 +316,7 @@ impl CullConfig {
 
 /// Why a cull pass or output cannot be created.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum CullError {
     /// The quad gigabuffer has no pages (the kind is disabled).
     NoQuadPages,

@@ -6,6 +6,7 @@ use super::{ChunkHandle, DataKind, PageLayoutError};
 
 /// Why a gigabuffer operation failed.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum GigabufferError {
     /// The configuration does not fit 32-bit offsets or the device's pages.
     Config(PageLayoutError),

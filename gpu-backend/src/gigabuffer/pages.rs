@@ -30,6 +30,7 @@ pub struct PageLayout {
 
 /// A configuration the pages cannot hold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum PageLayoutError {
     /// More elements than 32-bit offsets can address.
     TooManyElements {

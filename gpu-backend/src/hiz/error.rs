@@ -6,6 +6,7 @@ use crate::readback::ReadbackError;
 
 /// An error of the depth pyramid: each names the problem, none is a panic.
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum HizError {
     /// The screen size is zero or larger than the device's (or the CPU side's) limit.
     BadSize {

@@ -12,6 +12,7 @@ use crate::timing::TimerError;
 
 /// An error of the [`Renderer`](super::Renderer): each names the problem, none is a panic.
 #[derive(Debug)]
+#[non_exhaustive]
 pub enum RenderError {
     /// The output size is zero or larger than the device's texture limit.
     BadSize {

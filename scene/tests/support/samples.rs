@@ -1,9 +1,11 @@
 //! The shared sample models (`../shared/data/vox/` beside the checkout), found the way every
 //! test of the workspace finds them: under CI (`CI=true`) their absence fails the test;
-//! elsewhere the test prints one `skipped: no sample data` line and passes.
+//! elsewhere the test prints one `skipped: <test>: no sample data` line (visible in every run)
+//! and passes.
 
 #![allow(dead_code, reason = "each including test uses a different part")]
 
+use std::io::Write;
 use std::path::PathBuf;
 
 /// Every `.vox` file of the shared sample data, sorted by name; empty (after printing a skip
@@ -17,7 +19,16 @@ pub fn sample_vox_files() -> Vec<PathBuf> {
                 dir.display()
             );
         }
-        eprintln!("skipped: no sample data ({})", dir.display());
+        // Straight to standard error: the harness hides `eprintln!` of passing tests.
+        let test = std::thread::current()
+            .name()
+            .unwrap_or("(unnamed test)")
+            .to_owned();
+        let _ = writeln!(
+            std::io::stderr().lock(),
+            "skipped: {test}: no sample data ({})",
+            dir.display()
+        );
         return Vec::new();
     }
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)

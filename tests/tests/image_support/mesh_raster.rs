@@ -28,7 +28,7 @@ use glam::DVec3;
 use gpu_backend::render::RendererConfig;
 use gpu_backend::render::lighting::{LightingParams, output_rgba8, shade, srgb_to_linear};
 use mesher::{BlockClasses, MeshSettings, SurfaceMode};
-use viewer::reference_raycast::Camera;
+use viewer::camera::Camera;
 use voxel_core::formats::BlockVertexFields;
 use voxel_core::{BlockId, ChunkCoord};
 

@@ -25,7 +25,7 @@
 
 use std::path::PathBuf;
 
-use viewer::reference_raycast::encode_png;
+use gpu_backend::png::encode_png;
 
 /// An image with depth: sRGB RGBA8 and the eye distance per pixel (infinity for sky).
 #[derive(Clone, Debug, PartialEq)]

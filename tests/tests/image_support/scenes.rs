@@ -3,9 +3,11 @@
 use gpu_backend::render::{Renderer, RendererConfig};
 use gpu_backend::{GpuContext, PassTime};
 use mesher::{MeshSettings, SurfaceMode};
-use viewer::deferred_reference::{lighting_params, render_deferred};
+use viewer::camera::Camera;
+use viewer::deferred_reference::render_deferred;
 use viewer::gpu_view::{render_camera, upload_world_with};
-use viewer::reference_raycast::{Camera, Lighting, trace_ray};
+use viewer::lighting::{Lighting, lighting_params};
+use viewer::reference_raycast::trace_ray;
 use voxel_core::storage::{PaletteChunk, WorldMap};
 use voxel_core::{BlockId, ChunkSize, Material, MaterialClass, MaterialPalette, WorldPos};
 

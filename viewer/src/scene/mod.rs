@@ -14,7 +14,7 @@ pub struct Scene {
     /// The materials of the ids in `world`.
     pub palette: MaterialPalette,
     /// A good first camera position and direction for this scene.
-    pub suggested_view: crate::reference_raycast::Camera,
+    pub suggested_view: crate::camera::Camera,
 }
 
 /// Generates the built-in terrain over `chunks_x * chunks_z` chunk columns of `size`, centred on
@@ -33,7 +33,7 @@ pub fn terrain_scene(
         terrain,
     } = voxel_scene::terrain_scene(seed, size, chunks_x, chunks_y, chunks_z);
     let eye_y = terrain.height(0, 40).max(terrain.sea_level) + 14;
-    let suggested_view = crate::reference_raycast::Camera {
+    let suggested_view = crate::camera::Camera {
         voxel: voxel_core::WorldPos::new(0, eye_y, 40),
         fraction: glam::DVec3::splat(0.5),
         yaw: 0.35,
@@ -51,7 +51,7 @@ pub fn terrain_scene(
 pub fn camera_looking_at(
     lo: voxel_core::WorldPos,
     hi: voxel_core::WorldPos,
-) -> crate::reference_raycast::Camera {
+) -> crate::camera::Camera {
     let lo_v = glam::DVec3::new(f64::from(lo.x), f64::from(lo.y), f64::from(lo.z));
     let hi_v = glam::DVec3::new(f64::from(hi.x), f64::from(hi.y), f64::from(hi.z)) + 1.0;
     let centre = (lo_v + hi_v) * 0.5;
@@ -60,7 +60,7 @@ pub fn camera_looking_at(
     let direction = glam::DVec3::new(-0.55, -0.45, -0.7).normalize();
     let eye = centre - direction * (radius / (fov_y * 0.5).sin() * 1.05);
     let floor = eye.floor();
-    crate::reference_raycast::Camera {
+    crate::camera::Camera {
         voxel: voxel_core::WorldPos::new(floor.x as i32, floor.y as i32, floor.z as i32),
         fraction: eye - floor,
         yaw: (-direction.x).atan2(-direction.z),

@@ -7,8 +7,8 @@
 use glam::DVec3;
 use voxel_core::{ChunkSize, WorldPos};
 
+use crate::camera::Camera;
 use crate::gpu_view::render_camera;
-use crate::reference_raycast::Camera;
 use gpu_backend::render::RenderCamera;
 
 /// Which movement keys are held.

@@ -14,9 +14,8 @@ use winit::window::Window;
 use super::WindowError;
 use super::overlay::Overlay;
 use super::stats::FrameStats;
-use crate::deferred_reference::lighting_params;
 use crate::gpu_view::upload_world;
-use crate::reference_raycast::Lighting;
+use crate::lighting::{Lighting, lighting_params};
 use crate::scene::Scene;
 
 /// What the scene put on the GPU (counted once, after the upload).

@@ -97,6 +97,7 @@ impl fmt::Display for WindowReport {
 
 /// Why the window could not run.
 #[derive(Debug)]
+#[non_exhaustive]
 pub enum WindowError {
     /// No event loop: no display could be opened (or a second loop was asked for).
     EventLoop(EventLoopError),

@@ -11,6 +11,7 @@ use core::fmt;
 /// Derives only `PartialEq` (not `Eq`) because some variants carry the rejected `f32`; compare
 /// variants with `matches!` when the value may be NaN.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum FormatError {
     /// An integer field is outside `min..=max` (too large for its bits, or below its minimum).
     IntegerOutOfRange {

@@ -61,6 +61,7 @@ pub const HEADER_LEN: usize = 10;
 
 /// A byte string that is not a valid encoded chunk.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum CodecError {
     /// The input does not start with `b"VXCH"` (checked on as many bytes as there are).
     BadMagic,

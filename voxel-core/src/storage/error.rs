@@ -6,6 +6,7 @@ use crate::{ChunkSize, CoordError};
 
 /// A storage operation given a position, buffer or chunk that does not fit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum StorageError {
     /// A position outside the chunk.
     Coord(CoordError),

@@ -25,10 +25,10 @@
 //! assert_eq!(padded.column(1, 1), Ok(0b1));
 //! ```
 
-mod codec;
+pub mod codec;
 mod dense;
 mod error;
-mod neighbourhood;
+pub mod neighbourhood;
 mod packed_bits;
 mod palette;
 mod palette_build;
