@@ -7,12 +7,13 @@
 #     xkbcommon-x11; Mesa's own X11 presentation libraries come with mesa-vulkan-drivers);
 #   - a C++ compiler (g++), which libfuzzer-sys needs to build libFuzzer when the test command
 #     builds the fuzz targets;
-#   - the bare-metal target used to check that voxel-core builds without std.
+#   - the bare-metal target used to check that voxel-core builds without std;
+#   - the nightly toolchain (rustup, minimal profile) the fuzz targets are built with.
 # Safe to run again: it installs only what is missing.
 set -euo pipefail
 
 if ! command -v cargo >/dev/null 2>&1; then
-    echo "error: cargo not found. Install Rust 1.88 or newer with rustup (https://rustup.rs)." >&2
+    echo "error: cargo not found. Install Rust 1.95 or newer with rustup (https://rustup.rs)." >&2
     exit 1
 fi
 
@@ -55,5 +56,10 @@ if command -v rustup >/dev/null 2>&1; then
     for component in clippy rustfmt; do
         rustup component list --installed | grep -q "^$component" || rustup component add "$component" >/dev/null
     done
+    # The fuzz targets are built with nightly (scripts/build-fuzz.sh).
+    if ! rustup toolchain list | grep -q '^nightly'; then
+        echo "setup: installing the nightly toolchain (fuzz target build)"
+        rustup toolchain install nightly --profile minimal >/dev/null
+    fi
 fi
 echo "setup: ok"

@@ -27,11 +27,27 @@ cargo clippy --workspace --all-targets --locked -- -D warnings
 echo "== voxel-core and mesher without std (bare-metal target)"
 cargo build -p voxel-core -p mesher --no-default-features --target x86_64-unknown-none --locked
 
-# The fuzz crate is not part of the workspace (cargo-fuzz runs it on nightly with sanitizers);
-# a plain build on this toolchain compiles and links every target (libFuzzer included), so a
-# target that stops compiling fails here. Its corpora are replayed by the tests below.
-echo "== fuzz targets (build, warnings are errors)"
-RUSTFLAGS="-D warnings" cargo build --manifest-path fuzz/Cargo.toml --bins --locked
+# The fuzz crate is not part of the workspace: `cargo +nightly fuzz` runs it. Here every
+# target is built the way cargo-fuzz builds it (nightly, coverage instrumentation,
+# AddressSanitizer, `--cfg fuzzing`; scripts/build-fuzz.sh), so a target that stops compiling
+# fails the test command. Its corpora are replayed by the tests below.
+echo "== fuzz targets (nightly, as cargo-fuzz builds them; warnings are errors)"
+scripts/build-fuzz.sh
+
+echo "== docs (warnings are errors)"
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked
+
+echo "== examples"
+cargo run --locked -q -p examples --example host_wgpu
+vox=../shared/data/vox/chr_knight.vox
+if [ -f "$vox" ]; then
+    cargo run --locked -q -p examples --example vox_to_quads -- "$vox" "${CARGO_TARGET_DIR:-target}/chr_knight.quads"
+elif [ "${CI:-}" = true ]; then
+    echo "error: $vox is missing; CI must have ../shared beside the checkout" >&2
+    exit 1
+else
+    echo "skipped: vox_to_quads example: no sample data ($vox)"
+fi
 
 echo "== tests (unit, property, integration, fuzz-corpus replay, doc)"
 cargo test --workspace --locked
