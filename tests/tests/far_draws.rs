@@ -1,7 +1,8 @@
 //! Far draws against the CPU reference: the same scenes as the near-field image tests, every
 //! node drawn from its surface blocks (ray-box cubes shaded with the meshers' AO from the
-//! node's hiding mask), must match the deferred CPU raycaster within the image tests'
-//! tolerance, as the meshed render does.
+//! node's hiding mask) by each far path (splat, sprite, camera quads, and the sprite on a
+//! device without any optional feature), must match the deferred CPU raycaster within the
+//! image tests' tolerance, as the meshed render does.
 
 #[allow(dead_code, reason = "each test file uses part of the shared helpers")]
 mod image_support;
@@ -77,6 +78,9 @@ fn far_render(
     }
 }
 
+/// The meshed render and every far path against the CPU reference. The fallbacks are checked
+/// too: on a device with every optional feature disabled but the renderer's one requirement
+/// (no 64-bit atomics, no conservative depth, no count buffer) `FarRequest::Auto` draws sprites, and they must match as well.
 fn check_scene(name: &str, scene: &TestScene) {
     let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
         return;
@@ -95,15 +99,39 @@ fn check_scene(name: &str, scene: &TestScene) {
         &reference,
         &Tolerance::LAVAPIPE,
     );
-    let far = far_render(
-        &ctx,
-        scene,
-        &scene.camera,
-        FarRequest::Path(FarPath::Splat),
-        1e9,
-    );
+    for (label, path) in [
+        ("splat", FarPath::Splat),
+        ("sprite", FarPath::Sprite),
+        ("camera_quads", FarPath::CameraQuads),
+    ] {
+        if path == FarPath::Splat && !ctx.capabilities.int64_atomics {
+            assert!(
+                std::env::var_os("CI").is_none(),
+                "lavapipe in CI has 64-bit atomics; this device does not"
+            );
+            println!("skipped: the splat needs 64-bit atomics, which this device lacks");
+            continue;
+        }
+        let far = far_render(&ctx, scene, &scene.camera, FarRequest::Path(path), 1e9);
+        assert_images_match(
+            &format!("{name}_far_{label}"),
+            &far,
+            &reference,
+            &Tolerance::LAVAPIPE,
+        );
+    }
+    // Every fallback the renderer runs with (it needs indirect first instance).
+    let fallbacks = DeviceOptions {
+        disable_indirect_first_instance: false,
+        ..DeviceOptions::all_fallbacks()
+    };
+    let Some(bare) = headless_or_skip(&fallbacks) else {
+        return;
+    };
+    assert!(!bare.capabilities.int64_atomics && !bare.capabilities.early_depth_test);
+    let far = far_render(&bare, scene, &scene.camera, FarRequest::Auto, 1e9);
     assert_images_match(
-        &format!("{name}_far_splat"),
+        &format!("{name}_far_fallback"),
         &far,
         &reference,
         &Tolerance::LAVAPIPE,
@@ -111,16 +139,16 @@ fn check_scene(name: &str, scene: &TestScene) {
 }
 
 #[test]
-fn far_splat_of_the_terrain_matches_the_reference() {
+fn far_draws_of_the_terrain_match_the_reference() {
     check_scene("far_terrain", &image_support::scenes::terrain());
 }
 
 #[test]
-fn far_splat_of_a_cube_across_chunk_borders_matches_the_reference() {
+fn far_draws_of_a_cube_across_chunk_borders_match_the_reference() {
     check_scene("far_cube", &image_support::scenes::cube(0));
 }
 
 #[test]
-fn far_splat_of_a_sphere_in_water_matches_the_reference() {
+fn far_draws_of_a_sphere_in_water_match_the_reference() {
     check_scene("far_sphere_water", &image_support::scenes::sphere());
 }

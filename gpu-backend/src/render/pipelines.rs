@@ -119,19 +119,20 @@ fn layout(device: &Device, label: &str, entries: &[BindGroupLayoutEntry]) -> Bin
     })
 }
 
-/// One render pipeline of the renderer.
-struct PipelineDesc<'a> {
-    label: &'a str,
-    module: &'a ShaderModule,
-    vertex: &'a str,
-    fragment: &'a str,
-    groups: [&'a BindGroupLayout; 2],
-    targets: &'a [Option<ColorTargetState>],
-    depth: Option<DepthStencilState>,
-    cull_back: bool,
+/// One render pipeline of the renderer (also built by the raster far draws).
+pub(crate) struct PipelineDesc<'a> {
+    pub(crate) label: &'a str,
+    pub(crate) module: &'a ShaderModule,
+    pub(crate) vertex: &'a str,
+    pub(crate) fragment: &'a str,
+    pub(crate) groups: [&'a BindGroupLayout; 2],
+    pub(crate) targets: &'a [Option<ColorTargetState>],
+    pub(crate) depth: Option<DepthStencilState>,
+    pub(crate) cull_back: bool,
 }
 
-fn pipeline(device: &Device, desc: PipelineDesc<'_>) -> RenderPipeline {
+/// The render pipeline `desc` describes (no vertex buffers: every pass pulls its vertices).
+pub(crate) fn pipeline(device: &Device, desc: PipelineDesc<'_>) -> RenderPipeline {
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(desc.label),
         bind_group_layouts: &[Some(desc.groups[0]), Some(desc.groups[1])],
@@ -164,7 +165,8 @@ fn pipeline(device: &Device, desc: PipelineDesc<'_>) -> RenderPipeline {
     })
 }
 
-fn depth_state(write: bool) -> Option<DepthStencilState> {
+/// The renderer's depth test (reversed-Z), writing depth or not.
+pub(crate) fn depth_state(write: bool) -> Option<DepthStencilState> {
     Some(DepthStencilState {
         format: DEPTH_FORMAT,
         depth_write_enabled: Some(write),

@@ -139,21 +139,31 @@ struct GBufferOut {
     @location(1) normal_material: vec2<u32>,
 }
 
-@fragment
-fn fs_gbuffer(in: SurfaceVaryings) -> GBufferOut {
-    let m = material_of(in.block);
+// The G-buffer texels of a surface point of block `block` (AO 0..=3, normal not yet unit).
+fn gbuffer_texels(block: u32, ao: f32, normal: vec3<f32>) -> GBufferOut {
+    let m = material_of(block);
     var out: GBufferOut;
-    out.albedo_ao = vec4<f32>(material_srgba(m).rgb, clamp(in.ao / 3.0, 0.0, 1.0));
-    out.normal_material = vec2<u32>(oct32_encode(normalize(in.normal)), in.block);
+    out.albedo_ao = vec4<f32>(material_srgba(m).rgb, clamp(ao / 3.0, 0.0, 1.0));
+    out.normal_material = vec2<u32>(oct32_encode(normalize(normal)), block);
     return out;
 }
 
-// Transparent quads: lit here (forward) with the deferred lighting model and blended over the
-// lit opaque image with the palette alpha.
+// A transparent surface point lit (forward) with the deferred lighting model; alpha is the
+// palette's.
+fn transparent_colour(block: u32, ao: f32, normal: vec3<f32>) -> vec4<f32> {
+    let m = material_of(block);
+    let srgba = material_srgba(m);
+    let colour = shade(srgb_to_linear(srgba.rgb), normal, ao, material_emission(m));
+    return vec4<f32>(colour, srgba.a);
+}
+
+@fragment
+fn fs_gbuffer(in: SurfaceVaryings) -> GBufferOut {
+    return gbuffer_texels(in.block, in.ao, in.normal);
+}
+
+// Transparent quads: lit here and blended over the lit opaque image with the palette alpha.
 @fragment
 fn fs_transparent(in: SurfaceVaryings) -> @location(0) vec4<f32> {
-    let m = material_of(in.block);
-    let srgba = material_srgba(m);
-    let colour = shade(srgb_to_linear(srgba.rgb), in.normal, in.ao, material_emission(m));
-    return vec4<f32>(colour, srgba.a);
+    return transparent_colour(in.block, in.ao, in.normal);
 }

@@ -13,6 +13,7 @@ use voxel_core::{ChunkSize, MaterialPalette};
 
 use super::camera::RenderCamera;
 use super::error::RenderError;
+use super::far::raster::FarRaster;
 use super::far::splat::FarSplat;
 use super::far::{FarChoice, FarPath, FarRequest};
 use super::frame::FrameUniforms;
@@ -154,6 +155,8 @@ pub struct Renderer {
     far_choice: FarChoice,
     /// The compute splat, when that is the far path.
     splat: Option<FarSplat>,
+    /// The raster far draws, when the far path is a raster one.
+    far_raster: Option<FarRaster>,
     /// Read by the full-screen passes when there is no splat.
     no_visibility: Buffer,
     targets: RenderTargets,
@@ -205,27 +208,37 @@ impl Renderer {
             .far
             .resolve(&ctx.capabilities)
             .map_err(RenderError::FarDrawsUnavailable)?;
-        let splat = match far_choice.path {
-            FarPath::Off => None,
-            FarPath::Splat => {
-                let blocks = gigabuffer.layout(DataKind::DrawBlocks);
-                if blocks.page_count != 1 {
-                    return Err(RenderError::FarDrawsUnavailable(format!(
-                        "the splat binds the draw-block gigabuffer as one page; {} bytes of \
-                         draw blocks make {} pages of at most {} bytes",
-                        config.gigabuffer.bytes.get(DataKind::DrawBlocks),
-                        blocks.page_count,
-                        ctx.capabilities.max_page_bytes()
-                    )));
-                }
-                Some(FarSplat::new(
-                    device,
-                    config.width,
-                    config.height,
-                    ctx.capabilities.max_page_bytes(),
-                )?)
+        if far_choice.path != FarPath::Off {
+            let blocks = gigabuffer.layout(DataKind::DrawBlocks);
+            if blocks.page_count != 1 {
+                return Err(RenderError::FarDrawsUnavailable(format!(
+                    "the far draws bind the draw-block gigabuffer as one page; {} bytes of \
+                     draw blocks make {} pages of at most {} bytes",
+                    config.gigabuffer.bytes.get(DataKind::DrawBlocks),
+                    blocks.page_count,
+                    ctx.capabilities.max_page_bytes()
+                )));
             }
+        }
+        let splat = match far_choice.path {
+            FarPath::Splat => Some(FarSplat::new(
+                device,
+                config.width,
+                config.height,
+                ctx.capabilities.max_page_bytes(),
+            )?),
+            _ => None,
         };
+        let pipelines = Pipelines::new(device, config.fullscreen);
+        let far_raster = far_choice.path.is_raster().then(|| {
+            FarRaster::new(
+                device,
+                &ctx.capabilities,
+                far_choice.path,
+                cull.layout().far_capacity,
+                &pipelines.frame_layout,
+            )
+        });
         let no_visibility = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("no far visibility"),
             size: 16,
@@ -277,9 +290,10 @@ impl Renderer {
                 chunk: voxel_core::ChunkCoord::new(0, 0, 0),
                 offset: [0.0; 3],
             },
-            pipelines: Pipelines::new(device, config.fullscreen),
+            pipelines,
             far_choice,
             splat,
+            far_raster,
             no_visibility,
             targets,
             quad_indices,

@@ -68,13 +68,15 @@ impl Renderer {
     }
 
     /// The G-buffer pass of `commands` (opaque quads per page, then smooth quads per page
-    /// pair): clearing the G-buffer first, or drawing over it.
+    /// pair, then the raster far draws' opaque blocks when `far_group` is given): clearing
+    /// the G-buffer first, or drawing over it.
     pub(super) fn record_gbuffer(
         &self,
         encoder: &mut CommandEncoder,
         frame_group: &BindGroup,
         commands: &CullOutput,
         clear_first: bool,
+        far_group: Option<&BindGroup>,
     ) {
         let colour_load = if clear_first {
             wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
@@ -132,11 +134,21 @@ impl Renderer {
                 }
             }
         }
+        if let (Some(raster), Some(group)) = (&self.far_raster, far_group) {
+            raster.draw_opaque(&mut pass, frame_group, group);
+        }
     }
 
-    /// The transparent pass: the ordered cull's commands, one multi-draw per quad page,
-    /// blended into the HDR target over the lit opaque image (depth-tested, not written).
-    pub(super) fn record_transparent(&self, encoder: &mut CommandEncoder, frame_group: &BindGroup) {
+    /// The transparent pass: the raster far draws' transparent blocks when `far_group` is
+    /// given (they are behind every meshed node), then the ordered cull's commands, one
+    /// multi-draw per quad page, blended into the HDR target over the lit opaque image
+    /// (depth-tested, not written).
+    pub(super) fn record_transparent(
+        &self,
+        encoder: &mut CommandEncoder,
+        frame_group: &BindGroup,
+        far_group: Option<&BindGroup>,
+    ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("transparent"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -160,6 +172,9 @@ impl Renderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        if let (Some(raster), Some(group)) = (&self.far_raster, far_group) {
+            raster.draw_transparent(&mut pass, frame_group, group);
+        }
         pass.set_pipeline(&self.pipelines.quad_transparent);
         pass.set_bind_group(0, frame_group, &[]);
         pass.set_index_buffer(self.quad_indices.slice(..), wgpu::IndexFormat::Uint32);

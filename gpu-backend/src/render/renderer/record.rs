@@ -10,6 +10,8 @@ use crate::cull::{
 };
 use crate::gigabuffer::DataKind;
 use crate::render::error::RenderError;
+use crate::render::far::FarPath;
+use crate::render::far::raster::{FarRaster, FarRasterInputs};
 use crate::render::far::splat::{SplatInputs, SplatStats};
 use crate::render::frame::{FRAME_SPLAT, FrameShape, FrameUniforms};
 use crate::timing::PassTime;
@@ -43,8 +45,8 @@ impl Renderer {
             chunk_edge: self.config.chunk_size.edge() as f32,
             pad: 0,
         });
-        let far_cell_px = match (&self.splat, self.lod) {
-            (Some(_), Some(settings)) => Some(settings.far_cell_px),
+        let far_cell_px = match self.lod {
+            Some(settings) if self.far_choice.path != FarPath::Off => Some(settings.far_cell_px),
             _ => None,
         };
         let occlusion = self.occlusion.as_ref().map(|_| OcclusionView {
@@ -98,6 +100,9 @@ impl Renderer {
         if let Some(splat) = &self.splat {
             splat.clear(encoder);
         }
+        if let Some(raster) = &self.far_raster {
+            raster.clear(encoder);
+        }
 
         self.record_opaque_phase(encoder, &frame_group, &cull_camera, PHASE_EARLY)?;
         if let Some(occlusion) = &self.occlusion {
@@ -128,6 +133,10 @@ impl Renderer {
                 ..self.cull_params(false, PHASE_TEST)
             },
         )?;
+        let far_group = self.far_raster_inputs().map(|(raster, inputs)| {
+            raster.record_all_args(encoder, &inputs);
+            raster.bind_group(&inputs)
+        });
         self.timer.end(encoder, scope);
 
         let scope = self.timer.begin(encoder, "lighting");
@@ -135,7 +144,7 @@ impl Renderer {
         self.timer.end(encoder, scope);
 
         let scope = self.timer.begin(encoder, "transparent");
-        self.record_transparent(encoder, &frame_group);
+        self.record_transparent(encoder, &frame_group, far_group.as_ref());
         self.timer.end(encoder, scope);
 
         let scope = self.timer.begin(encoder, "tonemap");
@@ -204,10 +213,30 @@ impl Renderer {
             );
             self.timer.end(encoder, scope);
         }
+        let far_group = self.far_raster_inputs().map(|(raster, inputs)| {
+            raster.record_phase_args(encoder, &inputs);
+            raster.bind_group(&inputs)
+        });
         let scope = self.timer.begin(encoder, label("gbuffer", "gbuffer late"));
-        self.record_gbuffer(encoder, frame_group, commands, !late);
+        self.record_gbuffer(encoder, frame_group, commands, !late, far_group.as_ref());
         self.timer.end(encoder, scope);
         Ok(())
+    }
+
+    /// The raster far draws and what they bind, when they are the far path and draw blocks
+    /// are resident.
+    fn far_raster_inputs(&self) -> Option<(&FarRaster, FarRasterInputs<'_>)> {
+        let raster = self.far_raster.as_ref()?;
+        let blocks = self.gigabuffer.page(DataKind::DrawBlocks, 0)?;
+        Some((
+            raster,
+            FarRasterInputs {
+                table: self.table.buffer(),
+                nodes: self.nodes.buffer(),
+                blocks,
+                frame: &self.cull_frame,
+            },
+        ))
     }
 
     /// Records and submits one frame, waits for it, and returns its per-pass times.
