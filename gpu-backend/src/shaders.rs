@@ -136,6 +136,25 @@ pub const FAR_ARGS: ShaderSpec = ShaderSpec {
     body: include_str!("shaders/far_args.wgsl"),
 };
 
+/// The compute rasteriser of opaque greedy quads (entry points `qr_quads`, `qr_tiles`; see
+/// [`crate::render::quad_raster`]): needs 64-bit atomic min/max.
+pub const QUAD_RASTER: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::SHADER_INT64
+        .union(naga::valid::Capabilities::SHADER_INT64_ATOMIC_MIN_MAX),
+    name: "quad_raster",
+    body: concat!(
+        include_str!("shaders/render_common.wgsl"),
+        include_str!("shaders/quad_raster.wgsl")
+    ),
+};
+
+/// The quad rasteriser's dispatch sizes (entry points `qr_page_args`, `qr_tile_args`).
+pub const QUAD_RASTER_ARGS: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "quad_raster_args",
+    body: include_str!("shaders/quad_raster_args.wgsl"),
+};
+
 /// The Hi-Z test functions (`hiz_rect_visible` and its steps; see [`crate::hiz`]): no bindings,
 /// prepended to a shader that declares `var hiz_texture: texture_2d<f32>`, e.g. a body of
 /// `concat!(include_str!("shaders/hiz.wgsl"), include_str!("shaders/cull.wgsl"))`.
@@ -181,6 +200,8 @@ pub const ALL_SHADERS: &[ShaderSpec] = &[
     LIST_ARGS,
     HIZ_BUILD,
     HIZ_PROBE,
+    QUAD_RASTER,
+    QUAD_RASTER_ARGS,
 ];
 
 /// `FORMATS_WGSL` followed by `body`: the one place shader sources are put together.

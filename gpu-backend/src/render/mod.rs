@@ -82,6 +82,7 @@ pub mod frame;
 pub mod lighting;
 pub mod materials;
 mod pipelines;
+pub mod quad_raster;
 mod renderer;
 mod residency;
 pub mod targets;
