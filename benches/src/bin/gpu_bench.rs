@@ -27,6 +27,10 @@ enum Far {
     Off,
     /// Compute splat (needs 64-bit atomics).
     Splat,
+    /// Raycast sprites (one bounding quad per block, ray-box per fragment).
+    Sprite,
+    /// The 3 camera-facing faces of each block as quads.
+    Quads3,
     /// The best the device runs.
     Auto,
 }
@@ -207,6 +211,8 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
             .map(|f| match f {
                 Far::Off => FarRequest::Off,
                 Far::Splat => FarRequest::Path(FarPath::Splat),
+                Far::Sprite => FarRequest::Path(FarPath::Sprite),
+                Far::Quads3 => FarRequest::Path(FarPath::CameraQuads),
                 Far::Auto => FarRequest::Auto,
             })
             .collect(),
