@@ -6,7 +6,10 @@
 //!   borders, so no crack may open), and the image error stays within a stated bound (no AO
 //!   seam or hole beyond it);
 //! - the selection at several budgets: the image error is bounded and the primitives drawn
-//!   fall as the budget grows.
+//!   fall as the budget grows;
+//! - residency under a memory budget of 60 % of what 1 px selects: the plan raises the budget,
+//!   the renderer fitted to the planned nodes selects exactly them, with no hole and the error
+//!   within the bound of the raised budget.
 //!
 //! Stated bounds, growing with the budget `b` (pixels) since that is the error it allows: mean
 //! absolute error at most `2.5 b` (8-bit steps) and at most `5 b` % of the pixels off by more
@@ -17,11 +20,16 @@
 use benches::gpu_bench::{ImageError, image_error, renderer_for, upload_terrain};
 use benches::gpu_scene::LodTerrain;
 use gpu_backend::DeviceOptions;
-use gpu_backend::cull::LodSettings;
+use gpu_backend::cull::{LodAnchor, LodSettings};
 use gpu_backend::render::far::{FarPath, FarRequest};
-use gpu_backend::render::{FrameImage, RenderCamera, Renderer};
+use gpu_backend::render::memory_plan::{self, PlannedNode};
+use gpu_backend::render::{
+    ChunkMeshData, FrameImage, RenderCamera, Renderer, RendererConfig, SceneFootprint,
+};
 use gpu_backend::test_support::headless_or_skip;
-use voxel_core::{ChunkSize, WorldPos};
+use mesher::lod::NodeMesh;
+use viewer::gpu_view::node_layers;
+use voxel_core::{ChunkCoord, ChunkSize, WorldPos};
 
 const WIDTH: u32 = 256;
 const HEIGHT: u32 = 160;
@@ -191,4 +199,91 @@ fn larger_budgets_draw_less_within_the_stated_error() {
         "4 px draws under half the full-detail quads ({last_quads} of {})",
         full_stats.mesh_quads
     );
+}
+
+#[test]
+fn a_memory_budget_coarsens_far_detail_without_holes() {
+    let Some(views) = views() else {
+        return;
+    };
+    let camera = camera(0, 30.0);
+    let asked = LodSettings {
+        budget_px: 1.0,
+        far_cell_px: 0.0,
+        ..LodSettings::default()
+    };
+    let mut probe = views.renderer(FarPath::CameraQuads, Some(asked));
+    probe.set_camera(&camera);
+    let params = probe.lod_params().expect("level-of-detail selection is on");
+    let nodes: Vec<&NodeMesh> = views.terrain.nodes().collect();
+    let planned: Vec<PlannedNode> = nodes
+        .iter()
+        .map(|n| PlannedNode {
+            level: n.level,
+            coord: [n.coord.x, n.coord.y, n.coord.z],
+            bytes: node_layers(n).byte_len(),
+        })
+        .collect();
+    let everything = memory_plan::plan(&planned, &params, u64::MAX).expect("plan");
+    assert!(!everything.raised(1.0));
+    // 60 % of what the asked budget selects.
+    let memory = everything.bytes * 6 / 10;
+    let tight = memory_plan::plan(&planned, &params, memory).expect("plan");
+    println!(
+        "asked 1 px: {} nodes, {} bytes; memory {memory}: {} px, {} nodes, {} bytes",
+        everything.keep.len(),
+        everything.bytes,
+        tight.budget_px,
+        tight.keep.len(),
+        tight.bytes
+    );
+    assert!(tight.raised(1.0) && tight.bytes <= memory);
+
+    let mut footprint = SceneFootprint::default();
+    for &i in &tight.keep {
+        footprint.add(&node_layers(nodes[i]));
+    }
+    let far = FarRequest::Path(FarPath::CameraQuads);
+    let config = RendererConfig::fitted(WIDTH, HEIGHT, ChunkSize::S8, far, &footprint);
+    let mut renderer =
+        Renderer::new(&views.ctx, &config, &views.terrain.palette).expect("renderer");
+    for &i in &tight.keep {
+        let node = nodes[i];
+        renderer
+            .upload_chunk(&ChunkMeshData {
+                coord: node.coord,
+                lod: node.level,
+                layers: node_layers(node),
+            })
+            .expect("the plan fits the fitted renderer");
+    }
+    renderer
+        .set_lod(Some(LodSettings {
+            budget_px: tight.budget_px,
+            ..asked
+        }))
+        .expect("settings");
+    renderer.set_camera(&camera);
+    renderer.set_lod_anchor(LodAnchor {
+        chunk: ChunkCoord::new(
+            params.anchor_chunk[0],
+            params.anchor_chunk[1],
+            params.anchor_chunk[2],
+        ),
+        offset: params.anchor_offset,
+    });
+    renderer.render().expect("frame");
+    let image = renderer.read_image().expect("readback");
+    let (stats, _) = renderer.read_frame_stats().expect("stats");
+    assert_eq!(
+        stats.selected as usize,
+        tight.keep.len(),
+        "the GPU selects exactly the planned nodes: {stats:?}"
+    );
+    let mut full = views.renderer(FarPath::CameraQuads, None);
+    let reference = frame(&mut full, &camera);
+    assert!(holes(&image, &reference).is_empty());
+    let error = image_error(&image.rgba, &reference.rgba).expect("same size");
+    println!("at {} px: {error:?}", tight.budget_px);
+    assert!(within_bound(&error, tight.budget_px), "{error:?}");
 }
