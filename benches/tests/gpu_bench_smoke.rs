@@ -31,6 +31,7 @@ fn small_lod_terrain_runs() {
         far: vec![FarRequest::Path(FarPath::Splat)],
         far_cell_px: vec![0.0, 4.0],
         fullscreen: vec![FullscreenPath::Compute],
+        occlusion: vec![true],
     };
     let mut scene = SceneSummary::default();
     let (runs, images, choices) = run(&ctx, &terrain, &config, &mut scene).unwrap();

@@ -27,6 +27,10 @@ enum Far {
     Off,
     /// Compute splat (needs 64-bit atomics).
     Splat,
+    /// Raycast sprites (one bounding quad per block, ray-box per fragment).
+    Sprite,
+    /// The 3 camera-facing faces of each block as quads.
+    Quads3,
     /// The best the device runs.
     Auto,
 }
@@ -79,6 +83,9 @@ struct Args {
     /// Full-screen paths (repeatable or comma-separated).
     #[arg(long, value_enum, value_delimiter = ',', default_value = "compute")]
     fullscreen: Vec<Screen>,
+    /// Two-phase occlusion culling (repeatable or comma-separated: on, off).
+    #[arg(long, value_delimiter = ',', default_value = "on", value_parser = parse_on_off)]
+    occlusion: Vec<bool>,
     /// Output width, pixels.
     #[arg(long, default_value_t = 1920)]
     width: u32,
@@ -103,6 +110,15 @@ struct Args {
     /// Write the full-detail image to this PNG.
     #[arg(long)]
     reference_png: Option<std::path::PathBuf>,
+}
+
+/// `on` or `off`.
+fn parse_on_off(text: &str) -> Result<bool, String> {
+    match text {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err(format!("{text:?} is neither on nor off")),
+    }
 }
 
 fn main() -> ExitCode {
@@ -207,6 +223,8 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
             .map(|f| match f {
                 Far::Off => FarRequest::Off,
                 Far::Splat => FarRequest::Path(FarPath::Splat),
+                Far::Sprite => FarRequest::Path(FarPath::Sprite),
+                Far::Quads3 => FarRequest::Path(FarPath::CameraQuads),
                 Far::Auto => FarRequest::Auto,
             })
             .collect(),
@@ -219,6 +237,7 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
                 Screen::Fragment => FullscreenPath::Fragment,
             })
             .collect(),
+        occlusion: args.occlusion.clone(),
     };
     let (runs, images, choices) = run(&ctx, &terrain, &config, &mut scene)?;
     for choice in &choices {

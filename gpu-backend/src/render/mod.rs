@@ -78,9 +78,11 @@
 pub mod camera;
 mod error;
 pub mod far;
+mod fit;
 pub mod frame;
 pub mod lighting;
 pub mod materials;
+pub mod memory_plan;
 mod pipelines;
 pub mod quad_raster;
 mod renderer;
@@ -90,6 +92,7 @@ pub mod transparent;
 
 pub use camera::{CameraBasis, RenderCamera};
 pub use error::RenderError;
+pub use fit::SceneFootprint;
 pub use frame::{FrameShape, FrameUniforms, SmoothDraw};
 pub use lighting::LightingParams;
 pub use materials::{GpuMaterial, gpu_materials};

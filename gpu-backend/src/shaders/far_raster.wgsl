@@ -50,13 +50,18 @@ fn is_transparent(p: vec3<i32>, edge: i32) -> bool {
     return node_mask_bit(p, edge, mask_words);
 }
 
-// Whether face `face` of the block at padded cell `padded` is one the meshers would emit.
+// Whether face `face` of the block at padded cell `padded` is drawn: where the meshers would
+// emit one (towards a voxel that does not hide it; a transparent block's, towards one that
+// neither hides nor is transparent), and an opaque block's every face towards the node's
+// border: the neighbour across it may be drawn at another level, whose cells need not cover
+// the face (the splat and the sprite draw the whole cube, so they never hide it either).
 fn face_shown(padded: vec3<i32>, face: u32, see_through: bool, edge: i32) -> bool {
     let beyond = padded + face_normal(face);
     if see_through {
         return !hides(beyond, edge) && !is_transparent(beyond, edge);
     }
-    return !hides(beyond, edge);
+    let across_border = any(beyond < vec3<i32>(1)) || any(beyond > vec3<i32>(edge));
+    return across_border || !hides(beyond, edge);
 }
 
 // One block of a far-list entry, as the vertex shaders find it.

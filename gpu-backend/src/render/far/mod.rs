@@ -13,7 +13,7 @@
 //! | ---- | --- | ----- |
 //! | [`FarPath::Splat`] | compute: one workgroup per node; per block, the pixel centres inside its projected bounds are intersected with the cube; hits go to a 64-bit visibility buffer by `atomicMax(depth << 32 \| payload)` ([`splat`]) | `SHADER_INT64_ATOMIC_MIN_MAX` |
 //! | [`FarPath::Sprite`] | raster: one screen-space quad per block bounding its projection, the ray-box test in the fragment shader, `frag_depth` (conservative depth keeps the early depth test where `SHADER_EARLY_DEPTH_TEST` is enabled) ([`raster`]) | nothing beyond the renderer's |
-//! | [`FarPath::CameraQuads`] | raster: the (at most 3) faces of each block that look at the eye, as the meshers' quads with per-corner AO ([`raster`]) | nothing beyond the renderer's |
+//! | [`FarPath::CameraQuads`] | raster: the (at most 3) faces of each block that look at the eye, as the meshers' quads with per-corner AO; faces the hiding mask covers are skipped except towards the node's border, where the neighbour may be drawn at another level ([`raster`]) | nothing beyond the renderer's |
 //!
 //! Which is fastest depends on the GPU: compute-heavy parts with few raster units (the H100)
 //! favour the splat, consumer GPUs the raster forms; BENCHMARKS.md has the measured figures.

@@ -27,6 +27,13 @@ impl Renderer {
         self.per_level
     }
 
+    /// The level-of-detail selection's inputs of the next frame (anchor, budget, focal
+    /// length, hysteresis), or `None` without level-of-detail selection: what a residency
+    /// plan ([`memory_plan`](crate::render::memory_plan)) selects with.
+    pub fn lod_params(&self) -> Option<LodParams> {
+        self.cull_params(false, PHASE_TEST).lod
+    }
+
     /// The cull's parameters of the next frame: `smooth` draws the smooth layer, `phase` is
     /// the occlusion phase (ignored without occlusion culling).
     pub(super) fn cull_params(&self, smooth: bool, phase: u32) -> CullParams {
@@ -213,11 +220,12 @@ impl Renderer {
             );
             self.timer.end(encoder, scope);
         }
+        // The raster far draws' commands are timed with the G-buffer pass that draws them.
+        let scope = self.timer.begin(encoder, label("gbuffer", "gbuffer late"));
         let far_group = self.far_raster_inputs().map(|(raster, inputs)| {
             raster.record_phase_args(encoder, &inputs);
             raster.bind_group(&inputs)
         });
-        let scope = self.timer.begin(encoder, label("gbuffer", "gbuffer late"));
         self.record_gbuffer(encoder, frame_group, commands, !late, far_group.as_ref());
         self.timer.end(encoder, scope);
         Ok(())
