@@ -10,7 +10,7 @@ mod image_support;
 use gpu_backend::DeviceOptions;
 use gpu_backend::cull::{CullStats, LodSettings};
 use gpu_backend::render::far::{FarPath, FarRequest};
-use gpu_backend::render::{Renderer, RendererConfig};
+use gpu_backend::render::{OpaquePath, Renderer, RendererConfig};
 use gpu_backend::test_support::headless_or_skip;
 use image_support::scenes::{HEIGHT, TestScene, WIDTH, cpu_render};
 use image_support::{Image, Tolerance, assert_images_match};
@@ -29,9 +29,13 @@ fn far_render(
     camera: &Camera,
     far: FarRequest,
     far_cell_px: f32,
+    opaque: OpaquePath,
 ) -> (Image, CullStats) {
     let size = scene.world.size();
-    let config = RendererConfig::new(WIDTH, HEIGHT, size).with_far(far, 1 << 22);
+    let config = RendererConfig {
+        opaque,
+        ..RendererConfig::new(WIDTH, HEIGHT, size).with_far(far, 1 << 22)
+    };
     let mut renderer = Renderer::new(ctx, &config, &scene.palette).expect("renderer");
     let classes = BlockClasses::from_palette(&scene.palette);
     let mut coords: Vec<_> = scene.world.iter().map(|(c, _)| c).collect();
@@ -94,6 +98,7 @@ fn check_scene(name: &str, scene: &TestScene) {
         &scene.camera,
         FarRequest::Path(FarPath::Splat),
         0.0,
+        OpaquePath::Raster,
     );
     assert_images_match(
         &format!("{name}_meshed"),
@@ -101,6 +106,25 @@ fn check_scene(name: &str, scene: &TestScene) {
         &reference,
         &Tolerance::LAVAPIPE,
     );
+    // The opaque quads rasterised in compute, alone and beside far-drawn nodes.
+    if ctx.capabilities.int64_atomics {
+        for (label, far_cell_px) in [("meshed", 0.0), ("far", 1e9)] {
+            let (image, _) = far_render(
+                &ctx,
+                scene,
+                &scene.camera,
+                FarRequest::Path(FarPath::Splat),
+                far_cell_px,
+                OpaquePath::Compute,
+            );
+            assert_images_match(
+                &format!("{name}_{label}_compute_opaque"),
+                &image,
+                &reference,
+                &Tolerance::LAVAPIPE,
+            );
+        }
+    }
     for (label, path) in [
         ("splat", FarPath::Splat),
         ("sprite", FarPath::Sprite),
@@ -114,7 +138,14 @@ fn check_scene(name: &str, scene: &TestScene) {
             println!("skipped: the splat needs 64-bit atomics, which this device lacks");
             continue;
         }
-        let (far, _) = far_render(&ctx, scene, &scene.camera, FarRequest::Path(path), 1e9);
+        let (far, _) = far_render(
+            &ctx,
+            scene,
+            &scene.camera,
+            FarRequest::Path(path),
+            1e9,
+            OpaquePath::Raster,
+        );
         assert_images_match(
             &format!("{name}_far_{label}"),
             &far,
@@ -131,7 +162,14 @@ fn check_scene(name: &str, scene: &TestScene) {
         return;
     };
     assert!(!bare.capabilities.int64_atomics && !bare.capabilities.early_depth_test);
-    let (far, _) = far_render(&bare, scene, &scene.camera, FarRequest::Auto, 1e9);
+    let (far, _) = far_render(
+        &bare,
+        scene,
+        &scene.camera,
+        FarRequest::Auto,
+        1e9,
+        OpaquePath::Raster,
+    );
     assert_images_match(
         &format!("{name}_far_fallback"),
         &far,
@@ -217,7 +255,14 @@ fn far_blocks_half_hidden_behind_a_near_wall_match_the_reference() {
             println!("skipped: the splat needs 64-bit atomics, which this device lacks");
             continue;
         }
-        let (image, stats) = far_render(&ctx, &scene, &scene.camera, FarRequest::Path(path), 2.0);
+        let (image, stats) = far_render(
+            &ctx,
+            &scene,
+            &scene.camera,
+            FarRequest::Path(path),
+            2.0,
+            OpaquePath::Raster,
+        );
         assert!(stats.mesh_nodes > 0, "the wall is meshed: {stats:?}");
         assert!(stats.far_nodes > 0, "the ground is far-drawn: {stats:?}");
         assert_images_match(

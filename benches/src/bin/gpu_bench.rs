@@ -16,6 +16,7 @@ use benches::gpu_scene::LodTerrain;
 use clap::{Parser, ValueEnum};
 use gpu_backend::cull::{LodParams, lod};
 use gpu_backend::render::FullscreenPath;
+use gpu_backend::render::OpaquePath;
 use gpu_backend::render::far::{FarPath, FarRequest};
 use gpu_backend::{DeviceOptions, GpuContext};
 use voxel_core::ChunkSize;
@@ -42,6 +43,15 @@ enum Screen {
     Compute,
     /// Fragment passes.
     Fragment,
+}
+
+/// An opaque quad path on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Opaque {
+    /// The G-buffer raster pass.
+    Raster,
+    /// The compute rasteriser into the visibility buffer.
+    Compute,
 }
 
 /// Whether to render full detail.
@@ -86,6 +96,9 @@ struct Args {
     /// Two-phase occlusion culling (repeatable or comma-separated: on, off).
     #[arg(long, value_delimiter = ',', default_value = "on", value_parser = parse_on_off)]
     occlusion: Vec<bool>,
+    /// Opaque quad paths (repeatable or comma-separated).
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "raster")]
+    opaque: Vec<Opaque>,
     /// Output width, pixels.
     #[arg(long, default_value_t = 1920)]
     width: u32,
@@ -238,6 +251,14 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
             })
             .collect(),
         occlusion: args.occlusion.clone(),
+        opaque: args
+            .opaque
+            .iter()
+            .map(|o| match o {
+                Opaque::Raster => OpaquePath::Raster,
+                Opaque::Compute => OpaquePath::Compute,
+            })
+            .collect(),
     };
     let (runs, images, choices) = run(&ctx, &terrain, &config, &mut scene)?;
     for choice in &choices {

@@ -19,8 +19,8 @@ use gpu_backend::cull::LodSettings;
 use gpu_backend::gigabuffer::{DataKind, GigabufferConfig};
 use gpu_backend::render::far::{FarChoice, FarRequest};
 use gpu_backend::render::{
-    ChunkMeshData, FrameImage, FullscreenPath, LightingParams, RenderCamera, RenderError, Renderer,
-    RendererConfig,
+    ChunkMeshData, FrameImage, FullscreenPath, LightingParams, OpaquePath, RenderCamera,
+    RenderError, Renderer, RendererConfig,
 };
 use voxel_core::WorldPos;
 
@@ -57,6 +57,8 @@ pub struct BenchConfig {
     pub fullscreen: Vec<FullscreenPath>,
     /// Two-phase occlusion culling settings to measure (one renderer each, per far path).
     pub occlusion: Vec<bool>,
+    /// Opaque quad paths to measure (one renderer each, per far path and occlusion setting).
+    pub opaque: Vec<OpaquePath>,
 }
 
 /// Why the benchmark stopped.
@@ -108,17 +110,17 @@ pub fn renderer_for(
     height: u32,
     far: FarRequest,
 ) -> Result<Renderer, RenderError> {
-    renderer_with(ctx, terrain, width, height, far, true)
+    renderer_with(ctx, terrain, (width, height), far, true, OpaquePath::Raster)
 }
 
-/// [`renderer_for`] with occlusion culling `occlusion`.
+/// [`renderer_for`] with occlusion culling `occlusion` and opaque quads drawn by `opaque`.
 pub fn renderer_with(
     ctx: &GpuContext,
     terrain: &LodTerrain,
-    width: u32,
-    height: u32,
+    (width, height): (u32, u32),
     far: FarRequest,
     occlusion: bool,
+    opaque: OpaquePath,
 ) -> Result<Renderer, RenderError> {
     let slack = |n: u64| n + n / 16 + 4096;
     let nodes = terrain.nodes().count().max(1) as u32;
@@ -128,6 +130,7 @@ pub fn renderer_with(
         .with_max_chunks(nodes);
     config.max_chunks = nodes;
     config.occlusion = occlusion;
+    config.opaque = opaque;
     let config = match far {
         FarRequest::Off => config,
         far => config.with_far(far, slack(terrain.draw_block_words()) * 4),
@@ -217,9 +220,13 @@ pub fn run(
     config: &BenchConfig,
     scene: &mut SceneSummary,
 ) -> Result<(Vec<RunReport>, BenchImages, Vec<FarChoice>), BenchError> {
-    if config.far.is_empty() || config.fullscreen.is_empty() || config.occlusion.is_empty() {
+    if config.far.is_empty()
+        || config.fullscreen.is_empty()
+        || config.occlusion.is_empty()
+        || config.opaque.is_empty()
+    {
         return Err(BenchError::BadConfig(
-            "at least one far path, one full-screen path and one occlusion setting".to_owned(),
+            "at least one far path, full-screen path, occlusion setting and opaque path".to_owned(),
         ));
     }
     let camera = bench_camera(terrain.size);
@@ -230,14 +237,16 @@ pub fn run(
     };
     let mut choices = Vec::new();
     let settings = config.far.iter().flat_map(|&far| {
-        config
-            .occlusion
-            .iter()
-            .map(move |&occlusion| (far, occlusion))
+        config.occlusion.iter().flat_map(move |&occlusion| {
+            config
+                .opaque
+                .iter()
+                .map(move |&opaque| (far, occlusion, opaque))
+        })
     });
-    for (index, (far, occlusion)) in settings.enumerate() {
-        let mut renderer =
-            renderer_with(ctx, terrain, config.width, config.height, far, occlusion)?;
+    for (index, (far, occlusion, opaque)) in settings.enumerate() {
+        let size = (config.width, config.height);
+        let mut renderer = renderer_with(ctx, terrain, size, far, occlusion, opaque)?;
         let far_choice = renderer.far_choice().clone();
         eprintln!("far draws: {far_choice}");
         choices.push(far_choice.clone());
@@ -261,6 +270,7 @@ pub fn run(
                     far_cell_px: 0.0,
                     fullscreen: fullscreen_name.clone(),
                     occlusion,
+                    opaque: format!("{opaque:?}"),
                     gpu_total_us: passes.iter().map(|p| p.micros).sum(),
                     passes,
                     cpu_frame_us: cpu,
@@ -288,6 +298,7 @@ pub fn run(
                         far_cell_px,
                         fullscreen: fullscreen_name.clone(),
                         occlusion,
+                        opaque: format!("{opaque:?}"),
                         gpu_total_us: passes.iter().map(|p| p.micros).sum(),
                         passes,
                         cpu_frame_us: cpu,

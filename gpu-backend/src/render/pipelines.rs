@@ -3,7 +3,7 @@
 //! | group | layout           | bindings                                                    |
 //! | ----- | ---------------- | ----------------------------------------------------------- |
 //! | 0     | `frame`          | 0 frame uniforms, 1 materials                              |
-//! | 1     | `quads`          | 0 one page of the quad gigabuffer, 1 command records       |
+//! | 1     | `quads`          | 0 one page of the quad gigabuffer, 1 command records, 9 the opaque visibility buffer (transparent pass) |
 //! | 1     | `smooth`         | 2 smooth-vertex page, 3 smooth-quad page, 4 smooth draws   |
 //! | 1     | `gbuffer_read`   | 0 albedo, 1 normal, 2 depth, 4 and 5 far visibility buffers, 6 hdr out (compute) (lighting pass) |
 //! | 1     | `hdr_read`       | 3 hdr, 7 output out (compute) (tonemap pass)                |
@@ -202,6 +202,7 @@ impl Pipelines {
             &[
                 buffer_entry(0, vertex, storage),
                 buffer_entry(1, vertex, storage),
+                buffer_entry(9, ShaderStages::FRAGMENT, storage),
             ],
         );
         let smooth_layout = layout(
@@ -274,7 +275,7 @@ impl Pipelines {
                 label: "transparent quads",
                 module: &geometry,
                 vertex: "vs_quad_transparent",
-                fragment: "fs_transparent",
+                fragment: "fs_transparent_over_visibility",
                 groups: [&frame_layout, &quad_layout],
                 targets: &[Some(ColorTargetState {
                     format: HDR_FORMAT,

@@ -21,6 +21,9 @@ struct DrawRecord {
 
 @group(1) @binding(0) var<storage, read> quads: array<PackedQuad>;
 @group(1) @binding(1) var<storage, read> records: array<DrawRecord>;
+// The opaque visibility buffer (64-bit words as (payload, depth bits) pairs) when the frame
+// has one (FRAME_SPLAT): the transparent quads are hidden behind what it holds.
+@group(1) @binding(9) var<storage, read> opaque_visibility: array<vec2<u32>>;
 
 // One smooth chunk: its level-0 chunk difference to the camera chunk and where its vertices and
 // quads live (twin of render::SmoothDraw, written by the cull pass).
@@ -165,5 +168,20 @@ fn fs_gbuffer(in: SurfaceVaryings) -> GBufferOut {
 // Transparent quads: lit here and blended over the lit opaque image with the palette alpha.
 @fragment
 fn fs_transparent(in: SurfaceVaryings) -> @location(0) vec4<f32> {
+    return transparent_colour(in.block, in.ao, in.normal);
+}
+
+// fs_transparent for the meshed quads, which also hides them behind the opaque visibility
+// buffer (splatted far blocks and compute-rasterised quads are not in the depth attachment).
+@fragment
+fn fs_transparent_over_visibility(in: SurfaceVaryings) -> @location(0) vec4<f32> {
+    if (frame.flags & FRAME_SPLAT) != 0u {
+        let pixel = vec2<u32>(floor(in.position.xy));
+        let word = opaque_visibility[pixel.y * frame.width + pixel.x];
+        // Reversed-Z: the opaque surface is nearer when its depth is greater.
+        if word.y != 0u && bitcast<f32>(word.y) > in.position.z {
+            discard;
+        }
+    }
     return transparent_colour(in.block, in.ao, in.normal);
 }

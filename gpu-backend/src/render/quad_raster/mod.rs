@@ -139,3 +139,16 @@ pub use layout::{
 pub use raster::{QuadRaster, QuadRasterInputs};
 pub use reference::PixelSample;
 pub use stats::QuadRasterStats;
+
+/// How the renderer draws the opaque greedy quads of meshed nodes: the choice is the GPU's
+/// (BENCHMARKS.md has both paths measured on the GPU machine).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum OpaquePath {
+    /// The G-buffer raster pass (multi-draw indirect): fastest where raster units are many
+    /// (consumer GPUs).
+    #[default]
+    Raster,
+    /// This compute rasteriser into the visibility buffer: for compute-heavy GPUs with few
+    /// raster units. Needs 64-bit atomic min/max.
+    Compute,
+}

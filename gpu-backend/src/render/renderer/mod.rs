@@ -20,6 +20,7 @@ use super::frame::FrameUniforms;
 use super::lighting::LightingParams;
 use super::materials::gpu_materials;
 use super::pipelines::{FullscreenPath, Pipelines};
+use super::quad_raster::{OpaquePath, QuadRaster, QuadRasterConfig};
 use super::residency::{ChunkMeshData, SmoothFrame, SmoothRanges, chunk_record, mesh_bounds};
 use super::targets::{FrameImage, RenderTargets, read_output};
 use crate::chunk_table::{GpuTable, MeshedChunkTable, TableError, TableSlot};
@@ -51,6 +52,9 @@ pub struct RendererConfig {
     pub far: FarRequest,
     /// How the full-screen passes run.
     pub fullscreen: FullscreenPath,
+    /// How the opaque greedy quads are drawn ([`OpaquePath::Compute`] needs 64-bit atomics
+    /// and brings the splat's visibility buffers whatever the far path).
+    pub opaque: OpaquePath,
     /// Two-phase occlusion culling against a depth pyramid (see [`crate::hiz`]): the nodes
     /// visible last frame are drawn first, the pyramid built from their depth, then every other
     /// node tested against it.
@@ -76,6 +80,7 @@ impl RendererConfig {
             smooth: SmoothFrame::nocubes(size),
             far: FarRequest::Off,
             fullscreen: FullscreenPath::default(),
+            opaque: OpaquePath::default(),
             occlusion: true,
         }
     }
@@ -153,8 +158,11 @@ pub struct Renderer {
     pipelines: Pipelines,
     /// The far path in use and why.
     far_choice: FarChoice,
-    /// The compute splat, when that is the far path.
+    /// The compute splat's visibility buffers and pipelines: when the splat is the far path,
+    /// or the opaque quads are rasterised in compute (which draws into them).
     splat: Option<FarSplat>,
+    /// The compute rasteriser of opaque quads ([`OpaquePath::Compute`]).
+    quad_raster: Option<QuadRaster>,
     /// The raster far draws, when the far path is a raster one.
     far_raster: Option<FarRaster>,
     /// Read by the full-screen passes when there is no splat.
@@ -220,14 +228,29 @@ impl Renderer {
                 )));
             }
         }
-        let splat = match far_choice.path {
-            FarPath::Splat => Some(FarSplat::new(
+        let compute_opaque = config.opaque == OpaquePath::Compute;
+        if compute_opaque && !ctx.capabilities.int64_atomics {
+            return Err(RenderError::MissingFeature(
+                "SHADER_INT64_ATOMIC_MIN_MAX (the compute opaque path)",
+            ));
+        }
+        let splat = if far_choice.path == FarPath::Splat || compute_opaque {
+            Some(FarSplat::new(
                 device,
                 config.width,
                 config.height,
                 ctx.capabilities.max_page_bytes(),
-            )?),
-            _ => None,
+            )?)
+        } else {
+            None
+        };
+        let quad_raster = if compute_opaque {
+            Some(QuadRaster::new(
+                device,
+                &QuadRasterConfig::for_screen(config.width, config.height, 16),
+            )?)
+        } else {
+            None
         };
         let pipelines = Pipelines::new(device, config.fullscreen);
         let far_raster = far_choice.path.is_raster().then(|| {
@@ -293,6 +316,7 @@ impl Renderer {
             pipelines,
             far_choice,
             splat,
+            quad_raster,
             far_raster,
             no_visibility,
             targets,

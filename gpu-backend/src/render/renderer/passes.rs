@@ -27,9 +27,14 @@ impl Renderer {
         })
     }
 
-    /// Group 1 of the quad pipelines: quad page `page` and `records`.
+    /// Group 1 of the quad pipelines: quad page `page`, `records`, and the opaque visibility
+    /// buffer the transparent quads test against (a stand-in without one).
     fn quad_group(&self, page: u32, records: &Buffer) -> Option<BindGroup> {
         let quads = self.gigabuffer.page(DataKind::Quads, page)?;
+        let visibility = self
+            .splat
+            .as_ref()
+            .map_or(&self.no_visibility, |s| s.visibility());
         Some(self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("quads"),
             layout: &self.pipelines.quad_layout,
@@ -42,6 +47,7 @@ impl Renderer {
                     binding: 1,
                     resource: records.as_entire_binding(),
                 },
+                buffer_entry(9, visibility),
             ],
         }))
     }
@@ -114,13 +120,16 @@ impl Renderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipelines.quad_gbuffer);
-        pass.set_bind_group(0, frame_group, &[]);
-        pass.set_index_buffer(self.quad_indices.slice(..), wgpu::IndexFormat::Uint32);
-        for page in 0..self.cull.layout().page_count {
-            if let Some(group) = self.quad_group(page, commands.records()) {
-                pass.set_bind_group(1, &group, &[]);
-                commands.draw_page(&mut pass, page);
+        // On the compute opaque path the quads went to the visibility buffer instead.
+        if self.quad_raster.is_none() {
+            pass.set_pipeline(&self.pipelines.quad_gbuffer);
+            pass.set_bind_group(0, frame_group, &[]);
+            pass.set_index_buffer(self.quad_indices.slice(..), wgpu::IndexFormat::Uint32);
+            for page in 0..self.cull.layout().page_count {
+                if let Some(group) = self.quad_group(page, commands.records()) {
+                    pass.set_bind_group(1, &group, &[]);
+                    commands.draw_page(&mut pass, page);
+                }
             }
         }
         let pairs = self.cull.layout().smooth_pairs;

@@ -14,6 +14,7 @@ use crate::render::far::FarPath;
 use crate::render::far::raster::{FarRaster, FarRasterInputs};
 use crate::render::far::splat::{SplatInputs, SplatStats};
 use crate::render::frame::{FRAME_SPLAT, FrameShape, FrameUniforms};
+use crate::render::quad_raster::QuadRasterInputs;
 use crate::timing::PassTime;
 
 impl Renderer {
@@ -202,8 +203,32 @@ impl Renderer {
             &self.cull_params(true, phase),
         )?;
         self.timer.end(encoder, scope);
-        if let (Some(splat), Some(blocks)) =
-            (&self.splat, self.gigabuffer.page(DataKind::DrawBlocks, 0))
+        if let Some(raster) = &self.quad_raster {
+            let scope = self
+                .timer
+                .begin(encoder, label("quad raster", "quad raster late"));
+            raster.record(
+                encoder,
+                &QuadRasterInputs {
+                    frame_uniforms: &self.frame_uniforms,
+                    commands,
+                    quads: &self.gigabuffer,
+                    visibility: self
+                        .splat
+                        .as_ref()
+                        .expect("made with the rasteriser")
+                        .visibility(),
+                    width: self.targets.width,
+                    height: self.targets.height,
+                },
+            )?;
+            self.timer.end(encoder, scope);
+        }
+        let splat = self
+            .splat
+            .as_ref()
+            .filter(|_| self.far_choice.path == FarPath::Splat);
+        if let (Some(splat), Some(blocks)) = (splat, self.gigabuffer.page(DataKind::DrawBlocks, 0))
         {
             let scope = self
                 .timer
