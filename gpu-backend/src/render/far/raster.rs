@@ -21,7 +21,7 @@ use wgpu::{
 };
 
 use super::FarPath;
-use crate::bind::buffer_entry;
+use crate::bind::{BindGroupCache, buffer_entry};
 use crate::cull::CullFrame;
 use crate::device::{GpuCapabilities, MultiDrawPath};
 use crate::render::pipelines::{PipelineDesc, depth_state, pipeline};
@@ -69,6 +69,7 @@ pub struct FarRaster {
     args: Buffer,
     count: Buffer,
     capacity: u32,
+    bind_cache: BindGroupCache,
 }
 
 fn storage(binding: u32, visibility: ShaderStages, read_only: bool) -> BindGroupLayoutEntry {
@@ -274,6 +275,7 @@ impl FarRaster {
             ),
             count: buffer("far draw count", 16, indirect),
             capacity,
+            bind_cache: BindGroupCache::default(),
         }
     }
 
@@ -309,26 +311,28 @@ impl FarRaster {
     }
 
     fn record_args(&self, encoder: &mut CommandEncoder, inputs: &FarRasterInputs<'_>, all: bool) {
-        let range_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("far raster range"),
-            layout: &self.range_layout,
-            entries: &[
+        let range_group = self.bind_cache.get(
+            &self.device,
+            "far raster range",
+            &self.range_layout,
+            &[
                 buffer_entry(0, inputs.frame.stats()),
                 buffer_entry(1, &self.range),
                 buffer_entry(2, inputs.frame.far_list()),
             ],
-        });
-        let args_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("far draw args"),
-            layout: &self.args_layout,
-            entries: &[
+        );
+        let args_group = self.bind_cache.get(
+            &self.device,
+            "far draw args",
+            &self.args_layout,
+            &[
                 buffer_entry(0, &self.range),
                 buffer_entry(1, inputs.frame.far_list()),
                 buffer_entry(2, inputs.nodes),
                 buffer_entry(3, &self.args),
                 buffer_entry(4, &self.count),
             ],
-        });
+        );
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("far draw args"),
             timestamp_writes: None,
@@ -351,16 +355,17 @@ impl FarRaster {
 
     /// Group 1 of the draws.
     pub fn bind_group(&self, inputs: &FarRasterInputs<'_>) -> BindGroup {
-        self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("far raster"),
-            layout: &self.draw_layout,
-            entries: &[
+        self.bind_cache.get(
+            &self.device,
+            "far raster",
+            &self.draw_layout,
+            &[
                 buffer_entry(5, inputs.table),
                 buffer_entry(6, inputs.nodes),
                 buffer_entry(7, inputs.frame.far_list()),
                 buffer_entry(8, inputs.blocks),
             ],
-        })
+        )
     }
 
     /// Draws the opaque blocks of the listed entries into a G-buffer pass.

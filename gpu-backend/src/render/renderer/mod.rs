@@ -23,6 +23,7 @@ use super::pipelines::{FullscreenPath, Pipelines};
 use super::quad_raster::{OpaquePath, QuadRaster, QuadRasterConfig};
 use super::residency::{ChunkMeshData, SmoothFrame, SmoothRanges, chunk_record, mesh_bounds};
 use super::targets::{FrameImage, RenderTargets, read_output};
+use crate::bind::BindGroupCache;
 use crate::chunk_table::{GpuTable, MeshedChunkTable, TableError, TableSlot};
 use crate::cull::{
     CullConfig, CullFrame, CullOutput, CullPass, LodAnchor, LodSettings, NodeRecord, SmoothPages,
@@ -156,6 +157,8 @@ pub struct Renderer {
     lod: Option<LodSettings>,
     anchor: LodAnchor,
     pipelines: Pipelines,
+    /// The frame's bind groups, made once per set of resources.
+    bind_cache: BindGroupCache,
     /// The far path in use and why.
     far_choice: FarChoice,
     /// The compute splat's visibility buffers and pipelines: when the splat is the far path,
@@ -314,6 +317,7 @@ impl Renderer {
                 offset: [0.0; 3],
             },
             pipelines,
+            bind_cache: BindGroupCache::default(),
             far_choice,
             splat,
             quad_raster,

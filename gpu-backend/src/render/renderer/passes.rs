@@ -11,10 +11,11 @@ use crate::render::pipelines::FullscreenPipelines;
 
 impl Renderer {
     pub(super) fn frame_group(&self) -> BindGroup {
-        self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("frame"),
-            layout: &self.pipelines.frame_layout,
-            entries: &[
+        self.bind_cache.get(
+            &self.device,
+            "frame",
+            &self.pipelines.frame_layout,
+            &[
                 wgpu::BindGroupEntry {
                     binding: 0,
                     resource: self.frame_uniforms.as_entire_binding(),
@@ -24,7 +25,7 @@ impl Renderer {
                     resource: self.materials.as_entire_binding(),
                 },
             ],
-        })
+        )
     }
 
     /// Group 1 of the quad pipelines: quad page `page`, `records`, and the opaque visibility
@@ -35,10 +36,11 @@ impl Renderer {
             .splat
             .as_ref()
             .map_or(&self.no_visibility, |s| s.visibility());
-        Some(self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("quads"),
-            layout: &self.pipelines.quad_layout,
-            entries: &[
+        Some(self.bind_cache.get(
+            &self.device,
+            "quads",
+            &self.pipelines.quad_layout,
+            &[
                 wgpu::BindGroupEntry {
                     binding: 0,
                     resource: quads.as_entire_binding(),
@@ -49,7 +51,7 @@ impl Renderer {
                 },
                 buffer_entry(9, visibility),
             ],
-        }))
+        ))
     }
 
     /// Group 1 of the smooth pipeline: smooth pair `pair`'s pages and `commands`' smooth
@@ -62,15 +64,16 @@ impl Renderer {
         let quads = self
             .gigabuffer
             .page(DataKind::SmoothQuads, pair % quad_pages)?;
-        Some(self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("smooth"),
-            layout: &self.pipelines.smooth_layout,
-            entries: &[
+        Some(self.bind_cache.get(
+            &self.device,
+            "smooth",
+            &self.pipelines.smooth_layout,
+            &[
                 buffer_entry(2, vertices),
                 buffer_entry(3, quads),
                 buffer_entry(4, commands.smooth_records()),
             ],
-        }))
+        ))
     }
 
     /// The G-buffer pass of `commands` (opaque quads per page, then smooth quads per page
@@ -241,11 +244,12 @@ impl Renderer {
                 texture(6, &t.hdr)
             });
         }
-        let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(if tonemap { "hdr read" } else { "gbuffer read" }),
-            layout,
-            entries: &entries,
-        });
+        let group = self.bind_cache.get(
+            &self.device,
+            if tonemap { "hdr read" } else { "gbuffer read" },
+            &layout,
+            &entries,
+        );
         let label = if tonemap { "tonemap" } else { "lighting" };
         match &self.pipelines.fullscreen {
             FullscreenPipelines::Fragment {
