@@ -131,7 +131,7 @@ mod tests {
         // Part of a buffer is not cached.
         let part = BindGroupEntry {
             binding: 0,
-            resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            resource: BindingResource::Buffer(wgpu::BufferBinding {
                 buffer: &a,
                 offset: 0,
                 size: wgpu::BufferSize::new(8),

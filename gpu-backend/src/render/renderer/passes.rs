@@ -247,7 +247,7 @@ impl Renderer {
         let group = self.bind_cache.get(
             &self.device,
             if tonemap { "hdr read" } else { "gbuffer read" },
-            &layout,
+            layout,
             &entries,
         );
         let label = if tonemap { "tonemap" } else { "lighting" };
