@@ -6,8 +6,8 @@
 use benches::gpu_bench::{BenchConfig, SceneSummary, run};
 use benches::gpu_scene::LodTerrain;
 use gpu_backend::DeviceOptions;
-use gpu_backend::render::FullscreenPath;
 use gpu_backend::render::far::{FarPath, FarRequest};
+use gpu_backend::render::{FullscreenPath, OpaquePath};
 use gpu_backend::test_support::headless_or_skip;
 use voxel_core::ChunkSize;
 
@@ -31,12 +31,28 @@ fn small_lod_terrain_runs() {
         far: vec![FarRequest::Path(FarPath::Splat)],
         far_cell_px: vec![0.0, 4.0],
         fullscreen: vec![FullscreenPath::Compute],
+        occlusion: vec![true],
+        opaque: vec![OpaquePath::Raster, OpaquePath::Compute],
     };
     let mut scene = SceneSummary::default();
     let (runs, images, choices) = run(&ctx, &terrain, &config, &mut scene).unwrap();
     assert_eq!(choices[0].path, FarPath::Splat);
-    // Full detail, then 2 budgets x 2 far thresholds.
-    assert_eq!(runs.len(), 5);
+    // Full detail, then 2 budgets x 2 far thresholds, per opaque path.
+    assert_eq!(runs.len(), 9);
+    for (raster, compute) in runs[1..5].iter().zip(&runs[5..]) {
+        assert_eq!(
+            (raster.opaque.as_str(), compute.opaque.as_str()),
+            ("Raster", "Compute")
+        );
+        assert!(compute.passes.iter().any(|p| p.label == "quad raster"));
+        assert_eq!(raster.drawn.mesh_quads, compute.drawn.mesh_quads);
+        // The same picture: the two paths differ only at a few quad-edge pixels.
+        let (a, b) = (raster.image_error.unwrap(), compute.image_error.unwrap());
+        assert!(
+            (a.mean_abs - b.mean_abs).abs() < 0.5,
+            "raster {a:?} against compute {b:?}"
+        );
+    }
     assert_eq!(runs[0].budget_px, None);
     assert_eq!(
         runs[0].drawn.selected_per_level.len(),
@@ -45,7 +61,7 @@ fn small_lod_terrain_runs() {
     );
     assert_eq!(runs[0].drawn.far_nodes, 0);
     assert!(runs[0].image_error.is_none());
-    for run in &runs[1..] {
+    for run in &runs[1..5] {
         let error = run.image_error.expect("measured against full detail");
         assert!(error.mean_abs.is_finite() && error.share_over_8 <= 1.0);
         for pass in ["cull", "gbuffer", "hiz", "cull late", "lighting", "tonemap"] {

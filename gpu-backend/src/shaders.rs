@@ -80,7 +80,52 @@ pub const SPLAT: ShaderSpec = ShaderSpec {
     body: concat!(
         include_str!("shaders/render_common.wgsl"),
         include_str!("shaders/node.wgsl"),
+        include_str!("shaders/far_blocks.wgsl"),
+        include_str!("shaders/far_ao.wgsl"),
         include_str!("shaders/splat.wgsl")
+    ),
+};
+
+/// The raster far draws (see [`crate::render::far`]): sprites (entry points `vs_sprite`,
+/// `fs_sprite`, `vs_sprite_transparent`, `fs_sprite_transparent`) and cubes (`vs_cube`,
+/// `vs_cube_transparent` with [`GBUFFER`]'s `fs_gbuffer` and `fs_transparent`).
+pub const FAR_RASTER: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "far_raster",
+    body: concat!(
+        include_str!("shaders/render_common.wgsl"),
+        include_str!("shaders/node.wgsl"),
+        include_str!("shaders/far_blocks.wgsl"),
+        include_str!("shaders/far_ao.wgsl"),
+        include_str!("shaders/gbuffer.wgsl"),
+        include_str!("shaders/far_raster.wgsl")
+    ),
+};
+
+/// [`FAR_RASTER`] plus the sprite's fragment shader with conservative depth
+/// (`fs_sprite_conservative`): needs `SHADER_EARLY_DEPTH_TEST`.
+pub const FAR_RASTER_CONSERVATIVE: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::EARLY_DEPTH_TEST,
+    name: "far_raster_conservative",
+    body: concat!(
+        include_str!("shaders/render_common.wgsl"),
+        include_str!("shaders/node.wgsl"),
+        include_str!("shaders/far_blocks.wgsl"),
+        include_str!("shaders/far_ao.wgsl"),
+        include_str!("shaders/gbuffer.wgsl"),
+        include_str!("shaders/far_raster.wgsl"),
+        include_str!("shaders/far_raster_conservative.wgsl")
+    ),
+};
+
+/// The raster far draws' indirect commands (entry points `draw_args_phase`, `draw_args_all`).
+pub const FAR_DRAW_ARGS: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "far_draw_args",
+    body: concat!(
+        include_str!("shaders/node.wgsl"),
+        include_str!("shaders/far_blocks.wgsl"),
+        include_str!("shaders/far_draw_args.wgsl")
     ),
 };
 
@@ -89,6 +134,25 @@ pub const FAR_ARGS: ShaderSpec = ShaderSpec {
     capabilities: naga::valid::Capabilities::empty(),
     name: "far_args",
     body: include_str!("shaders/far_args.wgsl"),
+};
+
+/// The compute rasteriser of opaque greedy quads (entry points `qr_quads`, `qr_tiles`; see
+/// [`crate::render::quad_raster`]): needs 64-bit atomic min/max.
+pub const QUAD_RASTER: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::SHADER_INT64
+        .union(naga::valid::Capabilities::SHADER_INT64_ATOMIC_MIN_MAX),
+    name: "quad_raster",
+    body: concat!(
+        include_str!("shaders/render_common.wgsl"),
+        include_str!("shaders/quad_raster.wgsl")
+    ),
+};
+
+/// The quad rasteriser's dispatch sizes (entry points `qr_page_args`, `qr_tile_args`).
+pub const QUAD_RASTER_ARGS: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "quad_raster_args",
+    body: include_str!("shaders/quad_raster_args.wgsl"),
 };
 
 /// The Hi-Z test functions (`hiz_rect_visible` and its steps; see [`crate::hiz`]): no bindings,
@@ -130,9 +194,14 @@ pub const ALL_SHADERS: &[ShaderSpec] = &[
     PRESENT,
     SPLAT,
     FAR_ARGS,
+    FAR_RASTER,
+    FAR_RASTER_CONSERVATIVE,
+    FAR_DRAW_ARGS,
     LIST_ARGS,
     HIZ_BUILD,
     HIZ_PROBE,
+    QUAD_RASTER,
+    QUAD_RASTER_ARGS,
 ];
 
 /// `FORMATS_WGSL` followed by `body`: the one place shader sources are put together.

@@ -1,15 +1,16 @@
 //! Far draws against the CPU reference: the same scenes as the near-field image tests, every
 //! node drawn from its surface blocks (ray-box cubes shaded with the meshers' AO from the
-//! node's hiding mask), must match the deferred CPU raycaster within the image tests'
-//! tolerance, as the meshed render does.
+//! node's hiding mask) by each far path (splat, sprite, camera quads, and the sprite on a
+//! device without any optional feature), must match the deferred CPU raycaster within the
+//! image tests' tolerance, as the meshed render does.
 
 #[allow(dead_code, reason = "each test file uses part of the shared helpers")]
 mod image_support;
 
 use gpu_backend::DeviceOptions;
-use gpu_backend::cull::LodSettings;
+use gpu_backend::cull::{CullStats, LodSettings};
 use gpu_backend::render::far::{FarPath, FarRequest};
-use gpu_backend::render::{Renderer, RendererConfig};
+use gpu_backend::render::{OpaquePath, Renderer, RendererConfig};
 use gpu_backend::test_support::headless_or_skip;
 use image_support::scenes::{HEIGHT, TestScene, WIDTH, cpu_render};
 use image_support::{Image, Tolerance, assert_images_match};
@@ -18,6 +19,7 @@ use mesher::{BlockClasses, MeshSettings};
 use viewer::camera::Camera;
 use viewer::gpu_view::{render_camera, upload_nodes};
 use viewer::lighting::{Lighting, lighting_params};
+use voxel_core::{BlockId, ChunkSize, Material, MaterialPalette, WorldPos};
 
 /// Renders `scene` with every node far-drawn by `far` (level 0 only: budget 0; a far threshold
 /// no node exceeds), or every node meshed with `far_cell_px` 0.
@@ -27,9 +29,13 @@ fn far_render(
     camera: &Camera,
     far: FarRequest,
     far_cell_px: f32,
-) -> Image {
+    opaque: OpaquePath,
+) -> (Image, CullStats) {
     let size = scene.world.size();
-    let config = RendererConfig::new(WIDTH, HEIGHT, size).with_far(far, 1 << 22);
+    let config = RendererConfig {
+        opaque,
+        ..RendererConfig::new(WIDTH, HEIGHT, size).with_far(far, 1 << 22)
+    };
     let mut renderer = Renderer::new(ctx, &config, &scene.palette).expect("renderer");
     let classes = BlockClasses::from_palette(&scene.palette);
     let mut coords: Vec<_> = scene.world.iter().map(|(c, _)| c).collect();
@@ -68,26 +74,31 @@ fn far_render(
             render_cam.eye_distance(x, y, WIDTH, HEIGHT, d)
         })
         .collect();
-    Image {
+    let image = Image {
         width: WIDTH,
         height: HEIGHT,
         rgba: frame.rgba,
         depth,
         surfaces: None,
-    }
+    };
+    (image, stats)
 }
 
+/// The meshed render and every far path against the CPU reference. The fallbacks are checked
+/// too: on a device with every optional feature disabled but the renderer's one requirement
+/// (no 64-bit atomics, no conservative depth, no count buffer) `FarRequest::Auto` draws sprites, and they must match as well.
 fn check_scene(name: &str, scene: &TestScene) {
     let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
         return;
     };
     let reference = cpu_render(scene, &scene.camera);
-    let meshed = far_render(
+    let (meshed, _) = far_render(
         &ctx,
         scene,
         &scene.camera,
         FarRequest::Path(FarPath::Splat),
         0.0,
+        OpaquePath::Raster,
     );
     assert_images_match(
         &format!("{name}_meshed"),
@@ -95,15 +106,72 @@ fn check_scene(name: &str, scene: &TestScene) {
         &reference,
         &Tolerance::LAVAPIPE,
     );
-    let far = far_render(
-        &ctx,
+    // The opaque quads rasterised in compute, alone and beside far-drawn nodes.
+    if ctx.capabilities.int64_atomics {
+        for (label, far_cell_px) in [("meshed", 0.0), ("far", 1e9)] {
+            let (image, _) = far_render(
+                &ctx,
+                scene,
+                &scene.camera,
+                FarRequest::Path(FarPath::Splat),
+                far_cell_px,
+                OpaquePath::Compute,
+            );
+            assert_images_match(
+                &format!("{name}_{label}_compute_opaque"),
+                &image,
+                &reference,
+                &Tolerance::LAVAPIPE,
+            );
+        }
+    }
+    for (label, path) in [
+        ("splat", FarPath::Splat),
+        ("sprite", FarPath::Sprite),
+        ("camera_quads", FarPath::CameraQuads),
+    ] {
+        if path == FarPath::Splat && !ctx.capabilities.int64_atomics {
+            assert!(
+                std::env::var_os("CI").is_none(),
+                "lavapipe in CI has 64-bit atomics; this device does not"
+            );
+            println!("skipped: the splat needs 64-bit atomics, which this device lacks");
+            continue;
+        }
+        let (far, _) = far_render(
+            &ctx,
+            scene,
+            &scene.camera,
+            FarRequest::Path(path),
+            1e9,
+            OpaquePath::Raster,
+        );
+        assert_images_match(
+            &format!("{name}_far_{label}"),
+            &far,
+            &reference,
+            &Tolerance::LAVAPIPE,
+        );
+    }
+    // Every fallback the renderer runs with (it needs indirect first instance).
+    let fallbacks = DeviceOptions {
+        disable_indirect_first_instance: false,
+        ..DeviceOptions::all_fallbacks()
+    };
+    let Some(bare) = headless_or_skip(&fallbacks) else {
+        return;
+    };
+    assert!(!bare.capabilities.int64_atomics && !bare.capabilities.early_depth_test);
+    let (far, _) = far_render(
+        &bare,
         scene,
         &scene.camera,
-        FarRequest::Path(FarPath::Splat),
+        FarRequest::Auto,
         1e9,
+        OpaquePath::Raster,
     );
     assert_images_match(
-        &format!("{name}_far_splat"),
+        &format!("{name}_far_fallback"),
         &far,
         &reference,
         &Tolerance::LAVAPIPE,
@@ -111,16 +179,97 @@ fn check_scene(name: &str, scene: &TestScene) {
 }
 
 #[test]
-fn far_splat_of_the_terrain_matches_the_reference() {
+fn far_draws_of_the_terrain_match_the_reference() {
     check_scene("far_terrain", &image_support::scenes::terrain());
 }
 
 #[test]
-fn far_splat_of_a_cube_across_chunk_borders_matches_the_reference() {
+fn far_draws_of_a_cube_across_chunk_borders_match_the_reference() {
     check_scene("far_cube", &image_support::scenes::cube(0));
 }
 
 #[test]
-fn far_splat_of_a_sphere_in_water_matches_the_reference() {
+fn far_draws_of_a_sphere_in_water_match_the_reference() {
     check_scene("far_sphere_water", &image_support::scenes::sphere());
+}
+
+/// Far ground 100 to 340 blocks away, half of it behind a near wall (10 blocks away, meshed):
+/// far blocks must lose the depth test to the wall where it is in front and win it elsewhere,
+/// whatever depth their proxies were rasterised at.
+fn wall_before_far_ground() -> TestScene {
+    let mut palette = MaterialPalette::new();
+    let stone = palette.push(Material::opaque(120, 120, 130)).unwrap();
+    let grass = palette.push(Material::opaque(70, 150, 60)).unwrap();
+    let wall = palette.push(Material::opaque(180, 90, 60)).unwrap();
+    let fill = |x: i32, y: i32, z: i32| {
+        let near_wall = (-40..=8).contains(&x) && (20..=45).contains(&y) && (30..=31).contains(&z);
+        if near_wall {
+            return wall;
+        }
+        let far = (-160..=176).contains(&x) && (-300..=-60).contains(&z);
+        // Ground 2 to 4 blocks high with grass on top.
+        let height = 2 + (x.rem_euclid(7) == 0) as i32 + (z.rem_euclid(5) == 0) as i32;
+        match () {
+            _ if !far || y > height => BlockId::AIR,
+            _ if y == height => grass,
+            _ => stone,
+        }
+    };
+    let mut scene = image_support::scenes::scene_from_fn(
+        palette,
+        ChunkSize::S16,
+        [-160, 0, -300],
+        [176, 45, 31],
+        0,
+        fill,
+    );
+    scene.camera = Camera {
+        voxel: WorldPos::new(8, 40, 40),
+        fraction: glam::DVec3::splat(0.5),
+        yaw: 0.0,
+        pitch: -0.4,
+        fov_y: 70f64.to_radians(),
+    };
+    scene
+}
+
+#[test]
+fn far_blocks_half_hidden_behind_a_near_wall_match_the_reference() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let scene = wall_before_far_ground();
+    let reference = cpu_render(&scene, &scene.camera);
+    // Cells of the wall span about 7 pixels, those of the ground under 1: a 2-pixel far
+    // threshold meshes the wall and far-draws the ground.
+    for (label, path) in [
+        ("splat", FarPath::Splat),
+        ("sprite", FarPath::Sprite),
+        ("camera_quads", FarPath::CameraQuads),
+    ] {
+        if path == FarPath::Splat && !ctx.capabilities.int64_atomics {
+            assert!(
+                std::env::var_os("CI").is_none(),
+                "lavapipe in CI has 64-bit atomics"
+            );
+            println!("skipped: the splat needs 64-bit atomics, which this device lacks");
+            continue;
+        }
+        let (image, stats) = far_render(
+            &ctx,
+            &scene,
+            &scene.camera,
+            FarRequest::Path(path),
+            2.0,
+            OpaquePath::Raster,
+        );
+        assert!(stats.mesh_nodes > 0, "the wall is meshed: {stats:?}");
+        assert!(stats.far_nodes > 0, "the ground is far-drawn: {stats:?}");
+        assert_images_match(
+            &format!("wall_far_ground_{label}"),
+            &image,
+            &reference,
+            &Tolerance::LAVAPIPE,
+        );
+    }
 }

@@ -5,10 +5,13 @@ use std::fmt;
 
 use gpu_backend::from_mesher::{layers_of, node_layers};
 use gpu_backend::gigabuffer::ChunkHandle;
-use gpu_backend::render::{ChunkMeshData, RenderCamera, RenderError, Renderer, RendererConfig};
+use gpu_backend::render::far::FarRequest;
+use gpu_backend::render::{
+    ChunkMeshData, RenderCamera, RenderError, Renderer, RendererConfig, SceneFootprint,
+};
 use gpu_backend::{DeviceError, DeviceOptions, GpuContext, PassTime};
 use mesher::lod::NodeMesh;
-use mesher::{BlockClasses, MeshError, MeshSettings};
+use mesher::{BlockClasses, ChunkMesh, MeshError, MeshSettings};
 use voxel_core::storage::{VoxelStorage, WorldMap};
 use voxel_core::{ChunkCoord, ChunkSize, MaterialPalette};
 
@@ -94,27 +97,51 @@ pub fn upload_world_with<C: VoxelStorage + Sync>(
     palette: &MaterialPalette,
     settings: &MeshSettings,
 ) -> Result<Vec<ChunkHandle>, GpuViewError> {
+    upload_meshes(renderer, &mesh_world(world, palette, settings)?)
+}
+
+/// Meshes every stored chunk of `world` in parallel, keeping the non-empty meshes.
+pub fn mesh_world<C: VoxelStorage + Sync>(
+    world: &WorldMap<C>,
+    palette: &MaterialPalette,
+    settings: &MeshSettings,
+) -> Result<Vec<ChunkMesh>, GpuViewError> {
     let classes = BlockClasses::from_palette(palette);
     let mut coords: Vec<ChunkCoord> = world.iter().map(|(c, _)| c).collect();
     coords.sort_by_key(|c| (c.z, c.y, c.x));
-    let meshes =
+    let mut meshes =
         mesher::mesh_chunks(world, &coords, &classes, settings).map_err(GpuViewError::Mesh)?;
-    let mut handles = Vec::new();
-    for mesh in meshes
+    meshes.retain(|m| !m.blocky.is_empty() || !m.smooth.is_empty());
+    Ok(meshes)
+}
+
+/// Uploads level-0 chunk meshes; returns their handles.
+pub fn upload_meshes(
+    renderer: &mut Renderer,
+    meshes: &[ChunkMesh],
+) -> Result<Vec<ChunkHandle>, GpuViewError> {
+    meshes
         .iter()
-        .filter(|m| !m.blocky.is_empty() || !m.smooth.is_empty())
-    {
-        let data = ChunkMeshData {
-            coord: mesh.coord,
-            lod: 0,
-            layers: layers_of(mesh),
-        };
-        let handle = renderer
-            .upload_chunk(&data)
-            .map_err(|e| GpuViewError::Render(mesh.coord, e))?;
-        handles.push(handle);
+        .map(|mesh| {
+            let data = ChunkMeshData {
+                coord: mesh.coord,
+                lod: 0,
+                layers: layers_of(mesh),
+            };
+            renderer
+                .upload_chunk(&data)
+                .map_err(|e| GpuViewError::Render(mesh.coord, e))
+        })
+        .collect()
+}
+
+/// What `meshes` need resident.
+pub fn footprint_of(meshes: &[ChunkMesh]) -> SceneFootprint {
+    let mut footprint = SceneFootprint::default();
+    for mesh in meshes {
+        footprint.add(&layers_of(mesh));
     }
-    Ok(handles)
+    footprint
 }
 
 /// One frame rendered on the GPU.
@@ -130,8 +157,9 @@ pub struct GpuFrame {
     pub chunks: usize,
 }
 
-/// Renders `scene` from `camera` with the GPU renderer on a headless Vulkan device:
-/// meshes and uploads every chunk, draws one frame, reads it back.
+/// Renders `scene` from `camera` with the GPU renderer on a headless Vulkan device: meshes
+/// every chunk, sizes the renderer to what the meshes hold (so any scene the device's memory
+/// holds is drawn, however many chunks), uploads them, draws one frame, reads it back.
 pub fn render_scene(
     scene: &Scene,
     camera: &Camera,
@@ -141,10 +169,12 @@ pub fn render_scene(
 ) -> Result<GpuFrame, GpuViewError> {
     let ctx = GpuContext::new_headless(&DeviceOptions::default()).map_err(GpuViewError::Device)?;
     let size = scene.world.size();
-    let config = RendererConfig::new(width, height, size);
+    let meshes = mesh_world(&scene.world, &scene.palette, &MeshSettings::default())?;
+    let config =
+        RendererConfig::fitted(width, height, size, FarRequest::Off, &footprint_of(&meshes));
     let mut renderer =
         Renderer::new(&ctx, &config, &scene.palette).map_err(GpuViewError::Renderer)?;
-    let handles = upload_world(&mut renderer, &scene.world, &scene.palette)?;
+    let handles = upload_meshes(&mut renderer, &meshes)?;
     renderer.set_camera(&render_camera(camera, size));
     renderer.set_lighting(&lighting_params(lighting));
     let timings = renderer.render().map_err(GpuViewError::Renderer)?;

@@ -25,7 +25,7 @@ use std::time::{Duration, Instant};
 use camera_arg::{CameraArg, parse_camera, parse_fov};
 use clap::Parser;
 use gpu_backend::png::encode_png;
-use viewer::gpu_view::render_scene;
+use viewer::gpu_view::{GpuViewError, render_scene};
 use viewer::lighting::Lighting;
 use viewer::reference_raycast::render;
 use viewer::scene::vox::{VoxError, VoxOptions, load_vox_file_with};
@@ -183,17 +183,25 @@ fn main() -> ExitCode {
 fn headless(args: &Args, scene: &Scene, generated: Duration) -> ExitCode {
     let started = Instant::now();
     let lighting = Lighting::default();
+    // The CPU reference stands in only where there is no GPU at all (or --cpu); any other
+    // GPU failure (a scene the device cannot hold, a refused upload) is the run's error.
     let gpu = if args.cpu {
         Err("--cpu given".to_owned())
     } else {
-        render_scene(
+        match render_scene(
             scene,
             &scene.suggested_view,
             &lighting,
             args.width,
             args.height,
-        )
-        .map_err(|e| e.to_string())
+        ) {
+            Ok(frame) => Ok(frame),
+            Err(GpuViewError::Device(e)) if e.is_no_adapter() => Err(e.to_string()),
+            Err(e) => {
+                eprintln!("viewer: GPU renderer: {e}");
+                return ExitCode::FAILURE;
+            }
+        }
     };
     let (rgba, renderer_used) = match gpu {
         Ok(frame) => {

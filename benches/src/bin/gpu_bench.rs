@@ -16,6 +16,7 @@ use benches::gpu_scene::LodTerrain;
 use clap::{Parser, ValueEnum};
 use gpu_backend::cull::{LodParams, lod};
 use gpu_backend::render::FullscreenPath;
+use gpu_backend::render::OpaquePath;
 use gpu_backend::render::far::{FarPath, FarRequest};
 use gpu_backend::{DeviceOptions, GpuContext};
 use voxel_core::ChunkSize;
@@ -27,6 +28,10 @@ enum Far {
     Off,
     /// Compute splat (needs 64-bit atomics).
     Splat,
+    /// Raycast sprites (one bounding quad per block, ray-box per fragment).
+    Sprite,
+    /// The 3 camera-facing faces of each block as quads.
+    Quads3,
     /// The best the device runs.
     Auto,
 }
@@ -38,6 +43,15 @@ enum Screen {
     Compute,
     /// Fragment passes.
     Fragment,
+}
+
+/// An opaque quad path on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Opaque {
+    /// The G-buffer raster pass.
+    Raster,
+    /// The compute rasteriser into the visibility buffer.
+    Compute,
 }
 
 /// Whether to render full detail.
@@ -79,6 +93,12 @@ struct Args {
     /// Full-screen paths (repeatable or comma-separated).
     #[arg(long, value_enum, value_delimiter = ',', default_value = "compute")]
     fullscreen: Vec<Screen>,
+    /// Two-phase occlusion culling (repeatable or comma-separated: on, off).
+    #[arg(long, value_delimiter = ',', default_value = "on", value_parser = parse_on_off)]
+    occlusion: Vec<bool>,
+    /// Opaque quad paths (repeatable or comma-separated).
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "raster")]
+    opaque: Vec<Opaque>,
     /// Output width, pixels.
     #[arg(long, default_value_t = 1920)]
     width: u32,
@@ -103,6 +123,15 @@ struct Args {
     /// Write the full-detail image to this PNG.
     #[arg(long)]
     reference_png: Option<std::path::PathBuf>,
+}
+
+/// `on` or `off`.
+fn parse_on_off(text: &str) -> Result<bool, String> {
+    match text {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err(format!("{text:?} is neither on nor off")),
+    }
 }
 
 fn main() -> ExitCode {
@@ -207,6 +236,8 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
             .map(|f| match f {
                 Far::Off => FarRequest::Off,
                 Far::Splat => FarRequest::Path(FarPath::Splat),
+                Far::Sprite => FarRequest::Path(FarPath::Sprite),
+                Far::Quads3 => FarRequest::Path(FarPath::CameraQuads),
                 Far::Auto => FarRequest::Auto,
             })
             .collect(),
@@ -217,6 +248,15 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
             .map(|s| match s {
                 Screen::Compute => FullscreenPath::Compute,
                 Screen::Fragment => FullscreenPath::Fragment,
+            })
+            .collect(),
+        occlusion: args.occlusion.clone(),
+        opaque: args
+            .opaque
+            .iter()
+            .map(|o| match o {
+                Opaque::Raster => OpaquePath::Raster,
+                Opaque::Compute => OpaquePath::Compute,
             })
             .collect(),
     };

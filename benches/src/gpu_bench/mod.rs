@@ -20,8 +20,8 @@ use gpu_backend::from_mesher::node_layers;
 use gpu_backend::gigabuffer::{DataKind, GigabufferConfig};
 use gpu_backend::render::far::{FarChoice, FarRequest};
 use gpu_backend::render::{
-    ChunkMeshData, FrameImage, FullscreenPath, LightingParams, RenderCamera, RenderError, Renderer,
-    RendererConfig,
+    ChunkMeshData, FrameImage, FullscreenPath, LightingParams, OpaquePath, RenderCamera,
+    RenderError, Renderer, RendererConfig,
 };
 use voxel_core::WorldPos;
 
@@ -56,6 +56,10 @@ pub struct BenchConfig {
     pub far_cell_px: Vec<f32>,
     /// Full-screen paths to measure.
     pub fullscreen: Vec<FullscreenPath>,
+    /// Two-phase occlusion culling settings to measure (one renderer each, per far path).
+    pub occlusion: Vec<bool>,
+    /// Opaque quad paths to measure (one renderer each, per far path and occlusion setting).
+    pub opaque: Vec<OpaquePath>,
 }
 
 /// Why the benchmark stopped.
@@ -98,14 +102,26 @@ pub fn bench_camera(size: voxel_core::ChunkSize) -> RenderCamera {
     )
 }
 
-/// The renderer for `terrain` and far path `far`: room for every node's quads and draw blocks
-/// (1/16 slack for allocator fragmentation) and its node count.
+/// The renderer for `terrain` and far path `far` (occlusion culling on): room for every node's
+/// quads and draw blocks (1/16 slack for allocator fragmentation) and its node count.
 pub fn renderer_for(
     ctx: &GpuContext,
     terrain: &LodTerrain,
     width: u32,
     height: u32,
     far: FarRequest,
+) -> Result<Renderer, RenderError> {
+    renderer_with(ctx, terrain, (width, height), far, true, OpaquePath::Raster)
+}
+
+/// [`renderer_for`] with occlusion culling `occlusion` and opaque quads drawn by `opaque`.
+pub fn renderer_with(
+    ctx: &GpuContext,
+    terrain: &LodTerrain,
+    (width, height): (u32, u32),
+    far: FarRequest,
+    occlusion: bool,
+    opaque: OpaquePath,
 ) -> Result<Renderer, RenderError> {
     let slack = |n: u64| n + n / 16 + 4096;
     let nodes = terrain.nodes().count().max(1) as u32;
@@ -114,6 +130,8 @@ pub fn renderer_for(
         .with_bytes(DataKind::Quads, slack(terrain.quad_count()) * 8)
         .with_max_chunks(nodes);
     config.max_chunks = nodes;
+    config.occlusion = occlusion;
+    config.opaque = opaque;
     let config = match far {
         FarRequest::Off => config,
         far => config.with_far(far, slack(terrain.draw_block_words()) * 4),
@@ -203,9 +221,13 @@ pub fn run(
     config: &BenchConfig,
     scene: &mut SceneSummary,
 ) -> Result<(Vec<RunReport>, BenchImages, Vec<FarChoice>), BenchError> {
-    if config.far.is_empty() || config.fullscreen.is_empty() {
+    if config.far.is_empty()
+        || config.fullscreen.is_empty()
+        || config.occlusion.is_empty()
+        || config.opaque.is_empty()
+    {
         return Err(BenchError::BadConfig(
-            "at least one far path and one full-screen path".to_owned(),
+            "at least one far path, full-screen path, occlusion setting and opaque path".to_owned(),
         ));
     }
     let camera = bench_camera(terrain.size);
@@ -215,8 +237,17 @@ pub fn run(
         last: None,
     };
     let mut choices = Vec::new();
-    for (far_index, &far) in config.far.iter().enumerate() {
-        let mut renderer = renderer_for(ctx, terrain, config.width, config.height, far)?;
+    let settings = config.far.iter().flat_map(|&far| {
+        config.occlusion.iter().flat_map(move |&occlusion| {
+            config
+                .opaque
+                .iter()
+                .map(move |&opaque| (far, occlusion, opaque))
+        })
+    });
+    for (index, (far, occlusion, opaque)) in settings.enumerate() {
+        let size = (config.width, config.height);
+        let mut renderer = renderer_with(ctx, terrain, size, far, occlusion, opaque)?;
         let far_choice = renderer.far_choice().clone();
         eprintln!("far draws: {far_choice}");
         choices.push(far_choice.clone());
@@ -231,7 +262,7 @@ pub fn run(
         for &fullscreen in &config.fullscreen {
             renderer.set_fullscreen_path(fullscreen);
             let fullscreen_name = format!("{fullscreen:?}");
-            if config.reference && far_index == 0 {
+            if config.reference && index == 0 {
                 renderer.set_lod(None)?;
                 let (passes, cpu, drawn, image) = measure(ctx, &mut renderer, config.frames)?;
                 runs.push(RunReport {
@@ -239,7 +270,8 @@ pub fn run(
                     far: "Off".to_owned(),
                     far_cell_px: 0.0,
                     fullscreen: fullscreen_name.clone(),
-                    occlusion: false,
+                    occlusion,
+                    opaque: format!("{opaque:?}"),
                     gpu_total_us: passes.iter().map(|p| p.micros).sum(),
                     passes,
                     cpu_frame_us: cpu,
@@ -266,7 +298,8 @@ pub fn run(
                         far: format!("{:?}", far_choice.path),
                         far_cell_px,
                         fullscreen: fullscreen_name.clone(),
-                        occlusion: false,
+                        occlusion,
+                        opaque: format!("{opaque:?}"),
                         gpu_total_us: passes.iter().map(|p| p.micros).sum(),
                         passes,
                         cpu_frame_us: cpu,

@@ -66,6 +66,8 @@ pub struct RunReport {
     pub fullscreen: String,
     /// Two-phase occlusion culling on.
     pub occlusion: bool,
+    /// How the opaque quads were drawn (`Raster` or `Compute`).
+    pub opaque: String,
     /// Median GPU time per pass.
     pub passes: Vec<PassMedian>,
     /// Sum of the pass medians, microseconds.
@@ -184,24 +186,26 @@ pub fn markdown(report: &BenchReport) -> String {
             }
         }
     }
-    let mut out = String::from("| budget | far | far px | screen passes | occlusion |");
+    let mut out =
+        String::from("| budget | far | far px | screen passes | occlusion | opaque quads |");
     for label in &labels {
         let _ = write!(out, " {label} µs |");
     }
     out.push_str(" GPU total µs | CPU frame µs |\n|");
-    for _ in 0..labels.len() + 7 {
+    for _ in 0..labels.len() + 8 {
         out.push_str(" ---: |");
     }
     out.push('\n');
     for r in &report.runs {
         let _ = write!(
             out,
-            "| {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} |",
             budget_label(r.budget_px),
             r.far,
             r.far_cell_px,
             r.fullscreen,
-            if r.occlusion { "on" } else { "off" }
+            if r.occlusion { "on" } else { "off" },
+            r.opaque
         );
         for label in &labels {
             match r.passes.iter().find(|p| &p.label == label) {
@@ -275,6 +279,7 @@ mod tests {
             far_cell_px: 4.0,
             fullscreen: "Compute".to_owned(),
             occlusion: false,
+            opaque: "Raster".to_owned(),
             passes: vec![PassMedian {
                 label: "cull".to_owned(),
                 micros: 3.0,

@@ -13,7 +13,7 @@ use super::camera::{CullCamera, CullLayer};
 use super::layout::{CullConfig, CullError, CullLayout, CullParams, CullUniforms};
 use super::node::NodeRecord;
 use super::output::{CullFrame, CullOutput, OutputFactory};
-use crate::bind::buffer_entry;
+use crate::bind::{BindGroupCache, buffer_entry};
 use crate::chunk_table::GpuTable;
 use crate::device::{GpuContext, MultiDrawPath};
 use crate::gigabuffer::PageLayout;
@@ -70,6 +70,8 @@ pub struct CullPass {
     /// Bound when a record has no occlusion inputs.
     no_visible: Buffer,
     no_pyramid: wgpu::TextureView,
+    /// The records' bind groups, made once per set of buffers.
+    bind_cache: BindGroupCache,
 }
 
 impl CullPass {
@@ -221,6 +223,7 @@ impl CullPass {
             own_frame,
             no_visible,
             no_pyramid,
+            bind_cache: BindGroupCache::default(),
         })
     }
 
@@ -364,15 +367,16 @@ impl CullPass {
         encoder.clear_buffer(&output.order_counts, 0, None);
         let frame = inputs.frame.unwrap_or(&self.own_frame);
         if params.from_list {
-            let args_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("transparent list dispatch"),
-                layout: &self.ordered.list_args_layout,
-                entries: &[
+            let args_group = self.bind_cache.get(
+                &self.device,
+                "transparent list dispatch",
+                &self.ordered.list_args_layout,
+                &[
                     buffer_entry(0, &frame.stats),
                     buffer_entry(1, &frame.list_args),
                     buffer_entry(2, &frame.transparent_list),
                 ],
-            });
+            );
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("transparent list dispatch"),
                 timestamp_writes: None,
@@ -484,11 +488,9 @@ impl CullPass {
             resource: wgpu::BindingResource::TextureView(pyramid),
         });
         entries.push(buffer_entry(BINDINGS + 1, &frame.transparent_list));
-        let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("cull"),
-            layout: &self.bind_group_layout,
-            entries: &entries,
-        });
+        let bind_group =
+            self.bind_cache
+                .get(&self.device, "cull", &self.bind_group_layout, &entries);
         Ok(Some((bind_group, groups)))
     }
 }

@@ -52,6 +52,8 @@ pub enum RenderError {
     FarDrawsUnavailable(String),
     /// The depth pyramid of occlusion culling could not be built.
     Hiz(crate::hiz::HizError),
+    /// The compute quad rasteriser refused its device, configuration or inputs.
+    QuadRaster(super::quad_raster::QuadRasterError),
 }
 
 impl fmt::Display for RenderError {
@@ -81,6 +83,7 @@ impl fmt::Display for RenderError {
             RenderError::Lod(e) => write!(f, "{e}"),
             RenderError::FarDrawsUnavailable(why) => write!(f, "far draws unavailable: {why}"),
             RenderError::Hiz(e) => write!(f, "depth pyramid: {e}"),
+            RenderError::QuadRaster(e) => write!(f, "quad rasteriser: {e}"),
         }
     }
 }

@@ -3,7 +3,7 @@
 //! | group | layout           | bindings                                                    |
 //! | ----- | ---------------- | ----------------------------------------------------------- |
 //! | 0     | `frame`          | 0 frame uniforms, 1 materials                              |
-//! | 1     | `quads`          | 0 one page of the quad gigabuffer, 1 command records       |
+//! | 1     | `quads`          | 0 one page of the quad gigabuffer, 1 command records, 9 the opaque visibility buffer (transparent pass) |
 //! | 1     | `smooth`         | 2 smooth-vertex page, 3 smooth-quad page, 4 smooth draws   |
 //! | 1     | `gbuffer_read`   | 0 albedo, 1 normal, 2 depth, 4 and 5 far visibility buffers, 6 hdr out (compute) (lighting pass) |
 //! | 1     | `hdr_read`       | 3 hdr, 7 output out (compute) (tonemap pass)                |
@@ -119,19 +119,20 @@ fn layout(device: &Device, label: &str, entries: &[BindGroupLayoutEntry]) -> Bin
     })
 }
 
-/// One render pipeline of the renderer.
-struct PipelineDesc<'a> {
-    label: &'a str,
-    module: &'a ShaderModule,
-    vertex: &'a str,
-    fragment: &'a str,
-    groups: [&'a BindGroupLayout; 2],
-    targets: &'a [Option<ColorTargetState>],
-    depth: Option<DepthStencilState>,
-    cull_back: bool,
+/// One render pipeline of the renderer (also built by the raster far draws).
+pub(crate) struct PipelineDesc<'a> {
+    pub(crate) label: &'a str,
+    pub(crate) module: &'a ShaderModule,
+    pub(crate) vertex: &'a str,
+    pub(crate) fragment: &'a str,
+    pub(crate) groups: [&'a BindGroupLayout; 2],
+    pub(crate) targets: &'a [Option<ColorTargetState>],
+    pub(crate) depth: Option<DepthStencilState>,
+    pub(crate) cull_back: bool,
 }
 
-fn pipeline(device: &Device, desc: PipelineDesc<'_>) -> RenderPipeline {
+/// The render pipeline `desc` describes (no vertex buffers: every pass pulls its vertices).
+pub(crate) fn pipeline(device: &Device, desc: PipelineDesc<'_>) -> RenderPipeline {
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(desc.label),
         bind_group_layouts: &[Some(desc.groups[0]), Some(desc.groups[1])],
@@ -164,7 +165,8 @@ fn pipeline(device: &Device, desc: PipelineDesc<'_>) -> RenderPipeline {
     })
 }
 
-fn depth_state(write: bool) -> Option<DepthStencilState> {
+/// The renderer's depth test (reversed-Z), writing depth or not.
+pub(crate) fn depth_state(write: bool) -> Option<DepthStencilState> {
     Some(DepthStencilState {
         format: DEPTH_FORMAT,
         depth_write_enabled: Some(write),
@@ -200,6 +202,7 @@ impl Pipelines {
             &[
                 buffer_entry(0, vertex, storage),
                 buffer_entry(1, vertex, storage),
+                buffer_entry(9, ShaderStages::FRAGMENT, storage),
             ],
         );
         let smooth_layout = layout(
@@ -272,7 +275,7 @@ impl Pipelines {
                 label: "transparent quads",
                 module: &geometry,
                 vertex: "vs_quad_transparent",
-                fragment: "fs_transparent",
+                fragment: "fs_transparent_over_visibility",
                 groups: [&frame_layout, &quad_layout],
                 targets: &[Some(ColorTargetState {
                     format: HDR_FORMAT,

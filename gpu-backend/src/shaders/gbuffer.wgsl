@@ -21,6 +21,9 @@ struct DrawRecord {
 
 @group(1) @binding(0) var<storage, read> quads: array<PackedQuad>;
 @group(1) @binding(1) var<storage, read> records: array<DrawRecord>;
+// The opaque visibility buffer (64-bit words as (payload, depth bits) pairs) when the frame
+// has one (FRAME_SPLAT): the transparent quads are hidden behind what it holds.
+@group(1) @binding(9) var<storage, read> opaque_visibility: array<vec2<u32>>;
 
 // One smooth chunk: its level-0 chunk difference to the camera chunk and where its vertices and
 // quads live (twin of render::SmoothDraw, written by the cull pass).
@@ -139,21 +142,46 @@ struct GBufferOut {
     @location(1) normal_material: vec2<u32>,
 }
 
-@fragment
-fn fs_gbuffer(in: SurfaceVaryings) -> GBufferOut {
-    let m = material_of(in.block);
+// The G-buffer texels of a surface point of block `block` (AO 0..=3, normal not yet unit).
+fn gbuffer_texels(block: u32, ao: f32, normal: vec3<f32>) -> GBufferOut {
+    let m = material_of(block);
     var out: GBufferOut;
-    out.albedo_ao = vec4<f32>(material_srgba(m).rgb, clamp(in.ao / 3.0, 0.0, 1.0));
-    out.normal_material = vec2<u32>(oct32_encode(normalize(in.normal)), in.block);
+    out.albedo_ao = vec4<f32>(material_srgba(m).rgb, clamp(ao / 3.0, 0.0, 1.0));
+    out.normal_material = vec2<u32>(oct32_encode(normalize(normal)), block);
     return out;
 }
 
-// Transparent quads: lit here (forward) with the deferred lighting model and blended over the
-// lit opaque image with the palette alpha.
+// A transparent surface point lit (forward) with the deferred lighting model; alpha is the
+// palette's.
+fn transparent_colour(block: u32, ao: f32, normal: vec3<f32>) -> vec4<f32> {
+    let m = material_of(block);
+    let srgba = material_srgba(m);
+    let colour = shade(srgb_to_linear(srgba.rgb), normal, ao, material_emission(m));
+    return vec4<f32>(colour, srgba.a);
+}
+
+@fragment
+fn fs_gbuffer(in: SurfaceVaryings) -> GBufferOut {
+    return gbuffer_texels(in.block, in.ao, in.normal);
+}
+
+// Transparent quads: lit here and blended over the lit opaque image with the palette alpha.
 @fragment
 fn fs_transparent(in: SurfaceVaryings) -> @location(0) vec4<f32> {
-    let m = material_of(in.block);
-    let srgba = material_srgba(m);
-    let colour = shade(srgb_to_linear(srgba.rgb), in.normal, in.ao, material_emission(m));
-    return vec4<f32>(colour, srgba.a);
+    return transparent_colour(in.block, in.ao, in.normal);
+}
+
+// fs_transparent for the meshed quads, which also hides them behind the opaque visibility
+// buffer (splatted far blocks and compute-rasterised quads are not in the depth attachment).
+@fragment
+fn fs_transparent_over_visibility(in: SurfaceVaryings) -> @location(0) vec4<f32> {
+    if (frame.flags & FRAME_SPLAT) != 0u {
+        let pixel = vec2<u32>(floor(in.position.xy));
+        let word = opaque_visibility[pixel.y * frame.width + pixel.x];
+        // Reversed-Z: the opaque surface is nearer when its depth is greater.
+        if word.y != 0u && bitcast<f32>(word.y) > in.position.z {
+            discard;
+        }
+    }
+    return transparent_colour(in.block, in.ao, in.normal);
 }

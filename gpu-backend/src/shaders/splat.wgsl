@@ -8,7 +8,8 @@
 // reversed-Z, so the nearest surface wins, and equal depths keep the larger payload (the
 // result does not depend on the order). Transparent blocks go to their own buffer; the lighting
 // pass blends the nearest one over the opaque surface. render::far states the format and the
-// bounds. render_common.wgsl, node.wgsl and FORMATS_WGSL come before this body.
+// bounds. render_common.wgsl, node.wgsl, far_blocks.wgsl, far_ao.wgsl and FORMATS_WGSL come before
+// this body.
 
 // Twin of render::far::SPLAT_WORKGROUP.
 const SPLAT_WORKGROUP: u32 = 64u;
@@ -44,38 +45,6 @@ var<workgroup> wg_mask: array<u32, 384>;
 var<workgroup> wg_pixels: atomic<u32>;
 var<workgroup> wg_skipped: atomic<u32>;
 
-// Blocks a far node draws: its blocks plus the skirt blocks of the sides in `skirts`.
-fn far_block_total(node: NodeRecord, skirts: u32) -> u32 {
-    var n = node.block_count;
-    for (var f = 0u; f < 6u; f += 1u) {
-        if ((skirts >> f) & 1u) != 0u {
-            n += skirt_count(node.block_skirts, f);
-        }
-    }
-    return n;
-}
-
-// The draw-block index of the node's `b`-th drawn block: its blocks, then the skirt blocks of
-// each side in `skirts` (every side's skirt is stored, side after side, after the blocks).
-fn block_index(node: NodeRecord, skirts: u32, b: u32) -> u32 {
-    if b < node.block_count {
-        return node.block_offset + b;
-    }
-    var rest = b - node.block_count;
-    var at = node.block_offset + node.block_count;
-    for (var f = 0u; f < 6u; f += 1u) {
-        let n = skirt_count(node.block_skirts, f);
-        if ((skirts >> f) & 1u) != 0u {
-            if rest < n {
-                return at + rest;
-            }
-            rest -= n;
-        }
-        at += n;
-    }
-    return at;
-}
-
 // Bit `plane` + (the node's padded voxel p, each axis 0..edge + 2) of the loaded masks.
 fn mask_bit(p: vec3<i32>, edge: i32, plane: u32) -> bool {
     let q = edge + 2;
@@ -94,62 +63,6 @@ fn hides(p: vec3<i32>, edge: i32) -> bool {
 // The node's padded voxel p is transparent (false when the node has no transparent mask).
 fn is_transparent(p: vec3<i32>, edge: i32) -> bool {
     return mask_bit(p, edge, TRANSPARENT_PLANE);
-}
-
-// The meshers' corner rule (mesher::blocky::ao::corner_ao).
-fn corner_ao(side1: bool, side2: bool, corner: bool) -> f32 {
-    if side1 && side2 {
-        return 0.0;
-    }
-    return 3.0 - f32(u32(side1) + u32(side2) + u32(corner));
-}
-
-// (du, dv) of corner k of a face, in PackedQuad corner order (packed_quad_corner's walk).
-fn corner_uv(face: u32, k: u32) -> vec2<f32> {
-    let a = f32(u32(k == 1u || k == 2u));
-    let b = f32(u32(k >= 2u));
-    let swap = face == FACE_POS_X || face == FACE_POS_Y || face == FACE_NEG_Z;
-    return select(vec2<f32>(a, b), vec2<f32>(b, a), swap);
-}
-
-// Barycentric weights of p in the triangle (a, b, c); all >= 0 inside.
-fn barycentric(p: vec2<f32>, a: vec2<f32>, b: vec2<f32>, c: vec2<f32>) -> vec3<f32> {
-    let v0 = b - a;
-    let v1 = c - a;
-    let v2 = p - a;
-    let d = v0.x * v1.y - v1.x * v0.y;
-    let wb = (v2.x * v1.y - v1.x * v2.y) / d;
-    let wc = (v0.x * v2.y - v2.x * v0.y) / d;
-    return vec3<f32>(1.0 - wb - wc, wb, wc);
-}
-
-// The ambient occlusion (0..=3) at point `uv` (0..1 along the face's width and height axes) of
-// face `face` of the block at padded cell `cell`, as the blocky meshers' quad would shade it.
-fn face_ao(cell: vec3<i32>, face: u32, uv: vec2<f32>, edge: i32) -> f32 {
-    let front = cell + face_normal(face);
-    let w = vec3<i32>(axis_unit(face_width_axis(face)));
-    let h = vec3<i32>(axis_unit(face_height_axis(face)));
-    var ao: array<f32, 4>;
-    for (var k = 0u; k < 4u; k += 1u) {
-        let d = corner_uv(face, k) * 2.0 - vec2<f32>(1.0);
-        let dw = w * i32(d.x);
-        let dh = h * i32(d.y);
-        ao[k] = corner_ao(hides(front + dh, edge), hides(front + dw, edge), hides(front + dw + dh, edge));
-    }
-    // The AO diagonal flip of mesher::blocky::triangle_indices.
-    let flip = u32(ao[1] + ao[3] > ao[0] + ao[2]);
-    let i0 = flip & 3u;
-    let i1 = (1u + flip) & 3u;
-    let i2 = (2u + flip) & 3u;
-    let i3 = (3u + flip) & 3u;
-    let p0 = corner_uv(face, i0);
-    let p2 = corner_uv(face, i2);
-    let first = barycentric(uv, p0, corner_uv(face, i1), p2);
-    if min(first.x, min(first.y, first.z)) >= -1e-4 {
-        return first.x * ao[i0] + first.y * ao[i1] + first.z * ao[i2];
-    }
-    let second = barycentric(uv, p0, p2, corner_uv(face, i3));
-    return second.x * ao[i0] + second.y * ao[i2] + second.z * ao[i3];
 }
 
 // Splats one block (DrawBlock bits) of a node whose cell (0, 0, 0) starts at camera-relative

@@ -12,6 +12,12 @@
 //! | path | how | needs |
 //! | ---- | --- | ----- |
 //! | [`FarPath::Splat`] | compute: one workgroup per node; per block, the pixel centres inside its projected bounds are intersected with the cube; hits go to a 64-bit visibility buffer by `atomicMax(depth << 32 \| payload)` ([`splat`]) | `SHADER_INT64_ATOMIC_MIN_MAX` |
+//! | [`FarPath::Sprite`] | raster: one screen-space quad per block bounding its projection, the ray-box test in the fragment shader, `frag_depth` (conservative depth keeps the early depth test where `SHADER_EARLY_DEPTH_TEST` is enabled) ([`raster`]) | nothing beyond the renderer's |
+//! | [`FarPath::CameraQuads`] | raster: the (at most 3) faces of each block that look at the eye, as the meshers' quads with per-corner AO; faces the hiding mask covers are skipped except towards the node's border, where the neighbour may be drawn at another level ([`raster`]) | nothing beyond the renderer's |
+//!
+//! Which is fastest depends on the GPU: compute-heavy parts with few raster units (the H100)
+//! favour the splat, consumer GPUs the raster forms; BENCHMARKS.md has the measured figures.
+//! [`FarRequest::Auto`] takes the splat where the device has 64-bit atomics, else the sprite.
 //!
 //! **Payload** (the low 32 bits of a visibility word): block id (bits 0..16), face direction
 //! (16..19), ambient occlusion in 255ths of 3 (19..27). The high 32 bits are the reversed-Z
@@ -20,7 +26,7 @@
 //! Transparent blocks go to a second buffer; the lighting pass blends the nearest one over
 //! whatever is behind it (one transparent surface per pixel in the far field).
 //!
-//! **Cost.** A block costs its projection (8 corners) plus one ray-box test per covered pixel
+//! **Cost (splat).** A block costs its projection (8 corners) plus one ray-box test per covered pixel
 //! centre; blocks of about a pixel cost about one test. Blocks covering more than 32 x 32 pixels
 //! are skipped and counted (`SplatStats::skipped`): the far threshold keeps far blocks small,
 //! so a count above 0 means it is set too high for the view.
@@ -32,6 +38,7 @@
 //!
 //! [`DrawBlock`]: voxel_core::formats::DrawBlock
 
+pub mod raster;
 pub mod splat;
 
 use std::fmt;
@@ -46,6 +53,17 @@ pub enum FarPath {
     Off,
     /// Compute splatting into 64-bit visibility buffers.
     Splat,
+    /// Raycast sprites: a bounding quad per block, the ray-box test per fragment.
+    Sprite,
+    /// The 3 camera-facing faces of each block as quads.
+    CameraQuads,
+}
+
+impl FarPath {
+    /// Whether the path rasterises (sprite, camera quads) rather than splats.
+    pub fn is_raster(self) -> bool {
+        matches!(self, FarPath::Sprite | FarPath::CameraQuads)
+    }
 }
 
 /// The far path asked for, before the device is known.
@@ -56,8 +74,8 @@ pub enum FarRequest {
     Off,
     /// This path, or an error naming why it cannot run.
     Path(FarPath),
-    /// The best path the device runs: the splat where 64-bit atomics exist. The renderer
-    /// reports the choice and its reason ([`FarChoice`]).
+    /// The best path the device runs: the splat where 64-bit atomics exist, else the sprite.
+    /// The renderer reports the choice and its reason ([`FarChoice`]).
     Auto,
 }
 
@@ -95,11 +113,20 @@ impl FarRequest {
                 capabilities.adapter.name
             )),
             FarRequest::Auto => Ok(FarChoice {
-                path: FarPath::Off,
+                path: FarPath::Sprite,
                 reason: format!(
-                    "{} lacks 64-bit atomic min/max: far draws off",
-                    capabilities.adapter.name
+                    "{} lacks 64-bit atomic min/max for the splat: raycast sprites{}",
+                    capabilities.adapter.name,
+                    if capabilities.early_depth_test {
+                        " with conservative depth"
+                    } else {
+                        " (no conservative depth: the depth test runs after their shader)"
+                    }
                 ),
+            }),
+            FarRequest::Path(path @ (FarPath::Sprite | FarPath::CameraQuads)) => Ok(FarChoice {
+                path,
+                reason: "asked for".to_owned(),
             }),
         }
     }

@@ -11,7 +11,7 @@ use wgpu::{
     BufferUsages, CommandEncoder, ComputePipeline, Device, ShaderStages,
 };
 
-use crate::bind::buffer_entry;
+use crate::bind::{BindGroupCache, buffer_entry};
 use crate::cull::CullFrame;
 use crate::render::error::RenderError;
 use crate::shaders::{FAR_ARGS, SPLAT};
@@ -71,6 +71,7 @@ pub struct FarSplat {
     range: Buffer,
     width: u32,
     height: u32,
+    bind_cache: BindGroupCache,
 }
 
 fn storage(binding: u32, read_only: bool) -> BindGroupLayoutEntry {
@@ -185,6 +186,7 @@ impl FarSplat {
             range,
             width,
             height,
+            bind_cache: BindGroupCache::default(),
         })
     }
 
@@ -216,20 +218,22 @@ impl FarSplat {
 
     /// Splats the far-list entries appended since the last record of the frame.
     pub fn record(&self, encoder: &mut CommandEncoder, inputs: &SplatInputs<'_>) {
-        let args_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("far args"),
-            layout: &self.args_layout,
-            entries: &[
+        let args_group = self.bind_cache.get(
+            &self.device,
+            "far args",
+            &self.args_layout,
+            &[
                 buffer_entry(0, inputs.frame.stats()),
                 buffer_entry(1, &self.range),
                 buffer_entry(2, inputs.frame.far_list()),
             ],
-        });
-        let frame_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("splat frame"),
-            layout: &self.frame_layout,
-            entries: &[buffer_entry(0, inputs.frame_uniforms)],
-        });
+        );
+        let frame_group = self.bind_cache.get(
+            &self.device,
+            "splat frame",
+            &self.frame_layout,
+            &[buffer_entry(0, inputs.frame_uniforms)],
+        );
         let group = self.splat_group(inputs);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("splat"),
@@ -263,11 +267,8 @@ impl FarSplat {
                 resource: buffer.as_entire_binding(),
             })
             .collect();
-        self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("splat"),
-            layout: &self.layout,
-            entries: &entries,
-        })
+        self.bind_cache
+            .get(&self.device, "splat", &self.layout, &entries)
     }
 }
 

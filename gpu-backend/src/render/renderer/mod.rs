@@ -13,14 +13,17 @@ use voxel_core::{ChunkSize, MaterialPalette};
 
 use super::camera::RenderCamera;
 use super::error::RenderError;
+use super::far::raster::FarRaster;
 use super::far::splat::FarSplat;
 use super::far::{FarChoice, FarPath, FarRequest};
 use super::frame::FrameUniforms;
 use super::lighting::LightingParams;
 use super::materials::gpu_materials;
 use super::pipelines::{FullscreenPath, Pipelines};
+use super::quad_raster::{OpaquePath, QuadRaster, QuadRasterConfig};
 use super::residency::{ChunkMeshData, SmoothFrame, SmoothRanges, chunk_record, mesh_bounds};
 use super::targets::{FrameImage, RenderTargets, read_output};
+use crate::bind::BindGroupCache;
 use crate::chunk_table::{GpuTable, MeshedChunkTable, TableError, TableSlot};
 use crate::cull::{
     CullConfig, CullFrame, CullOutput, CullPass, LodAnchor, LodSettings, NodeRecord, SmoothPages,
@@ -50,6 +53,9 @@ pub struct RendererConfig {
     pub far: FarRequest,
     /// How the full-screen passes run.
     pub fullscreen: FullscreenPath,
+    /// How the opaque greedy quads are drawn ([`OpaquePath::Compute`] needs 64-bit atomics
+    /// and brings the splat's visibility buffers whatever the far path).
+    pub opaque: OpaquePath,
     /// Two-phase occlusion culling against a depth pyramid (see [`crate::hiz`]): the nodes
     /// visible last frame are drawn first, the pyramid built from their depth, then every other
     /// node tested against it.
@@ -75,6 +81,7 @@ impl RendererConfig {
             smooth: SmoothFrame::nocubes(size),
             far: FarRequest::Off,
             fullscreen: FullscreenPath::default(),
+            opaque: OpaquePath::default(),
             occlusion: true,
         }
     }
@@ -150,10 +157,17 @@ pub struct Renderer {
     lod: Option<LodSettings>,
     anchor: LodAnchor,
     pipelines: Pipelines,
+    /// The frame's bind groups, made once per set of resources.
+    bind_cache: BindGroupCache,
     /// The far path in use and why.
     far_choice: FarChoice,
-    /// The compute splat, when that is the far path.
+    /// The compute splat's visibility buffers and pipelines: when the splat is the far path,
+    /// or the opaque quads are rasterised in compute (which draws into them).
     splat: Option<FarSplat>,
+    /// The compute rasteriser of opaque quads ([`OpaquePath::Compute`]).
+    quad_raster: Option<QuadRaster>,
+    /// The raster far draws, when the far path is a raster one.
+    far_raster: Option<FarRaster>,
     /// Read by the full-screen passes when there is no splat.
     no_visibility: Buffer,
     targets: RenderTargets,
@@ -205,27 +219,52 @@ impl Renderer {
             .far
             .resolve(&ctx.capabilities)
             .map_err(RenderError::FarDrawsUnavailable)?;
-        let splat = match far_choice.path {
-            FarPath::Off => None,
-            FarPath::Splat => {
-                let blocks = gigabuffer.layout(DataKind::DrawBlocks);
-                if blocks.page_count != 1 {
-                    return Err(RenderError::FarDrawsUnavailable(format!(
-                        "the splat binds the draw-block gigabuffer as one page; {} bytes of \
-                         draw blocks make {} pages of at most {} bytes",
-                        config.gigabuffer.bytes.get(DataKind::DrawBlocks),
-                        blocks.page_count,
-                        ctx.capabilities.max_page_bytes()
-                    )));
-                }
-                Some(FarSplat::new(
-                    device,
-                    config.width,
-                    config.height,
-                    ctx.capabilities.max_page_bytes(),
-                )?)
+        if far_choice.path != FarPath::Off {
+            let blocks = gigabuffer.layout(DataKind::DrawBlocks);
+            if blocks.page_count != 1 {
+                return Err(RenderError::FarDrawsUnavailable(format!(
+                    "the far draws bind the draw-block gigabuffer as one page; {} bytes of \
+                     draw blocks make {} pages of at most {} bytes",
+                    config.gigabuffer.bytes.get(DataKind::DrawBlocks),
+                    blocks.page_count,
+                    ctx.capabilities.max_page_bytes()
+                )));
             }
+        }
+        let compute_opaque = config.opaque == OpaquePath::Compute;
+        if compute_opaque && !ctx.capabilities.int64_atomics {
+            return Err(RenderError::MissingFeature(
+                "SHADER_INT64_ATOMIC_MIN_MAX (the compute opaque path)",
+            ));
+        }
+        let splat = if far_choice.path == FarPath::Splat || compute_opaque {
+            Some(FarSplat::new(
+                device,
+                config.width,
+                config.height,
+                ctx.capabilities.max_page_bytes(),
+            )?)
+        } else {
+            None
         };
+        let quad_raster = if compute_opaque {
+            Some(QuadRaster::new(
+                device,
+                &QuadRasterConfig::for_screen(config.width, config.height, 16),
+            )?)
+        } else {
+            None
+        };
+        let pipelines = Pipelines::new(device, config.fullscreen);
+        let far_raster = far_choice.path.is_raster().then(|| {
+            FarRaster::new(
+                device,
+                &ctx.capabilities,
+                far_choice.path,
+                cull.layout().far_capacity,
+                &pipelines.frame_layout,
+            )
+        });
         let no_visibility = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("no far visibility"),
             size: 16,
@@ -277,9 +316,12 @@ impl Renderer {
                 chunk: voxel_core::ChunkCoord::new(0, 0, 0),
                 offset: [0.0; 3],
             },
-            pipelines: Pipelines::new(device, config.fullscreen),
+            pipelines,
+            bind_cache: BindGroupCache::default(),
             far_choice,
             splat,
+            quad_raster,
+            far_raster,
             no_visibility,
             targets,
             quad_indices,

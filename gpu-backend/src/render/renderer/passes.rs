@@ -11,10 +11,11 @@ use crate::render::pipelines::FullscreenPipelines;
 
 impl Renderer {
     pub(super) fn frame_group(&self) -> BindGroup {
-        self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("frame"),
-            layout: &self.pipelines.frame_layout,
-            entries: &[
+        self.bind_cache.get(
+            &self.device,
+            "frame",
+            &self.pipelines.frame_layout,
+            &[
                 wgpu::BindGroupEntry {
                     binding: 0,
                     resource: self.frame_uniforms.as_entire_binding(),
@@ -24,16 +25,22 @@ impl Renderer {
                     resource: self.materials.as_entire_binding(),
                 },
             ],
-        })
+        )
     }
 
-    /// Group 1 of the quad pipelines: quad page `page` and `records`.
+    /// Group 1 of the quad pipelines: quad page `page`, `records`, and the opaque visibility
+    /// buffer the transparent quads test against (a stand-in without one).
     fn quad_group(&self, page: u32, records: &Buffer) -> Option<BindGroup> {
         let quads = self.gigabuffer.page(DataKind::Quads, page)?;
-        Some(self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("quads"),
-            layout: &self.pipelines.quad_layout,
-            entries: &[
+        let visibility = self
+            .splat
+            .as_ref()
+            .map_or(&self.no_visibility, |s| s.visibility());
+        Some(self.bind_cache.get(
+            &self.device,
+            "quads",
+            &self.pipelines.quad_layout,
+            &[
                 wgpu::BindGroupEntry {
                     binding: 0,
                     resource: quads.as_entire_binding(),
@@ -42,8 +49,9 @@ impl Renderer {
                     binding: 1,
                     resource: records.as_entire_binding(),
                 },
+                buffer_entry(9, visibility),
             ],
-        }))
+        ))
     }
 
     /// Group 1 of the smooth pipeline: smooth pair `pair`'s pages and `commands`' smooth
@@ -56,32 +64,35 @@ impl Renderer {
         let quads = self
             .gigabuffer
             .page(DataKind::SmoothQuads, pair % quad_pages)?;
-        Some(self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("smooth"),
-            layout: &self.pipelines.smooth_layout,
-            entries: &[
+        Some(self.bind_cache.get(
+            &self.device,
+            "smooth",
+            &self.pipelines.smooth_layout,
+            &[
                 buffer_entry(2, vertices),
                 buffer_entry(3, quads),
                 buffer_entry(4, commands.smooth_records()),
             ],
-        }))
+        ))
     }
 
     /// The G-buffer pass of `commands` (opaque quads per page, then smooth quads per page
-    /// pair): clearing the G-buffer first, or drawing over it.
+    /// pair, then the raster far draws' opaque blocks when `far_group` is given): clearing
+    /// the depth first, or drawing over it.
     pub(super) fn record_gbuffer(
         &self,
         encoder: &mut CommandEncoder,
         frame_group: &BindGroup,
         commands: &CullOutput,
         clear_first: bool,
+        far_group: Option<&BindGroup>,
     ) {
-        let colour_load = if clear_first {
-            wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
-        } else {
-            wgpu::LoadOp::Load
-        };
-        let clear = |view| {
+        // The colour targets are never cleared: lighting reads them only where the depth
+        // says this frame drew there (depth > 0, nearer than the visibility buffer). A clear
+        // is a full-screen fill, which costs ~0.6 ms on GPUs with few raster units (the H100),
+        // a third of the frame budget; only the depth is cleared.
+        let colour_load = wgpu::LoadOp::Load;
+        let attachment = |view| {
             Some(wgpu::RenderPassColorAttachment {
                 view,
                 depth_slice: None,
@@ -94,7 +105,10 @@ impl Renderer {
         };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("gbuffer"),
-            color_attachments: &[clear(&self.targets.albedo), clear(&self.targets.normal)],
+            color_attachments: &[
+                attachment(&self.targets.albedo),
+                attachment(&self.targets.normal),
+            ],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &self.targets.depth,
                 // Reversed-Z: 0 is infinitely far.
@@ -112,13 +126,16 @@ impl Renderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipelines.quad_gbuffer);
-        pass.set_bind_group(0, frame_group, &[]);
-        pass.set_index_buffer(self.quad_indices.slice(..), wgpu::IndexFormat::Uint32);
-        for page in 0..self.cull.layout().page_count {
-            if let Some(group) = self.quad_group(page, commands.records()) {
-                pass.set_bind_group(1, &group, &[]);
-                commands.draw_page(&mut pass, page);
+        // On the compute opaque path the quads went to the visibility buffer instead.
+        if self.quad_raster.is_none() {
+            pass.set_pipeline(&self.pipelines.quad_gbuffer);
+            pass.set_bind_group(0, frame_group, &[]);
+            pass.set_index_buffer(self.quad_indices.slice(..), wgpu::IndexFormat::Uint32);
+            for page in 0..self.cull.layout().page_count {
+                if let Some(group) = self.quad_group(page, commands.records()) {
+                    pass.set_bind_group(1, &group, &[]);
+                    commands.draw_page(&mut pass, page);
+                }
             }
         }
         let pairs = self.cull.layout().smooth_pairs;
@@ -132,11 +149,21 @@ impl Renderer {
                 }
             }
         }
+        if let (Some(raster), Some(group)) = (&self.far_raster, far_group) {
+            raster.draw_opaque(&mut pass, frame_group, group);
+        }
     }
 
-    /// The transparent pass: the ordered cull's commands, one multi-draw per quad page,
-    /// blended into the HDR target over the lit opaque image (depth-tested, not written).
-    pub(super) fn record_transparent(&self, encoder: &mut CommandEncoder, frame_group: &BindGroup) {
+    /// The transparent pass: the raster far draws' transparent blocks when `far_group` is
+    /// given (they are behind every meshed node), then the ordered cull's commands, one
+    /// multi-draw per quad page, blended into the HDR target over the lit opaque image
+    /// (depth-tested, not written).
+    pub(super) fn record_transparent(
+        &self,
+        encoder: &mut CommandEncoder,
+        frame_group: &BindGroup,
+        far_group: Option<&BindGroup>,
+    ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("transparent"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -160,6 +187,9 @@ impl Renderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        if let (Some(raster), Some(group)) = (&self.far_raster, far_group) {
+            raster.draw_transparent(&mut pass, frame_group, group);
+        }
         pass.set_pipeline(&self.pipelines.quad_transparent);
         pass.set_bind_group(0, frame_group, &[]);
         pass.set_index_buffer(self.quad_indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -214,11 +244,12 @@ impl Renderer {
                 texture(6, &t.hdr)
             });
         }
-        let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(if tonemap { "hdr read" } else { "gbuffer read" }),
+        let group = self.bind_cache.get(
+            &self.device,
+            if tonemap { "hdr read" } else { "gbuffer read" },
             layout,
-            entries: &entries,
-        });
+            &entries,
+        );
         let label = if tonemap { "tonemap" } else { "lighting" };
         match &self.pipelines.fullscreen {
             FullscreenPipelines::Fragment {

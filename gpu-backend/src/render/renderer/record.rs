@@ -10,8 +10,11 @@ use crate::cull::{
 };
 use crate::gigabuffer::DataKind;
 use crate::render::error::RenderError;
+use crate::render::far::FarPath;
+use crate::render::far::raster::{FarRaster, FarRasterInputs};
 use crate::render::far::splat::{SplatInputs, SplatStats};
 use crate::render::frame::{FRAME_SPLAT, FrameShape, FrameUniforms};
+use crate::render::quad_raster::QuadRasterInputs;
 use crate::timing::PassTime;
 
 impl Renderer {
@@ -23,6 +26,13 @@ impl Renderer {
     /// Resident chunks per level of detail.
     pub fn chunks_per_level(&self) -> [u32; 16] {
         self.per_level
+    }
+
+    /// The level-of-detail selection's inputs of the next frame (anchor, budget, focal
+    /// length, hysteresis), or `None` without level-of-detail selection: what a residency
+    /// plan ([`memory_plan`](crate::render::memory_plan)) selects with.
+    pub fn lod_params(&self) -> Option<LodParams> {
+        self.cull_params(false, PHASE_TEST).lod
     }
 
     /// The cull's parameters of the next frame: `smooth` draws the smooth layer, `phase` is
@@ -43,8 +53,8 @@ impl Renderer {
             chunk_edge: self.config.chunk_size.edge() as f32,
             pad: 0,
         });
-        let far_cell_px = match (&self.splat, self.lod) {
-            (Some(_), Some(settings)) => Some(settings.far_cell_px),
+        let far_cell_px = match self.lod {
+            Some(settings) if self.far_choice.path != FarPath::Off => Some(settings.far_cell_px),
             _ => None,
         };
         let occlusion = self.occlusion.as_ref().map(|_| OcclusionView {
@@ -98,6 +108,9 @@ impl Renderer {
         if let Some(splat) = &self.splat {
             splat.clear(encoder);
         }
+        if let Some(raster) = &self.far_raster {
+            raster.clear(encoder);
+        }
 
         self.record_opaque_phase(encoder, &frame_group, &cull_camera, PHASE_EARLY)?;
         if let Some(occlusion) = &self.occlusion {
@@ -128,6 +141,10 @@ impl Renderer {
                 ..self.cull_params(false, PHASE_TEST)
             },
         )?;
+        let far_group = self.far_raster_inputs().map(|(raster, inputs)| {
+            raster.record_all_args(encoder, &inputs);
+            raster.bind_group(&inputs)
+        });
         self.timer.end(encoder, scope);
 
         let scope = self.timer.begin(encoder, "lighting");
@@ -135,7 +152,7 @@ impl Renderer {
         self.timer.end(encoder, scope);
 
         let scope = self.timer.begin(encoder, "transparent");
-        self.record_transparent(encoder, &frame_group);
+        self.record_transparent(encoder, &frame_group, far_group.as_ref());
         self.timer.end(encoder, scope);
 
         let scope = self.timer.begin(encoder, "tonemap");
@@ -186,8 +203,32 @@ impl Renderer {
             &self.cull_params(true, phase),
         )?;
         self.timer.end(encoder, scope);
-        if let (Some(splat), Some(blocks)) =
-            (&self.splat, self.gigabuffer.page(DataKind::DrawBlocks, 0))
+        if let Some(raster) = &self.quad_raster {
+            let scope = self
+                .timer
+                .begin(encoder, label("quad raster", "quad raster late"));
+            raster.record(
+                encoder,
+                &QuadRasterInputs {
+                    frame_uniforms: &self.frame_uniforms,
+                    commands,
+                    quads: &self.gigabuffer,
+                    visibility: self
+                        .splat
+                        .as_ref()
+                        .expect("made with the rasteriser")
+                        .visibility(),
+                    width: self.targets.width,
+                    height: self.targets.height,
+                },
+            )?;
+            self.timer.end(encoder, scope);
+        }
+        let splat = self
+            .splat
+            .as_ref()
+            .filter(|_| self.far_choice.path == FarPath::Splat);
+        if let (Some(splat), Some(blocks)) = (splat, self.gigabuffer.page(DataKind::DrawBlocks, 0))
         {
             let scope = self
                 .timer
@@ -204,10 +245,31 @@ impl Renderer {
             );
             self.timer.end(encoder, scope);
         }
+        // The raster far draws' commands are timed with the G-buffer pass that draws them.
         let scope = self.timer.begin(encoder, label("gbuffer", "gbuffer late"));
-        self.record_gbuffer(encoder, frame_group, commands, !late);
+        let far_group = self.far_raster_inputs().map(|(raster, inputs)| {
+            raster.record_phase_args(encoder, &inputs);
+            raster.bind_group(&inputs)
+        });
+        self.record_gbuffer(encoder, frame_group, commands, !late, far_group.as_ref());
         self.timer.end(encoder, scope);
         Ok(())
+    }
+
+    /// The raster far draws and what they bind, when they are the far path and draw blocks
+    /// are resident.
+    fn far_raster_inputs(&self) -> Option<(&FarRaster, FarRasterInputs<'_>)> {
+        let raster = self.far_raster.as_ref()?;
+        let blocks = self.gigabuffer.page(DataKind::DrawBlocks, 0)?;
+        Some((
+            raster,
+            FarRasterInputs {
+                table: self.table.buffer(),
+                nodes: self.nodes.buffer(),
+                blocks,
+                frame: &self.cull_frame,
+            },
+        ))
     }
 
     /// Records and submits one frame, waits for it, and returns its per-pass times.
