@@ -125,8 +125,14 @@ mod tests {
         let (a, b) = (buffer(), buffer());
         let cache = BindGroupCache::default();
         let first = cache.get(device, "a", &layout, &[buffer_entry(0, &a)]);
-        assert_eq!(cache.get(device, "a", &layout, &[buffer_entry(0, &a)]), first);
-        assert_ne!(cache.get(device, "b", &layout, &[buffer_entry(0, &b)]), first);
+        assert_eq!(
+            cache.get(device, "a", &layout, &[buffer_entry(0, &a)]),
+            first
+        );
+        assert_ne!(
+            cache.get(device, "b", &layout, &[buffer_entry(0, &b)]),
+            first
+        );
         assert_eq!(cache.len(), 2);
         // Part of a buffer is not cached.
         let part = BindGroupEntry {
