@@ -116,6 +116,20 @@ impl LodTerrain {
             .sum()
     }
 
+    /// Far-draw blocks (surface blocks and skirt blocks, 4 bytes each) of every kept node.
+    pub fn far_block_count(&self) -> u64 {
+        self.nodes()
+            .map(|n| {
+                n.blocks.len() as u64
+                    + n.skirts
+                        .block_counts()
+                        .iter()
+                        .map(|&c| u64::from(c))
+                        .sum::<u64>()
+            })
+            .sum()
+    }
+
     /// Draw-block words (blocks, skirt blocks, hiding masks) of every kept node.
     pub fn draw_block_words(&self) -> u64 {
         self.nodes()

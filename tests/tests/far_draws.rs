@@ -57,6 +57,13 @@ fn far_render(
         }))
         .expect("settings");
     renderer.render().expect("frame");
+    if opaque == OpaquePath::Compute {
+        // The second frame skips the G-buffer pass (nothing rasterised; the depth is still
+        // clear): it must show the same.
+        let first = renderer.read_image().expect("readback");
+        renderer.render().expect("frame");
+        assert_eq!(first.rgba, renderer.read_image().expect("readback").rgba);
+    }
     let (stats, splat) = renderer.read_frame_stats().expect("stats");
     if far_cell_px > 0.0 {
         assert!(stats.far_nodes > 0 && stats.far_blocks > 0, "{stats:?}");

@@ -195,6 +195,7 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         resident_per_level: resident,
         resident_quads: terrain.quad_count(),
         resident_draw_block_words: terrain.draw_block_words(),
+        resident_far_blocks: terrain.far_block_count(),
         generate_seconds: terrain.generate_seconds,
         downsample_seconds: terrain.downsample_seconds,
         mesh_seconds: terrain.mesh_seconds,
@@ -205,7 +206,7 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         format!("adapter: {}", ctx.capabilities.adapter),
         format!(
             "terrain: {}² columns, {}³ chunks, levels 0..={}: {:?} chunks, {:?} resident; {} quads, \
-             {} draw-block words; generated {:.2} s, downsampled {:.2} s, meshed {:.2} s ({} \
+             {} draw-block words ({} far blocks, the rest hiding masks); generated {:.2} s, downsampled {:.2} s, meshed {:.2} s ({} \
              threads), {:.1} s in all",
             terrain.side,
             size.edge(),
@@ -214,6 +215,7 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
             scene.resident_per_level,
             scene.resident_quads,
             scene.resident_draw_block_words,
+            scene.resident_far_blocks,
             terrain.generate_seconds,
             terrain.downsample_seconds,
             terrain.mesh_seconds,

@@ -119,6 +119,9 @@ pub struct SceneSummary {
     pub resident_quads: u64,
     /// Draw-block words resident (blocks, skirt blocks, hiding masks).
     pub resident_draw_block_words: u64,
+    /// Far-draw blocks resident (surface and skirt blocks; the rest of the words are the
+    /// nodes' hiding masks).
+    pub resident_far_blocks: u64,
     /// GPU bytes by kind: name, bytes.
     pub resident_bytes: Vec<(String, u64)>,
     /// Seconds to generate, downsample and mesh.

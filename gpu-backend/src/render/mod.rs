@@ -1,26 +1,29 @@
-//! The near-field renderer: vertex-pulled draw passes into a G-buffer, deferred lighting,
-//! transparent forward pass, tonemap, all recorded into one encoder per frame.
+//! The renderer: every resident node (level-0 chunks and coarser LOD nodes) selected by one
+//! screen-space error budget on the GPU, drawn as quads or as far blocks, two-phase occlusion
+//! culled, into a G-buffer and a 64-bit visibility buffer; deferred lighting, a transparent
+//! forward pass, tonemap. One encoder per frame.
 //!
 //! ```text
-//!  upload_chunk ─► Gigabuffer (quads, smooth vertices, smooth quads) + MeshedChunkTable
+//!  upload_chunk ─► Gigabuffer (quads, smooth vertices, smooth quads, draw blocks)
+//!                  + MeshedChunkTable + node table
 //!
-//!  record_frame(encoder):
-//!    flush uploads ─► cull (compute, opaque quads) ─► args + records per page
-//!                 ─► cull transparent (compute, ordered: back to front) ─► args + records
-//!    gbuffer pass:   multi_draw_indexed_indirect(_count) per quad page   (vs_quad, fs_gbuffer)
-//!                    one draw per visible smooth chunk                   (vs_smooth)
-//!                    ─► albedo+AO, oct normal+material id, reversed-Z depth
-//!    lighting pass:  full screen: sun + hemisphere ambient x AO + emission ─► HDR (Rgba16Float)
-//!    transparent:    multi-draw per quad page of the ordered commands, lit and
-//!                    alpha-blended into HDR
-//!    tonemap:        ACES ─► Rgba8UnormSrgb output (read back with read_image)
-//!    timer resolve   (GpuTimer scopes: cull, cull transparent, gbuffer, lighting,
-//!                    transparent, tonemap)
-//!
-//! **CPU work per frame** is the same whatever the number of resident greedy chunks: one
-//! cull record per layer, one multi-draw per layer and quad page, a few bind groups. Only
-//! smooth (NoCubes) chunks cost CPU per chunk (a frustum test and one draw each).
+//!  record_frame(encoder), see renderer::record:
+//!    early phase:  cull (LOD selection, frustum, last frame's visibility)
+//!                  ─► quad raster (compute opaque path) │ far splat / raster far draws
+//!                  ─► G-buffer pass (raster opaque quads, smooth quads, raster far draws)
+//!    depth pyramid from the G-buffer depth and the visibility buffer
+//!    late phase:   cull of the rest against the pyramid ─► the same draws for what it adds
+//!    cull transparent (ordered, back to front) ─► lighting (compute or fragment)
+//!    ─► transparent pass (blended, hidden behind the depth and the visibility buffer)
+//!    ─► tonemap ─► Rgba8 sRGB output (read back with read_image)
 //! ```
+//!
+//! Level-of-detail selection and its error rule are in [`cull::lod`](crate::cull::lod), the far
+//! draws in [`far`], the compute rasteriser of opaque quads in [`quad_raster`], residency under
+//! a memory budget in [`memory_plan`], sizing from a scene in [`RendererConfig::fitted`].
+//!
+//! **CPU work per frame** is the same whatever the number of resident chunks: a few cull
+//! records, one multi-draw per layer and page, bind groups made once per set of resources.
 //!
 //! **Vertex pulling.** No vertex buffers. A greedy quad ([`PackedQuad`], 8 bytes) becomes 4
 //! corners in `vs_quad`: the shared quad index buffer ([`quad_indices`]) gives
@@ -50,11 +53,8 @@
 //! would be blended twice.
 //!
 //! **Smooth layer bookkeeping.** `MeshedChunkInfo` has a smooth-vertex range but no
-//! smooth-quad range, and the cull pass does not cull the smooth layer. Rather than grow the
-//! shared 112-byte format, the renderer keeps a side table (the gigabuffer's
-//! [`ChunkRanges`](crate::gigabuffer::ChunkRanges) per resident chunk) and writes one
-//! [`SmoothDraw`] per smooth chunk in the frustum per frame (culled on the CPU by its box); each is
-//! one direct draw.
+//! smooth-quad range: the node table ([`NodeRecord`](crate::cull::NodeRecord)) holds it, and the
+//! GPU cull writes one [`SmoothDraw`] and one indirect draw per visible smooth node.
 //!
 //! **Camera-relative.** See [`camera`]: chunk differences in `i32`, small `f32` offsets.
 //!
@@ -67,9 +67,7 @@
 //! name their record through `first_instance`; without it [`Renderer::new`] returns
 //! [`RenderError::MissingFeature`]. Both `MultiDrawPath`s and both `TimingPath`s work.
 //!
-//! **Not yet drawn:** clutter units and draw blocks (stored if uploaded, never drawn), far
-//! chunks (raycast sprites), shadows, textures; the smooth layer is frustum-culled on the CPU
-//! only (no per-face-direction culling).
+//! **Not yet drawn:** clutter units, shadows, textures.
 //!
 //! [`PackedQuad`]: voxel_core::formats::PackedQuad
 //! [`BlockVertex`]: voxel_core::formats::BlockVertex

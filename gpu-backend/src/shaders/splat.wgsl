@@ -74,9 +74,15 @@ fn splat_block(bits: u32, origin: vec3<f32>, scale: f32, edge: i32) {
     let size = vec2<f32>(f32(frame.width), f32(frame.height));
     var min_p = vec2<f32>(1e30);
     var max_p = vec2<f32>(-1e30);
+    // Clip space is linear in the corner: one matrix product for `lo`, then the edge vectors.
+    let clip_lo = frame.view_proj * vec4<f32>(lo, 1.0);
+    let ex = frame.view_proj[0] * scale;
+    let ey = frame.view_proj[1] * scale;
+    let ez = frame.view_proj[2] * scale;
     for (var c = 0u; c < 8u; c += 1u) {
-        let corner = select(lo, hi, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
-        let clip = frame.view_proj * vec4<f32>(corner, 1.0);
+        let clip = clip_lo + select(vec4<f32>(0.0), ex, (c & 1u) != 0u)
+            + select(vec4<f32>(0.0), ey, (c & 2u) != 0u)
+            + select(vec4<f32>(0.0), ez, (c & 4u) != 0u);
         if clip.w <= frame.near {
             // Reaches the near plane: far draws never should; skip and count it.
             atomicAdd(&wg_skipped, 1u);

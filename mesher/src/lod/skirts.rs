@@ -231,7 +231,7 @@ fn side_quads(
 /// side, the border blocks that show a face towards that side only when the neighbour there is
 /// drawn at another level (the real padding hides that face) and show no face otherwise (all
 /// six real neighbours hide them), so they are not in the chunk's
-/// [`surface_blocks`](mod@crate::surface_blocks) list. Flags follow that list's rules
+/// [`surface_blocks`](fn@crate::surface_blocks) list. Flags follow that list's rules
 /// (`EMISSIVE`, `SMOOTH`; skirt blocks are opaque and buried, so never `TRANSPARENT` or
 /// `HAS_CLUTTER`).
 ///

@@ -147,6 +147,11 @@ pub struct Renderer {
     chunks: HashMap<ChunkHandle, Resident>,
     /// Resident chunks per level of detail (the top level is the highest with any).
     per_level: [u32; 16],
+    /// Resident chunks with a smooth layer.
+    smooth_chunks: u32,
+    /// The depth attachment holds only the clear value (no G-buffer pass drew since the last
+    /// clear), so a frame that draws nothing into the G-buffer may skip the pass.
+    depth_clear: bool,
     cull: CullPass,
     cull_frame: CullFrame,
     opaque_commands: CullOutput,
@@ -306,6 +311,8 @@ impl Renderer {
             nodes,
             chunks: HashMap::new(),
             per_level: [0; 16],
+            smooth_chunks: 0,
+            depth_clear: false,
             cull,
             cull_frame,
             opaque_commands,
@@ -421,6 +428,7 @@ impl Renderer {
             splat.resize(width, height, max)?;
         }
         self.targets = RenderTargets::new(&self.device, width, height)?;
+        self.depth_clear = false;
         if let Some(occlusion) = &mut self.occlusion {
             occlusion.pyramid = crate::hiz::DepthPyramid::new(&self.device, width, height)
                 .map_err(RenderError::Hiz)?;
@@ -476,7 +484,7 @@ impl Renderer {
 
     /// True when a resident chunk has a smooth layer.
     fn has_smooth(&self) -> bool {
-        self.chunks.values().any(|r| r.smooth.is_some())
+        self.smooth_chunks > 0
     }
 
     /// Smooth quads of the resident chunks.
@@ -513,6 +521,7 @@ impl Renderer {
             form: ranges.smooth_quad_form,
         });
         self.per_level[mesh.lod as usize] += 1;
+        self.smooth_chunks += u32::from(smooth.is_some());
         self.chunks.insert(
             uploaded.handle,
             Resident {
@@ -598,6 +607,7 @@ impl Renderer {
             .remove(&handle)
             .ok_or(RenderError::UnknownChunk(handle))?;
         self.per_level[resident.level as usize] -= 1;
+        self.smooth_chunks -= u32::from(resident.smooth.is_some());
         self.table.remove(resident.slot)?;
         self.nodes.remove(resident.slot)?;
         self.gigabuffer.free(handle)?;

@@ -245,6 +245,13 @@ impl Renderer {
             );
             self.timer.end(encoder, scope);
         }
+        // On the compute opaque path with no smooth layer and no raster far draws nothing
+        // is rasterised: the pass only clears the depth, which stays clear until a pass
+        // draws (a full-screen clear costs ~0.16 ms on the H100's few raster units).
+        let draws = self.quad_raster.is_none() || self.has_smooth() || self.far_raster.is_some();
+        if !draws && (late || self.depth_clear) {
+            return Ok(());
+        }
         // The raster far draws' commands are timed with the G-buffer pass that draws them.
         let scope = self.timer.begin(encoder, label("gbuffer", "gbuffer late"));
         let far_group = self.far_raster_inputs().map(|(raster, inputs)| {
@@ -253,6 +260,7 @@ impl Renderer {
         });
         self.record_gbuffer(encoder, frame_group, commands, !late, far_group.as_ref());
         self.timer.end(encoder, scope);
+        self.depth_clear = !draws;
         Ok(())
     }
 
