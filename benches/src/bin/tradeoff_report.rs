@@ -32,6 +32,10 @@ struct Args {
     /// Side of the procedural terrain, in block columns.
     #[arg(long, default_value_t = 256)]
     terrain_side: u32,
+    /// Side in columns of the small terrain whose budget sweep is measured on this machine's
+    /// Vulkan adapter (lavapipe without a GPU); 0 skips it.
+    #[arg(long, default_value_t = 256)]
+    local_gpu_side: u32,
     /// Words describing the machine the CPU figures come from (defaults to its thread count).
     #[arg(long)]
     machine: Option<String>,
@@ -49,6 +53,7 @@ fn main() -> ExitCode {
     config.gpu_json = args.gpu_json;
     config.runs = args.runs.max(1);
     config.terrain_side = args.terrain_side;
+    config.local_gpu_side = args.local_gpu_side;
     if let Some(m) = args.machine {
         config.machine = m;
     }

@@ -249,41 +249,21 @@ fn geometry_section(s: &mut String, m: &Measurements, plots: &[Plot]) {
     };
 }
 
-fn image_section(s: &mut String, m: &Measurements, plots: &[Plot]) {
-    let _ = writeln!(s, "{}\n", SECTIONS[3]);
-    let Some(sw) = &m.image else {
-        let _ = writeln!(
-            s,
-            "No GPU figures in this run: give a `gpu_bench --json` file with `--gpu-json PATH` \
-             (the H100 sweep is committed as `docs/data/gpu_bench_h100_budgets.json`). Nothing \
-             was measured on lavapipe either.\n"
-        );
-        return;
-    };
+/// The adapter's name for the page: `lavapipe (...)` for Mesa's CPU Vulkan driver.
+fn adapter_label(adapter: &str) -> String {
+    if adapter.contains("llvmpipe") {
+        format!("lavapipe (CPU Vulkan driver: {adapter})")
+    } else {
+        adapter.to_owned()
+    }
+}
+
+fn sweep_table(s: &mut String, sw: &super::image::BudgetSweep) {
     let full = sw.full();
     let _ = writeln!(
         s,
-        "Read from `{}`, measured on the GPU machine by `gpu_bench` (not by this run's CPU): \
-         {}; terrain of {}² columns in {}³ chunks, {} x {} frames. Image error is against the \
-         full-detail frame of the same run (mean absolute error in 8-bit steps, share of \
-         pixels with a channel off by more than 8/255). Every level stays resident at every \
-         budget: {:.1} MB resident in all ({}). \"Drawn geometry\" is 8 bytes per quad drawn \
-         plus 4 per far block drawn.\n\n\
-         | budget | MAE (/255) | > 8/255 | GPU ms | GPU vs full | CPU frame ms | mesh nodes | far nodes | drawn geometry (MB) | resident (MB) |\n\
-         | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |",
-        sw.source,
-        sw.adapter,
-        sw.side,
-        sw.chunk_edge,
-        sw.width,
-        sw.height,
-        sw.resident_total() as f64 / 1e6,
-        sw.resident_bytes
-            .iter()
-            .filter(|(_, b)| *b > 0)
-            .map(|(k, b)| format!("{k} {:.1} MB", *b as f64 / 1e6))
-            .collect::<Vec<_>>()
-            .join(", ")
+        "| budget | MAE (/255) | > 8/255 | GPU ms | GPU vs full | CPU frame ms | mesh nodes | far nodes | drawn geometry (MB) | resident (MB) |\n\
+         | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
     );
     for r in &sw.rows {
         let _ = writeln!(
@@ -303,7 +283,80 @@ fn image_section(s: &mut String, m: &Measurements, plots: &[Plot]) {
         );
     }
     s.push('\n');
-    plots_of(s, plots, "image");
+}
+
+fn resident_line(sw: &super::image::BudgetSweep) -> String {
+    format!(
+        "{:.1} MB resident in all ({})",
+        sw.resident_total() as f64 / 1e6,
+        sw.resident_bytes
+            .iter()
+            .filter(|(_, b)| *b > 0)
+            .map(|(k, b)| format!("{k} {:.1} MB", *b as f64 / 1e6))
+            .collect::<Vec<_>>()
+            .join(", ")
+    )
+}
+
+fn image_section(s: &mut String, m: &Measurements, plots: &[Plot]) {
+    let _ = writeln!(
+        s,
+        "{}\n\nImage error is against the full-detail frame of the same run (mean absolute \
+         error in 8-bit steps, share of pixels with a channel off by more than 8/255). Every \
+         level stays resident at every budget, so resident bytes do not change with the \
+         budget; \"drawn geometry\" is 8 bytes per quad drawn plus 4 per far block drawn.\n",
+        SECTIONS[3]
+    );
+    match &m.image {
+        Some(sw) => {
+            let _ = writeln!(
+                s,
+                "### GPU machine: {}\n\nRead from `{}`, measured there by `gpu_bench` (not by \
+                 this run): terrain of {}² columns in {}³ chunks, {} x {} frames; {}.\n",
+                adapter_label(&sw.adapter),
+                sw.source,
+                sw.side,
+                sw.chunk_edge,
+                sw.width,
+                sw.height,
+                resident_line(sw)
+            );
+            sweep_table(s, sw);
+            plots_of(s, plots, "image");
+        }
+        None => {
+            let _ = writeln!(
+                s,
+                "No GPU figures in this run: give a `gpu_bench --json` file with `--gpu-json \
+                 PATH` (the H100 sweep is committed as `docs/data/gpu_bench_h100_budgets.json`).\n"
+            );
+        }
+    }
+    match &m.local_image {
+        Some(Some(sw)) => {
+            let _ = writeln!(
+                s,
+                "### This machine: {}\n\nMeasured in this run by `gpu_bench`'s runner on the \
+                 local adapter: terrain of {}² columns in {}³ chunks, {} x {} frames; {}. A \
+                 software rasterizer on a loaded CPU: the times say how the passes scale, not \
+                 what a GPU takes.\n",
+                adapter_label(&sw.adapter),
+                sw.side,
+                sw.chunk_edge,
+                sw.width,
+                sw.height,
+                resident_line(sw)
+            );
+            sweep_table(s, sw);
+        }
+        Some(None) => {
+            let _ = writeln!(
+                s,
+                "No Vulkan adapter on this machine: nothing was measured locally.\n"
+            );
+        }
+        None => {}
+    }
 }
 
 fn extremes_section(s: &mut String, m: &Measurements) {

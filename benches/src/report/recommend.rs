@@ -110,7 +110,8 @@ pub fn recommend(m: &Measurements) -> Recommendation {
             best.0
         ),
     };
-    let budget = m.image.as_ref().map(|sweep| {
+    let local = m.local_image.as_ref().and_then(Option::as_ref);
+    let budget = m.image.as_ref().or(local).map(|sweep| {
         let full_us = sweep.full().map(|r| r.gpu_us);
         let ok = sweep
             .rows
