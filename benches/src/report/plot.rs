@@ -74,7 +74,14 @@ pub fn line_chart(
         .y_label_area_size(70)
         .build_cartesian_2d(x0 - pad..x1 + pad, 0.0..y1)
         .map_err(plot_error)?;
-    let log_label = |x: &f64| format!("{}", 2f64.powf(*x));
+    // Only powers of two are labelled on a log2 axis (the ticks between them stay blank).
+    let log_label = |x: &f64| {
+        if (x - x.round()).abs() < 1e-6 {
+            format!("{}", 2f64.powf(x.round()))
+        } else {
+            String::new()
+        }
+    };
     let plain_label = |x: &f64| format!("{x}");
     chart
         .configure_mesh()
