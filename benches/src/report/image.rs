@@ -57,7 +57,7 @@ pub struct BudgetSweep {
     pub width: u64,
     /// Frame size.
     pub height: u64,
-    /// Bytes resident on the GPU by kind (every level stays resident at every budget).
+    /// Bytes resident on the GPU by kind (one resident set serves every setting of the sweep).
     pub resident_bytes: Vec<(String, u64)>,
     /// The settings, in file order.
     pub rows: Vec<BudgetRow>,
