@@ -13,6 +13,7 @@
 //! | [`inputs::chunks`] | terrain chunks with caves (32^3, 62^3), a world of 27 of them, uniform and random chunks, random positions |
 //! | [`inputs::formats`] | arrays of valid field values for each packed GPU format, and unit normals |
 //! | [`smooth_inputs`] | density grids for SurfaceNets (the `fast-surface-nets` sphere and sine at 34^3, a 62^3 terrain) and the NoCubes terrain chunk |
+//! | [`report`] | the speed-against-accuracy report (binary `tradeoff_report`, writes `docs/tradeoff.md`): CPU meshing per mode and chunk size, smooth-mesh and format error, the GPU budget sweep, renders at 2^30 offsets |
 //! | [`mesh_inputs`] | padded chunks and palettes for the blocky meshers and their peers: spheres, terrain, checkerboard, random fill, full, empty, the `.vox` samples cut into chunks |
 //!
 //! The bench targets live in `benches/benches/` (one file per crate: `voxel_core.rs` today).
@@ -35,5 +36,6 @@ pub mod gpu_bench;
 pub mod gpu_scene;
 pub mod inputs;
 pub mod mesh_inputs;
+pub mod report;
 pub mod rng;
 pub mod smooth_inputs;
