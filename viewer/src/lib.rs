@@ -5,14 +5,13 @@
 //! to a PNG file: from the GPU renderer ([`gpu_view`]) when a Vulkan adapter exists (lavapipe
 //! counts), else from the CPU reference raycaster ([`reference_raycast`]).
 //!
-//! The CPU references are the ground truth of the GPU image tests: [`reference_raycast`] (one
-//! ray per pixel through the voxels) and [`deferred_reference`] (the same rays shaded with the
-//! GPU's lighting model). Both renderers share the [`camera`] and the [`lighting`].
+//! The CPU references (the crate `voxel-reference`, re-exported here) are the ground truth of
+//! the GPU image tests: [`reference_raycast`] (one ray per pixel through the voxels) and
+//! [`deferred_reference`] (the same rays shaded with the GPU's lighting model). Both renderers
+//! and the GPU path share the [`camera`] and the [`lighting`].
 
-pub mod camera;
-pub mod deferred_reference;
 pub mod gpu_view;
-pub mod lighting;
-pub mod reference_raycast;
 pub mod scene;
 pub mod window;
+
+pub use voxel_reference::{camera, deferred_reference, lighting, reference_raycast};

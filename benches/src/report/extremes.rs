@@ -3,8 +3,10 @@
 //! moved together by ±2^30 voxels; the pixel difference between the frames.
 
 use glam::DVec3;
-use viewer::reference_raycast::{Camera, Lighting, render};
 use voxel_core::WorldPos;
+use voxel_reference::camera::Camera;
+use voxel_reference::lighting::Lighting;
+use voxel_reference::reference_raycast::render;
 use voxel_scene::{Terrain, TerrainBlocks};
 
 /// Farthest a ray travels, voxels.
