@@ -313,7 +313,7 @@ mod tests {
             ],
         };
         let table = markdown(&report);
-        assert!(table.contains("| 1 px | Splat | 4 | Compute | off | 3.0 | 3.0 | 4.0 |"));
+        assert!(table.contains("| 1 px | Splat | 4 | Compute | off | Raster | 3.0 | 3.0 | 4.0 |"));
         assert!(table.contains("| full |"));
         assert!(table.contains("0.500 | 0.100 %"));
         let json = serde_json::to_value(&report).unwrap();
