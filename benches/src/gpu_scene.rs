@@ -105,28 +105,14 @@ impl LodTerrain {
     /// Quads (both layers and the skirts) of every kept node.
     pub fn quad_count(&self) -> u64 {
         self.nodes()
-            .map(|n| {
-                n.mesh.blocky.len() as u64
-                    + n.skirts
-                        .quad_counts()
-                        .iter()
-                        .map(|&c| u64::from(c))
-                        .sum::<u64>()
-            })
+            .map(|n| n.mesh.blocky.len() as u64 + total(&n.skirts.quad_counts()))
             .sum()
     }
 
     /// Far-draw blocks (surface blocks and skirt blocks, 4 bytes each) of every kept node.
     pub fn far_block_count(&self) -> u64 {
         self.nodes()
-            .map(|n| {
-                n.blocks.len() as u64
-                    + n.skirts
-                        .block_counts()
-                        .iter()
-                        .map(|&c| u64::from(c))
-                        .sum::<u64>()
-            })
+            .map(|n| n.blocks.len() as u64 + total(&n.skirts.block_counts()))
             .sum()
     }
 
@@ -135,14 +121,15 @@ impl LodTerrain {
         self.nodes()
             .map(|n| {
                 (n.blocks.len() + n.hiding_mask.len() + n.transparent_mask.len()) as u64
-                    + n.skirts
-                        .block_counts()
-                        .iter()
-                        .map(|&c| u64::from(c))
-                        .sum::<u64>()
+                    + total(&n.skirts.block_counts())
             })
             .sum()
     }
+}
+
+/// The sum of per-side counts.
+fn total<C: Copy + Into<u64>>(counts: &[C]) -> u64 {
+    counts.iter().map(|&c| c.into()).sum()
 }
 
 /// Meshes the kept chunks of one level, nearest to the centre column first (square rings, then

@@ -111,11 +111,7 @@ fn a_sweep_across_level_borders_opens_no_crack() {
     if views.ctx.capabilities.int64_atomics {
         runs.push((FarPath::Splat, default_far));
     } else {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "lavapipe in CI has 64-bit atomics"
-        );
-        println!("skipped: the splat needs 64-bit atomics, which this device lacks");
+        gpu_backend::test_support::skip("the splat needs 64-bit atomics, which this device lacks");
     }
     runs.extend([
         (FarPath::Sprite, default_far),
