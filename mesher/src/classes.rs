@@ -40,6 +40,23 @@ fn code_of(class: MaterialClass) -> u8 {
 }
 
 impl BlockClasses {
+    /// The classes of `palette` with every opaque material smoothable (see-through ones
+    /// unchanged): what a whole model smoothed in `SurfaceMode::NoCubes` meshes with.
+    pub fn all_opaque_smoothable(palette: &MaterialPalette) -> Self {
+        let mut smooth = MaterialPalette::new();
+        for m in &palette.as_slice()[1..] {
+            let class = if m.class.is_opaque() {
+                MaterialClass::Smoothable
+            } else {
+                m.class
+            };
+            smooth
+                .push(voxel_core::Material { class, ..*m })
+                .expect("same length as a valid palette");
+        }
+        Self::from_palette(&smooth)
+    }
+
     /// The classes of `palette`'s materials; every other id is unknown.
     pub fn from_palette(palette: &MaterialPalette) -> Self {
         let mut codes = vec![UNKNOWN; 1 << 16];

@@ -4,7 +4,7 @@ use mesher::blocky::{BlockyMesh, GreedyMesher};
 use mesher::smooth::{NoCubes, SmoothMesh};
 use mesher::{BlockClasses, MeshError};
 use voxel_core::storage::{PaletteChunk, WorldMap, gather_neighbourhood};
-use voxel_core::{ChunkCoord, Material, MaterialClass, MaterialPalette, PaddedChunk};
+use voxel_core::{ChunkCoord, MaterialPalette, PaddedChunk};
 
 use rayon::prelude::*;
 
@@ -26,18 +26,7 @@ pub fn classes_for(palette: &MaterialPalette, mode: Mode) -> BlockClasses {
     if mode != Mode::Smooth {
         return BlockClasses::from_palette(palette);
     }
-    let mut smooth = MaterialPalette::new();
-    for m in &palette.as_slice()[1..] {
-        let class = if m.class.is_opaque() {
-            MaterialClass::Smoothable
-        } else {
-            m.class
-        };
-        smooth
-            .push(Material { class, ..*m })
-            .expect("same length as a valid palette");
-    }
-    BlockClasses::from_palette(&smooth)
+    BlockClasses::all_opaque_smoothable(palette)
 }
 
 /// Downsamples `world` `levels` times (each level halves the resolution; see

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use mesher::{BlockClasses, MeshSettings, SurfaceMode, mesh_chunks_sequential};
 use voxel_core::storage::{PaletteChunk, VoxelStorage, WorldMap};
-use voxel_core::{ChunkCoord, ChunkSize, Material, MaterialClass, MaterialPalette};
+use voxel_core::{ChunkCoord, ChunkSize, MaterialPalette};
 use voxel_scene::vox::{VoxOptions, load_vox_file_with};
 
 use super::{Config, ReportError};
@@ -104,18 +104,7 @@ pub fn classes_for(palette: &MaterialPalette, mode: SurfaceMode) -> BlockClasses
     if mode != SurfaceMode::NoCubes {
         return BlockClasses::from_palette(palette);
     }
-    let mut smooth = MaterialPalette::new();
-    for m in &palette.as_slice()[1..] {
-        let class = if m.class.is_opaque() {
-            MaterialClass::Smoothable
-        } else {
-            m.class
-        };
-        smooth
-            .push(Material { class, ..*m })
-            .expect("same length as a valid palette");
-    }
-    BlockClasses::from_palette(&smooth)
+    BlockClasses::all_opaque_smoothable(palette)
 }
 
 /// Meshes `input` in `mode` `runs` times on this thread; the median time and the mesh sizes.
