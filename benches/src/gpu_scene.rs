@@ -104,9 +104,7 @@ impl LodTerrain {
 
     /// Quads (both layers and the skirts) of every kept node.
     pub fn quad_count(&self) -> u64 {
-        self.nodes()
-            .map(|n| n.mesh.blocky.len() as u64 + total(&n.skirts.quad_counts()))
-            .sum()
+        self.nodes().map(node_quads).sum()
     }
 
     /// Far-draw blocks (surface blocks and skirt blocks, 4 bytes each) of every kept node.
@@ -118,13 +116,19 @@ impl LodTerrain {
 
     /// Draw-block words (blocks, skirt blocks, hiding masks) of every kept node.
     pub fn draw_block_words(&self) -> u64 {
-        self.nodes()
-            .map(|n| {
-                (n.blocks.len() + n.hiding_mask.len() + n.transparent_mask.len()) as u64
-                    + total(&n.skirts.block_counts())
-            })
-            .sum()
+        self.nodes().map(node_draw_block_words).sum()
     }
+}
+
+/// Quads of one node: both layers and the skirts.
+pub fn node_quads(node: &NodeMesh) -> u64 {
+    node.mesh.blocky.len() as u64 + total(&node.skirts.quad_counts())
+}
+
+/// Draw-block words of one node: blocks, skirt blocks, hiding masks.
+pub fn node_draw_block_words(node: &NodeMesh) -> u64 {
+    (node.blocks.len() + node.hiding_mask.len() + node.transparent_mask.len()) as u64
+        + total(&node.skirts.block_counts())
 }
 
 /// The sum of per-side counts.

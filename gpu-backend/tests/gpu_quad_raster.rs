@@ -174,13 +174,14 @@ fn random_scenes_match_the_reference() {
                 fov_y: uniform(&mut rng, 0.8, 1.6),
                 near: uniform(&mut rng, 0.05, 0.3),
             };
-            // Level 0 within about 20 blocks, level 1 to about 60, level 2 beyond.
+            // Level 0 within about 20 blocks, level 1 to about 60, level 2 beyond (level k errs
+            // by sqrt(3) (2^k - 1) blocks: cull::lod).
             let focal = focal_px(camera.fov_y, height);
             let lod = LodParams {
                 anchor_chunk: [chunk.x, chunk.y, chunk.z],
                 top_level: 2,
                 anchor_offset: camera.offset,
-                budget_px: focal / 20.0,
+                budget_px: 3f32.sqrt() * focal / 20.0,
                 focal_px: focal,
                 hysteresis: 0.0,
                 chunk_edge: 16.0,

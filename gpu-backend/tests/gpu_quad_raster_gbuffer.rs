@@ -239,10 +239,11 @@ fn the_visibility_buffer_matches_the_gbuffer_raster_pass() {
             fov_y: 1.1,
             near: 0.1,
         };
-        // Level 0 within about 24 blocks of the eye, level 1 beyond.
+        // Level 0 within about 24 blocks of the eye, level 1 beyond (level 1 errs by sqrt(3)
+        // blocks: cull::lod).
         let focal = focal_px(camera.fov_y, HEIGHT);
         let settings = LodSettings {
-            budget_px: focal / 24.0,
+            budget_px: 3f32.sqrt() * focal / 24.0,
             hysteresis: 0.0,
             far_cell_px: 0.0,
         };

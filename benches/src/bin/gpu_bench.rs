@@ -11,10 +11,12 @@
 use std::process::ExitCode;
 use std::time::Instant;
 
-use benches::gpu_bench::{BenchConfig, BenchReport, SceneSummary, bench_camera, markdown, run};
+use benches::gpu_bench::{
+    BenchConfig, BenchReport, SceneSummary, bench_camera, budget_params, markdown, run,
+    selected_by_any,
+};
 use benches::gpu_scene::LodTerrain;
 use clap::{Parser, ValueEnum};
-use gpu_backend::cull::{LodParams, lod};
 use gpu_backend::render::FullscreenPath;
 use gpu_backend::render::OpaquePath;
 use gpu_backend::render::far::{FarPath, FarRequest};
@@ -162,25 +164,9 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     let camera = bench_camera(size);
     // What the views can select: every node some budget selects from the bench camera (and all
     // of level 0 for the full-detail reference).
-    let params: Vec<LodParams> = args
-        .budget
-        .iter()
-        .map(|&budget_px| LodParams {
-            anchor_chunk: [camera.chunk.x, camera.chunk.y, camera.chunk.z],
-            top_level: args.top_level,
-            anchor_offset: camera.offset,
-            budget_px,
-            focal_px: lod::focal_px(camera.fov_y, args.height),
-            hysteresis: 0.0,
-            chunk_edge: size.edge() as f32,
-            pad: 0,
-        })
-        .collect();
+    let params = budget_params(&camera, &args.budget, args.top_level, args.height, size);
     let keep = |level: u32, coord: voxel_core::ChunkCoord| {
-        (reference && level == 0)
-            || params
-                .iter()
-                .any(|p| lod::selected(p, [coord.x, coord.y, coord.z], level))
+        (reference && level == 0) || selected_by_any(&params, level, coord)
     };
     let started = Instant::now();
     let terrain = LodTerrain::generate(args.side, size, args.seed, args.top_level, keep)?;

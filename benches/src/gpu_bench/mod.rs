@@ -15,7 +15,7 @@ mod report;
 use std::time::Instant;
 
 use gpu_backend::GpuContext;
-use gpu_backend::cull::LodSettings;
+use gpu_backend::cull::{LodParams, LodSettings, lod};
 use gpu_backend::from_mesher::node_layers;
 use gpu_backend::gigabuffer::{DataKind, GigabufferConfig};
 use gpu_backend::render::far::{FarChoice, FarRequest};
@@ -23,14 +23,16 @@ use gpu_backend::render::{
     ChunkMeshData, FrameImage, FullscreenPath, LightingParams, OpaquePath, RenderCamera,
     RenderError, Renderer, RendererConfig,
 };
-use voxel_core::WorldPos;
+use mesher::lod::NodeMesh;
+use voxel_core::{ChunkCoord, WorldPos};
 
+use crate::cpu_time::thread_cpu_now;
 use crate::gpu_scene::LodTerrain;
 
 pub use image_error::{ImageError, OFF_THRESHOLD, image_error};
 pub use report::{
-    BenchReport, DrawnCounts, ImageErrorReport, PassMedian, RunReport, SceneSummary, markdown,
-    median, pass_medians,
+    BenchReport, DrawnCounts, ImageErrorReport, PassMedian, QuadRasterCounts, RunReport,
+    SceneSummary, markdown, median, pass_medians,
 };
 
 /// Untimed frames before each setting's timed ones.
@@ -102,6 +104,38 @@ pub fn bench_camera(size: voxel_core::ChunkSize) -> RenderCamera {
     )
 }
 
+/// The selection inputs of each error budget in `budgets` seen from `camera` on a screen
+/// `height` pixels tall, anchored at the camera with no hysteresis (as the benchmark's fixed
+/// view needs), levels `0..=top_level`.
+pub fn budget_params(
+    camera: &RenderCamera,
+    budgets: &[f32],
+    top_level: u32,
+    height: u32,
+    size: voxel_core::ChunkSize,
+) -> Vec<LodParams> {
+    budgets
+        .iter()
+        .map(|&budget_px| LodParams {
+            anchor_chunk: [camera.chunk.x, camera.chunk.y, camera.chunk.z],
+            top_level,
+            anchor_offset: camera.offset,
+            budget_px,
+            focal_px: lod::focal_px(camera.fov_y, height),
+            hysteresis: 0.0,
+            chunk_edge: size.edge() as f32,
+            pad: 0,
+        })
+        .collect()
+}
+
+/// True when some budget of `params` selects node `coord` of `level`.
+pub fn selected_by_any(params: &[LodParams], level: u32, coord: ChunkCoord) -> bool {
+    params
+        .iter()
+        .any(|p| lod::selected(p, [coord.x, coord.y, coord.z], level))
+}
+
 /// The renderer for `terrain` and far path `far` (occlusion culling on): room for every node's
 /// quads and draw blocks (1/16 slack for allocator fragmentation) and its node count.
 pub fn renderer_for(
@@ -141,8 +175,17 @@ pub fn renderer_with(
 
 /// Uploads every node of `terrain`; returns the CPU milliseconds it took.
 pub fn upload_terrain(renderer: &mut Renderer, terrain: &LodTerrain) -> Result<f64, RenderError> {
+    upload_terrain_where(renderer, terrain, |_| true)
+}
+
+/// Uploads the nodes of `terrain` that `keep` accepts; returns the CPU milliseconds it took.
+pub fn upload_terrain_where(
+    renderer: &mut Renderer,
+    terrain: &LodTerrain,
+    keep: impl Fn(&NodeMesh) -> bool,
+) -> Result<f64, RenderError> {
     let started = Instant::now();
-    for node in terrain.nodes() {
+    for node in terrain.nodes().filter(|n| keep(n)) {
         renderer.upload_chunk(&ChunkMeshData {
             coord: node.coord,
             lod: node.level,
@@ -152,22 +195,40 @@ pub fn upload_terrain(renderer: &mut Renderer, terrain: &LodTerrain) -> Result<f
     Ok(started.elapsed().as_secs_f64() * 1e3)
 }
 
+/// Medians of the CPU time to record and submit one frame.
+struct CpuFrame {
+    /// Wall-clock microseconds (includes time slices given to other processes).
+    wall_us: f64,
+    /// Microseconds of the calling thread's CPU time (`CLOCK_THREAD_CPUTIME_ID`).
+    thread_us: f64,
+    /// The part of `thread_us` spent in `Queue::submit` (wgpu's validation and the driver).
+    submit_thread_us: f64,
+}
+
 /// One setting measured: warm-up, timed frames, the last frame's counts and image.
 fn measure(
     ctx: &GpuContext,
     renderer: &mut Renderer,
     frames: usize,
-) -> Result<(Vec<PassMedian>, f64, DrawnCounts, FrameImage), BenchError> {
+) -> Result<(Vec<PassMedian>, CpuFrame, DrawnCounts, FrameImage), BenchError> {
     for _ in 0..WARM_UP_FRAMES {
         renderer.render()?;
     }
     let mut passes: Vec<Vec<(String, u64)>> = Vec::new();
     let mut cpu_frame_ns = Vec::new();
+    let mut cpu_thread_ns = Vec::new();
+    let mut submit_thread_ns = Vec::new();
     for _ in 0..frames {
         let started = Instant::now();
+        let thread_started = thread_cpu_now();
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         renderer.record_frame(&mut encoder)?;
-        ctx.queue.submit([encoder.finish()]);
+        let commands = encoder.finish();
+        let submit_started = thread_cpu_now();
+        ctx.queue.submit([commands]);
+        let thread_now = thread_cpu_now();
+        cpu_thread_ns.push(thread_now.saturating_sub(thread_started).as_nanos() as u64);
+        submit_thread_ns.push(thread_now.saturating_sub(submit_started).as_nanos() as u64);
         cpu_frame_ns.push(started.elapsed().as_nanos() as u64);
         let times = renderer.collect_timings()?;
         passes.push(
@@ -177,6 +238,23 @@ fn measure(
                 .collect(),
         );
     }
+    // One more frame with the rasteriser's counters cleared first, so they count one frame.
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    renderer.clear_quad_raster_stats(&mut encoder);
+    renderer.record_frame(&mut encoder)?;
+    ctx.queue.submit([encoder.finish()]);
+    renderer.collect_timings()?;
+    let quad_raster = renderer
+        .read_quad_raster_stats()?
+        .map(|s| QuadRasterCounts {
+            quads: s.quads,
+            visible: s.visible,
+            local_pixels: s.local_pixels,
+            big: s.big,
+            tile_pixels: s.tile_pixels,
+            hits: s.hits,
+            tiles: s.tiles,
+        });
     let (cull, splat) = renderer.read_frame_stats()?;
     let mut per_level = cull.per_level.to_vec();
     while per_level.last() == Some(&0) {
@@ -195,11 +273,16 @@ fn measure(
         far_blocks: cull.far_blocks,
         splat_pixels: splat.pixels,
         splat_skipped: splat.skipped,
+        quad_raster,
     };
     let image = renderer.read_image()?;
     Ok((
         pass_medians(&passes),
-        median(&mut cpu_frame_ns) as f64 / 1e3,
+        CpuFrame {
+            wall_us: median(&mut cpu_frame_ns) as f64 / 1e3,
+            thread_us: median(&mut cpu_thread_ns) as f64 / 1e3,
+            submit_thread_us: median(&mut submit_thread_ns) as f64 / 1e3,
+        },
         drawn,
         image,
     ))
@@ -245,15 +328,54 @@ pub fn run(
                 .map(move |&opaque| (far, occlusion, opaque))
         })
     });
+    let top_level = terrain.levels.len().saturating_sub(1) as u32;
+    let params = budget_params(
+        &camera,
+        &config.budgets,
+        top_level,
+        config.height,
+        terrain.size,
+    );
     for (index, (far, occlusion, opaque)) in settings.enumerate() {
         let size = (config.width, config.height);
+        if config.reference && index == 0 {
+            // Full detail in a renderer of its own holding level 0 only, freed before the
+            // budgets' runs: their frames then cost what the view's own resident set costs.
+            let mut renderer = renderer_with(ctx, terrain, size, far, occlusion, opaque)?;
+            renderer.set_camera(&camera);
+            renderer.set_lighting(&LightingParams::default());
+            upload_terrain_where(&mut renderer, terrain, |n| n.level == 0)?;
+            renderer.set_lod(None)?;
+            for &fullscreen in &config.fullscreen {
+                renderer.set_fullscreen_path(fullscreen);
+                let (passes, cpu, drawn, image) = measure(ctx, &mut renderer, config.frames)?;
+                runs.push(RunReport {
+                    budget_px: None,
+                    far: "Off".to_owned(),
+                    far_cell_px: 0.0,
+                    fullscreen: format!("{fullscreen:?}"),
+                    occlusion,
+                    opaque: format!("{opaque:?}"),
+                    gpu_total_us: passes.iter().map(|p| p.micros).sum(),
+                    passes,
+                    cpu_frame_us: cpu.wall_us,
+                    cpu_thread_us: cpu.thread_us,
+                    cpu_submit_us: cpu.submit_thread_us,
+                    drawn,
+                    image_error: None,
+                });
+                images.reference.get_or_insert(image);
+            }
+        }
         let mut renderer = renderer_with(ctx, terrain, size, far, occlusion, opaque)?;
         let far_choice = renderer.far_choice().clone();
         eprintln!("far draws: {far_choice}");
         choices.push(far_choice.clone());
         renderer.set_camera(&camera);
         renderer.set_lighting(&LightingParams::default());
-        scene.upload_ms = upload_terrain(&mut renderer, terrain)?;
+        scene.upload_ms = upload_terrain_where(&mut renderer, terrain, |n| {
+            selected_by_any(&params, n.level, n.coord)
+        })?;
         scene.resident_bytes = renderer
             .resident_bytes()
             .into_iter()
@@ -262,24 +384,6 @@ pub fn run(
         for &fullscreen in &config.fullscreen {
             renderer.set_fullscreen_path(fullscreen);
             let fullscreen_name = format!("{fullscreen:?}");
-            if config.reference && index == 0 {
-                renderer.set_lod(None)?;
-                let (passes, cpu, drawn, image) = measure(ctx, &mut renderer, config.frames)?;
-                runs.push(RunReport {
-                    budget_px: None,
-                    far: "Off".to_owned(),
-                    far_cell_px: 0.0,
-                    fullscreen: fullscreen_name.clone(),
-                    occlusion,
-                    opaque: format!("{opaque:?}"),
-                    gpu_total_us: passes.iter().map(|p| p.micros).sum(),
-                    passes,
-                    cpu_frame_us: cpu,
-                    drawn,
-                    image_error: None,
-                });
-                images.reference.get_or_insert(image);
-            }
             for &budget in &config.budgets {
                 for &far_cell_px in &config.far_cell_px {
                     renderer.set_lod(Some(LodSettings {
@@ -302,7 +406,9 @@ pub fn run(
                         opaque: format!("{opaque:?}"),
                         gpu_total_us: passes.iter().map(|p| p.micros).sum(),
                         passes,
-                        cpu_frame_us: cpu,
+                        cpu_frame_us: cpu.wall_us,
+                        cpu_thread_us: cpu.thread_us,
+                        cpu_submit_us: cpu.submit_thread_us,
                         drawn,
                         image_error: error,
                     });

@@ -43,6 +43,28 @@ pub struct DrawnCounts {
     pub splat_pixels: u32,
     /// Blocks the splat skipped (too large on screen, or at the near plane).
     pub splat_skipped: u32,
+    /// The compute rasteriser's counters over one frame (both phases), on the compute opaque
+    /// path.
+    pub quad_raster: Option<QuadRasterCounts>,
+}
+
+/// What the compute quad rasteriser did in one frame (`gpu_backend`'s `QuadRasterStats`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct QuadRasterCounts {
+    /// Quads read from the drawn commands.
+    pub quads: u32,
+    /// Quads with a non-empty pixel box.
+    pub visible: u32,
+    /// Pixel centres tested by the quads pass.
+    pub local_pixels: u32,
+    /// Quads drawn through the tile list.
+    pub big: u32,
+    /// Pixel centres tested by the tiles pass.
+    pub tile_pixels: u32,
+    /// Pixel centres that hit a quad.
+    pub hits: u32,
+    /// Tile entries of the frame's last phase.
+    pub tiles: u32,
 }
 
 impl DrawnCounts {
@@ -72,8 +94,13 @@ pub struct RunReport {
     pub passes: Vec<PassMedian>,
     /// Sum of the pass medians, microseconds.
     pub gpu_total_us: f64,
-    /// Median CPU time to record and submit a frame, microseconds.
+    /// Median wall-clock time to record and submit a frame, microseconds.
     pub cpu_frame_us: f64,
+    /// Median CPU time of the recording thread over the same span, microseconds (leaves out
+    /// the time slices a busy machine gives to other processes).
+    pub cpu_thread_us: f64,
+    /// The part of `cpu_thread_us` spent in `Queue::submit`, microseconds (median).
+    pub cpu_submit_us: f64,
     /// What the last frame drew.
     pub drawn: DrawnCounts,
     /// Error against the full-detail frame, when one was rendered.
@@ -194,8 +221,8 @@ pub fn markdown(report: &BenchReport) -> String {
     for label in &labels {
         let _ = write!(out, " {label} µs |");
     }
-    out.push_str(" GPU total µs | CPU frame µs |\n|");
-    for _ in 0..labels.len() + 8 {
+    out.push_str(" GPU total µs | CPU frame µs | CPU thread µs | of it submit µs |\n|");
+    for _ in 0..labels.len() + 10 {
         out.push_str(" ---: |");
     }
     out.push('\n');
@@ -218,13 +245,17 @@ pub fn markdown(report: &BenchReport) -> String {
                 None => out.push_str(" - |"),
             }
         }
-        let _ = writeln!(out, " {:.1} | {:.1} |", r.gpu_total_us, r.cpu_frame_us);
+        let _ = writeln!(
+            out,
+            " {:.1} | {:.1} | {:.1} | {:.1} |",
+            r.gpu_total_us, r.cpu_frame_us, r.cpu_thread_us, r.cpu_submit_us
+        );
     }
     out.push_str(
         "\n| budget | far | far px | selected per level | mesh nodes | far nodes | quads | far \
-         blocks | splat pixels | frustum-culled | occluded | MAE | > 8/255 |\n",
+         blocks | splat pixels | raster pixels tested / hit / tiles | frustum-culled | occluded | MAE | > 8/255 |\n",
     );
-    out.push_str("| ---: | ---: | ---: | :--- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    out.push_str("| ---: | ---: | ---: | :--- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
     for r in &report.runs {
         let d = &r.drawn;
         let (mae, share) = r.image_error.map_or(("-".to_owned(), "-".to_owned()), |e| {
@@ -235,7 +266,7 @@ pub fn markdown(report: &BenchReport) -> String {
         });
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {:?} | {} | {} | {} | {} | {} | {} | {} ({:.1} %) | {} | {} |",
+            "| {} | {} | {} | {:?} | {} | {} | {} | {} | {} | {} | {} | {} ({:.1} %) | {} | {} |",
             budget_label(r.budget_px),
             r.far,
             r.far_cell_px,
@@ -245,6 +276,12 @@ pub fn markdown(report: &BenchReport) -> String {
             d.mesh_quads + d.transparent_quads + d.smooth_quads,
             d.far_blocks,
             d.splat_pixels,
+            d.quad_raster.map_or("-".to_owned(), |q| format!(
+                "{} / {} / {}",
+                u64::from(q.local_pixels) + u64::from(q.tile_pixels),
+                q.hits,
+                q.tiles
+            )),
             d.frustum_culled,
             d.occluded,
             100.0 * d.occluded_fraction(),
@@ -289,6 +326,8 @@ mod tests {
             }],
             gpu_total_us: 3.0,
             cpu_frame_us: 4.0,
+            cpu_thread_us: 3.5,
+            cpu_submit_us: 1.5,
             drawn: DrawnCounts {
                 selected: 10,
                 frustum_culled: 2,
@@ -313,7 +352,9 @@ mod tests {
             ],
         };
         let table = markdown(&report);
-        assert!(table.contains("| 1 px | Splat | 4 | Compute | off | Raster | 3.0 | 3.0 | 4.0 |"));
+        assert!(table.contains(
+            "| 1 px | Splat | 4 | Compute | off | Raster | 3.0 | 3.0 | 4.0 | 3.5 | 1.5 |"
+        ));
         assert!(table.contains("| full |"));
         assert!(table.contains("0.500 | 0.100 %"));
         let json = serde_json::to_value(&report).unwrap();

@@ -1,10 +1,11 @@
 // Level-of-detail selection by screen-space error: the twin of cull::lod (same operations in
 // the same order; that module states the rule, its hysteresis and its bound).
 //
-// A node of level k covers 2^k x 2^k x 2^k chunks of level 0 and errs by at most 2^k - 1
-// blocks. It *refines* (its children are drawn instead) when that error, seen from the anchor
-// at the node's nearest point less the hysteresis distance, exceeds the budget; it is
-// *selected* when it does not refine and its parent does (or it is at the top level).
+// A node of level k covers 2^k x 2^k x 2^k chunks of level 0 and errs by at most
+// sqrt(3) (2^k - 1) blocks. It *refines* (its children are drawn instead) when that error,
+// seen from the anchor at the node's nearest point less the hysteresis distance, exceeds the
+// budget; it is *selected* when it does not refine and its parent does (or it is at the top
+// level).
 
 struct LodParams {
     // The anchor: level-0 chunk and the offset inside it, blocks.
@@ -19,6 +20,9 @@ struct LodParams {
     chunk_edge: f32,
     pad: u32,
 }
+
+// Twin of cull::lod::SQRT_3.
+const LOD_SQRT_3: f32 = 1.7320508;
 
 // Distance from the origin to the box [lo, lo + size] (0 inside).
 fn lod_cube_distance(lo: vec3<f32>, size: f32) -> f32 {
@@ -40,7 +44,7 @@ fn lod_refines(p: LodParams, coord: vec3<i32>, level: u32) -> bool {
     let scale = f32(1u << level);
     let distance = lod_cube_distance(lod_node_lo(p, coord, level), p.chunk_edge * scale);
     let d = max(distance - p.hysteresis, 0.0);
-    return (scale - 1.0) * p.focal_px > p.budget_px * d;
+    return (scale - 1.0) * LOD_SQRT_3 * p.focal_px > p.budget_px * d;
 }
 
 fn lod_selected(p: LodParams, coord: vec3<i32>, level: u32) -> bool {

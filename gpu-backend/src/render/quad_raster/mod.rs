@@ -6,7 +6,9 @@
 //!
 //! # Integration
 //!
-//! Not wired into [`Renderer`](super::Renderer) yet. What the renderer must do:
+//! [`Renderer`](super::Renderer) draws its opaque quads this way with
+//! `OpaquePath::Compute` (`RendererConfig::opaque`). What it does, and what any other caller
+//! must do:
 //!
 //! 1. **Create**, where `GpuCapabilities::int64_atomics` holds:
 //!    `QuadRaster::new(&device, &QuadRasterConfig::for_screen(width, height, 16))`
@@ -36,7 +38,8 @@
 //! 3. **Transparent quads** depth-test against the depth attachment, which no longer holds the
 //!    meshed quads: before the transparent pass, write the visibility buffer's depth into it (a
 //!    full-screen pass with `frag_depth = max(depth, bits >> 32)`), or test against the buffer
-//!    in the transparent fragment shader. Not done here.
+//!    in the transparent fragment shader (the renderer does the latter:
+//!    `fs_transparent_over_visibility`).
 //! 4. **Statistics** ([`QuadRasterStats`]): [`QuadRaster::read_stats`] after the submit (blocks).
 //!
 //! # How it works

@@ -14,7 +14,7 @@ use crate::render::far::FarPath;
 use crate::render::far::raster::{FarRaster, FarRasterInputs};
 use crate::render::far::splat::{SplatInputs, SplatStats};
 use crate::render::frame::{FRAME_SPLAT, FrameShape, FrameUniforms};
-use crate::render::quad_raster::QuadRasterInputs;
+use crate::render::quad_raster::{QuadRasterInputs, QuadRasterStats};
 use crate::timing::PassTime;
 
 impl Renderer {
@@ -291,6 +291,24 @@ impl Renderer {
     /// The last submitted frame's per-pass times (waits for the GPU).
     pub fn collect_timings(&mut self) -> Result<Vec<PassTime>, RenderError> {
         self.timer.collect().map_err(RenderError::Timer)
+    }
+
+    /// Clears the compute rasteriser's counters (`OpaquePath::Compute`; nothing otherwise), so
+    /// that [`Renderer::read_quad_raster_stats`] counts from here (record it before a frame).
+    pub fn clear_quad_raster_stats(&self, encoder: &mut CommandEncoder) {
+        if let Some(raster) = &self.quad_raster {
+            raster.clear_stats(encoder);
+        }
+    }
+
+    /// The compute rasteriser's counters since [`Renderer::clear_quad_raster_stats`]: quads,
+    /// pixel centres tested and hit, big quads and tiles (`None` on the raster opaque path;
+    /// blocks until the GPU is done; for tests and benchmarks).
+    pub fn read_quad_raster_stats(&self) -> Result<Option<QuadRasterStats>, RenderError> {
+        let Some(raster) = &self.quad_raster else {
+            return Ok(None);
+        };
+        Ok(Some(raster.read_stats(&self.device, &self.queue)?))
     }
 
     /// The last submitted frame's cull counters (nodes per level and representation, culled
