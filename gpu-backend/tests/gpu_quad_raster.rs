@@ -27,7 +27,7 @@
 //!   screen, a small visibility buffer, buffers without the usage they need: each the named
 //!   error, nothing recorded.
 //!
-//! Seeds are fixed (`QUAD_RASTER_SEED` overrides) and printed.
+//! Seeds are fixed per test (`GPU_TEST_SEED` overrides, see `Rng::test_seed_or`) and printed.
 
 mod common;
 mod gpu_quad_raster_support;
@@ -38,23 +38,18 @@ use common::Rng;
 use gpu_backend::DeviceOptions;
 use gpu_backend::cull::LodParams;
 use gpu_backend::cull::lod::{focal_px, selected};
+use gpu_backend::render::RenderCamera;
 use gpu_backend::render::quad_raster::{
     QuadRaster, QuadRasterConfig, QuadRasterError, QuadRasterInputs,
 };
-use gpu_backend::render::{RenderCamera, RenderError};
 use gpu_backend::test_support::headless_or_skip;
 use gpu_quad_raster_support::{Frame, Rig, assert_close, bit_exact, compare, device, report};
 use voxel_core::formats::{PackedQuad, PackedQuadFields};
 use voxel_core::{BlockId, ChunkCoord, FaceDirection};
 
-/// `QUAD_RASTER_SEED` if set, else `default`; printed.
+/// `GPU_TEST_SEED` if set, else the test's `default`; printed.
 fn seed(default: u64) -> u64 {
-    let seed = match std::env::var("QUAD_RASTER_SEED") {
-        Ok(text) => text.parse().expect("QUAD_RASTER_SEED must be a u64"),
-        Err(_) => default,
-    };
-    println!("quad raster seed {seed} (QUAD_RASTER_SEED={seed} repeats it)");
-    seed
+    Rng::test_seed_or(default)
 }
 
 fn uniform(rng: &mut Rng, lo: f64, hi: f64) -> f64 {
@@ -712,26 +707,14 @@ fn refused_inputs_are_named_errors() {
     };
     if let Some(ctx) = headless_or_skip(&without) {
         let e = QuadRaster::new(&ctx.device, &QuadRasterConfig::default()).unwrap_err();
-        assert!(
-            matches!(
-                e,
-                RenderError::QuadRaster(QuadRasterError::MissingInt64Atomics)
-            ),
-            "{e}"
-        );
+        assert!(matches!(e, QuadRasterError::MissingInt64Atomics), "{e}");
         assert!(e.to_string().contains("SHADER_INT64_ATOMIC_MIN_MAX"), "{e}");
     }
     let Some(ctx) = device(&DeviceOptions::default()) else {
         return;
     };
     let e = QuadRaster::new(&ctx.device, &QuadRasterConfig { tile_capacity: 0 }).unwrap_err();
-    assert!(
-        matches!(
-            e,
-            RenderError::QuadRaster(QuadRasterError::BadCapacity { .. })
-        ),
-        "{e}"
-    );
+    assert!(matches!(e, QuadRasterError::BadCapacity { .. }), "{e}");
     let huge = QuadRasterConfig {
         tile_capacity: u32::MAX,
     };
@@ -820,7 +803,7 @@ fn refused_inputs_are_named_errors() {
     for (i, (bad, check)) in cases.iter().enumerate() {
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         match rig.raster.record(&mut encoder, bad) {
-            Err(RenderError::QuadRaster(e)) => {
+            Err(e) => {
                 assert!(check(&e), "case {i}: {e}");
                 assert!(!e.to_string().is_empty());
             }

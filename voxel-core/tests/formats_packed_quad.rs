@@ -236,6 +236,11 @@ proptest! {
     }
 
     #[test]
+    fn block_reads_the_encoded_block(fields in fields()) {
+        prop_assert_eq!(PackedQuad::encode(&fields).unwrap().block(), fields.block);
+    }
+
+    #[test]
     fn decodable_bits_re_encode_to_themselves(bytes in any::<[u8; 8]>(), clear_reserved: bool) {
         let mut packed: PackedQuad = bytemuck::pod_read_unaligned(&bytes);
         if clear_reserved {

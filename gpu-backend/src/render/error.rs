@@ -10,6 +10,8 @@ use crate::gigabuffer::{ChunkHandle, GigabufferError};
 use crate::readback::ReadbackError;
 use crate::timing::TimerError;
 
+use super::quad_raster::QuadRasterError;
+
 /// An error of the [`Renderer`](super::Renderer): each names the problem, none is a panic.
 #[derive(Debug)]
 #[non_exhaustive]
@@ -53,7 +55,7 @@ pub enum RenderError {
     /// The depth pyramid of occlusion culling could not be built.
     Hiz(crate::hiz::HizError),
     /// The compute quad rasteriser refused its device, configuration or inputs.
-    QuadRaster(super::quad_raster::QuadRasterError),
+    QuadRaster(QuadRasterError),
 }
 
 impl fmt::Display for RenderError {
@@ -108,3 +110,4 @@ from_error!(ReadbackError, Readback);
 from_error!(TimerError, Timer);
 from_error!(SkirtTooLarge, Skirt);
 from_error!(BadLodSetting, Lod);
+from_error!(QuadRasterError, QuadRaster);

@@ -30,11 +30,21 @@ impl Rng {
     ///
     /// When `GPU_TEST_SEED` is neither a `u64` nor `random`.
     pub fn test_seed() -> u64 {
+        Rng::test_seed_or(DEFAULT_SEED)
+    }
+
+    /// [`Rng::test_seed`] with a test's own fixed `default` in place of [`DEFAULT_SEED`] (for
+    /// tests that draw several independent streams); `GPU_TEST_SEED` overrides it the same way.
+    ///
+    /// # Panics
+    ///
+    /// When `GPU_TEST_SEED` is neither a `u64` nor `random`.
+    pub fn test_seed_or(default: u64) -> u64 {
         let seed = match std::env::var("GPU_TEST_SEED") {
-            Err(_) => DEFAULT_SEED,
+            Err(_) => default,
             Ok(text) if text == "random" => std::time::SystemTime::now()
                 .duration_since(std::time::UNIX_EPOCH)
-                .map_or(DEFAULT_SEED, |d| d.as_nanos() as u64),
+                .map_or(default, |d| d.as_nanos() as u64),
             Ok(text) => text
                 .parse()
                 .unwrap_or_else(|_| panic!("GPU_TEST_SEED={text:?} is neither a u64 nor `random`")),

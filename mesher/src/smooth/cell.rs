@@ -4,9 +4,9 @@
 //!
 //! Corner `i` of a cell is at offset `(i & 1, (i >> 1) & 1, i >> 2)` from its minimum corner.
 
-use glam::{BVec4A, Vec3A, Vec4};
+use glam::Vec4;
 
-use super::pack::{FALLBACK_NORMAL, oct16_rescaled};
+use super::pack::oct16_encode_lanes;
 
 /// The 12 cell edges as (lower corner, upper corner): 4 along x, 4 along y, 4 along z (in the
 /// order [`cell_vertices`] and the row masks use).
@@ -100,38 +100,10 @@ pub(crate) fn cell_vertices(v: &[Vec4; 8]) -> Vertices4 {
     }
 }
 
-/// Packs 4 directions (`g[axis]` lane `k` = axis of direction `k`) into 8+8 bit octahedral
-/// codes by rounding each coordinate (ties to even); directions of zero or non-finite length
-/// go through [`oct16_rescaled`]. See `pack` for the stated error.
-#[inline]
-pub(crate) fn oct16_encode_lanes(g: [Vec4; 3]) -> [u16; 4] {
-    // Adding 1.5 * 2^23 rounds to an integer and leaves it in the low mantissa bits: for a
-    // value in -127..=127 the low byte is its rounded value in two's complement.
-    const ROUND: f32 = 12_582_912.0;
-    let l1 = g[0].abs() + g[1].abs() + g[2].abs();
-    // False for NaN too.
-    let ok: BVec4A =
-        l1.cmpge(Vec4::splat(f32::MIN_POSITIVE)) & l1.cmplt(Vec4::splat(f32::INFINITY));
-    let inv = Vec4::ONE / l1;
-    let (x, y, z) = (g[0] * inv, g[1] * inv, g[2] * inv);
-    let lower = z.cmplt(Vec4::ZERO);
-    let px = Vec4::select(lower, (Vec4::ONE - y.abs()).copysign(x), x);
-    let py = Vec4::select(lower, (Vec4::ONE - x.abs()).copysign(y), y);
-    let qx = (px * 127.0 + Vec4::splat(ROUND)).to_array();
-    let qy = (py * 127.0 + Vec4::splat(ROUND)).to_array();
-    let ok = ok.bitmask();
-    core::array::from_fn(|k| {
-        if ok & (1 << k) != 0 {
-            u16::from_le_bytes([qx[k].to_bits() as u8, qy[k].to_bits() as u8])
-        } else {
-            let lane = Vec3A::new(g[0].to_array()[k], g[1].to_array()[k], g[2].to_array()[k]);
-            oct16_rescaled(lane).unwrap_or(FALLBACK_NORMAL)
-        }
-    })
-}
-
 #[cfg(test)]
 mod tests {
+    use glam::Vec3A;
+
     use super::*;
 
     /// The vertex of lane 0 of a single cell with corner densities `v`.

@@ -323,10 +323,7 @@ impl NoCubes {
 /// Removes the quads of smoothable blocks (the smooth surface replaces them).
 fn drop_smoothable_quads(faces: &mut [Vec<PackedQuad>; 6], classes: &BlockClasses) {
     for quads in faces {
-        quads.retain(|q| {
-            let id = BlockId((q.face_ao_block >> 11) as u16);
-            classes.class(id) != Some(MaterialClass::Smoothable)
-        });
+        quads.retain(|q| classes.class(q.block()) != Some(MaterialClass::Smoothable));
     }
 }
 

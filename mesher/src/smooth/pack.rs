@@ -15,10 +15,8 @@
 //!   (a saddle cell where the differences cancel, or an overflowing density) has no direction
 //!   and is packed as [`FALLBACK_NORMAL`] (+y, up).
 
-use glam::{Vec3A, Vec4};
+use glam::{BVec4A, Vec3A, Vec4};
 use voxel_core::formats::quantize::UnormExtent;
-
-use super::cell::oct16_encode_lanes;
 
 /// Largest angle, in degrees, between a direction and the decoded 8+8 bit octahedral code that
 /// the smooth meshers write for it.
@@ -51,6 +49,36 @@ pub(crate) fn oct16_rescaled(direction: Vec3A) -> Option<u16> {
     }
     // Now the L1 norm is in 1..=3: the fast path applies.
     Some(oct16_encode_fast(direction / largest))
+}
+
+/// Packs 4 directions (`g[axis]` lane `k` = axis of direction `k`) into 8+8 bit octahedral
+/// codes by rounding each coordinate (ties to even); directions of zero or non-finite length
+/// go through [`oct16_rescaled`]. See the module docs for the stated error.
+#[inline]
+pub(crate) fn oct16_encode_lanes(g: [Vec4; 3]) -> [u16; 4] {
+    // Adding 1.5 * 2^23 rounds to an integer and leaves it in the low mantissa bits: for a
+    // value in -127..=127 the low byte is its rounded value in two's complement.
+    const ROUND: f32 = 12_582_912.0;
+    let l1 = g[0].abs() + g[1].abs() + g[2].abs();
+    // False for NaN too.
+    let ok: BVec4A =
+        l1.cmpge(Vec4::splat(f32::MIN_POSITIVE)) & l1.cmplt(Vec4::splat(f32::INFINITY));
+    let inv = Vec4::ONE / l1;
+    let (x, y, z) = (g[0] * inv, g[1] * inv, g[2] * inv);
+    let lower = z.cmplt(Vec4::ZERO);
+    let px = Vec4::select(lower, (Vec4::ONE - y.abs()).copysign(x), x);
+    let py = Vec4::select(lower, (Vec4::ONE - x.abs()).copysign(y), y);
+    let qx = (px * 127.0 + Vec4::splat(ROUND)).to_array();
+    let qy = (py * 127.0 + Vec4::splat(ROUND)).to_array();
+    let ok = ok.bitmask();
+    core::array::from_fn(|k| {
+        if ok & (1 << k) != 0 {
+            u16::from_le_bytes([qx[k].to_bits() as u8, qy[k].to_bits() as u8])
+        } else {
+            let lane = Vec3A::new(g[0].to_array()[k], g[1].to_array()[k], g[2].to_array()[k]);
+            oct16_rescaled(lane).unwrap_or(FALLBACK_NORMAL)
+        }
+    })
 }
 
 /// Quantizes positions in `0..=extent` to unorm16 codes (see the module docs).

@@ -140,6 +140,11 @@ impl PackedQuad {
         })
     }
 
+    /// The block type the quad shows (word 1, bits 11..27), without decoding the rest.
+    pub fn block(self) -> BlockId {
+        BlockId((self.face_ao_block >> 11) as u16)
+    }
+
     /// Unpacks the fields, or fails with [`FormatError::InvalidFaceDirection`] for face 6 or 7
     /// and [`FormatError::ReservedBitsSet`] if a reserved bit is set.
     pub fn decode(self) -> Result<PackedQuadFields, FormatError> {
@@ -154,7 +159,7 @@ impl PackedQuad {
             height: ((w0 >> 24) & 63) + 1,
             face: FaceDirection::from_index((w1 & 7) as u8)?,
             ao: [ao(0), ao(1), ao(2), ao(3)],
-            block: BlockId((w1 >> 11) as u16),
+            block: self.block(),
         })
     }
 }

@@ -14,7 +14,6 @@ use super::stats::QuadRasterStats;
 use crate::cull::CullOutput;
 use crate::gigabuffer::Gigabuffer;
 use crate::readback::{ReadbackError, read_buffer};
-use crate::render::error::RenderError;
 use crate::render::frame::FrameUniforms;
 
 /// What a record reads and writes besides the rasteriser's own buffers.
@@ -53,11 +52,7 @@ impl QuadRaster {
     /// The rasteriser's pipelines and lists on `device`, which must have been created with
     /// `SHADER_INT64` and `SHADER_INT64_ATOMIC_MIN_MAX` (`GpuCapabilities::int64_atomics`).
     /// The lists take [`QuadRasterConfig::tile_bytes`] + [`QuadRasterConfig::big_bytes`].
-    pub fn new(device: &Device, config: &QuadRasterConfig) -> Result<QuadRaster, RenderError> {
-        Self::create(device, config).map_err(RenderError::QuadRaster)
-    }
-
-    fn create(device: &Device, config: &QuadRasterConfig) -> Result<QuadRaster, QuadRasterError> {
+    pub fn new(device: &Device, config: &QuadRasterConfig) -> Result<QuadRaster, QuadRasterError> {
         let needed = Features::SHADER_INT64 | Features::SHADER_INT64_ATOMIC_MIN_MAX;
         if !device.features().contains(needed) {
             return Err(QuadRasterError::MissingInt64Atomics);
@@ -154,8 +149,8 @@ impl QuadRaster {
         &self,
         encoder: &mut CommandEncoder,
         inputs: &QuadRasterInputs<'_>,
-    ) -> Result<(), RenderError> {
-        self.check(inputs).map_err(RenderError::QuadRaster)?;
+    ) -> Result<(), QuadRasterError> {
+        self.check(inputs)?;
         let maker = Maker {
             device: &self.device,
             layouts: &self.layouts,
