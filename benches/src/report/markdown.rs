@@ -302,10 +302,10 @@ fn image_section(s: &mut String, m: &Measurements, plots: &[Plot]) {
     let _ = writeln!(
         s,
         "{}\n\nImage error is against the full-detail frame of the same run (mean absolute \
-         error in 8-bit steps, share of pixels with a channel off by more than 8/255). One \
-         upload serves every setting of a sweep (the full-detail level plus every node some \
-         budget selects), so the resident bytes are the sweep's, the same in every row, not \
-         what one budget alone would need; \"drawn geometry\" is 8 bytes per quad drawn plus 4 per far block drawn.\n",
+         error in 8-bit steps, share of pixels with a channel off by more than 8/255), drawn by a \
+         renderer holding level 0 alone. The budgets share one upload (every node some budget \
+         of the sweep selects), so the resident bytes are the sweep's, the same in every row, \
+         not what one budget alone would need; \"drawn geometry\" is 8 bytes per quad drawn plus 4 per far block drawn.\n",
         SECTIONS[3]
     );
     match &m.image {
