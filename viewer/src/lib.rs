@@ -10,8 +10,14 @@
 //! [`deferred_reference`] (the same rays shaded with the GPU's lighting model). Both renderers
 //! and the GPU path share the [`camera`] and the [`lighting`].
 
+pub mod controls;
+pub mod flight;
 pub mod gpu_view;
+pub mod headless;
 pub mod scene;
+pub mod screenshot;
+pub mod stream;
+pub mod view;
 pub mod window;
 
 pub use voxel_reference::{camera, deferred_reference, lighting, reference_raycast};
