@@ -26,8 +26,9 @@ pub fn draw_frame(ctx: &GpuContext, view: &mut StreamedView) -> Result<Vec<PassT
     renderer.collect_timings().map_err(StreamError::Renderer)
 }
 
-/// Streams `view` around `camera` until it has committed a view and has nothing left to
-/// load (or `timeout` passes: an error). `progress` gets the status every
+/// Streams `view` around `camera` until it has settled ([`StreamStatus::settled`]: the
+/// resident nodes are exactly the committed view's) with no replacement loading (or `timeout`
+/// passes: an error). `progress` gets the status every
 /// [`PROGRESS_EVERY`] and once at the end.
 pub fn load(
     view: &mut StreamedView,
@@ -40,8 +41,7 @@ pub fn load(
     loop {
         view.update(camera)?;
         let (status, next) = view.status();
-        let settled = status.ready && status.loading.is_none() && !status.planning;
-        if settled && next.is_none() && status.queued_uploads == 0 {
+        if status.settled() && next.is_none() {
             view.renderer_mut().flush_uploads();
             progress(&status);
             return Ok(());

@@ -100,9 +100,11 @@ impl StreamedView {
     /// A control the device cannot run (e.g. a far path it lacks) is an error naming why,
     /// and changes nothing.
     pub fn apply(&mut self, ctx: &GpuContext, controls: &Controls) -> Result<(), StreamError> {
-        let target = self.controls();
-        if target.needs_restream(controls) {
-            let settings = controls.applied_to(self.settings());
+        let settings = controls
+            .applied_to(self.settings())
+            .validate()
+            .map_err(StreamError::Settings)?;
+        if self.controls().needs_restream(controls) {
             let (width, height) = self.size;
             self.next = Some(Streamer::new(ctx, &settings, width, height)?);
         }

@@ -86,11 +86,24 @@ pub struct StreamStatus {
     pub in_flight: usize,
     /// Built nodes waiting for the upload limit.
     pub queued_uploads: usize,
+    /// Nodes no plan selects any more, waiting to be freed.
+    pub freeing: usize,
     /// Totals.
     pub counters: StreamCounters,
 }
 
 impl StreamStatus {
+    /// True when a plan is committed and nothing is being planned, built, uploaded or freed:
+    /// the resident nodes are exactly the committed plan's.
+    pub fn settled(&self) -> bool {
+        self.ready
+            && self.loading.is_none()
+            && !self.planning
+            && self.in_flight == 0
+            && self.queued_uploads == 0
+            && self.freeing == 0
+    }
+
     /// A one-line progress report: `loading terrain: D/T nodes` or what is resident.
     pub fn progress_line(&self) -> String {
         match self.loading {

@@ -64,6 +64,8 @@ pub struct Streamer {
     source: Arc<NodeSource>,
     extent: Extent,
     entries: HashMap<NodeKey, Entry>,
+    /// Resident entries and their bytes (kept with `entries`, so status costs nothing).
+    resident: (usize, u64),
     committed: Option<Arc<Plan>>,
     wanted: Option<Wanted>,
     planning: Option<Receiver<Plan>>,
@@ -107,6 +109,7 @@ impl Streamer {
             far,
             source,
             entries: HashMap::new(),
+            resident: (0, 0),
             committed: None,
             wanted: None,
             planning: None,
@@ -202,15 +205,7 @@ impl Streamer {
 
     /// Where streaming stands (for the overlay and progress lines).
     pub fn status(&self) -> StreamStatus {
-        let resident = self.resident_keys().count();
-        let bytes = self
-            .entries
-            .values()
-            .map(|e| match e {
-                Entry::Resident(Some((_, b))) => *b,
-                _ => 0,
-            })
-            .sum();
+        let (resident, bytes) = self.resident;
         StreamStatus {
             ready: self.ready(),
             loading: self.wanted.as_ref().map(|w| {
@@ -225,6 +220,7 @@ impl Streamer {
             memory_floor_px: (self.memory_floor_px > 0.0).then_some(self.memory_floor_px),
             in_flight: self.in_flight,
             queued_uploads: self.uploads.len(),
+            freeing: self.to_free.len(),
             counters: self.counters,
         }
     }
@@ -278,6 +274,29 @@ impl Streamer {
         lod::focal_px(self.renderer.camera().fov_y, self.renderer.targets().height)
     }
 
+    /// Sets `key`'s entry, keeping the resident totals.
+    fn set_entry(&mut self, key: NodeKey, entry: Entry) {
+        let old = self.entries.insert(key, entry);
+        self.count(old, -1);
+        self.count(Some(entry), 1);
+    }
+
+    /// Forgets `key`, keeping the resident totals; returns its entry.
+    fn remove_entry(&mut self, key: &NodeKey) -> Option<Entry> {
+        let old = self.entries.remove(key);
+        self.count(old, -1);
+        old
+    }
+
+    fn count(&mut self, entry: Option<Entry>, sign: i64) {
+        if let Some(Entry::Resident(handle)) = entry {
+            let bytes = handle.map_or(0, |(_, b)| b);
+            let (n, total) = &mut self.resident;
+            *n = n.wrapping_add_signed(sign as isize);
+            *total = total.wrapping_add_signed(sign * bytes as i64);
+        }
+    }
+
     /// True when the committed or the wanted plan selects `key`.
     fn needed(&self, key: &NodeKey) -> bool {
         self.committed
@@ -327,9 +346,9 @@ impl Streamer {
             self.counters.built += 1;
             let built = result.map_err(StreamError::Build)?;
             if !self.needed(&key) {
-                self.entries.remove(&key);
+                self.remove_entry(&key);
             } else if let Some(built) = built {
-                self.entries.insert(key, Entry::Built);
+                self.set_entry(key, Entry::Built);
                 self.uploads.push_back((key, built));
             } else {
                 self.mark_resident(key, None);
@@ -339,7 +358,7 @@ impl Streamer {
     }
 
     fn mark_resident(&mut self, key: NodeKey, handle: Option<(ChunkHandle, u64)>) {
-        self.entries.insert(key, Entry::Resident(handle));
+        self.set_entry(key, Entry::Resident(handle));
         let committed = self
             .committed
             .as_ref()
@@ -361,7 +380,7 @@ impl Streamer {
             let key = *key;
             if !self.needed(&key) {
                 self.uploads.pop_front();
-                self.entries.remove(&key);
+                self.remove_entry(&key);
                 continue;
             }
             let size = built.bytes();
@@ -427,7 +446,7 @@ impl Streamer {
                 continue;
             }
             build::spawn(&self.source, key, &self.finished_sender);
-            self.entries.insert(key, Entry::Building);
+            self.set_entry(key, Entry::Building);
             self.in_flight += 1;
         }
     }
@@ -447,7 +466,7 @@ impl Streamer {
                             .map_err(StreamError::Renderer)?;
                         self.counters.freed += 1;
                     }
-                    self.entries.remove(&key);
+                    self.remove_entry(&key);
                 }
                 // Building or queued: dropped when it arrives or is reached.
                 Some(_) | None => {}
