@@ -43,6 +43,9 @@ pub struct Args {
     /// Where F12 writes screenshots (window mode).
     #[arg(long, value_name = "DIR", default_value = "target/screenshots")]
     pub screenshot_dir: PathBuf,
+    /// Window mode (tests): write a screenshot after this many presented frames, as F12 does.
+    #[arg(long, hide = true, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub screenshot_at: Option<u64>,
     /// Image (or window) width in pixels [default: 960, 1920 with --flight].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=8192))]
     pub width: Option<u32>,
@@ -58,10 +61,10 @@ pub struct Args {
     pub chunks: Option<i32>,
     /// Streamed terrain: distance from the camera, in blocks, within which the terrain is
     /// streamed (levels of detail beyond the near ring).
-    #[arg(long, value_name = "BLOCKS", default_value_t = 2048, value_parser = parse_radius, conflicts_with_all = ["vox", "chunks"])]
+    #[arg(long, value_name = "BLOCKS", default_value_t = 2048, value_parser = parse_radius, allow_hyphen_values = true, conflicts_with_all = ["vox", "chunks"])]
     pub radius: u32,
     /// Streamed terrain: the screen-space error budget, pixels (0 = full detail everywhere).
-    #[arg(long, value_name = "PX", default_value_t = 1.0, value_parser = parse_budget, conflicts_with_all = ["vox", "chunks"])]
+    #[arg(long, value_name = "PX", default_value_t = 1.0, value_parser = parse_budget, allow_hyphen_values = true, conflicts_with_all = ["vox", "chunks"])]
     pub budget: f32,
     /// Streamed terrain: how blocks are meshed.
     #[arg(long, value_name = "MODE", default_value = "greedy", value_parser = parse_mesher, conflicts_with_all = ["vox", "chunks"])]
@@ -92,7 +95,7 @@ pub struct Args {
     pub cpu: bool,
     /// Fly a scripted path over the streamed terrain for this many seconds, headless, and
     /// print frame-time percentiles (CPU, GPU, frame) and nodes streamed per second.
-    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds, conflicts_with_all = ["window", "vox", "chunks", "cpu", "camera"])]
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds, allow_hyphen_values = true, conflicts_with_all = ["window", "vox", "chunks", "cpu", "camera"])]
     pub flight: Option<f64>,
     /// With --flight: also write the figures as JSON to this file.
     #[arg(long, value_name = "FILE", requires = "flight")]

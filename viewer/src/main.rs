@@ -125,6 +125,7 @@ fn main() -> ExitCode {
             resize_to: args.resize_to,
             overlay: !args.no_overlay,
             screenshot_dir: args.screenshot_dir.clone(),
+            screenshot_at: args.screenshot_at,
             ..WindowOptions::new(width, height)
         };
         let source = match &shown {

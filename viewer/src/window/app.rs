@@ -88,11 +88,16 @@ impl<'a> App<'a> {
     fn report(&self) -> Option<WindowReport> {
         let gpu = self.gpu.as_ref()?;
         let (width, height) = gpu.size();
+        let terrain = match gpu.drawn() {
+            Drawn::Streamed(view) => Some(view.status().0.progress_line()),
+            Drawn::Fixed { .. } => None,
+        };
         Some(WindowReport {
             frames: self.stats.presented(),
             width,
             height,
             adapter: gpu.adapter(),
+            terrain,
         })
     }
 
@@ -150,6 +155,9 @@ impl<'a> App<'a> {
         {
             eprintln!("viewer: {e}");
             self.panel.message = Some(e.to_string());
+        }
+        if presented && self.options.screenshot_at == Some(self.stats.presented()) {
+            self.screenshot = true;
         }
         if presented && std::mem::take(&mut self.screenshot) {
             let message = match gpu.screenshot(&self.options.screenshot_dir) {

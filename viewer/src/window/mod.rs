@@ -73,6 +73,8 @@ pub struct WindowOptions {
     pub overlay: bool,
     /// Where F12 writes screenshots.
     pub screenshot_dir: PathBuf,
+    /// Tests: write a screenshot after this many presented frames, as F12 would.
+    pub screenshot_at: Option<u64>,
 }
 
 impl WindowOptions {
@@ -87,6 +89,7 @@ impl WindowOptions {
             resize_to: None,
             overlay: true,
             screenshot_dir: PathBuf::from("target/screenshots"),
+            screenshot_at: None,
         }
     }
 }
@@ -102,6 +105,8 @@ pub struct WindowReport {
     pub height: u32,
     /// The adapter it ran on.
     pub adapter: String,
+    /// A streamed terrain's state at the end (its progress line).
+    pub terrain: Option<String>,
 }
 
 impl fmt::Display for WindowReport {
@@ -110,7 +115,11 @@ impl fmt::Display for WindowReport {
             f,
             "presented {} frames {}x{} on {}",
             self.frames, self.width, self.height, self.adapter
-        )
+        )?;
+        if let Some(terrain) = &self.terrain {
+            write!(f, "; {terrain}")?;
+        }
+        Ok(())
     }
 }
 

@@ -15,7 +15,8 @@ pub const HINTS: &str = "W/A/S/D move · Space/Shift up/down · drag to look · 
 /// What the overlay shows this frame.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Panel {
-    /// Show the statistics and controls window (F1).
+    /// Show the overlay (F1): statistics, controls, hints and the last message. Without it
+    /// only the loading banner is drawn.
     pub show: bool,
     /// Statistics, one line each.
     pub lines: Vec<String>,
@@ -36,6 +37,9 @@ pub fn ui(ctx: &Context, panel: &mut Panel) {
                 ui.heading(RichText::new(banner).strong());
             });
     }
+    if !panel.show {
+        return;
+    }
     Area::new(Id::unique("hints"))
         .anchor(Align2::LEFT_BOTTOM, [8.0, -6.0])
         .show(ctx, |ui| {
@@ -44,9 +48,6 @@ pub fn ui(ctx: &Context, panel: &mut Panel) {
             }
             ui.small(HINTS);
         });
-    if !panel.show {
-        return;
-    }
     egui::Window::new("viewer")
         .resizable(false)
         .default_pos([8.0, 8.0])
