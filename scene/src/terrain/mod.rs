@@ -3,7 +3,7 @@
 //! Deterministic for a seed: the same seed gives the same blocks on every machine, so tests and
 //! benchmarks can use it as a fixed input.
 
-mod node;
+pub mod node;
 mod region;
 
 use fastnoise_lite::{FastNoiseLite, FractalType, NoiseType};

@@ -3,7 +3,7 @@
 
 use std::collections::{HashMap, VecDeque};
 use std::sync::Arc;
-use std::sync::mpsc::{Receiver, Sender, TryRecvError, channel};
+use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::time::Instant;
 
 use gpu_backend::GpuContext;
@@ -15,7 +15,7 @@ use gpu_backend::render::memory_plan::MAX_PLAN_BUDGET_PX;
 use gpu_backend::render::{ChunkMeshData, RenderCamera, RenderError, Renderer};
 use voxel_scene::{TERRAIN_TOP, TerrainBlocks};
 
-use super::build::{self, BuiltNode, Finished, NodeSource};
+use super::build::{Builders, BuiltNode, Finished, NodeSource};
 use super::plan::{self, Plan};
 use super::selection::{Extent, NodeKey};
 use super::settings::StreamSettings;
@@ -26,8 +26,8 @@ use crate::lighting::{Lighting, lighting_params};
 /// What the streamer knows of a node.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Entry {
-    /// A worker is building it.
-    Building,
+    /// Queued for the workers, or being built.
+    Loading,
     /// Built, waiting for the upload limit.
     Built,
     /// Resident: its handle and bytes, or nothing to draw.
@@ -61,7 +61,6 @@ pub struct Streamer {
     renderer: Renderer,
     settings: StreamSettings,
     far: FarChoice,
-    source: Arc<NodeSource>,
     extent: Extent,
     entries: HashMap<NodeKey, Entry>,
     /// Resident entries and their bytes (kept with `entries`, so status costs nothing).
@@ -69,13 +68,12 @@ pub struct Streamer {
     committed: Option<Arc<Plan>>,
     wanted: Option<Wanted>,
     planning: Option<Receiver<Plan>>,
-    finished_sender: Sender<Finished>,
+    builders: Builders,
     finished: Receiver<Finished>,
-    to_load: VecDeque<NodeKey>,
     uploads: VecDeque<(NodeKey, BuiltNode)>,
     to_free: VecDeque<NodeKey>,
+    /// Nodes queued or being built.
     in_flight: usize,
-    max_in_flight: usize,
     /// The budget raised to fit the memory (0 until memory ran out).
     memory_floor_px: f32,
     counters: StreamCounters,
@@ -99,6 +97,7 @@ impl Streamer {
         let far_blocks = far.path != gpu_backend::render::far::FarPath::Off;
         let source = Arc::new(NodeSource::new(&settings, &palette, blocks, far_blocks));
         let (finished_sender, finished) = channel();
+        let builders = Builders::new(source, finished_sender).map_err(StreamError::Build)?;
         Ok(Streamer {
             renderer,
             extent: Extent {
@@ -107,21 +106,16 @@ impl Streamer {
             },
             settings,
             far,
-            source,
+            builders,
             entries: HashMap::new(),
             resident: (0, 0),
             committed: None,
             wanted: None,
             planning: None,
-            finished_sender,
             finished,
-            to_load: VecDeque::new(),
             uploads: VecDeque::new(),
             to_free: VecDeque::new(),
             in_flight: 0,
-            // Enough to keep every worker busy between two frames, few enough that a
-            // replaced plan's queued nodes are not built for nothing.
-            max_in_flight: 4 * rayon::current_num_threads(),
             memory_floor_px: 0.0,
             counters: StreamCounters::default(),
         })
@@ -233,7 +227,6 @@ impl Streamer {
         self.receive_plan()?;
         self.receive_finished()?;
         self.upload()?;
-        self.feed();
         self.free_some()?;
         self.commit_if_loaded()?;
         self.replan_if_needed(camera);
@@ -321,18 +314,31 @@ impl Streamer {
         for &key in &plan.abandoned {
             self.to_free.push_back(key);
         }
-        self.to_load.clear();
+        // Queued nodes of the replaced plan that no worker started: forgotten (those this
+        // plan wants are queued again below, in its order).
+        for key in self.builders.take_queued() {
+            if self.entries.get(&key) == Some(&Entry::Loading) {
+                self.remove_entry(&key);
+                self.in_flight -= 1;
+            }
+        }
         let mut pending = 0;
+        let mut queue = Vec::new();
         for &key in &plan.load {
             match self.entries.get(&key) {
                 Some(Entry::Resident(_)) => {}
                 Some(_) => pending += 1,
                 None => {
                     pending += 1;
-                    self.to_load.push_back(key);
+                    queue.push(key);
                 }
             }
         }
+        for &key in &queue {
+            self.set_entry(key, Entry::Loading);
+        }
+        self.in_flight += queue.len();
+        self.builders.queue(queue);
         self.wanted = Some(Wanted {
             plan: Arc::new(plan),
             pending,
@@ -436,21 +442,6 @@ impl Streamer {
         Ok(())
     }
 
-    /// Starts building the wanted plan's nodes, nearest first, up to the in-flight limit.
-    fn feed(&mut self) {
-        while self.in_flight < self.max_in_flight {
-            let Some(key) = self.to_load.pop_front() else {
-                break;
-            };
-            if self.entries.contains_key(&key) || !self.needed(&key) {
-                continue;
-            }
-            build::spawn(&self.source, key, &self.finished_sender);
-            self.set_entry(key, Entry::Building);
-            self.in_flight += 1;
-        }
-    }
-
     /// Frees nodes no plan selects any more, for at most the upload limit's time.
     fn free_some(&mut self) -> Result<(), StreamError> {
         let started = Instant::now();
@@ -468,7 +459,7 @@ impl Streamer {
                     }
                     self.remove_entry(&key);
                 }
-                // Building or queued: dropped when it arrives or is reached.
+                // Loading or built: dropped when it arrives or is reached.
                 Some(_) | None => {}
             }
             if started.elapsed() >= self.settings.upload.time {

@@ -46,7 +46,7 @@ pub fn ui(ctx: &Context, panel: &mut Panel) {
             if let Some(message) = &panel.message {
                 ui.label(RichText::new(message).strong());
             }
-            ui.small(HINTS);
+            ui.label(HINTS);
         });
     egui::Window::new("viewer")
         .resizable(false)
