@@ -304,3 +304,61 @@ fn screenshots_are_pngs_of_the_frame() {
     assert_eq!(rgba, view.renderer().read_image().unwrap().rgba);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The memory plan's rule: a view that does not fit its memory is drawn at a raised budget,
+/// whole; one that cannot fit even at the coarsest budget is an error naming the problem.
+#[test]
+fn too_little_memory_raises_the_budget_and_never_holes() {
+    let Some(ctx) = context() else {
+        return;
+    };
+    let (w, h) = (96, 54);
+    let camera = render_camera(&terrain_view(&terrain()), ChunkSize::S16);
+    let roomy = StreamSettings {
+        max_nodes: 4096,
+        ..small(192)
+    };
+    let mut view = StreamedView::new(&ctx, &roomy, w, h).unwrap();
+    load(&mut view, &camera, LOAD, |_| {}).unwrap();
+    let needed = view.streamer().status().drawn_nodes as u32;
+    assert_eq!(view.streamer().status().memory_floor_px, None);
+
+    // Room for a third of the nodes the view selects at 1 px.
+    let tight = StreamSettings {
+        max_nodes: needed / 3,
+        ..roomy.clone()
+    };
+    let mut view = StreamedView::new(&ctx, &tight, w, h).unwrap();
+    load(&mut view, &camera, LOAD, |_| {}).unwrap();
+    let status = view.streamer().status();
+    let floor = status.memory_floor_px.expect("the budget was raised");
+    assert!(floor > 1.0);
+    assert_eq!(status.budget_px, Some(floor));
+    assert_eq!(view.renderer().lod().map(|l| l.budget_px), Some(floor));
+    assert!(status.drawn_nodes as u32 <= needed / 3);
+    assert!(view.streamer().holes().is_empty());
+    let want = expected(
+        &StreamSettings {
+            budget_px: floor,
+            ..tight.clone()
+        },
+        &camera,
+        h,
+    );
+    assert_eq!(
+        resident(view.streamer()),
+        want,
+        "the raised budget's selection, whole"
+    );
+
+    // Room for one node: not even the coarsest view fits.
+    let hopeless = StreamSettings {
+        max_nodes: 1,
+        ..roomy
+    };
+    let mut view = StreamedView::new(&ctx, &hopeless, w, h).unwrap();
+    let err = load(&mut view, &camera, LOAD, |_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("do not fit even at an error budget"), "{err}");
+}

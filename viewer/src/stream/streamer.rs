@@ -390,7 +390,12 @@ impl Streamer {
                 continue;
             }
             let size = built.bytes();
-            if bytes > 0 && (bytes + size > limit.bytes || started.elapsed() >= limit.time) {
+            let time = if self.ready() {
+                limit.time
+            } else {
+                limit.first_view_time
+            };
+            if bytes > 0 && (bytes + size > limit.bytes || started.elapsed() >= time) {
                 break;
             }
             let data = ChunkMeshData {
