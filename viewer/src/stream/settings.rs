@@ -102,7 +102,7 @@ impl Default for Layers {
 pub struct UploadLimit {
     /// Bytes of node data per frame.
     pub bytes: u64,
-    /// Time spent uploading (and freeing) per frame.
+    /// Time spent uploading per frame (freeing gets a quarter of it).
     pub time: Duration,
     /// Time spent uploading per frame while nothing is drawn yet.
     pub first_view_time: Duration,

@@ -447,7 +447,7 @@ impl Streamer {
         Ok(())
     }
 
-    /// Frees nodes no plan selects any more, for at most the upload limit's time.
+    /// Frees nodes no plan selects any more, for at most a quarter of the upload limit's time.
     fn free_some(&mut self) -> Result<(), StreamError> {
         let started = Instant::now();
         while let Some(key) = self.to_free.pop_front() {
@@ -467,7 +467,8 @@ impl Streamer {
                 // Loading or built: dropped when it arrives or is reached.
                 Some(_) | None => {}
             }
-            if started.elapsed() >= self.settings.upload.time {
+            // A free costs about 0.3 µs here: a quarter of the upload time frees thousands.
+            if started.elapsed() >= self.settings.upload.time / 4 {
                 break;
             }
         }
