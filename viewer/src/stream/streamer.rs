@@ -454,18 +454,15 @@ impl Streamer {
             if self.needed(&key) {
                 continue;
             }
-            match self.entries.get(&key) {
-                Some(Entry::Resident(handle)) => {
-                    if let Some((handle, _)) = handle {
-                        self.renderer
-                            .free_chunk(*handle)
-                            .map_err(StreamError::Renderer)?;
-                        self.counters.freed += 1;
-                    }
-                    self.remove_entry(&key);
+            // Loading or built nodes are dropped when they arrive or are reached instead.
+            if let Some(&Entry::Resident(handle)) = self.entries.get(&key) {
+                if let Some((handle, _)) = handle {
+                    self.renderer
+                        .free_chunk(handle)
+                        .map_err(StreamError::Renderer)?;
+                    self.counters.freed += 1;
                 }
-                // Loading or built: dropped when it arrives or is reached.
-                Some(_) | None => {}
+                self.remove_entry(&key);
             }
             // A free costs about 0.3 µs here: a quarter of the upload time frees thousands.
             if started.elapsed() >= self.settings.upload.time / 4 {

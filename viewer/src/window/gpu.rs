@@ -49,13 +49,13 @@ pub struct SceneCounts {
 pub enum Drawn {
     /// A scene uploaded whole.
     Fixed {
-        /// Its renderer.
-        renderer: Renderer,
+        /// Its renderer (boxed, as the streamed view is: both are large).
+        renderer: Box<Renderer>,
         /// What it holds.
         counts: SceneCounts,
     },
     /// The streamed terrain.
-    Streamed(StreamedView),
+    Streamed(Box<StreamedView>),
 }
 
 impl Drawn {
@@ -128,11 +128,14 @@ impl GpuWindow {
                     .map_err(WindowError::Scene)?;
                 renderer.set_lighting(&lighting_params(&Lighting::default()));
                 let counts = scene_counts(&renderer);
-                Drawn::Fixed { renderer, counts }
+                Drawn::Fixed {
+                    renderer: Box::new(renderer),
+                    counts,
+                }
             }
-            WindowSource::Streamed(settings) => Drawn::Streamed(
+            WindowSource::Streamed(settings) => Drawn::Streamed(Box::new(
                 StreamedView::new(&ctx, settings, width, height).map_err(WindowError::Stream)?,
-            ),
+            )),
         };
         let overlay = Overlay::new(&window, &ctx.device, output.format());
         Ok(GpuWindow {
