@@ -43,10 +43,11 @@
 //! # Memory
 //!
 //! The renderer gets the settings' memory for node data (split per kind in `sizing.rs`) and
-//! table room for `max_nodes`. When an upload finds no room, the budget is raised by 2^(1/4)
-//! and the plan made again, the rule of [`memory_plan`](gpu_backend::render::memory_plan): the
-//! farthest detail gives way first, and what is drawn stays whole. The raised budget stays
-//! until another budget is asked for ([`StreamStatus::memory_floor_px`] reports it).
+//! table room for [`StreamSettings::node_capacity`] nodes. When an upload finds no room, the
+//! budget is raised by 2^(1/4) and the plan made again, the rule of
+//! [`memory_plan`](gpu_backend::render::memory_plan): the farthest detail gives way first, and
+//! what is drawn stays whole. The raised budget stays until another budget is asked for
+//! ([`StreamStatus::memory_floor_px`] reports it).
 
 mod build;
 mod plan;

@@ -141,7 +141,8 @@ pub struct StreamSettings {
     pub hysteresis: f32,
     /// GPU bytes for node data (all gigabuffer kinds together).
     pub memory_bytes: u64,
-    /// Resident nodes at most (the renderer's table capacity).
+    /// Resident nodes at most (the renderer's table capacity is this or, for a small radius,
+    /// less: [`node_capacity`](Self::node_capacity)).
     pub max_nodes: u32,
     /// Per-frame upload limit.
     pub upload: UploadLimit,
@@ -228,6 +229,25 @@ impl StreamSettings {
         Ok(self)
     }
 
+    /// The renderer's node capacity: `max_nodes`, or twice the level-0 chunks that fit in the
+    /// radius (plus a margin) when that is less. A plan never selects more nodes than level-0
+    /// chunks in its radius (each node covers at least one), and at most two plans are resident
+    /// at once; the tables and cull outputs cost about 2.6 KB per node of capacity and the cull
+    /// passes run over all of it, so a small radius should not pay for 65,536.
+    pub fn node_capacity(&self) -> u32 {
+        let edge = f64::from(self.chunk.edge());
+        // The radius grown by a chunk's diagonal: chunks partly inside count.
+        let reach = f64::from(self.radius) + edge * std::f64::consts::SQRT_2;
+        let columns = std::f64::consts::PI * reach * reach / (edge * edge);
+        let layers = f64::from(voxel_scene::TERRAIN_TOP as u32 / self.chunk.edge() + 1);
+        let bound = 2.0 * columns * layers + 256.0;
+        if bound < f64::from(self.max_nodes) {
+            bound as u32
+        } else {
+            self.max_nodes
+        }
+    }
+
     /// The highest level of detail streamed: nodes of the top level are about a quarter of
     /// the streamed diameter wide (at least level 0; at most 15, the renderer's largest).
     pub fn top_level(&self) -> u32 {
@@ -292,6 +312,15 @@ mod tests {
         assert_eq!(at(256), 3);
         assert_eq!(at(16), 0);
         assert_eq!(at(MAX_RADIUS), 15);
+        let capacity = |radius| {
+            StreamSettings {
+                radius,
+                ..Default::default()
+            }
+            .node_capacity()
+        };
+        assert_eq!(capacity(2048), 1 << 16, "the cap");
+        assert!((500..1000).contains(&capacity(64)), "{}", capacity(64));
         assert_eq!(far_name(FarRequest::Path(FarPath::Sprite)), "sprite");
     }
 }

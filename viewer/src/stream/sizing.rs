@@ -42,7 +42,8 @@ pub fn renderer_config(
         parts.push((DataKind::SmoothQuads, 1));
     }
     let total: u64 = parts.iter().map(|(_, p)| p).sum();
-    let mut gigabuffer = GigabufferConfig::empty().with_max_chunks(settings.max_nodes);
+    let capacity = settings.node_capacity();
+    let mut gigabuffer = GigabufferConfig::empty().with_max_chunks(capacity);
     for (kind, part) in parts {
         let mut bytes = memory / total * part;
         if kind == DataKind::DrawBlocks {
@@ -52,7 +53,7 @@ pub fn renderer_config(
     }
     let mut config = RendererConfig::new(width, height, settings.chunk);
     config.gigabuffer = gigabuffer;
-    config.max_chunks = settings.max_nodes;
+    config.max_chunks = capacity;
     config.smooth = SmoothFrame::nocubes(settings.chunk);
     config.far = match far {
         FarPath::Off => FarRequest::Off,
