@@ -96,7 +96,8 @@ impl StreamedView {
     }
 
     /// Applies `controls`: a new budget is planned by the streamers; a new mesher mode, far
-    /// path or set of layers starts a replacement streamer (replacing one still loading).
+    /// path or set of layers starts a replacement streamer (replacing one still loading, or
+    /// dropping it when the controls go back to what is drawn).
     /// A control the device cannot run (e.g. a far path it lacks) is an error naming why,
     /// and changes nothing.
     pub fn apply(&mut self, ctx: &GpuContext, controls: &Controls) -> Result<(), StreamError> {
@@ -104,7 +105,10 @@ impl StreamedView {
             .applied_to(self.settings())
             .validate()
             .map_err(StreamError::Settings)?;
-        if self.controls().needs_restream(controls) {
+        if !Controls::of(self.current.settings()).needs_restream(controls) {
+            // Back to what is drawn: the replacement, if any, is not needed.
+            self.next = None;
+        } else if self.controls().needs_restream(controls) {
             let (width, height) = self.size;
             self.next = Some(Streamer::new(ctx, &settings, width, height)?);
         }

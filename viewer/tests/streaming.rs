@@ -248,6 +248,15 @@ fn overlay_controls_change_the_renderer() {
     assert_eq!(meshed.far_nodes, 0);
     assert!(meshed.transparent_quads > 0, "water in view: {meshed:?}");
 
+    // A change taken back before it loaded: the replacement is dropped.
+    let mut smooth = controls;
+    smooth.mesher = MesherMode::Smooth;
+    view.apply(&ctx, &smooth).unwrap();
+    assert!(view.replacement().is_some());
+    view.apply(&ctx, &controls).unwrap();
+    assert!(view.replacement().is_none());
+    assert_eq!(view.controls(), controls);
+
     // The transparent layer hidden: no water drawn.
     controls.layers.transparent = false;
     view.apply(&ctx, &controls).unwrap();
