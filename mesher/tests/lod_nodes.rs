@@ -137,3 +137,37 @@ fn each_node_carries_its_chunks_layers() {
     );
     assert_eq!(plain.len(), nodes.len());
 }
+
+#[test]
+fn meshing_a_filled_neighbourhood_equals_meshing_the_world() {
+    use mesher::lod::{NodeMesh, NodeMesher};
+    let classes = BlockClasses::from_palette(&palette());
+    let world = world();
+    let settings = NodeSettings {
+        mesh: MeshSettings::default(),
+        far_blocks: true,
+    };
+    let mut from_world = NodeMesher::new();
+    let mut from_padded = NodeMesher::new();
+    let mut padded = PaddedChunk::new(ChunkSize::S8);
+    let mut meshed = 0;
+    for coord in coords(&world) {
+        let (mut a, mut b) = (NodeMesh::default(), NodeMesh::default());
+        from_world
+            .mesh_node(&world, coord, 1, &classes, &settings, &mut a)
+            .unwrap();
+        // The caller's own neighbourhood: here gathered, as a generator would fill it.
+        gather_neighbourhood(&world, coord, &mut padded);
+        from_padded
+            .mesh_padded(&padded, coord, 1, &classes, &settings, &mut b)
+            .unwrap();
+        if a.is_empty() {
+            // mesh_node skips absent and buried chunks without extracting (no masks either).
+            assert!(b.is_empty(), "chunk {coord:?} draws nothing either way");
+        } else {
+            assert_eq!(a, b, "chunk {coord:?}");
+            meshed += 1;
+        }
+    }
+    assert!(meshed > 10, "{meshed} chunks drew something");
+}

@@ -4,7 +4,8 @@
 //! the benchmarks:
 //!
 //! - [`terrain`]: the built-in procedural terrain (hills, caves, a sea), deterministic for a
-//!   seed, as a chunk map ([`terrain_scene`], [`terrain_columns`]);
+//!   seed, as a chunk map ([`terrain_scene`], [`terrain_columns`]) or node by node at any
+//!   level of detail, without bounds, for streaming ([`Terrain::fill_node`]);
 //! - [`vox`]: a strict MagicaVoxel `.vox` loader: every model of the scene graph with its
 //!   transforms, hidden nodes and layers left out, palette and materials, and a clear error
 //!   for every malformed file.
@@ -21,5 +22,5 @@ pub mod terrain;
 pub mod vox;
 
 pub use terrain::{
-    TERRAIN_TOP, Terrain, TerrainBlocks, TerrainScene, terrain_columns, terrain_scene,
+    NodeContent, TERRAIN_TOP, Terrain, TerrainBlocks, TerrainScene, terrain_columns, terrain_scene,
 };

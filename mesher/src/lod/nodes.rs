@@ -101,11 +101,32 @@ impl NodeMesher {
         if is_trivially_empty(world, coord, classes) {
             return Ok(());
         }
-        let padded = self
+        let mut padded = self
             .padded
-            .get_or_insert_with(|| PaddedChunk::new(world.size()));
-        gather_neighbourhood(world, coord, padded);
-        let result = self.extract(coord, classes, settings, out);
+            .take()
+            .unwrap_or_else(|| PaddedChunk::new(world.size()));
+        gather_neighbourhood(world, coord, &mut padded);
+        let result = self.mesh_padded(&padded, coord, level, classes, settings, out);
+        self.padded = Some(padded);
+        result
+    }
+
+    /// Meshes node `coord` of `level` from a padded neighbourhood the caller filled (for
+    /// example straight from a procedural generator, with no world map in between) into
+    /// `out`: the same extraction as [`mesh_node`](Self::mesh_node) after its gather. On
+    /// error `out` is left empty.
+    pub fn mesh_padded(
+        &mut self,
+        padded: &PaddedChunk,
+        coord: ChunkCoord,
+        level: u32,
+        classes: &BlockClasses,
+        settings: &NodeSettings,
+        out: &mut NodeMesh,
+    ) -> Result<(), MeshError> {
+        out.coord = coord;
+        out.level = level;
+        let result = self.extract(padded, coord, classes, settings, out);
         if result.is_err() {
             out.mesh.clear();
             out.skirts.clear();
@@ -118,14 +139,17 @@ impl NodeMesher {
 
     fn extract(
         &mut self,
+        padded: &PaddedChunk,
         coord: ChunkCoord,
         classes: &BlockClasses,
         settings: &NodeSettings,
         out: &mut NodeMesh,
     ) -> Result<(), MeshError> {
-        let Some(padded) = self.padded.as_ref() else {
-            return Ok(());
-        };
+        out.mesh.clear();
+        out.skirts.clear();
+        out.blocks.clear();
+        out.hiding_mask.clear();
+        out.transparent_mask.clear();
         self.chunk
             .mesh_gathered(padded, coord, classes, &settings.mesh, &mut out.mesh)?;
         skirt_quads(padded, classes, &mut out.skirts)?;

@@ -3,11 +3,13 @@
 //! Deterministic for a seed: the same seed gives the same blocks on every machine, so tests and
 //! benchmarks can use it as a fixed input.
 
+pub mod node;
 mod region;
 
 use fastnoise_lite::{FastNoiseLite, FractalType, NoiseType};
 use voxel_core::{BlockId, Material, MaterialClass, MaterialPalette};
 
+pub use node::NodeContent;
 pub use region::{TERRAIN_TOP, TerrainScene, terrain_columns, terrain_scene};
 
 /// Block ids of the terrain's materials, in the order [`TerrainBlocks::palette`] adds them.
@@ -89,6 +91,11 @@ impl Terrain {
         }
     }
 
+    /// The block ids this terrain writes.
+    pub fn blocks(&self) -> TerrainBlocks {
+        self.blocks
+    }
+
     /// Ground height of the column at `(x, z)`: the y of its top solid block.
     pub fn height(&self, x: i32, z: i32) -> i32 {
         let n = self.height_noise.get_noise_2d(x as f32, z as f32);
@@ -127,6 +134,13 @@ impl Terrain {
         if self.is_cave(x, y, z, ground) {
             return BlockId::AIR;
         }
+        self.material(ground, y)
+    }
+
+    /// The block at height `y <= ground` of a column whose top solid block is at `ground`,
+    /// caves left aside: the layers (grass or snow on top, dirt, stone; sand near the sea).
+    fn material(&self, ground: i32, y: i32) -> BlockId {
+        let b = &self.blocks;
         let depth = ground - y;
         if ground <= self.sea_level + 1 {
             return if depth < 3 { b.sand } else { b.stone };

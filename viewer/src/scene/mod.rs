@@ -32,18 +32,24 @@ pub fn terrain_scene(
         palette,
         terrain,
     } = voxel_scene::terrain_scene(seed, size, chunks_x, chunks_y, chunks_z);
+    let suggested_view = terrain_view(&terrain);
+    Scene {
+        world,
+        palette,
+        suggested_view,
+    }
+}
+
+/// The built-in terrain's first view: 14 blocks above the ground (or the sea) at `(0, 40)`,
+/// looking over the hills, 70-degree vertical field of view.
+pub fn terrain_view(terrain: &Terrain) -> crate::camera::Camera {
     let eye_y = terrain.height(0, 40).max(terrain.sea_level) + 14;
-    let suggested_view = crate::camera::Camera {
+    crate::camera::Camera {
         voxel: voxel_core::WorldPos::new(0, eye_y, 40),
         fraction: glam::DVec3::splat(0.5),
         yaw: 0.35,
         pitch: -0.32,
         fov_y: 70f64.to_radians(),
-    };
-    Scene {
-        world,
-        palette,
-        suggested_view,
     }
 }
 

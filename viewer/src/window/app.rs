@@ -1,5 +1,5 @@
 //! The winit application: window events to the camera, the overlay and the GPU; one frame
-//! per redraw.
+//! per redraw, then the overlay's changed controls applied and F12's screenshot written.
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -16,10 +16,12 @@ use winit::window::{Window, WindowId};
 use gpu_backend::FrameSkipped;
 
 use super::camera::{FlyCamera, MoveKeys};
-use super::gpu::GpuWindow;
+use super::gpu::{Drawn, GpuWindow};
+use super::lines::overlay_lines;
+use super::panel::Panel;
 use super::stats::FrameStats;
-use super::{WindowError, WindowOptions, WindowReport, overlay_lines};
-use crate::scene::Scene;
+use super::{WindowError, WindowOptions, WindowReport, WindowSource};
+use crate::camera::Camera;
 
 /// Pixels of a scroll "line" for touchpads that report pixels.
 const PIXELS_PER_SCROLL_LINE: f64 = 40.0;
@@ -29,7 +31,7 @@ const RETRY_AFTER_SKIP: Duration = Duration::from_millis(50);
 
 /// The application state between events.
 pub struct App<'a> {
-    scene: &'a Scene,
+    source: WindowSource<'a>,
     options: WindowOptions,
     gpu: Option<GpuWindow>,
     camera: FlyCamera,
@@ -42,8 +44,10 @@ pub struct App<'a> {
     started: Instant,
     /// Why the last frame that was skipped was skipped.
     skipped: Option<FrameSkipped>,
-    /// The stats overlay is drawn (F1 toggles it).
-    show_overlay: bool,
+    /// The overlay's content; `panel.show` is toggled by F1.
+    panel: Panel,
+    /// F12 was pressed: write a screenshot after the next frame.
+    screenshot: bool,
     /// `options.resize_to` was asked of the window.
     resize_requested: bool,
     /// The outcome, once known.
@@ -51,12 +55,16 @@ pub struct App<'a> {
 }
 
 impl<'a> App<'a> {
-    /// An app showing `scene`.
-    pub fn new(scene: &'a Scene, options: WindowOptions) -> App<'a> {
+    /// An app showing `source` from the first `view`.
+    pub fn new(source: WindowSource<'a>, view: Camera, options: WindowOptions) -> App<'a> {
         App {
-            scene,
-            camera: FlyCamera::new(scene.suggested_view, 32.0),
-            show_overlay: options.overlay,
+            source,
+            camera: FlyCamera::new(view, 32.0),
+            panel: Panel {
+                show: options.overlay,
+                ..Panel::default()
+            },
+            screenshot: false,
             options,
             gpu: None,
             keys: MoveKeys::default(),
@@ -80,11 +88,16 @@ impl<'a> App<'a> {
     fn report(&self) -> Option<WindowReport> {
         let gpu = self.gpu.as_ref()?;
         let (width, height) = gpu.size();
+        let terrain = match gpu.drawn() {
+            Drawn::Streamed(view) => Some(view.status().0.progress_line()),
+            Drawn::Fixed { .. } => None,
+        };
         Some(WindowReport {
             frames: self.stats.presented(),
             width,
             height,
             adapter: gpu.adapter(),
+            terrain,
         })
     }
 
@@ -113,10 +126,21 @@ impl<'a> App<'a> {
             return;
         };
         let camera = self.camera.render_camera(gpu.chunk_size());
-        let lines = self
-            .show_overlay
-            .then(|| overlay_lines(&self.stats, gpu, &self.camera));
-        let presented = match gpu.draw(&camera, lines.as_deref(), &mut self.stats) {
+        self.panel.lines = if self.panel.show {
+            overlay_lines(&self.stats, gpu, &self.camera)
+        } else {
+            Vec::new()
+        };
+        let streamed = match gpu.drawn() {
+            Drawn::Streamed(view) => Some((view.controls(), view.ready(), view.status().0)),
+            Drawn::Fixed { .. } => None,
+        };
+        self.panel.controls = streamed.as_ref().map(|(controls, ..)| *controls);
+        self.panel.banner = streamed
+            .as_ref()
+            .filter(|(_, ready, _)| !ready)
+            .map(|(.., status)| status.progress_line());
+        let presented = match gpu.draw(&camera, &mut self.panel, &mut self.stats) {
             Ok(Ok(())) => true,
             Ok(Err(skipped)) => {
                 self.skipped = Some(skipped);
@@ -124,6 +148,31 @@ impl<'a> App<'a> {
             }
             Err(e) => return self.finish(event_loop, Err(e)),
         };
+        // The overlay's widgets edited the controls: apply what changed.
+        if let (Some((before, ..)), Some(after)) = (streamed, self.panel.controls)
+            && after != before
+            && let Err(e) = gpu.apply(&after)
+        {
+            eprintln!("viewer: {e}");
+            self.panel.message = Some(e.to_string());
+        }
+        if presented && self.options.screenshot_at == Some(self.stats.presented()) {
+            self.screenshot = true;
+        }
+        if presented && std::mem::take(&mut self.screenshot) {
+            let message = match gpu.screenshot(&self.options.screenshot_dir) {
+                Ok(path) => {
+                    let shown = std::fs::canonicalize(&path).unwrap_or(path);
+                    println!("viewer: screenshot {}", shown.display());
+                    format!("screenshot {}", shown.display())
+                }
+                Err(e) => {
+                    eprintln!("viewer: screenshot: {e}");
+                    format!("screenshot failed: {e}")
+                }
+            };
+            self.panel.message = Some(message);
+        }
         let resize_to = self.options.resize_to;
         if let (true, Some((width, height))) = (presented, resize_to)
             && !self.resize_requested
@@ -186,7 +235,7 @@ impl ApplicationHandler for App<'_> {
             Err(e) => return self.finish(event_loop, Err(WindowError::Window(e))),
         };
         let display = event_loop.owned_display_handle();
-        match GpuWindow::new(window, display, self.scene, self.options.vsync) {
+        match GpuWindow::new(window, display, &self.source, self.options.vsync) {
             Ok(gpu) => {
                 gpu.window().request_redraw();
                 self.started = Instant::now();
@@ -228,7 +277,10 @@ impl ApplicationHandler for App<'_> {
                         self.finish(event_loop, Ok(report));
                     }
                 } else if code == KeyCode::F1 && pressed {
-                    self.show_overlay = !self.show_overlay;
+                    self.panel.show = !self.panel.show;
+                } else if code == KeyCode::F12 && pressed {
+                    self.screenshot = true;
+                    gpu.window().request_redraw();
                 } else if !consumed || !pressed {
                     // Releases always count, so a key never sticks.
                     self.set_key(code, pressed);

@@ -1,9 +1,11 @@
-//! The window's GPU side: device and swapchain, the scene's renderer, the overlay; one frame
-//! at a time.
+//! The window's GPU side: device and swapchain, the scene's renderer (a fixed scene's, or the
+//! streamed view's), the overlay; one frame at a time.
 
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
+use gpu_backend::cull::CullStats;
 use gpu_backend::gigabuffer::DataKind;
 use gpu_backend::render::{RenderCamera, Renderer, RendererConfig};
 use gpu_backend::{DeviceOptions, FrameSkipped, GpuContext, TimingPath, WindowOutput};
@@ -11,14 +13,26 @@ use winit::event::WindowEvent;
 use winit::event_loop::OwnedDisplayHandle;
 use winit::window::Window;
 
-use super::WindowError;
 use super::overlay::Overlay;
+use super::panel::Panel;
 use super::stats::FrameStats;
+use super::{WindowError, WindowSource};
+use crate::controls::Controls;
 use crate::gpu_view::upload_world;
 use crate::lighting::{Lighting, lighting_params};
-use crate::scene::Scene;
+use crate::screenshot::{ScreenshotError, save_screenshot};
+use crate::stream::StreamError;
+use crate::view::StreamedView;
 
-/// What the scene put on the GPU (counted once, after the upload).
+/// The clear colour of the window while the first view loads (a dusk sky).
+const LOADING_SKY: wgpu::Color = wgpu::Color {
+    r: 0.18,
+    g: 0.24,
+    b: 0.32,
+    a: 1.0,
+};
+
+/// What a fixed scene put on the GPU (counted once, after the upload).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SceneCounts {
     /// Resident chunks.
@@ -31,23 +45,62 @@ pub struct SceneCounts {
     pub bytes: u64,
 }
 
+/// What the window draws.
+pub enum Drawn {
+    /// A scene uploaded whole.
+    Fixed {
+        /// Its renderer (boxed, as the streamed view is: both are large).
+        renderer: Box<Renderer>,
+        /// What it holds.
+        counts: SceneCounts,
+    },
+    /// The streamed terrain.
+    Streamed(Box<StreamedView>),
+}
+
+impl Drawn {
+    /// The renderer that draws.
+    pub fn renderer(&self) -> &Renderer {
+        match self {
+            Drawn::Fixed { renderer, .. } => renderer,
+            Drawn::Streamed(view) => view.renderer(),
+        }
+    }
+
+    fn renderer_mut(&mut self) -> &mut Renderer {
+        match self {
+            Drawn::Fixed { renderer, .. } => renderer,
+            Drawn::Streamed(view) => view.renderer_mut(),
+        }
+    }
+
+    /// True when a frame shows the scene (a streamed view has committed its first plan).
+    pub fn ready(&self) -> bool {
+        match self {
+            Drawn::Fixed { .. } => true,
+            Drawn::Streamed(view) => view.ready(),
+        }
+    }
+}
+
 /// Device, swapchain, renderer and overlay of one window.
 pub struct GpuWindow {
     window: Arc<Window>,
     ctx: GpuContext,
     output: WindowOutput,
-    renderer: Renderer,
+    drawn: Drawn,
     overlay: Overlay,
-    counts: SceneCounts,
+    /// The last drawn frame's cull counters (read while the overlay is shown).
+    cull: Option<CullStats>,
     chunk_size: voxel_core::ChunkSize,
 }
 
 impl GpuWindow {
-    /// Creates the device for `window`, uploads `scene` and sets up the overlay.
+    /// Creates the device for `window`, the renderer of `source` and the overlay.
     pub fn new(
         window: Arc<Window>,
         display: OwnedDisplayHandle,
-        scene: &Scene,
+        source: &WindowSource<'_>,
         vsync: bool,
     ) -> Result<GpuWindow, WindowError> {
         let size = window.inner_size();
@@ -61,21 +114,37 @@ impl GpuWindow {
         .map_err(WindowError::Device)?;
         output.set_vsync(vsync);
         let (width, height) = output.size();
-        let chunk_size = scene.world.size();
-        let config = RendererConfig::new(width.max(1), height.max(1), chunk_size);
-        let mut renderer =
-            Renderer::new(&ctx, &config, &scene.palette).map_err(WindowError::Renderer)?;
-        upload_world(&mut renderer, &scene.world, &scene.palette).map_err(WindowError::Scene)?;
-        renderer.set_lighting(&lighting_params(&Lighting::default()));
+        let (width, height) = (width.max(1), height.max(1));
+        let chunk_size = match source {
+            WindowSource::Fixed(scene) => scene.world.size(),
+            WindowSource::Streamed(settings) => settings.chunk,
+        };
+        let drawn = match source {
+            WindowSource::Fixed(scene) => {
+                let config = RendererConfig::new(width, height, scene.world.size());
+                let mut renderer =
+                    Renderer::new(&ctx, &config, &scene.palette).map_err(WindowError::Renderer)?;
+                upload_world(&mut renderer, &scene.world, &scene.palette)
+                    .map_err(WindowError::Scene)?;
+                renderer.set_lighting(&lighting_params(&Lighting::default()));
+                let counts = scene_counts(&renderer);
+                Drawn::Fixed {
+                    renderer: Box::new(renderer),
+                    counts,
+                }
+            }
+            WindowSource::Streamed(settings) => Drawn::Streamed(Box::new(
+                StreamedView::new(&ctx, settings, width, height).map_err(WindowError::Stream)?,
+            )),
+        };
         let overlay = Overlay::new(&window, &ctx.device, output.format());
-        let counts = scene_counts(&renderer);
         Ok(GpuWindow {
             window,
             ctx,
             output,
-            renderer,
+            drawn,
             overlay,
-            counts,
+            cull: None,
             chunk_size,
         })
     }
@@ -95,9 +164,14 @@ impl GpuWindow {
         self.output.size()
     }
 
-    /// What the scene put on the GPU.
-    pub fn counts(&self) -> SceneCounts {
-        self.counts
+    /// What the window draws.
+    pub fn drawn(&self) -> &Drawn {
+        &self.drawn
+    }
+
+    /// The last drawn frame's cull counters, when the overlay was shown.
+    pub fn cull_stats(&self) -> Option<&CullStats> {
+        self.cull.as_ref()
     }
 
     /// The chunk size of the scene.
@@ -132,22 +206,46 @@ impl GpuWindow {
         self.output.resize(width, height);
         let (w, h) = self.output.size();
         if w > 0 && h > 0 {
-            self.renderer.resize(w, h).map_err(WindowError::Renderer)?;
+            self.resize_renderers(w, h)?;
         }
         Ok(())
     }
 
-    /// Draws and presents one frame from `camera` with the overlay's `lines` (no overlay for
-    /// `None`); records its
-    /// times into `stats`. `Ok(Err(reason))` when the swapchain gave no image this time.
+    fn resize_renderers(&mut self, width: u32, height: u32) -> Result<(), WindowError> {
+        match &mut self.drawn {
+            Drawn::Fixed { renderer, .. } => renderer
+                .resize(width, height)
+                .map_err(WindowError::Renderer),
+            Drawn::Streamed(view) => view.resize(width, height).map_err(WindowError::Stream),
+        }
+    }
+
+    /// Applies the overlay's controls to the streamed view (nothing for a fixed scene); a
+    /// control the device cannot run is an error naming why, and changes nothing.
+    pub fn apply(&mut self, controls: &Controls) -> Result<(), StreamError> {
+        match &mut self.drawn {
+            Drawn::Streamed(view) => view.apply(&self.ctx, controls),
+            Drawn::Fixed { .. } => Ok(()),
+        }
+    }
+
+    /// Writes the last frame (without the overlay) as a PNG under `dir`.
+    pub fn screenshot(&self, dir: &Path) -> Result<PathBuf, ScreenshotError> {
+        save_screenshot(self.drawn.renderer(), dir)
+    }
+
+    /// Draws and presents one frame from `camera` with the overlay's `panel` (its controls
+    /// edited by the user); records its times into `stats`. `Ok(Err(reason))` when the
+    /// swapchain gave no image this time.
     ///
     /// The pass times are collected right after the present, which waits for the GPU: frames
     /// do not overlap, so the figures are each frame's own (a viewer for measuring, not a
-    /// throughput-tuned loop). The CPU frame time runs from the acquired image to the present.
+    /// throughput-tuned loop). The CPU frame time runs from the acquired image to the present
+    /// and includes the streaming work of the frame (uploads, frees, plans).
     pub fn draw(
         &mut self,
         camera: &RenderCamera,
-        lines: Option<&[String]>,
+        panel: &mut Panel,
         stats: &mut FrameStats,
     ) -> Result<Result<(), FrameSkipped>, WindowError> {
         let frame = match self.output.acquire() {
@@ -157,46 +255,80 @@ impl GpuWindow {
         // CPU time from here: acquiring waits for the display (vsync), which is not work.
         let started = Instant::now();
         let size = frame.size();
-        if (
-            self.renderer.targets().width,
-            self.renderer.targets().height,
-        ) != size
-        {
-            self.renderer
-                .resize(size.0, size.1)
-                .map_err(WindowError::Renderer)?;
+        let targets = self.drawn.renderer().targets();
+        if (targets.width, targets.height) != size {
+            self.resize_renderers(size.0, size.1)?;
         }
-        self.renderer.set_camera(camera);
+        match &mut self.drawn {
+            Drawn::Fixed { renderer, .. } => renderer.set_camera(camera),
+            Drawn::Streamed(view) => {
+                view.update(camera).map_err(WindowError::Stream)?;
+            }
+        }
+        let ready = self.drawn.ready();
         let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
-        self.renderer
-            .record_frame(&mut encoder)
-            .map_err(WindowError::Renderer)?;
-        self.output
-            .blit(&mut encoder, &self.renderer.targets().output, &frame);
-        let extra = match lines {
-            Some(lines) => self.overlay.paint(
-                &self.window,
-                &self.ctx,
-                &mut encoder,
-                frame.view(),
-                size,
-                lines,
-            ),
-            None => Vec::new(),
-        };
+        if ready {
+            let renderer = self.drawn.renderer_mut();
+            renderer
+                .record_frame(&mut encoder)
+                .map_err(WindowError::Renderer)?;
+            self.output
+                .blit(&mut encoder, &renderer.targets().output, &frame);
+        } else {
+            clear(&mut encoder, frame.view());
+        }
+        let extra = self.overlay.paint(
+            &self.window,
+            &self.ctx,
+            &mut encoder,
+            frame.view(),
+            size,
+            panel,
+        );
         self.ctx
             .queue
             .submit(extra.into_iter().chain([encoder.finish()]));
         self.window.pre_present_notify();
         self.output.present(frame);
         let cpu = started.elapsed();
-        let passes = self
-            .renderer
-            .collect_timings()
-            .map_err(WindowError::Renderer)?;
+        let passes = if ready {
+            let renderer = self.drawn.renderer_mut();
+            let passes = renderer.collect_timings().map_err(WindowError::Renderer)?;
+            if panel.show {
+                self.cull = Some(
+                    renderer
+                        .read_frame_stats()
+                        .map_err(WindowError::Renderer)?
+                        .0,
+                );
+            }
+            passes
+        } else {
+            Vec::new()
+        };
         stats.record(Instant::now(), cpu, passes);
         Ok(Ok(()))
     }
+}
+
+/// Clears `target` to the loading sky.
+fn clear(encoder: &mut wgpu::CommandEncoder, target: &wgpu::TextureView) {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("loading sky"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: target,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(LOADING_SKY),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
 }
 
 /// Chunks, quads and bytes resident in `renderer`.

@@ -1,17 +1,23 @@
 //! The interactive window: the scene drawn by the GPU renderer into a winit window, a fly
-//! camera, and an egui overlay with frame statistics.
+//! camera, and an egui overlay with statistics and controls.
 //!
 //! ```text
-//!  run_window(scene, options)
+//!  run_window(source, view, options)
 //!    winit event loop ─► App (app.rs): events ─► FlyCamera (camera.rs), Overlay (overlay.rs)
-//!    resumed:          window ─► GpuWindow (gpu.rs): GpuContext::new_windowed, Renderer,
-//!                      the scene meshed and uploaded (gpu_view::upload_world)
-//!    RedrawRequested:  acquire ─► renderer.record_frame ─► blit to the swapchain image
-//!                      ─► egui overlay ─► submit, present ─► per-pass times (stats.rs)
+//!    resumed:          window ─► GpuWindow (gpu.rs): GpuContext::new_windowed, and either a
+//!                      fixed scene's renderer (meshed and uploaded whole) or a StreamedView
+//!                      (the terrain streamed around the camera, `crate::view`)
+//!    RedrawRequested:  streaming update ─► renderer.record_frame ─► blit to the swapchain image
+//!                      (a plain sky while the first view loads) ─► egui overlay (panel.rs)
+//!                      ─► submit, present ─► per-pass times (stats.rs), cull counters
+//!                      ─► changed controls applied to the view
 //! ```
 //!
 //! Controls: W/A/S/D (or the arrows) move, Space rises, Shift sinks, a left or right mouse drag
-//! looks around, the wheel changes the speed, F1 shows or hides the overlay, Escape closes.
+//! looks around, the wheel changes the speed, F1 shows or hides the overlay, F12 writes a
+//! screenshot (the renderer's frame without the overlay; its path is printed and shown),
+//! Escape closes. On the streamed terrain the overlay also switches the mesher mode, the far
+//! draws, the error budget and the layers ([`Controls`](crate::controls::Controls)).
 //!
 //! With [`WindowOptions::frames`] the window closes by itself after that many presented frames
 //! (tests and smoke runs); [`WindowOptions::resize_to`] resizes it on the way.
@@ -19,11 +25,14 @@
 mod app;
 pub mod camera;
 mod gpu;
+mod lines;
 pub mod mode;
 mod overlay;
+mod panel;
 pub mod stats;
 
 use std::fmt;
+use std::path::PathBuf;
 use std::time::Duration;
 
 use gpu_backend::DeviceError;
@@ -31,11 +40,18 @@ use gpu_backend::render::RenderError;
 use winit::error::{EventLoopError, OsError};
 use winit::event_loop::EventLoop;
 
+use crate::camera::Camera;
 use crate::gpu_view::GpuViewError;
 use crate::scene::Scene;
-use camera::FlyCamera;
-use gpu::GpuWindow;
-use stats::FrameStats;
+use crate::stream::{StreamError, StreamSettings};
+
+/// What the window shows.
+pub enum WindowSource<'a> {
+    /// A scene held whole (a `.vox` file, a fixed square of terrain).
+    Fixed(&'a Scene),
+    /// The built-in terrain, streamed around the camera.
+    Streamed(StreamSettings),
+}
 
 /// How the window is opened.
 #[derive(Clone, Debug, PartialEq)]
@@ -55,6 +71,10 @@ pub struct WindowOptions {
     pub resize_to: Option<(u32, u32)>,
     /// Draw the stats overlay (F1 toggles it while running).
     pub overlay: bool,
+    /// Where F12 writes screenshots.
+    pub screenshot_dir: PathBuf,
+    /// Tests: write a screenshot after this many presented frames, as F12 would.
+    pub screenshot_at: Option<u64>,
 }
 
 impl WindowOptions {
@@ -68,6 +88,8 @@ impl WindowOptions {
             vsync: true,
             resize_to: None,
             overlay: true,
+            screenshot_dir: PathBuf::from("target/screenshots"),
+            screenshot_at: None,
         }
     }
 }
@@ -83,6 +105,8 @@ pub struct WindowReport {
     pub height: u32,
     /// The adapter it ran on.
     pub adapter: String,
+    /// A streamed terrain's state at the end (its progress line).
+    pub terrain: Option<String>,
 }
 
 impl fmt::Display for WindowReport {
@@ -91,7 +115,11 @@ impl fmt::Display for WindowReport {
             f,
             "presented {} frames {}x{} on {}",
             self.frames, self.width, self.height, self.adapter
-        )
+        )?;
+        if let Some(terrain) = &self.terrain {
+            write!(f, "; {terrain}")?;
+        }
+        Ok(())
     }
 }
 
@@ -109,6 +137,8 @@ pub enum WindowError {
     Renderer(RenderError),
     /// The scene could not be meshed or uploaded.
     Scene(GpuViewError),
+    /// The streamed terrain stopped streaming.
+    Stream(StreamError),
     /// `--frames`: the frames were not presented in time.
     TooSlow {
         /// Frames presented.
@@ -132,6 +162,7 @@ impl fmt::Display for WindowError {
             WindowError::Device(e) => write!(f, "{e}"),
             WindowError::Renderer(e) => write!(f, "renderer: {e}"),
             WindowError::Scene(e) => write!(f, "scene upload: {e}"),
+            WindowError::Stream(e) => write!(f, "streamed terrain: {e}"),
             WindowError::TooSlow {
                 presented,
                 wanted,
@@ -153,58 +184,17 @@ impl fmt::Display for WindowError {
 
 impl std::error::Error for WindowError {}
 
-/// Opens a window showing `scene` and runs until it is closed (or `options.frames` are
-/// presented). Blocks; call from the main thread, once per process.
-pub fn run_window(scene: &Scene, options: WindowOptions) -> Result<WindowReport, WindowError> {
+/// Opens a window showing `source` from the first `view` and runs until it is closed (or
+/// `options.frames` are presented). Blocks; call from the main thread, once per process.
+pub fn run_window(
+    source: WindowSource<'_>,
+    view: Camera,
+    options: WindowOptions,
+) -> Result<WindowReport, WindowError> {
     let event_loop = EventLoop::new().map_err(WindowError::EventLoop)?;
-    let mut app = app::App::new(scene, options);
+    let mut app = app::App::new(source, view, options);
     event_loop
         .run_app(&mut app)
         .map_err(WindowError::EventLoop)?;
     app.result.unwrap_or(Err(WindowError::NeverShown))
-}
-
-/// The overlay's text: frame rate and times, per-pass GPU times, what is resident, where the
-/// camera is.
-fn overlay_lines(stats: &FrameStats, gpu: &GpuWindow, camera: &FlyCamera) -> Vec<String> {
-    let ms = |ns: u64| ns as f64 / 1e6;
-    let mut lines = vec![
-        format!(
-            "{:.1} fps   CPU frame {:.2} ms",
-            stats.fps(),
-            stats.cpu_frame_time().as_secs_f64() * 1e3
-        ),
-        format!(
-            "GPU passes ({}): {:.2} ms",
-            if gpu.gpu_timestamps() {
-                "timestamps"
-            } else {
-                "CPU wall clock"
-            },
-            ms(stats.passes_total_ns())
-        ),
-    ];
-    lines.extend(
-        stats
-            .passes()
-            .iter()
-            .map(|p| format!("  {:<12} {:>7.3} ms", p.label, ms(p.nanoseconds))),
-    );
-    let counts = gpu.counts();
-    lines.push(format!(
-        "chunks {}   {:.1} MiB resident",
-        counts.chunks,
-        counts.bytes as f64 / f64::from(1u32 << 20)
-    ));
-    lines.push(format!(
-        "quads {}   smooth quads {}",
-        counts.quads, counts.smooth_quads
-    ));
-    let p = camera.position();
-    let (w, h) = gpu.size();
-    lines.push(format!(
-        "eye {:.1} {:.1} {:.1}   speed {:.1}/s   {w}x{h}",
-        p.x, p.y, p.z, camera.speed
-    ));
-    lines
 }

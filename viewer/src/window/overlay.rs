@@ -1,4 +1,4 @@
-//! The egui overlay: window events in, a stats panel drawn over the swapchain image.
+//! The egui overlay: window events in, the [`Panel`] drawn over the swapchain image.
 
 use std::sync::Arc;
 
@@ -8,6 +8,8 @@ use gpu_backend::GpuContext;
 use wgpu::{CommandBuffer, CommandEncoder, Device, TextureFormat, TextureView};
 use winit::event::WindowEvent;
 use winit::window::Window;
+
+use super::panel::{Panel, ui};
 
 /// egui's input state and its wgpu renderer for one window.
 pub struct Overlay {
@@ -42,9 +44,9 @@ impl Overlay {
         self.state.egui_ctx().egui_wants_pointer_input()
     }
 
-    /// Runs the overlay's UI (`lines`, one label each) and records its drawing into `target`
-    /// (of `size` pixels), on top of what is there. Returns command buffers to submit before
-    /// `encoder` (none unless a paint callback made some).
+    /// Runs the overlay's UI for `panel` (its controls edited in place) and records its
+    /// drawing into `target` (of `size` pixels), on top of what is there. Returns command
+    /// buffers to submit before `encoder` (none unless a paint callback made some).
     pub fn paint(
         &mut self,
         window: &Window,
@@ -52,20 +54,11 @@ impl Overlay {
         encoder: &mut CommandEncoder,
         target: &TextureView,
         size: (u32, u32),
-        lines: &[String],
+        panel: &mut Panel,
     ) -> Vec<CommandBuffer> {
         let (device, queue) = (&ctx.device, &ctx.queue);
         let input = self.state.take_egui_input(window);
-        let mut output = self.state.egui_ctx().run_pass(input, |ctx| {
-            egui::Window::new("stats")
-                .resizable(false)
-                .default_pos([8.0, 8.0])
-                .show(ctx, |ui| {
-                    for line in lines {
-                        ui.monospace(line);
-                    }
-                });
-        });
+        let mut output = self.state.egui_ctx().run_pass(input, |ctx| ui(ctx, panel));
         self.state
             .handle_platform_output(window, output.platform_output);
         let primitives = self

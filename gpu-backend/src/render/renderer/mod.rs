@@ -599,6 +599,17 @@ impl Renderer {
         Ok(())
     }
 
+    /// Sends the pending uploads (gigabuffer copies, chunk and node records) to the GPU now,
+    /// in a submission of their own, without drawing: for a renderer that streams chunks in
+    /// while nothing of it is shown (a recorded frame starts with the same flush).
+    pub fn flush_uploads(&mut self) {
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        self.gigabuffer.flush(&mut encoder);
+        self.table.flush(&self.queue);
+        self.nodes.flush(&self.queue);
+        self.queue.submit([encoder.finish()]);
+    }
+
     /// Frees a resident chunk: its space and table slot. A stale or foreign handle is an
     /// error and frees nothing.
     pub fn free_chunk(&mut self, handle: ChunkHandle) -> Result<(), RenderError> {

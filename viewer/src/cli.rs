@@ -1,0 +1,283 @@
+//! The viewer's flags (clap) and their parsers: each bad value is refused with a message
+//! naming it, before anything runs.
+
+use std::path::PathBuf;
+
+use clap::Parser;
+use gpu_backend::render::far::FarRequest;
+use viewer::stream::settings::{FAR_CHOICES, MAX_RADIUS};
+use viewer::stream::{MesherMode, StreamSettings};
+
+use crate::camera_arg::{CameraArg, parse_camera, parse_fov};
+
+/// Shows the built-in procedural terrain (streamed around the camera) or a MagicaVoxel file,
+/// in a window or as a PNG; `--flight` measures a scripted flight.
+#[derive(Parser, Debug)]
+#[command(version, about)]
+pub struct Args {
+    /// Render one frame to a PNG even when a display is available.
+    #[arg(long, conflicts_with = "window")]
+    pub headless: bool,
+    /// Open a window even when no display is named in the environment; fail if it cannot.
+    #[arg(long)]
+    pub window: bool,
+    /// Window mode: close after this many presented frames (print what was presented).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    pub frames: Option<u64>,
+    /// Window mode: with --frames, fail when they take longer than this many seconds.
+    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u64).range(1..))]
+    pub frames_timeout: u64,
+    /// Window mode: present as fast as possible instead of at the display's refresh rate.
+    #[arg(long)]
+    pub no_vsync: bool,
+    /// Window mode (tests): after the first frame, resize the window to WIDTHxHEIGHT; with
+    /// --frames, close only once that size is in use.
+    #[arg(long, value_name = "WIDTHxHEIGHT", value_parser = parse_size)]
+    pub resize_to: Option<(u32, u32)>,
+    /// Window mode: start without the stats overlay (F1 toggles it).
+    #[arg(long)]
+    pub no_overlay: bool,
+    /// Where to write the PNG.
+    #[arg(long, default_value = "target/viewer.png")]
+    pub out: PathBuf,
+    /// Where F12 writes screenshots (window mode).
+    #[arg(long, value_name = "DIR", default_value = "target/screenshots")]
+    pub screenshot_dir: PathBuf,
+    /// Window mode (tests): write a screenshot after this many presented frames, as F12 does.
+    #[arg(long, hide = true, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    pub screenshot_at: Option<u64>,
+    /// Image (or window) width in pixels [default: 960, 1920 with --flight].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=8192))]
+    pub width: Option<u32>,
+    /// Image (or window) height in pixels [default: 540, 1080 with --flight].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=8192))]
+    pub height: Option<u32>,
+    /// Terrain seed (not with --vox).
+    #[arg(long, default_value_t = 1, conflicts_with = "vox")]
+    pub seed: i32,
+    /// Instead of streaming the terrain, show a fixed square of N x N chunks of 32^3 around
+    /// the origin (not with --vox).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(i32).range(1..=64), conflicts_with = "vox")]
+    pub chunks: Option<i32>,
+    /// Streamed terrain: distance from the camera, in blocks, within which the terrain is
+    /// streamed (levels of detail beyond the near ring).
+    #[arg(long, value_name = "BLOCKS", default_value_t = 2048, value_parser = parse_radius, allow_hyphen_values = true, conflicts_with_all = ["vox", "chunks"])]
+    pub radius: u32,
+    /// Streamed terrain: the screen-space error budget, pixels (0 = full detail everywhere).
+    #[arg(long, value_name = "PX", default_value_t = 1.0, value_parser = parse_budget, allow_hyphen_values = true, conflicts_with_all = ["vox", "chunks"])]
+    pub budget: f32,
+    /// Streamed terrain: how blocks are meshed.
+    #[arg(long, value_name = "MODE", default_value = "greedy", value_parser = parse_mesher, conflicts_with_all = ["vox", "chunks"])]
+    pub mesher: MesherMode,
+    /// Streamed terrain: far draws of distant nodes (off, auto, splat, sprite, quads3).
+    #[arg(long, value_name = "PATH", default_value = "auto", value_parser = parse_far, conflicts_with_all = ["vox", "chunks"])]
+    pub far: FarRequest,
+    /// Streamed terrain: GPU memory for node data, MiB.
+    #[arg(long, value_name = "MIB", default_value_t = 1024, value_parser = clap::value_parser!(u64).range(1..=1 << 20), conflicts_with_all = ["vox", "chunks"])]
+    pub memory: u64,
+    /// Show this MagicaVoxel `.vox` file instead of the built-in terrain.
+    #[arg(long)]
+    pub vox: Option<PathBuf>,
+    /// With --vox: show hidden nodes and hidden layers too.
+    #[arg(long, requires = "vox")]
+    pub hidden: bool,
+    /// Start the camera (headless frame or window) at world position X,Y,Z (voxels, y up),
+    /// turned YAW degrees about +y (0 looks along -z, 90 along -x) and PITCH degrees above the
+    /// horizon (-90 to 90). Default: a view chosen for the scene.
+    #[arg(long, value_name = "X,Y,Z,YAW,PITCH", value_parser = parse_camera, allow_hyphen_values = true)]
+    pub camera: Option<CameraArg>,
+    /// Vertical field of view in degrees (1 to 179). Default: the scene's view (70 for the
+    /// terrain, 60 for .vox files).
+    #[arg(long, value_name = "DEG", value_parser = parse_fov, allow_hyphen_values = true)]
+    pub fov: Option<f64>,
+    /// Render with the CPU reference raycaster even when a GPU is available.
+    #[arg(long)]
+    pub cpu: bool,
+    /// Fly a scripted path over the streamed terrain for this many seconds, headless, and
+    /// print frame-time percentiles (CPU, GPU, frame) and nodes streamed per second.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds, allow_hyphen_values = true, conflicts_with_all = ["window", "vox", "chunks", "cpu", "camera"])]
+    pub flight: Option<f64>,
+    /// With --flight: also write the figures as JSON to this file.
+    #[arg(long, value_name = "FILE", requires = "flight")]
+    pub json: Option<PathBuf>,
+}
+
+impl Args {
+    /// The frame size: the flags, else 960 x 540 (1920 x 1080 for a flight).
+    pub fn size(&self) -> (u32, u32) {
+        let (w, h) = if self.flight.is_some() {
+            (1920, 1080)
+        } else {
+            (960, 540)
+        };
+        (self.width.unwrap_or(w), self.height.unwrap_or(h))
+    }
+
+    /// The streamed terrain's settings from the flags.
+    pub fn stream_settings(&self) -> StreamSettings {
+        StreamSettings {
+            seed: self.seed,
+            radius: self.radius,
+            budget_px: self.budget,
+            mesher: self.mesher,
+            far: self.far,
+            memory_bytes: self.memory << 20,
+            ..StreamSettings::default()
+        }
+    }
+}
+
+/// `WIDTHxHEIGHT`, each 1 to 8192.
+pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let parse = |part: &str| match part.trim().parse::<u32>() {
+        Ok(v @ 1..=8192) => Ok(v),
+        _ => Err(format!("{part:?} is not a size from 1 to 8192")),
+    };
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("{text:?} is not WIDTHxHEIGHT"))?;
+    Ok((parse(w)?, parse(h)?))
+}
+
+/// Blocks from 16 to [`MAX_RADIUS`].
+fn parse_radius(text: &str) -> Result<u32, String> {
+    match text.trim().parse::<u32>() {
+        Ok(r) if (16..=MAX_RADIUS).contains(&r) => Ok(r),
+        _ => Err(format!(
+            "{text:?} is not a radius from 16 to {MAX_RADIUS} blocks"
+        )),
+    }
+}
+
+/// A finite budget from 0 to 1024 pixels.
+fn parse_budget(text: &str) -> Result<f32, String> {
+    match text.trim().parse::<f32>() {
+        Ok(b) if (0.0..=1024.0).contains(&b) => Ok(b),
+        _ => Err(format!(
+            "{text:?} is not an error budget from 0 to 1024 pixels"
+        )),
+    }
+}
+
+/// `faces`, `greedy` or `smooth`.
+fn parse_mesher(text: &str) -> Result<MesherMode, String> {
+    MesherMode::ALL
+        .into_iter()
+        .find(|m| m.name() == text)
+        .ok_or_else(|| format!("{text:?} is not a mesher mode (faces, greedy, smooth)"))
+}
+
+/// One of [`FAR_CHOICES`].
+fn parse_far(text: &str) -> Result<FarRequest, String> {
+    FAR_CHOICES
+        .iter()
+        .find(|(name, _)| *name == text)
+        .map(|&(_, far)| far)
+        .ok_or_else(|| {
+            let names: Vec<&str> = FAR_CHOICES.iter().map(|(n, _)| *n).collect();
+            format!("{text:?} is not a far-draw path ({})", names.join(", "))
+        })
+}
+
+/// Seconds, more than 0 and at most an hour.
+fn parse_seconds(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(s) if s > 0.0 && s <= 3600.0 => Ok(s),
+        _ => Err(format!(
+            "{text:?} is not a flight time from 0 to 3600 seconds"
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse_and_bad_ones_are_refused() {
+        assert_eq!(parse_size("200x120"), Ok((200, 120)));
+        assert_eq!(parse_size("8X9"), Ok((8, 9)));
+        for bad in ["200", "0x10", "10x0", "9000x10", "ax1", "-1x2", ""] {
+            assert!(parse_size(bad).is_err(), "{bad:?} accepted");
+        }
+    }
+
+    fn parse(args: &[&str]) -> Result<Args, String> {
+        Args::try_parse_from(std::iter::once("viewer").chain(args.iter().copied()))
+            .map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn terrain_options_with_vox_are_an_error() {
+        for extra in [
+            &["--seed", "3"][..],
+            &["--chunks", "2"][..],
+            &["--radius", "300"][..],
+            &["--mesher", "smooth"][..],
+        ] {
+            let mut args = vec!["--vox", "model.vox"];
+            args.extend_from_slice(extra);
+            let err = parse(&args).expect_err("conflict");
+            assert!(err.contains(extra[0]) && err.contains("--vox"), "{err}");
+        }
+        assert!(parse(&["--vox", "model.vox"]).is_ok());
+        assert!(parse(&["--seed", "3", "--chunks", "2"]).is_ok());
+        assert!(parse(&["--hidden"]).unwrap_err().contains("--vox"));
+        assert!(parse(&["--chunks", "2", "--budget", "2"]).is_err());
+    }
+
+    #[test]
+    fn camera_and_fov_reach_the_arguments() {
+        let a = parse(&["--camera", "-10.5,40,3,90,-30", "--fov", "45"]).unwrap();
+        let camera = a.camera.unwrap();
+        assert_eq!(camera.yaw_degrees, 90.0);
+        assert_eq!(a.fov, Some(45f64.to_radians()));
+        for bad in [&["--camera", "1,2,3"][..], &["--fov", "-5"][..]] {
+            assert!(parse(bad).is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn streaming_flags_parse_and_bad_values_are_named() {
+        let a = parse(&[
+            "--radius", "512", "--budget", "2.5", "--mesher", "faces", "--far", "sprite",
+            "--memory", "64",
+        ])
+        .unwrap();
+        let s = a.stream_settings();
+        assert_eq!(
+            (s.radius, s.budget_px, s.mesher),
+            (512, 2.5, MesherMode::Faces)
+        );
+        assert_eq!(s.memory_bytes, 64 << 20);
+        assert_eq!(a.size(), (960, 540));
+        for (bad, named) in [
+            (&["--radius", "8"][..], "radius"),
+            (&["--radius", "x"][..], "radius"),
+            (&["--budget", "-1"][..], "error budget"),
+            (&["--budget", "NaN"][..], "error budget"),
+            (&["--mesher", "marching"][..], "mesher mode"),
+            (&["--far", "rays"][..], "far-draw path"),
+            (&["--flight", "0"][..], "flight time"),
+            (&["--flight", "inf"][..], "flight time"),
+            (&["--memory", "0"][..], "--memory"),
+        ] {
+            let err = parse(bad).expect_err(bad[0]);
+            assert!(err.contains(named), "{bad:?}: {err}");
+        }
+    }
+
+    #[test]
+    fn a_flight_is_headless_at_1080p_unless_told() {
+        let a = parse(&["--flight", "2"]).unwrap();
+        assert_eq!(a.size(), (1920, 1080));
+        let a = parse(&["--flight", "2", "--width", "64", "--height", "36"]).unwrap();
+        assert_eq!(a.size(), (64, 36));
+        assert!(parse(&["--flight", "2", "--window"]).is_err());
+        assert!(
+            parse(&["--json", "x.json"])
+                .unwrap_err()
+                .contains("--flight")
+        );
+    }
+}

@@ -1,0 +1,344 @@
+//! `--flight SECONDS`: a scripted camera flight over the streamed terrain, headless, with the
+//! frame times it took.
+//!
+//! The path is fixed ([`FlightPath`]): from above the origin, forward at
+//! [`FlightPath::SPEED`] blocks per second with the heading swinging 45 degrees either way and
+//! back once a minute, climbing [`FlightPath::CLIMB`] blocks per second, looking 12 degrees
+//! down. Camera `i` is the path at `i / 60` seconds, so every run sees the same cameras; frames
+//! are paced to at most 60 per second, so on a fast machine the streaming sees real time (on a
+//! slow one the flight takes longer than its seconds, and reports both).
+//!
+//! Per frame it measures the **CPU time** (streaming work on the frame's thread: plans, uploads
+//! and frees; then recording and submitting the frame), the **GPU time** (the sum of the
+//! renderer's per-pass timestamps, only where the adapter has timestamp queries: otherwise
+//! "no timestamps", never a CPU stand-in) and the **frame time** (from the start of the
+//! frame's work until the GPU finished it). The first view is loaded before the flight starts
+//! (its time is reported apart) and one untimed frame drawn (first-use costs of pipelines and
+//! bind groups are not streaming's); nodes streamed per second count the uploads during the
+//! flight.
+
+use std::time::{Duration, Instant};
+
+use glam::DVec3;
+use gpu_backend::{GpuContext, TimingPath};
+use serde::Serialize;
+
+use crate::camera::Camera;
+use crate::gpu_view::render_camera;
+use crate::headless::{draw_frame, load};
+use crate::stream::{StreamError, StreamSettings, StreamStatus};
+use crate::view::StreamedView;
+
+/// Frames per second of the flight's clock.
+pub const FLIGHT_HZ: f64 = 60.0;
+
+/// The scripted path (see the [module docs](self)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FlightPath {
+    /// Where the flight starts, blocks.
+    pub start: DVec3,
+    /// Heading at the start, radians (0 looks along -z).
+    pub yaw: f64,
+}
+
+impl FlightPath {
+    /// Forward speed, blocks per second.
+    pub const SPEED: f64 = 48.0;
+    /// Climb, blocks per second.
+    pub const CLIMB: f64 = 2.0;
+    /// Pitch of the view, radians (12 degrees down).
+    pub const PITCH: f64 = -12.0 * std::f64::consts::PI / 180.0;
+
+    /// The path starting `height` blocks above the origin, heading along -z.
+    pub fn over_origin(height: f64) -> FlightPath {
+        FlightPath {
+            start: DVec3::new(0.5, height, 0.5),
+            yaw: 0.0,
+        }
+    }
+
+    /// The camera of every frame of `seconds` ([`FLIGHT_HZ`] per second, at least one), with
+    /// vertical field of view `fov_y`.
+    pub fn cameras(&self, seconds: f64, fov_y: f64) -> Vec<Camera> {
+        let frames = ((seconds * FLIGHT_HZ).round() as usize).max(1);
+        let dt = 1.0 / FLIGHT_HZ;
+        let mut pos = self.start;
+        (0..frames)
+            .map(|i| {
+                let t = i as f64 * dt;
+                let yaw = self.yaw
+                    + std::f64::consts::FRAC_PI_4 * (std::f64::consts::TAU * t / 60.0).sin();
+                let camera = camera_at(pos, yaw, Self::PITCH, fov_y);
+                pos += DVec3::new(-yaw.sin(), 0.0, -yaw.cos()) * Self::SPEED * dt;
+                pos.y += Self::CLIMB * dt;
+                camera
+            })
+            .collect()
+    }
+}
+
+/// The viewer's camera at `pos` looking along `yaw`, `pitch`.
+fn camera_at(pos: DVec3, yaw: f64, pitch: f64, fov_y: f64) -> Camera {
+    let floor = pos.floor();
+    Camera {
+        voxel: voxel_core::WorldPos::new(floor.x as i32, floor.y as i32, floor.z as i32),
+        fraction: pos - floor,
+        yaw,
+        pitch,
+        fov_y,
+    }
+}
+
+/// p50, p99 and the largest of a set of times, milliseconds (nearest rank).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Percentiles {
+    /// Median.
+    pub p50_ms: f64,
+    /// 99th percentile.
+    pub p99_ms: f64,
+    /// Largest.
+    pub max_ms: f64,
+}
+
+impl Percentiles {
+    /// The percentiles of `samples` (milliseconds), `None` when there are none.
+    pub fn of(samples: &[f64]) -> Option<Percentiles> {
+        let mut sorted: Vec<f64> = samples.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        let rank = |q: f64| {
+            let i = ((q * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len());
+            sorted[i - 1]
+        };
+        (!sorted.is_empty()).then(|| Percentiles {
+            p50_ms: rank(0.5),
+            p99_ms: rank(0.99),
+            max_ms: rank(1.0),
+        })
+    }
+}
+
+/// What a flight measured (also its JSON form).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FlightReport {
+    /// The adapter it ran on.
+    pub adapter: String,
+    /// Frame width, pixels.
+    pub width: u32,
+    /// Frame height, pixels.
+    pub height: u32,
+    /// The flight's own seconds (frames / 60).
+    pub seconds: f64,
+    /// Frames drawn.
+    pub frames: usize,
+    /// Wall-clock seconds the frames took (at least `seconds`: frames are paced).
+    pub wall_seconds: f64,
+    /// Seconds to load the first view, before the flight.
+    pub first_view_seconds: f64,
+    /// Nodes resident after the first view loaded.
+    pub first_view_nodes: usize,
+    /// CPU time per frame.
+    pub cpu_frame: Percentiles,
+    /// GPU time per frame (sum of the pass timestamps), `None` without timestamps.
+    pub gpu_frame: Option<Percentiles>,
+    /// `"timestamps"`, or `"no timestamps"` and why.
+    pub gpu_timing: String,
+    /// From the start of a frame's work until the GPU finished it.
+    pub frame: Percentiles,
+    /// Nodes uploaded during the flight.
+    pub streamed_nodes: u64,
+    /// Bytes uploaded during the flight.
+    pub streamed_bytes: u64,
+    /// Nodes uploaded per wall-clock second of flight.
+    pub streamed_nodes_per_second: f64,
+    /// Anchor or budget moves committed during the flight.
+    pub commits: u64,
+    /// Frames that drew with a selected node missing (0 by construction; checked).
+    pub frames_with_holes: usize,
+    /// Streamed radius, blocks.
+    pub radius: u32,
+    /// Error budget asked for, pixels.
+    pub budget_px: f32,
+    /// The far path and why.
+    pub far: String,
+    /// Mesher mode.
+    pub mesher: String,
+}
+
+impl FlightReport {
+    /// The report as the lines the viewer prints.
+    pub fn lines(&self) -> Vec<String> {
+        let p = |p: &Percentiles| {
+            format!(
+                "p50 {:.2} ms  p99 {:.2} ms  max {:.2} ms",
+                p.p50_ms, p.p99_ms, p.max_ms
+            )
+        };
+        vec![
+            format!(
+                "flight: {} frames ({:.1} s of flight in {:.1} s) at {}x{} on {}; radius {} \
+                 blocks, budget {} px, far draws {}, {} meshes",
+                self.frames,
+                self.seconds,
+                self.wall_seconds,
+                self.width,
+                self.height,
+                self.adapter,
+                self.radius,
+                self.budget_px,
+                self.far,
+                self.mesher
+            ),
+            format!(
+                "flight: first view {} nodes in {:.2} s",
+                self.first_view_nodes, self.first_view_seconds
+            ),
+            format!("flight: CPU per frame  {}", p(&self.cpu_frame)),
+            match &self.gpu_frame {
+                Some(g) => format!("flight: GPU per frame  {}", p(g)),
+                None => format!("flight: GPU per frame  {}", self.gpu_timing),
+            },
+            format!("flight: frame (to GPU done)  {}", p(&self.frame)),
+            format!(
+                "flight: streamed {} nodes ({:.1} MiB), {:.1} nodes/s, {} view moves, {} frames \
+                 with holes",
+                self.streamed_nodes,
+                self.streamed_bytes as f64 / f64::from(1u32 << 20),
+                self.streamed_nodes_per_second,
+                self.commits,
+                self.frames_with_holes
+            ),
+        ]
+    }
+}
+
+/// Flies the path for `seconds` at `width x height` over the terrain of `settings` on `ctx`.
+/// `progress` gets a line while the first view loads.
+pub fn fly(
+    ctx: &GpuContext,
+    settings: &StreamSettings,
+    path: &FlightPath,
+    seconds: f64,
+    (width, height): (u32, u32),
+    mut progress: impl FnMut(&StreamStatus),
+) -> Result<FlightReport, StreamError> {
+    let fov_y = 70f64.to_radians();
+    let cameras = path.cameras(seconds, fov_y);
+    let mut view = StreamedView::new(ctx, settings, width, height)?;
+    let size = settings.chunk;
+    let loading = Instant::now();
+    load(
+        &mut view,
+        &render_camera(&cameras[0], size),
+        Duration::from_secs(1800),
+        &mut progress,
+    )?;
+    let first_view_seconds = loading.elapsed().as_secs_f64();
+    let first_view_nodes = view.streamer().status().resident_nodes;
+    // One untimed frame: first-use costs (pipelines, bind groups) are not streaming's.
+    draw_frame(ctx, &mut view)?;
+    let before = view.streamer().counters();
+    let timestamps = matches!(ctx.capabilities.timing, TimingPath::GpuTimestamps { .. });
+    let (mut cpu, mut gpu, mut frame) = (Vec::new(), Vec::new(), Vec::new());
+    let mut frames_with_holes = 0;
+    let started = Instant::now();
+    for (i, camera) in cameras.iter().enumerate() {
+        let frame_started = Instant::now();
+        view.update(&render_camera(camera, size))?;
+        let renderer = view.renderer_mut();
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        renderer
+            .record_frame(&mut encoder)
+            .map_err(StreamError::Renderer)?;
+        ctx.queue.submit([encoder.finish()]);
+        cpu.push(frame_started.elapsed().as_secs_f64() * 1e3);
+        let passes = renderer.collect_timings().map_err(StreamError::Renderer)?;
+        frame.push(frame_started.elapsed().as_secs_f64() * 1e3);
+        gpu.push(passes.iter().map(|p| p.nanoseconds as f64 / 1e6).sum());
+        // Checked outside the timed part: it walks every selected node.
+        frames_with_holes += usize::from(!view.streamer().holes().is_empty());
+        let due = started + Duration::from_secs_f64((i + 1) as f64 / FLIGHT_HZ);
+        if let Some(wait) = due.checked_duration_since(Instant::now()) {
+            std::thread::sleep(wait);
+        }
+    }
+    let wall_seconds = started.elapsed().as_secs_f64();
+    let after = view.streamer().counters();
+    // A swap (none happens without a control change) would reset the counters.
+    let streamed_nodes = after.uploaded.saturating_sub(before.uploaded);
+    let none = Percentiles {
+        p50_ms: 0.0,
+        p99_ms: 0.0,
+        max_ms: 0.0,
+    };
+    Ok(FlightReport {
+        adapter: ctx.capabilities.adapter.to_string(),
+        width,
+        height,
+        seconds: cameras.len() as f64 / FLIGHT_HZ,
+        frames: cameras.len(),
+        wall_seconds,
+        first_view_seconds,
+        first_view_nodes,
+        cpu_frame: Percentiles::of(&cpu).unwrap_or(none),
+        gpu_frame: if timestamps {
+            Percentiles::of(&gpu)
+        } else {
+            None
+        },
+        gpu_timing: if timestamps {
+            "timestamps".to_owned()
+        } else {
+            "no timestamps (the adapter has no timestamp queries; no GPU figure is given)"
+                .to_owned()
+        },
+        frame: Percentiles::of(&frame).unwrap_or(none),
+        streamed_nodes,
+        streamed_bytes: after.uploaded_bytes.saturating_sub(before.uploaded_bytes),
+        streamed_nodes_per_second: streamed_nodes as f64 / wall_seconds.max(1e-9),
+        commits: after.commits.saturating_sub(before.commits),
+        frames_with_holes,
+        radius: settings.radius,
+        budget_px: settings.budget_px,
+        far: view.streamer().far_choice().to_string(),
+        mesher: settings.mesher.name().to_owned(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_path_is_fixed_and_flies_forward_turning_and_climbing() {
+        let path = FlightPath::over_origin(60.0);
+        let a = path.cameras(20.0, 1.2);
+        assert_eq!(a, path.cameras(20.0, 1.2), "deterministic");
+        assert_eq!(a.len(), 1200);
+        let pos = |c: &Camera| {
+            let v = c.voxel;
+            DVec3::new(f64::from(v.x), f64::from(v.y), f64::from(v.z)) + c.fraction
+        };
+        let (first, last) = (pos(&a[0]), pos(&a[1199]));
+        assert!(
+            (last.y - first.y - 2.0 * 1199.0 / 60.0).abs() < 1e-6,
+            "climbs"
+        );
+        assert!(
+            first.z - last.z > 500.0,
+            "forward along -z: {first} -> {last}"
+        );
+        let yaws: Vec<f64> = a.iter().map(|c| c.yaw).collect();
+        assert!(yaws.iter().any(|&y| y > 0.5), "turns");
+        assert_eq!(path.cameras(0.0, 1.0).len(), 1);
+    }
+
+    #[test]
+    fn percentiles_take_the_nearest_rank() {
+        let samples: Vec<f64> = (1..=100).map(f64::from).collect();
+        let p = Percentiles::of(&samples).unwrap();
+        assert_eq!((p.p50_ms, p.p99_ms, p.max_ms), (50.0, 99.0, 100.0));
+        assert_eq!(Percentiles::of(&[]), None);
+        let one = Percentiles::of(&[3.0]).unwrap();
+        assert_eq!((one.p50_ms, one.max_ms), (3.0, 3.0));
+    }
+}

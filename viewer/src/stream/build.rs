@@ -1,0 +1,244 @@
+//! Building nodes in the background: the terrain's padded neighbourhood of a node
+//! ([`Terrain::fill_node`]), meshed ([`NodeMesher::mesh_padded`]), its hidden layers left out
+//! of the upload view; by the [`Builders`] of a streamer, one scratch mesher per worker
+//! thread.
+
+use std::cell::RefCell;
+use std::collections::VecDeque;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::mpsc::Sender;
+use std::sync::{Arc, Mutex};
+
+use gpu_backend::from_mesher::node_layers;
+use gpu_backend::gigabuffer::ChunkLayersData;
+use mesher::lod::{NodeMesh, NodeMesher, NodeSettings};
+use mesher::{BlockClasses, MeshSettings};
+use voxel_core::formats::{DrawBlock, SmoothQuads};
+use voxel_core::{FaceDirection, MaterialClass, MaterialPalette, PaddedChunk};
+use voxel_scene::{NodeContent, Terrain, TerrainBlocks};
+
+use super::selection::NodeKey;
+use super::settings::{Layers, MesherMode, StreamSettings};
+
+/// Everything a worker needs to build nodes of one streamed terrain (shared, read-only).
+pub struct NodeSource {
+    terrain: Terrain,
+    size: voxel_core::ChunkSize,
+    /// The classes the mesher meshes with (every opaque block smoothable in smooth mode).
+    mesh_classes: BlockClasses,
+    /// The palette's own classes, for the layer filter of far-draw blocks.
+    classes: BlockClasses,
+    settings: NodeSettings,
+    layers: Layers,
+}
+
+impl NodeSource {
+    /// The source for `settings` with the terrain's `palette` (from [`TerrainBlocks::palette`]);
+    /// far-draw blocks are extracted when `far_blocks`.
+    pub fn new(
+        settings: &StreamSettings,
+        palette: &MaterialPalette,
+        blocks: TerrainBlocks,
+        far_blocks: bool,
+    ) -> NodeSource {
+        let classes = BlockClasses::from_palette(palette);
+        let mesh_classes = match settings.mesher {
+            MesherMode::Smooth => BlockClasses::all_opaque_smoothable(palette),
+            _ => classes.clone(),
+        };
+        NodeSource {
+            terrain: Terrain::new(settings.seed, blocks),
+            size: settings.chunk,
+            mesh_classes,
+            classes,
+            settings: NodeSettings {
+                mesh: MeshSettings {
+                    surface: settings.mesher.surface(),
+                    clutter: None,
+                },
+                far_blocks,
+            },
+            layers: settings.layers,
+        }
+    }
+
+    /// Builds node `key`: `Ok(None)` when it draws nothing (air, buried, or only hidden
+    /// layers).
+    pub fn build(&self, key: NodeKey) -> Result<Option<BuiltNode>, String> {
+        thread_local! {
+            static SCRATCH: RefCell<(NodeMesher, Option<PaddedChunk>)> =
+                RefCell::new((NodeMesher::new(), None));
+        }
+        SCRATCH.with(|scratch| {
+            let mut scratch = scratch.borrow_mut();
+            let (mesher, padded) = &mut *scratch;
+            let padded = padded.get_or_insert_with(|| PaddedChunk::new(self.size));
+            let content = self
+                .terrain
+                .fill_node(self.size, key.level, key.coord, padded)?;
+            if content != NodeContent::Surface {
+                return Ok(None);
+            }
+            let mut node = NodeMesh::default();
+            mesher
+                .mesh_padded(
+                    padded,
+                    key.coord,
+                    key.level,
+                    &self.mesh_classes,
+                    &self.settings,
+                    &mut node,
+                )
+                .map_err(|e| format!("meshing node {key:?}: {e}"))?;
+            Ok(BuiltNode::new(node, self.layers, &self.classes))
+        })
+    }
+}
+
+/// A built node ready to upload: its mesh, and the far-draw blocks left after the layer
+/// filter when a layer is hidden.
+#[derive(Debug)]
+pub struct BuiltNode {
+    node: NodeMesh,
+    layers: Layers,
+    /// `(blocks, skirt blocks per side)` of the shown classes, when a class is hidden.
+    filtered: Option<(Vec<DrawBlock>, [Vec<DrawBlock>; 6])>,
+    bytes: u64,
+}
+
+impl BuiltNode {
+    /// The node with `layers` shown, or `None` when nothing shown is left to draw.
+    fn new(node: NodeMesh, layers: Layers, classes: &BlockClasses) -> Option<BuiltNode> {
+        let shown = |b: &DrawBlock| match classes.class(b.decode().block) {
+            Some(MaterialClass::Transparent) => layers.transparent,
+            _ => layers.opaque,
+        };
+        let filtered = (!layers.opaque || !layers.transparent).then(|| {
+            let keep = |blocks: &[DrawBlock]| blocks.iter().copied().filter(shown).collect();
+            (
+                keep(&node.blocks),
+                FaceDirection::ALL.map(|side| keep(node.skirts.blocks(side))),
+            )
+        });
+        let mut built = BuiltNode {
+            node,
+            layers,
+            filtered,
+            bytes: 0,
+        };
+        let view = built.layers();
+        let blocks = view.draw_blocks.len()
+            + view
+                .draw_block_skirts
+                .iter()
+                .map(|s| s.len())
+                .sum::<usize>();
+        let draws = view.quad_count() > 0 || !view.smooth_vertices.is_empty() || blocks > 0;
+        built.bytes = view.byte_len();
+        draws.then_some(built)
+    }
+
+    /// Bytes the upload takes (every gigabuffer kind).
+    pub fn bytes(&self) -> u64 {
+        self.bytes
+    }
+
+    /// The upload view: the node's layers ([`node_layers`]) less the hidden ones.
+    pub fn layers(&self) -> ChunkLayersData<'_> {
+        let mut view = node_layers(&self.node);
+        if !self.layers.opaque {
+            view.opaque_quads = [&[]; 6];
+            view.opaque_skirts = [&[]; 6];
+        }
+        if !self.layers.transparent {
+            view.transparent_quads = [&[]; 6];
+        }
+        if !self.layers.smooth {
+            view.smooth_vertices = &[];
+            view.smooth_quads = SmoothQuads::default();
+        }
+        if let Some((blocks, skirts)) = &self.filtered {
+            view.draw_blocks = blocks;
+            view.draw_block_skirts = std::array::from_fn(|i| skirts[i].as_slice());
+        }
+        view
+    }
+}
+
+/// What a worker sends back: the node, built or failed.
+pub struct Finished {
+    /// Which node.
+    pub key: NodeKey,
+    /// Its upload (`None`: draws nothing), or why it could not be built.
+    pub result: Result<Option<BuiltNode>, String>,
+}
+
+/// The workers of one streamer: a rayon pool of its own, which builds the nodes of a shared
+/// queue, nearest first, and sends each to the streamer.
+///
+/// A pool per streamer, with one thread fewer than the machine has cores (at least one): the
+/// frame's thread keeps a core, and a replacement streamer loading behind the drawing one (see
+/// `crate::view`) shares the CPU with it through the scheduler instead of queueing behind it.
+/// The queue is the streamer's to replace: nodes a newer plan no longer wants are taken out
+/// before any worker starts them.
+pub struct Builders {
+    pool: rayon::ThreadPool,
+    queue: Arc<Mutex<VecDeque<NodeKey>>>,
+    working: Arc<AtomicUsize>,
+    source: Arc<NodeSource>,
+    done: Sender<Finished>,
+}
+
+impl Builders {
+    /// Workers building from `source`, sending to `done`.
+    pub fn new(source: Arc<NodeSource>, done: Sender<Finished>) -> Result<Builders, String> {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(cores.saturating_sub(1).max(1))
+            .thread_name(|i| format!("node builder {i}"))
+            .build()
+            .map_err(|e| format!("no node builder threads: {e}"))?;
+        Ok(Builders {
+            pool,
+            queue: Arc::default(),
+            working: Arc::default(),
+            source,
+            done,
+        })
+    }
+
+    /// Empties the queue: the nodes no worker has started.
+    pub fn take_queued(&self) -> Vec<NodeKey> {
+        self.lock().drain(..).collect()
+    }
+
+    /// Queues `keys` (after what is queued) and wakes workers for them.
+    pub fn queue(&self, keys: impl IntoIterator<Item = NodeKey>) {
+        self.lock().extend(keys);
+        let threads = self.pool.current_num_threads();
+        while self.working.load(Ordering::Acquire) < threads && !self.lock().is_empty() {
+            self.working.fetch_add(1, Ordering::AcqRel);
+            let (queue, working) = (Arc::clone(&self.queue), Arc::clone(&self.working));
+            let (source, done) = (Arc::clone(&self.source), self.done.clone());
+            self.pool.spawn(move || {
+                loop {
+                    // A poisoned queue only means another worker panicked: keep its keys.
+                    let key = queue.lock().unwrap_or_else(|e| e.into_inner()).pop_front();
+                    let Some(key) = key else {
+                        break;
+                    };
+                    let result = source.build(key);
+                    if done.send(Finished { key, result }).is_err() {
+                        // The streamer is gone.
+                        break;
+                    }
+                }
+                working.fetch_sub(1, Ordering::AcqRel);
+            });
+        }
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, VecDeque<NodeKey>> {
+        self.queue.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}

@@ -1,0 +1,326 @@
+//! What a streamed terrain is made of and how it streams: seed, chunk size, radius, mesher
+//! mode, layers, far draws, error budget, memory and the per-frame upload limit; checked once,
+//! up front, with an error naming the bad value.
+
+use std::fmt;
+use std::time::Duration;
+
+use gpu_backend::render::far::{FarPath, FarRequest};
+use mesher::SurfaceMode;
+use voxel_core::ChunkSize;
+
+/// How node surfaces are meshed (the overlay's mesher modes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum MesherMode {
+    /// One quad per visible block face.
+    Faces,
+    /// Greedy quads (the default).
+    #[default]
+    Greedy,
+    /// NoCubes: every opaque block smoothed (the renderer's smooth layer).
+    Smooth,
+}
+
+impl MesherMode {
+    /// All modes, in the overlay's order.
+    pub const ALL: [MesherMode; 3] = [MesherMode::Faces, MesherMode::Greedy, MesherMode::Smooth];
+
+    /// The mesher's surface mode.
+    pub fn surface(self) -> SurfaceMode {
+        match self {
+            MesherMode::Faces => SurfaceMode::VisibleFaces,
+            MesherMode::Greedy => SurfaceMode::Greedy,
+            MesherMode::Smooth => SurfaceMode::NoCubes,
+        }
+    }
+
+    /// Its name in flags and the overlay.
+    pub fn name(self) -> &'static str {
+        match self {
+            MesherMode::Faces => "faces",
+            MesherMode::Greedy => "greedy",
+            MesherMode::Smooth => "smooth",
+        }
+    }
+}
+
+/// The renderer's far-draw choices ([`FarRequest`]) by name.
+pub const FAR_CHOICES: [(&str, FarRequest); 5] = [
+    ("off", FarRequest::Off),
+    ("auto", FarRequest::Auto),
+    ("splat", FarRequest::Path(FarPath::Splat)),
+    ("sprite", FarRequest::Path(FarPath::Sprite)),
+    ("quads3", FarRequest::Path(FarPath::CameraQuads)),
+];
+
+/// The name of a far request (see [`FAR_CHOICES`]).
+pub fn far_name(far: FarRequest) -> &'static str {
+    FAR_CHOICES
+        .iter()
+        .find(|(_, f)| *f == far)
+        .map_or("off", |(name, _)| name)
+}
+
+/// Which of the renderer's layers are uploaded. A hidden layer is left out of every node's
+/// upload (quads, smooth surface, and the far-draw blocks of its class), so toggling one
+/// re-streams the terrain; clutter is not drawn by the renderer yet, so it has no toggle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Layers {
+    /// Opaque quads and skirts, and opaque far-draw blocks.
+    pub opaque: bool,
+    /// Transparent quads (water) and transparent far-draw blocks.
+    pub transparent: bool,
+    /// The smooth surface (smooth mode only).
+    pub smooth: bool,
+}
+
+impl Default for Layers {
+    fn default() -> Self {
+        Layers {
+            opaque: true,
+            transparent: true,
+            smooth: true,
+        }
+    }
+}
+
+/// How much of the built nodes may be uploaded in one frame.
+///
+/// An upload runs on the frame's thread: `Renderer::upload_chunk` allocates the node's
+/// gigabuffer ranges, writes its chunk and node records, computes its bounds and copies its
+/// bytes into the staging arena, and the next frame's flush copies them on to wgpu. Measured
+/// on this workspace's 2-core development machine (lavapipe, 16^3 nodes of the terrain, about
+/// 9 KiB each): about 60 µs per node, 6.5 ms per MiB, plus 1 ms per MiB at the flush; a third
+/// of it is the renderer's bounds computation. So the binding limit is the time: **2 ms of
+/// uploads per frame** (about 33 nodes here, 2,000 a second at 60 Hz), an eighth of a 60 Hz
+/// frame, which keeps the worst frame far from 16.7 ms while a burst of finished nodes (the
+/// next view, a turn) spreads over frames; the 4 MiB cap only matters for unusually large
+/// nodes. Before the first view is drawn there is no frame to protect, so loading gets
+/// [`first_view_time`](Self::first_view_time). What is not uploaded waits for the next frame,
+/// in the order it was built (nearest first).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct UploadLimit {
+    /// Bytes of node data per frame.
+    pub bytes: u64,
+    /// Time spent uploading per frame (freeing gets a quarter of it).
+    pub time: Duration,
+    /// Time spent uploading per frame while nothing is drawn yet.
+    pub first_view_time: Duration,
+}
+
+impl Default for UploadLimit {
+    fn default() -> Self {
+        UploadLimit {
+            bytes: 4 << 20,
+            time: Duration::from_millis(2),
+            first_view_time: Duration::from_millis(12),
+        }
+    }
+}
+
+/// Everything a streamed terrain is made with.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StreamSettings {
+    /// Terrain seed.
+    pub seed: i32,
+    /// Chunk edge (8 or 16: far draws address 16^3).
+    pub chunk: ChunkSize,
+    /// Streamed radius around the anchor, blocks.
+    pub radius: u32,
+    /// How nodes are meshed.
+    pub mesher: MesherMode,
+    /// Which layers are uploaded.
+    pub layers: Layers,
+    /// Far draws asked for.
+    pub far: FarRequest,
+    /// The error budget asked for, pixels.
+    pub budget_px: f32,
+    /// Nodes whose cells span at most this many pixels are far-drawn.
+    pub far_cell_px: f32,
+    /// Hysteresis of the anchor, blocks.
+    pub hysteresis: f32,
+    /// GPU bytes for node data (all gigabuffer kinds together).
+    pub memory_bytes: u64,
+    /// Resident nodes at most (the renderer's table capacity is this or, for a small radius,
+    /// less: [`node_capacity`](Self::node_capacity)).
+    pub max_nodes: u32,
+    /// Per-frame upload limit.
+    pub upload: UploadLimit,
+}
+
+impl Default for StreamSettings {
+    fn default() -> Self {
+        StreamSettings {
+            seed: 1,
+            chunk: ChunkSize::S16,
+            radius: 2048,
+            mesher: MesherMode::Greedy,
+            layers: Layers::default(),
+            far: FarRequest::Auto,
+            budget_px: 1.0,
+            // The benchmark's choice on the H100 (BENCHMARKS.md): 2 px far cells.
+            far_cell_px: 2.0,
+            hysteresis: 16.0,
+            memory_bytes: 1 << 30,
+            // The renderer's tables and cull outputs take about 2.6 KB per node of capacity
+            // (170 MiB here); a 1080p view at 1 px within 2048 blocks selects about 46,000
+            // nodes, some 25,000 of them with something to draw.
+            max_nodes: 1 << 16,
+            upload: UploadLimit::default(),
+        }
+    }
+}
+
+/// A setting out of its range.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BadSetting(pub String);
+
+impl fmt::Display for BadSetting {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for BadSetting {}
+
+/// Largest streamed radius, blocks (2^20: the plan walks every node in range, and past this
+/// the nodes of even the coarsest level number in the millions).
+pub const MAX_RADIUS: u32 = 1 << 20;
+
+impl StreamSettings {
+    /// The settings if every value is in range, else an error naming the first one that is not.
+    pub fn validate(self) -> Result<StreamSettings, BadSetting> {
+        let bad = |s: String| Err(BadSetting(s));
+        if !matches!(self.chunk, ChunkSize::S8 | ChunkSize::S16) {
+            return bad(format!(
+                "chunk edge {} cannot be streamed: far draws and level-of-detail nodes need \
+                 chunks of 8 or 16",
+                self.chunk.edge()
+            ));
+        }
+        if !(self.chunk.edge()..=MAX_RADIUS).contains(&self.radius) {
+            return bad(format!(
+                "radius {} is not from {} (one chunk) to {MAX_RADIUS} blocks",
+                self.radius,
+                self.chunk.edge()
+            ));
+        }
+        for (name, v) in [
+            ("error budget", self.budget_px),
+            ("far cell size", self.far_cell_px),
+            ("hysteresis", self.hysteresis),
+        ] {
+            if !v.is_finite() || v < 0.0 {
+                return bad(format!("{name} {v} must be a finite number >= 0"));
+            }
+        }
+        if self.memory_bytes < 1 << 20 {
+            return bad(format!("memory {} bytes is below 1 MiB", self.memory_bytes));
+        }
+        if self.max_nodes == 0 {
+            return bad("max nodes 0: at least one node must fit".to_owned());
+        }
+        if self.upload.bytes == 0
+            || self.upload.time.is_zero()
+            || self.upload.first_view_time.is_zero()
+        {
+            return bad("the per-frame upload limit must allow some upload".to_owned());
+        }
+        Ok(self)
+    }
+
+    /// The renderer's node capacity: `max_nodes`, or twice the level-0 chunks that fit in the
+    /// radius (plus a margin) when that is less. A plan never selects more nodes than level-0
+    /// chunks in its radius (each node covers at least one), and at most two plans are resident
+    /// at once; the tables and cull outputs cost about 2.6 KB per node of capacity and the cull
+    /// passes run over all of it, so a small radius should not pay for 65,536.
+    pub fn node_capacity(&self) -> u32 {
+        let edge = f64::from(self.chunk.edge());
+        // The radius grown by a chunk's diagonal: chunks partly inside count.
+        let reach = f64::from(self.radius) + edge * std::f64::consts::SQRT_2;
+        let columns = std::f64::consts::PI * reach * reach / (edge * edge);
+        let layers = f64::from(voxel_scene::TERRAIN_TOP as u32 / self.chunk.edge() + 1);
+        let bound = 2.0 * columns * layers + 256.0;
+        if bound < f64::from(self.max_nodes) {
+            bound as u32
+        } else {
+            self.max_nodes
+        }
+    }
+
+    /// The highest level of detail streamed: nodes of the top level are about a quarter of
+    /// the streamed diameter wide (at least level 0; at most 15, the renderer's largest).
+    pub fn top_level(&self) -> u32 {
+        let nodes_across = (self.radius / self.chunk.edge()).max(1);
+        (nodes_across.ilog2().saturating_sub(1)).min(15)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_settings_are_refused_by_name() {
+        assert!(StreamSettings::default().validate().is_ok());
+        let cases = [
+            (
+                StreamSettings {
+                    chunk: ChunkSize::S32,
+                    ..Default::default()
+                },
+                "chunk edge 32",
+            ),
+            (
+                StreamSettings {
+                    radius: 4,
+                    ..Default::default()
+                },
+                "radius 4",
+            ),
+            (
+                StreamSettings {
+                    budget_px: f32::NAN,
+                    ..Default::default()
+                },
+                "error budget NaN",
+            ),
+            (
+                StreamSettings {
+                    memory_bytes: 10,
+                    ..Default::default()
+                },
+                "memory 10",
+            ),
+        ];
+        for (settings, named) in cases {
+            let err = settings.validate().unwrap_err().to_string();
+            assert!(err.contains(named), "{err}");
+        }
+    }
+
+    #[test]
+    fn top_level_follows_the_radius() {
+        let at = |radius| {
+            StreamSettings {
+                radius,
+                ..Default::default()
+            }
+            .top_level()
+        };
+        assert_eq!(at(2048), 6, "1024-block nodes for a 4096-block diameter");
+        assert_eq!(at(256), 3);
+        assert_eq!(at(16), 0);
+        assert_eq!(at(MAX_RADIUS), 15);
+        let capacity = |radius| {
+            StreamSettings {
+                radius,
+                ..Default::default()
+            }
+            .node_capacity()
+        };
+        assert_eq!(capacity(2048), 1 << 16, "the cap");
+        assert!((500..1000).contains(&capacity(64)), "{}", capacity(64));
+        assert_eq!(far_name(FarRequest::Path(FarPath::Sprite)), "sprite");
+    }
+}

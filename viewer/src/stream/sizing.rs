@@ -1,0 +1,63 @@
+//! The renderer of a streamed terrain: its far path resolved for the device, and the node
+//! memory split between the gigabuffer kinds the settings use.
+//!
+//! Pages are created only as uploads need them (`gpu_backend::gigabuffer`), so each kind's
+//! share is a ceiling, not an allocation. The shares follow what the terrain's nodes hold
+//! (measured over a converged view: see `BENCHMARKS.md`'s streaming section): about as many
+//! bytes of far-draw blocks and masks as of quads, and in smooth mode about three bytes of
+//! smooth vertices for every byte of smooth quads. Draw blocks are bound as one page, so their
+//! share stops at the device's largest binding.
+
+use gpu_backend::GpuCapabilities;
+use gpu_backend::gigabuffer::{DataKind, GigabufferConfig};
+use gpu_backend::render::far::{FarChoice, FarPath, FarRequest};
+use gpu_backend::render::{RendererConfig, SmoothFrame};
+
+use super::settings::{MesherMode, StreamSettings};
+
+/// The far path `settings` asks for on a device with `capabilities`, or why it cannot run.
+pub fn far_choice(
+    settings: &StreamSettings,
+    capabilities: &GpuCapabilities,
+) -> Result<FarChoice, String> {
+    settings.far.resolve(capabilities)
+}
+
+/// The renderer configuration for `settings` at `width x height`, far path `far`.
+pub fn renderer_config(
+    settings: &StreamSettings,
+    far: FarPath,
+    (width, height): (u32, u32),
+    capabilities: &GpuCapabilities,
+) -> RendererConfig {
+    let memory = settings.memory_bytes;
+    let smooth = settings.mesher == MesherMode::Smooth;
+    // Parts of the memory per kind.
+    let mut parts = vec![(DataKind::Quads, 4u64)];
+    if far != FarPath::Off {
+        parts.push((DataKind::DrawBlocks, 4));
+    }
+    if smooth {
+        parts.push((DataKind::SmoothVertices, 3));
+        parts.push((DataKind::SmoothQuads, 1));
+    }
+    let total: u64 = parts.iter().map(|(_, p)| p).sum();
+    let capacity = settings.node_capacity();
+    let mut gigabuffer = GigabufferConfig::empty().with_max_chunks(capacity);
+    for (kind, part) in parts {
+        let mut bytes = memory / total * part;
+        if kind == DataKind::DrawBlocks {
+            bytes = bytes.min(capabilities.max_page_bytes());
+        }
+        gigabuffer = gigabuffer.with_bytes(kind, bytes);
+    }
+    let mut config = RendererConfig::new(width, height, settings.chunk);
+    config.gigabuffer = gigabuffer;
+    config.max_chunks = capacity;
+    config.smooth = SmoothFrame::nocubes(settings.chunk);
+    config.far = match far {
+        FarPath::Off => FarRequest::Off,
+        path => FarRequest::Path(path),
+    };
+    config
+}

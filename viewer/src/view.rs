@@ -1,0 +1,145 @@
+//! [`StreamedView`]: the streamed terrain as the window and the headless modes see it, one
+//! streamer drawing and, after a control that changes what nodes hold or how they are drawn,
+//! a second one loading behind it.
+//!
+//! ```text
+//!  apply(controls) ─► budget changed      ─► the streamers re-plan (no re-meshing)
+//!                  └► mesher, far, layers ─► a new Streamer (new renderer) streams the same
+//!                                             view; the old one keeps drawing until the new
+//!                                             one has committed, then it is dropped
+//! ```
+//!
+//! So a change never shows a hole or a half-switched terrain; the price is a second copy of
+//! the view's nodes on the GPU while the new one loads.
+
+use gpu_backend::GpuContext;
+use gpu_backend::render::{RenderCamera, Renderer};
+
+use crate::controls::Controls;
+use crate::stream::{StreamError, StreamSettings, StreamStatus, Streamer};
+
+/// The streamer that draws, and the one replacing it (see the [module docs](self)).
+pub struct StreamedView {
+    current: Streamer,
+    next: Option<Streamer>,
+    size: (u32, u32),
+}
+
+impl StreamedView {
+    /// A view of the terrain of `settings` drawing `width x height`.
+    pub fn new(
+        ctx: &GpuContext,
+        settings: &StreamSettings,
+        width: u32,
+        height: u32,
+    ) -> Result<StreamedView, StreamError> {
+        Ok(StreamedView {
+            current: Streamer::new(ctx, settings, width, height)?,
+            next: None,
+            size: (width, height),
+        })
+    }
+
+    /// One frame's streaming for both streamers; swaps in the new one once it has committed.
+    /// Returns true when it swapped (the renderer changed: a caller that set the renderer up,
+    /// e.g. its fullscreen path, does it again).
+    pub fn update(&mut self, camera: &RenderCamera) -> Result<bool, StreamError> {
+        self.current.update(camera)?;
+        if !self.current.ready() {
+            // Nothing of it is drawn yet, so no frame flushes its uploads.
+            self.current.renderer_mut().flush_uploads();
+        }
+        if let Some(next) = &mut self.next {
+            next.update(camera)?;
+            next.renderer_mut().flush_uploads();
+            if next.ready() {
+                self.current = self.next.take().expect("checked above");
+                return Ok(true);
+            }
+        }
+        Ok(false)
+    }
+
+    /// True once the drawing streamer has committed a plan (frames show no hole).
+    pub fn ready(&self) -> bool {
+        self.current.ready()
+    }
+
+    /// The drawing streamer.
+    pub fn streamer(&self) -> &Streamer {
+        &self.current
+    }
+
+    /// The streamer loading behind it, while there is one.
+    pub fn replacement(&self) -> Option<&Streamer> {
+        self.next.as_ref()
+    }
+
+    /// The drawing renderer.
+    pub fn renderer(&self) -> &Renderer {
+        self.current.renderer()
+    }
+
+    /// The drawing renderer, mutably.
+    pub fn renderer_mut(&mut self) -> &mut Renderer {
+        self.current.renderer_mut()
+    }
+
+    /// The settings the view is heading for (the replacement's while one loads).
+    pub fn settings(&self) -> &StreamSettings {
+        self.next.as_ref().unwrap_or(&self.current).settings()
+    }
+
+    /// The controls the view is heading for.
+    pub fn controls(&self) -> Controls {
+        Controls::of(self.settings())
+    }
+
+    /// Applies `controls`: a new budget is planned by the streamers; a new mesher mode, far
+    /// path or set of layers starts a replacement streamer (replacing one still loading, or
+    /// dropping it when the controls go back to what is drawn).
+    /// A control the device cannot run (e.g. a far path it lacks) is an error naming why,
+    /// and changes nothing.
+    pub fn apply(&mut self, ctx: &GpuContext, controls: &Controls) -> Result<(), StreamError> {
+        let settings = controls
+            .applied_to(self.settings())
+            .validate()
+            .map_err(StreamError::Settings)?;
+        if !Controls::of(self.current.settings()).needs_restream(controls) {
+            // Back to what is drawn: the replacement, if any, is not needed.
+            self.next = None;
+        } else if self.controls().needs_restream(controls) {
+            let (width, height) = self.size;
+            self.next = Some(Streamer::new(ctx, &settings, width, height)?);
+        }
+        if controls.budget_px != self.current.settings().budget_px {
+            self.current.set_budget(controls.budget_px)?;
+        }
+        if let Some(next) = &mut self.next
+            && controls.budget_px != next.settings().budget_px
+        {
+            next.set_budget(controls.budget_px)?;
+        }
+        Ok(())
+    }
+
+    /// Follows a new output size (both renderers).
+    pub fn resize(&mut self, width: u32, height: u32) -> Result<(), StreamError> {
+        self.size = (width, height);
+        for streamer in std::iter::once(&mut self.current).chain(self.next.as_mut()) {
+            streamer
+                .renderer_mut()
+                .resize(width, height)
+                .map_err(StreamError::Renderer)?;
+        }
+        Ok(())
+    }
+
+    /// The drawing streamer's status, and the replacement's while one loads.
+    pub fn status(&self) -> (StreamStatus, Option<StreamStatus>) {
+        (
+            self.current.status(),
+            self.next.as_ref().map(Streamer::status),
+        )
+    }
+}

@@ -1,0 +1,154 @@
+//! The streamed terrain from the command line: the headless PNG (with its progress lines) and
+//! `--flight` (percentiles printed, the same figures as JSON). Small sizes on the local Vulkan
+//! adapter; without one each test prints `skipped: ...` (and fails under `CI=true`).
+
+mod support;
+
+use support::{have_adapter, run_viewer, text};
+
+/// A fresh folder for this test's files.
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("viewer-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    dir
+}
+
+#[test]
+fn the_headless_frame_streams_the_terrain_first() {
+    if !have_adapter() {
+        return;
+    }
+    let dir = temp_dir("stream-png");
+    let out = dir.join("frame.png");
+    let out_arg = out.to_string_lossy().into_owned();
+    let output = run_viewer(
+        &[
+            "--headless",
+            "--width",
+            "64",
+            "--height",
+            "40",
+            "--radius",
+            "96",
+            "--out",
+            &out_arg,
+        ],
+        None,
+    );
+    let (stdout, stderr) = (text(&output.stdout), text(&output.stderr));
+    assert!(output.status.success(), "{stdout}\n{stderr}");
+    assert!(
+        stderr.contains("viewer: streamed: ") && stderr.contains("nodes resident"),
+        "progress on stderr: {stderr}"
+    );
+    assert!(
+        stdout.contains("terrain streamed to a radius of 96 blocks")
+            && stdout.contains("GPU renderer"),
+        "{stdout}"
+    );
+    let decoder = png::Decoder::new(std::io::Cursor::new(std::fs::read(&out).unwrap()));
+    let info = decoder.read_info().unwrap();
+    assert_eq!((info.info().width, info.info().height), (64, 40));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A `(p50, p99, max)` object of the report.
+fn percentiles(json: &serde_json::Value, name: &str) -> [f64; 3] {
+    ["p50_ms", "p99_ms", "max_ms"].map(|k| {
+        json[name][k]
+            .as_f64()
+            .unwrap_or_else(|| panic!("{name}.{k} in {json}"))
+    })
+}
+
+#[test]
+fn a_flight_prints_percentiles_and_writes_them_as_json() {
+    if !have_adapter() {
+        return;
+    }
+    let dir = temp_dir("flight");
+    let json_path = dir.join("flight.json");
+    let json_arg = json_path.to_string_lossy().into_owned();
+    let output = run_viewer(
+        &[
+            // Meshes only: lavapipe's far splat is the slow part on a loaded 2-core machine.
+            "--flight", "2", "--width", "64", "--height", "36", "--radius", "64", "--far", "off",
+            "--json", &json_arg,
+        ],
+        None,
+    );
+    let (stdout, stderr) = (text(&output.stdout), text(&output.stderr));
+    assert!(output.status.success(), "{stdout}\n{stderr}");
+    for label in ["CPU per frame", "frame (to GPU done)"] {
+        let line = stdout
+            .lines()
+            .find(|l| l.contains(label))
+            .unwrap_or_else(|| panic!("no {label:?} line in:\n{stdout}"));
+        assert!(
+            line.contains("p50") && line.contains("p99") && line.contains("max"),
+            "{line}"
+        );
+    }
+    let gpu = stdout
+        .lines()
+        .find(|l| l.contains("GPU per frame"))
+        .expect("a GPU line");
+    assert!(
+        gpu.contains("p99") || gpu.contains("no timestamps"),
+        "{gpu}"
+    );
+    assert!(stdout.contains("nodes/s"), "{stdout}");
+
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json_path).unwrap()).unwrap();
+    assert_eq!(json["frames"], 120);
+    assert_eq!(json["seconds"], 2.0);
+    assert_eq!(
+        (json["width"].as_u64(), json["height"].as_u64()),
+        (Some(64), Some(36))
+    );
+    assert!(
+        json["wall_seconds"].as_f64().unwrap() >= 2.0 - 1e-9,
+        "paced to 60 Hz"
+    );
+    for name in ["cpu_frame", "frame"] {
+        let [p50, p99, max] = percentiles(&json, name);
+        assert!(
+            0.0 < p50 && p50 <= p99 && p99 <= max,
+            "{name}: {p50} {p99} {max}"
+        );
+    }
+    if json["gpu_timing"] == "timestamps" {
+        let [p50, p99, max] = percentiles(&json, "gpu_frame");
+        assert!(0.0 < p50 && p50 <= p99 && p99 <= max);
+        assert!(gpu.contains(&format!("{p50:.2} ms")), "{gpu} vs the JSON");
+    } else {
+        assert!(json["gpu_frame"].is_null());
+    }
+    assert!(json["first_view_nodes"].as_u64().unwrap() > 0);
+    assert!(json["streamed_nodes_per_second"].as_f64().unwrap() >= 0.0);
+    assert!(
+        json["commits"].as_u64().unwrap() > 0,
+        "the anchor moved: {json}"
+    );
+    assert_eq!(json["frames_with_holes"], 0);
+    assert_eq!(json["radius"], 64);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_streaming_flags_are_refused_by_name() {
+    for (args, named) in [
+        (&["--radius", "4"][..], "radius"),
+        (&["--budget", "-2"][..], "error budget"),
+        (&["--far", "lasers"][..], "far-draw path"),
+        (&["--flight", "-1"][..], "flight time"),
+        (&["--flight", "1", "--vox", "x.vox"][..], "--vox"),
+    ] {
+        let output = run_viewer(args, None);
+        let stderr = text(&output.stderr);
+        assert!(!output.status.success(), "{args:?} accepted");
+        assert!(stderr.contains(named), "{args:?}: {stderr}");
+    }
+}
