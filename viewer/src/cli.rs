@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 use clap::Parser;
+use gpu_backend::render::OpaquePath;
 use gpu_backend::render::far::FarRequest;
 use viewer::stream::settings::{FAR_CHOICES, MAX_RADIUS};
 use viewer::stream::{MesherMode, StreamSettings};
@@ -72,6 +73,11 @@ pub struct Args {
     /// Streamed terrain: far draws of distant nodes (off, auto, splat, sprite, quads3).
     #[arg(long, value_name = "PATH", default_value = "auto", value_parser = parse_far, conflicts_with_all = ["vox", "chunks"])]
     pub far: FarRequest,
+    /// Streamed terrain: how opaque quads are drawn, `raster` (the G-buffer pass) or
+    /// `compute` (the compute rasteriser: faster on GPUs with few raster units; needs 64-bit
+    /// atomics).
+    #[arg(long, value_name = "PATH", default_value = "raster", value_parser = parse_opaque, conflicts_with_all = ["vox", "chunks"])]
+    pub opaque: OpaquePath,
     /// Streamed terrain: GPU memory for node data, MiB.
     #[arg(long, value_name = "MIB", default_value_t = 1024, value_parser = clap::value_parser!(u64).range(1..=1 << 20), conflicts_with_all = ["vox", "chunks"])]
     pub memory: u64,
@@ -121,6 +127,7 @@ impl Args {
             budget_px: self.budget,
             mesher: self.mesher,
             far: self.far,
+            opaque: self.opaque,
             memory_bytes: self.memory << 20,
             ..StreamSettings::default()
         }
@@ -177,6 +184,15 @@ fn parse_far(text: &str) -> Result<FarRequest, String> {
             let names: Vec<&str> = FAR_CHOICES.iter().map(|(n, _)| *n).collect();
             format!("{text:?} is not a far-draw path ({})", names.join(", "))
         })
+}
+
+/// `raster` or `compute`.
+fn parse_opaque(text: &str) -> Result<OpaquePath, String> {
+    match text {
+        "raster" => Ok(OpaquePath::Raster),
+        "compute" => Ok(OpaquePath::Compute),
+        _ => Err(format!("{text:?} is not an opaque path (raster, compute)")),
+    }
 }
 
 /// Seconds, more than 0 and at most an hour.
@@ -241,10 +257,12 @@ mod tests {
     fn streaming_flags_parse_and_bad_values_are_named() {
         let a = parse(&[
             "--radius", "512", "--budget", "2.5", "--mesher", "faces", "--far", "sprite",
-            "--memory", "64",
+            "--memory", "64", "--opaque", "compute",
         ])
         .unwrap();
         let s = a.stream_settings();
+        assert_eq!(s.opaque, OpaquePath::Compute);
+        assert_eq!(parse(&[]).unwrap().stream_settings().opaque, OpaquePath::Raster);
         assert_eq!(
             (s.radius, s.budget_px, s.mesher),
             (512, 2.5, MesherMode::Faces)
@@ -257,6 +275,7 @@ mod tests {
             (&["--budget", "-1"][..], "error budget"),
             (&["--budget", "NaN"][..], "error budget"),
             (&["--mesher", "marching"][..], "mesher mode"),
+            (&["--opaque", "fragment"][..], "opaque path"),
             (&["--far", "rays"][..], "far-draw path"),
             (&["--flight", "0"][..], "flight time"),
             (&["--flight", "inf"][..], "flight time"),

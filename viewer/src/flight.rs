@@ -162,6 +162,8 @@ pub struct FlightReport {
     pub far: String,
     /// Mesher mode.
     pub mesher: String,
+    /// How opaque quads were drawn (`Raster` or `Compute`).
+    pub opaque: String,
 }
 
 impl FlightReport {
@@ -176,7 +178,7 @@ impl FlightReport {
         vec![
             format!(
                 "flight: {} frames ({:.1} s of flight in {:.1} s) at {}x{} on {}; radius {} \
-                 blocks, budget {} px, far draws {}, {} meshes",
+                 blocks, budget {} px, far draws {}, {} meshes, opaque path {}",
                 self.frames,
                 self.seconds,
                 self.wall_seconds,
@@ -186,7 +188,8 @@ impl FlightReport {
                 self.radius,
                 self.budget_px,
                 self.far,
-                self.mesher
+                self.mesher,
+                self.opaque
             ),
             format!(
                 "flight: first view {} nodes in {:.2} s",
@@ -301,6 +304,7 @@ pub fn fly(
         budget_px: settings.budget_px,
         far: view.streamer().far_choice().to_string(),
         mesher: settings.mesher.name().to_owned(),
+        opaque: format!("{:?}", settings.opaque),
     })
 }
 

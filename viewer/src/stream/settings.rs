@@ -5,6 +5,7 @@
 use std::fmt;
 use std::time::Duration;
 
+use gpu_backend::render::OpaquePath;
 use gpu_backend::render::far::{FarPath, FarRequest};
 use mesher::SurfaceMode;
 use voxel_core::ChunkSize;
@@ -133,6 +134,10 @@ pub struct StreamSettings {
     pub layers: Layers,
     /// Far draws asked for.
     pub far: FarRequest,
+    /// How opaque quads are drawn: the raster pass (the default; GPUs with many raster units)
+    /// or the compute rasteriser (compute-heavy GPUs with few raster units, such as the H100:
+    /// BENCHMARKS.md; needs 64-bit atomics).
+    pub opaque: OpaquePath,
     /// The error budget asked for, pixels.
     pub budget_px: f32,
     /// Nodes whose cells span at most this many pixels are far-drawn.
@@ -157,6 +162,7 @@ impl Default for StreamSettings {
             mesher: MesherMode::Greedy,
             layers: Layers::default(),
             far: FarRequest::Auto,
+            opaque: OpaquePath::Raster,
             budget_px: 1.0,
             // The benchmark's choice on the H100 (BENCHMARKS.md): 2 px far cells.
             far_cell_px: 2.0,

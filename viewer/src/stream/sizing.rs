@@ -55,6 +55,7 @@ pub fn renderer_config(
     config.gigabuffer = gigabuffer;
     config.max_chunks = capacity;
     config.smooth = SmoothFrame::nocubes(settings.chunk);
+    config.opaque = settings.opaque;
     config.far = match far {
         FarPath::Off => FarRequest::Off,
         path => FarRequest::Path(path),
