@@ -262,7 +262,10 @@ mod tests {
         .unwrap();
         let s = a.stream_settings();
         assert_eq!(s.opaque, OpaquePath::Compute);
-        assert_eq!(parse(&[]).unwrap().stream_settings().opaque, OpaquePath::Raster);
+        assert_eq!(
+            parse(&[]).unwrap().stream_settings().opaque,
+            OpaquePath::Raster
+        );
         assert_eq!(
             (s.radius, s.budget_px, s.mesher),
             (512, 2.5, MesherMode::Faces)
