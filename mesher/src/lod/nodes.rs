@@ -73,6 +73,15 @@ pub struct NodeMesher {
     skirts: Skirts,
 }
 
+/// Empties everything `out` holds but its coordinate and level (capacity kept).
+fn clear_contents(out: &mut NodeMesh) {
+    out.mesh.clear();
+    out.skirts.clear();
+    out.blocks.clear();
+    out.hiding_mask.clear();
+    out.transparent_mask.clear();
+}
+
 impl NodeMesher {
     /// A mesher with empty scratch buffers.
     pub fn new() -> Self {
@@ -93,11 +102,7 @@ impl NodeMesher {
     ) -> Result<(), MeshError> {
         out.coord = coord;
         out.level = level;
-        out.mesh.clear();
-        out.skirts.clear();
-        out.blocks.clear();
-        out.hiding_mask.clear();
-        out.transparent_mask.clear();
+        clear_contents(out);
         if is_trivially_empty(world, coord, classes) {
             return Ok(());
         }
@@ -128,11 +133,7 @@ impl NodeMesher {
         out.level = level;
         let result = self.extract(padded, coord, classes, settings, out);
         if result.is_err() {
-            out.mesh.clear();
-            out.skirts.clear();
-            out.blocks.clear();
-            out.hiding_mask.clear();
-            out.transparent_mask.clear();
+            clear_contents(out);
         }
         result
     }
@@ -145,11 +146,7 @@ impl NodeMesher {
         settings: &NodeSettings,
         out: &mut NodeMesh,
     ) -> Result<(), MeshError> {
-        out.mesh.clear();
-        out.skirts.clear();
-        out.blocks.clear();
-        out.hiding_mask.clear();
-        out.transparent_mask.clear();
+        clear_contents(out);
         self.chunk
             .mesh_gathered(padded, coord, classes, &settings.mesh, &mut out.mesh)?;
         skirt_quads(padded, classes, &mut out.skirts)?;
