@@ -34,7 +34,17 @@
 //!
 //! Scopes past the capacity given to [`GpuTimer::new`] are not timed (counted in
 //! [`GpuTimer::untimed_scopes`]).
+//!
+//! **Frames in flight.** Each [`resolve`](GpuTimer::resolve) closes a frame and queues it; its
+//! queries are copied to one of [`FRAMES_IN_FLIGHT`] readback buffers, so a loop that overlaps
+//! the CPU's next frame with the GPU's current one can read each frame's times later:
+//! [`collect_oldest`](GpuTimer::collect_oldest) waits for the oldest queued frame only (for the
+//! submission given to [`submitted`](GpuTimer::submitted), when one was), while
+//! [`collect`](GpuTimer::collect) waits for all of them and returns the newest. A frame resolved
+//! while every readback buffer is still queued pushes the oldest frame out uncollected (counted
+//! in [`GpuTimer::dropped_frames`]).
 
+use std::collections::VecDeque;
 use std::fmt;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
@@ -42,6 +52,7 @@ use std::time::{Duration, Instant};
 use wgpu::{
     Buffer, BufferDescriptor, BufferUsages, CommandEncoder, CommandEncoderDescriptor,
     ComputePassTimestampWrites, Device, QuerySet, Queue, RenderPassTimestampWrites,
+    SubmissionIndex,
 };
 
 use crate::device::{GpuCapabilities, GpuContext, TimingPath};
@@ -106,15 +117,29 @@ struct Scope {
     ended: bool,
 }
 
+/// Readback buffers of the timestamp path: how many resolved frames can wait to be collected.
+pub const FRAMES_IN_FLIGHT: usize = 3;
+
 #[derive(Debug)]
 struct Timestamps {
     query_set: QuerySet,
     resolve: Buffer,
-    readback: Buffer,
+    /// One per frame in flight, used in turn.
+    readbacks: Vec<Buffer>,
+    /// The readback the next resolve copies into.
+    next_readback: usize,
     period_ns: f32,
     inside_encoders: bool,
-    /// Queries covered by the last resolve.
-    resolved: u32,
+}
+
+/// A resolved frame waiting to be collected.
+#[derive(Debug)]
+struct QueuedFrame {
+    scopes: Vec<Scope>,
+    /// The readback holding its queries (timestamp path, at least one scope).
+    readback: Option<usize>,
+    /// The submission that carried its resolve, once told.
+    submission: Option<SubmissionIndex>,
 }
 
 /// Times labelled scopes of a frame (see the [module docs](self)).
@@ -124,8 +149,12 @@ pub struct GpuTimer {
     queue: Queue,
     timestamps: Option<Timestamps>,
     max_scopes: u32,
+    /// The frame being recorded.
     scopes: Vec<Scope>,
+    /// Resolved frames, oldest first.
+    queued: VecDeque<QueuedFrame>,
     untimed: u64,
+    dropped: u64,
     error: Option<TimerError>,
 }
 
@@ -170,13 +199,17 @@ impl GpuTimer {
                         "gpu timer resolve",
                         BufferUsages::QUERY_RESOLVE | BufferUsages::COPY_SRC,
                     ),
-                    readback: buffer(
-                        "gpu timer readback",
-                        BufferUsages::MAP_READ | BufferUsages::COPY_DST,
-                    ),
+                    readbacks: (0..FRAMES_IN_FLIGHT)
+                        .map(|_| {
+                            buffer(
+                                "gpu timer readback",
+                                BufferUsages::MAP_READ | BufferUsages::COPY_DST,
+                            )
+                        })
+                        .collect(),
+                    next_readback: 0,
                     period_ns,
                     inside_encoders,
-                    resolved: 0,
                 })
             }
             TimingPath::Cpu => None,
@@ -187,7 +220,9 @@ impl GpuTimer {
             timestamps,
             max_scopes,
             scopes: Vec::new(),
+            queued: VecDeque::new(),
             untimed: 0,
+            dropped: 0,
             error: None,
         }
     }
@@ -203,6 +238,16 @@ impl GpuTimer {
     /// Scopes that were not timed because the frame had more than `max_scopes`.
     pub fn untimed_scopes(&self) -> u64 {
         self.untimed
+    }
+
+    /// Resolved frames pushed out uncollected because [`FRAMES_IN_FLIGHT`] were queued.
+    pub fn dropped_frames(&self) -> u64 {
+        self.dropped
+    }
+
+    /// Resolved frames not yet collected.
+    pub fn frames_in_flight(&self) -> usize {
+        self.queued.len()
     }
 
     /// A new scope's index and first query, or `None` when the frame is full.
@@ -303,42 +348,99 @@ impl GpuTimer {
         })
     }
 
-    /// Records the resolve of this frame's queries into `encoder` (after the last scope; a
-    /// no-op on the CPU path). Submit it before [`collect`](Self::collect).
+    /// Closes the frame: records the resolve of its queries into `encoder` (timestamp path)
+    /// and queues it for [`collect_oldest`](Self::collect_oldest) or
+    /// [`collect`](Self::collect). Submit `encoder` before collecting, and pass the submission
+    /// to [`submitted`](Self::submitted) so that collecting waits for this frame only.
     pub fn resolve(&mut self, encoder: &mut CommandEncoder) {
-        let used = 2 * self.scopes.len() as u32;
-        let Some(t) = &mut self.timestamps else {
-            return;
-        };
-        t.resolved = used;
-        if used == 0 {
-            return;
+        let scopes = std::mem::take(&mut self.scopes);
+        if self.queued.len() == FRAMES_IN_FLIGHT {
+            // Its readback is the one this frame takes next (they are used in turn).
+            self.queued.pop_front();
+            self.dropped += 1;
         }
-        encoder.resolve_query_set(&t.query_set, 0..used, &t.resolve, 0);
-        let bytes = u64::from(used) * wgpu::QUERY_SIZE as u64;
-        encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readback, 0, bytes);
+        let used = 2 * scopes.len() as u32;
+        let readback = match &mut self.timestamps {
+            Some(t) if used > 0 => {
+                let index = t.next_readback;
+                t.next_readback = (index + 1) % FRAMES_IN_FLIGHT;
+                encoder.resolve_query_set(&t.query_set, 0..used, &t.resolve, 0);
+                let bytes = u64::from(used) * wgpu::QUERY_SIZE as u64;
+                encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readbacks[index], 0, bytes);
+                Some(index)
+            }
+            _ => None,
+        };
+        self.queued.push_back(QueuedFrame {
+            scopes,
+            readback,
+            submission: None,
+        });
     }
 
-    /// Waits for the GPU and returns the frame's ended scopes in the order they were opened,
-    /// then starts a new frame.
+    /// Tells the timer which submission carried the last resolved frame, so that collecting it
+    /// waits for that submission instead of for all work submitted so far.
+    pub fn submitted(&mut self, submission: SubmissionIndex) {
+        if let Some(frame) = self.queued.back_mut() {
+            frame.submission.get_or_insert(submission);
+        }
+    }
+
+    /// Waits for every queued frame and returns the newest one's ended scopes in the order
+    /// they were opened (the older frames' figures are discarded); empty when no frame was
+    /// resolved. On the CPU path an unresolved frame counts as resolved.
     pub fn collect(&mut self) -> Result<Vec<PassTime>, TimerError> {
-        let scopes = std::mem::take(&mut self.scopes);
+        if let Some(error) = self.error.take() {
+            self.scopes.clear();
+            self.queued.clear();
+            return Err(error);
+        }
+        if !self.scopes.is_empty() {
+            if self.timestamps.is_some() {
+                self.scopes.clear();
+                self.queued.clear();
+                return Err(TimerError::NotResolved);
+            }
+            self.queued.push_back(QueuedFrame {
+                scopes: std::mem::take(&mut self.scopes),
+                readback: None,
+                submission: None,
+            });
+        }
+        let mut newest = Vec::new();
+        while let Some(frame) = self.queued.pop_front() {
+            let last = self.queued.is_empty();
+            if last {
+                newest = self.read(frame)?;
+            }
+        }
+        Ok(newest)
+    }
+
+    /// Waits for the oldest queued frame only and returns its ended scopes in the order they
+    /// were opened; `None` when no frame is queued.
+    pub fn collect_oldest(&mut self) -> Result<Option<Vec<PassTime>>, TimerError> {
         if let Some(error) = self.error.take() {
             return Err(error);
         }
-        let ticks = match &mut self.timestamps {
-            None => None,
-            Some(t) => {
-                let used = 2 * scopes.len() as u32;
-                if t.resolved != used {
-                    t.resolved = 0;
-                    return Err(TimerError::NotResolved);
-                }
-                t.resolved = 0;
-                Some((read_ticks(&self.device, &t.readback, used)?, t.period_ns))
+        match self.queued.pop_front() {
+            Some(frame) => self.read(frame).map(Some),
+            None => Ok(None),
+        }
+    }
+
+    /// One queued frame's times (waits for its submission on the timestamp path).
+    fn read(&self, frame: QueuedFrame) -> Result<Vec<PassTime>, TimerError> {
+        let ticks = match (&self.timestamps, frame.readback) {
+            (Some(t), Some(index)) => {
+                let count = 2 * frame.scopes.len() as u32;
+                let ticks = read_ticks(&self.device, &t.readbacks[index], count, frame.submission)?;
+                Some((ticks, t.period_ns))
             }
+            _ => None,
         };
-        Ok(scopes
+        Ok(frame
+            .scopes
             .iter()
             .filter(|s| s.ended)
             .map(|s| {
@@ -372,8 +474,14 @@ impl GpuTimer {
     }
 }
 
-/// Maps `readback` and returns its first `count` timestamps.
-fn read_ticks(device: &Device, readback: &Buffer, count: u32) -> Result<Vec<u64>, TimerError> {
+/// Maps `readback` and returns its first `count` timestamps, waiting for `submission` (all
+/// submitted work when `None`).
+fn read_ticks(
+    device: &Device,
+    readback: &Buffer,
+    count: u32,
+    submission: Option<SubmissionIndex>,
+) -> Result<Vec<u64>, TimerError> {
     if count == 0 {
         return Ok(Vec::new());
     }
@@ -385,7 +493,10 @@ fn read_ticks(device: &Device, readback: &Buffer, count: u32) -> Result<Vec<u64>
         let _ = sender.send(result);
     });
     device
-        .poll(wgpu::PollType::wait_indefinitely())
+        .poll(wgpu::PollType::Wait {
+            submission_index: submission,
+            timeout: None,
+        })
         .map_err(|e| TimerError::Gpu(e.to_string()))?;
     receiver
         .recv()

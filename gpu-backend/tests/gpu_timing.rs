@@ -7,7 +7,7 @@ use std::time::Instant;
 use gpu_backend::cull::{CullCamera, CullConfig, CullLayer, CullPass};
 use gpu_backend::gigabuffer::{DataKind, PageLayout};
 use gpu_backend::test_support::{headless_or_skip, skip};
-use gpu_backend::timing::{GpuTimer, PassTime, TimerError, TimingSource};
+use gpu_backend::timing::{FRAMES_IN_FLIGHT, GpuTimer, PassTime, TimerError, TimingSource};
 use gpu_backend::{DeviceOptions, GpuContext, MeshedChunkTable, TimingPath};
 use voxel_core::formats::{FaceLayerRange, MeshedChunkInfo};
 use voxel_core::{ChunkCoord, ChunkSize};
@@ -326,4 +326,62 @@ fn cpu_fallback_returns_wall_times() {
     // which on a fast GPU (seen on an H200) can outweigh the heavy dispatch itself.
     let sum: u64 = times.iter().map(|t| t.nanoseconds).sum();
     assert!(u128::from(sum) <= wall);
+}
+
+/// Records frame `f` of the in-flight test: `f % 3 + 1` scopes of light work labelled
+/// `f{f}s{k}`; resolves and submits it. Returns the labels.
+fn queued_frame(ctx: &GpuContext, timer: &mut GpuTimer, busy: &Busy, f: usize) -> Vec<String> {
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    let labels: Vec<String> = (0..f % 3 + 1).map(|k| format!("f{f}s{k}")).collect();
+    for label in &labels {
+        let scope = timer.begin(&mut encoder, label);
+        busy.record(&mut encoder, LIGHT);
+        timer.end(&mut encoder, scope);
+    }
+    timer.resolve(&mut encoder);
+    let submission = ctx.queue.submit([encoder.finish()]);
+    timer.submitted(submission);
+    labels
+}
+
+fn labels_of(times: &[PassTime]) -> Vec<String> {
+    times.iter().map(|t| t.label.clone()).collect()
+}
+
+#[test]
+fn frames_in_flight_are_collected_oldest_first_and_overflow_drops_the_oldest() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let busy = Busy::new(&ctx, &[LIGHT]);
+    let mut timer = GpuTimer::new(&ctx, 16);
+    let frames: Vec<Vec<String>> = (0..FRAMES_IN_FLIGHT)
+        .map(|f| queued_frame(&ctx, &mut timer, &busy, f))
+        .collect();
+    assert_eq!(timer.frames_in_flight(), FRAMES_IN_FLIGHT);
+    for expected in &frames {
+        let times = timer.collect_oldest().unwrap().expect("a queued frame");
+        assert_eq!(&labels_of(&times), expected);
+    }
+    assert_eq!(timer.collect_oldest().unwrap(), None);
+    assert_eq!(timer.dropped_frames(), 0);
+
+    // One frame more than the readbacks: the oldest is pushed out uncollected, and the
+    // others keep their own figures (their readbacks were not overwritten).
+    let frames: Vec<Vec<String>> = (0..=FRAMES_IN_FLIGHT)
+        .map(|f| queued_frame(&ctx, &mut timer, &busy, 10 + f))
+        .collect();
+    assert_eq!(timer.dropped_frames(), 1);
+    assert_eq!(timer.frames_in_flight(), FRAMES_IN_FLIGHT);
+    let times = timer.collect_oldest().unwrap().unwrap();
+    assert_eq!(labels_of(&times), frames[1]);
+    if matches!(ctx.capabilities.timing, TimingPath::GpuTimestamps { .. })
+        && timestamps_follow_compute(&ctx)
+    {
+        assert!(times.iter().all(|t| t.nanoseconds > 0), "{times:?}");
+    }
+    // `collect` waits for the rest and returns the newest.
+    let times = timer.collect().unwrap();
+    assert_eq!(&labels_of(&times), frames.last().unwrap());
+    assert_eq!(timer.frames_in_flight(), 0);
 }

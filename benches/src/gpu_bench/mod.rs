@@ -201,6 +201,9 @@ struct CpuFrame {
     wall_us: f64,
     /// Microseconds of the calling thread's CPU time (`CLOCK_THREAD_CPUTIME_ID`).
     thread_us: f64,
+    /// The part of `thread_us` spent in `CommandEncoder::finish` (wgpu-core turning the
+    /// recorded passes into driver commands).
+    finish_thread_us: f64,
     /// The part of `thread_us` spent in `Queue::submit` (wgpu's validation and the driver).
     submit_thread_us: f64,
 }
@@ -217,17 +220,20 @@ fn measure(
     let mut passes: Vec<Vec<(String, u64)>> = Vec::new();
     let mut cpu_frame_ns = Vec::new();
     let mut cpu_thread_ns = Vec::new();
+    let mut finish_thread_ns = Vec::new();
     let mut submit_thread_ns = Vec::new();
     for _ in 0..frames {
         let started = Instant::now();
         let thread_started = thread_cpu_now();
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         renderer.record_frame(&mut encoder)?;
+        let finish_started = thread_cpu_now();
         let commands = encoder.finish();
         let submit_started = thread_cpu_now();
         ctx.queue.submit([commands]);
         let thread_now = thread_cpu_now();
         cpu_thread_ns.push(thread_now.saturating_sub(thread_started).as_nanos() as u64);
+        finish_thread_ns.push(submit_started.saturating_sub(finish_started).as_nanos() as u64);
         submit_thread_ns.push(thread_now.saturating_sub(submit_started).as_nanos() as u64);
         cpu_frame_ns.push(started.elapsed().as_nanos() as u64);
         let times = renderer.collect_timings()?;
@@ -281,6 +287,7 @@ fn measure(
         CpuFrame {
             wall_us: median(&mut cpu_frame_ns) as f64 / 1e3,
             thread_us: median(&mut cpu_thread_ns) as f64 / 1e3,
+            finish_thread_us: median(&mut finish_thread_ns) as f64 / 1e3,
             submit_thread_us: median(&mut submit_thread_ns) as f64 / 1e3,
         },
         drawn,
@@ -360,6 +367,7 @@ pub fn run(
                     passes,
                     cpu_frame_us: cpu.wall_us,
                     cpu_thread_us: cpu.thread_us,
+                    cpu_finish_us: cpu.finish_thread_us,
                     cpu_submit_us: cpu.submit_thread_us,
                     drawn,
                     image_error: None,
@@ -408,6 +416,7 @@ pub fn run(
                         passes,
                         cpu_frame_us: cpu.wall_us,
                         cpu_thread_us: cpu.thread_us,
+                        cpu_finish_us: cpu.finish_thread_us,
                         cpu_submit_us: cpu.submit_thread_us,
                         drawn,
                         image_error: error,

@@ -99,6 +99,8 @@ pub struct RunReport {
     /// Median CPU time of the recording thread over the same span, microseconds (leaves out
     /// the time slices a busy machine gives to other processes).
     pub cpu_thread_us: f64,
+    /// The part of `cpu_thread_us` spent in `CommandEncoder::finish`, microseconds (median).
+    pub cpu_finish_us: f64,
     /// The part of `cpu_thread_us` spent in `Queue::submit`, microseconds (median).
     pub cpu_submit_us: f64,
     /// What the last frame drew.
@@ -221,8 +223,10 @@ pub fn markdown(report: &BenchReport) -> String {
     for label in &labels {
         let _ = write!(out, " {label} µs |");
     }
-    out.push_str(" GPU total µs | CPU frame µs | CPU thread µs | of it submit µs |\n|");
-    for _ in 0..labels.len() + 10 {
+    out.push_str(
+        " GPU total µs | CPU frame µs | CPU thread µs | of it finish µs | of it submit µs |\n|",
+    );
+    for _ in 0..labels.len() + 11 {
         out.push_str(" ---: |");
     }
     out.push('\n');
@@ -247,8 +251,8 @@ pub fn markdown(report: &BenchReport) -> String {
         }
         let _ = writeln!(
             out,
-            " {:.1} | {:.1} | {:.1} | {:.1} |",
-            r.gpu_total_us, r.cpu_frame_us, r.cpu_thread_us, r.cpu_submit_us
+            " {:.1} | {:.1} | {:.1} | {:.1} | {:.1} |",
+            r.gpu_total_us, r.cpu_frame_us, r.cpu_thread_us, r.cpu_finish_us, r.cpu_submit_us
         );
     }
     out.push_str(
@@ -327,6 +331,7 @@ mod tests {
             gpu_total_us: 3.0,
             cpu_frame_us: 4.0,
             cpu_thread_us: 3.5,
+            cpu_finish_us: 1.0,
             cpu_submit_us: 1.5,
             drawn: DrawnCounts {
                 selected: 10,

@@ -83,6 +83,9 @@ impl Drawn {
     }
 }
 
+/// How often the overlay's cull counters are read back.
+const CULL_READ_INTERVAL: std::time::Duration = std::time::Duration::from_millis(250);
+
 /// Device, swapchain, renderer and overlay of one window.
 pub struct GpuWindow {
     window: Arc<Window>,
@@ -90,8 +93,11 @@ pub struct GpuWindow {
     output: WindowOutput,
     drawn: Drawn,
     overlay: Overlay,
-    /// The last drawn frame's cull counters (read while the overlay is shown).
+    /// A recent frame's cull counters (read while the overlay is shown, a few times a
+    /// second: reading them waits for the GPU, which ends the overlap of frames).
     cull: Option<CullStats>,
+    /// When `cull` was last read.
+    cull_read: Option<Instant>,
     chunk_size: voxel_core::ChunkSize,
 }
 
@@ -145,6 +151,7 @@ impl GpuWindow {
             drawn,
             overlay,
             cull: None,
+            cull_read: None,
             chunk_size,
         })
     }
@@ -285,7 +292,8 @@ impl GpuWindow {
             size,
             panel,
         );
-        self.ctx
+        let submission = self
+            .ctx
             .queue
             .submit(extra.into_iter().chain([encoder.finish()]));
         self.window.pre_present_notify();
@@ -293,14 +301,29 @@ impl GpuWindow {
         let cpu = started.elapsed();
         let passes = if ready {
             let renderer = self.drawn.renderer_mut();
-            let passes = renderer.collect_timings().map_err(WindowError::Renderer)?;
-            if panel.show {
+            renderer.frame_submitted(submission);
+            // One frame stays in flight: the GPU draws this one while the CPU prepares the
+            // next; the overlay shows the times of the frame before.
+            let mut passes = Vec::new();
+            while renderer.frames_in_flight() > 1 {
+                if let Some(p) = renderer
+                    .collect_oldest_timings()
+                    .map_err(WindowError::Renderer)?
+                {
+                    passes = p;
+                }
+            }
+            let due = self
+                .cull_read
+                .is_none_or(|t| t.elapsed() >= CULL_READ_INTERVAL);
+            if panel.show && due {
                 self.cull = Some(
                     renderer
                         .read_frame_stats()
                         .map_err(WindowError::Renderer)?
                         .0,
                 );
+                self.cull_read = Some(Instant::now());
             }
             passes
         } else {

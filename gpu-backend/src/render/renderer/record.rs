@@ -284,13 +284,46 @@ impl Renderer {
     pub fn render(&mut self) -> Result<Vec<PassTime>, RenderError> {
         let mut encoder = self.device.create_command_encoder(&Default::default());
         self.record_frame(&mut encoder)?;
-        self.queue.submit([encoder.finish()]);
+        self.submit_frame(encoder);
         self.collect_timings()
     }
 
-    /// The last submitted frame's per-pass times (waits for the GPU).
+    /// Finishes and submits `encoder` (holding a frame from
+    /// [`record_frame`](Self::record_frame)), and tells the frame's timer which submission
+    /// carried it, so that [`collect_oldest_timings`](Self::collect_oldest_timings) waits for
+    /// that frame only.
+    pub fn submit_frame(&mut self, encoder: CommandEncoder) -> wgpu::SubmissionIndex {
+        let submission = self.queue.submit([encoder.finish()]);
+        self.frame_submitted(submission.clone());
+        submission
+    }
+
+    /// Tells the frame's timer which submission carried the last recorded frame, for callers
+    /// that submit it themselves (with other command buffers; see
+    /// [`submit_frame`](Self::submit_frame)).
+    pub fn frame_submitted(&mut self, submission: wgpu::SubmissionIndex) {
+        self.timer.submitted(submission);
+    }
+
+    /// The last submitted frame's per-pass times (waits for every submitted frame; the
+    /// figures of older frames not yet collected are discarded).
     pub fn collect_timings(&mut self) -> Result<Vec<PassTime>, RenderError> {
         self.timer.collect().map_err(RenderError::Timer)
+    }
+
+    /// The oldest submitted frame's per-pass times, waiting for that frame only; `None` when
+    /// every frame was collected. A loop that keeps one frame in flight records frame `n + 1`,
+    /// submits it with [`submit_frame`](Self::submit_frame), then collects frame `n` here, so
+    /// the CPU's work on a frame overlaps the GPU's on the one before. At most
+    /// [`FRAMES_IN_FLIGHT`](crate::timing::FRAMES_IN_FLIGHT) frames wait; older ones are
+    /// dropped uncollected.
+    pub fn collect_oldest_timings(&mut self) -> Result<Option<Vec<PassTime>>, RenderError> {
+        self.timer.collect_oldest().map_err(RenderError::Timer)
+    }
+
+    /// Submitted frames whose times were not collected yet.
+    pub fn frames_in_flight(&self) -> usize {
+        self.timer.frames_in_flight()
     }
 
     /// Clears the compute rasteriser's counters (`OpaquePath::Compute`; nothing otherwise), so
