@@ -99,6 +99,10 @@ pub struct Args {
     /// Render with the CPU reference raycaster even when a GPU is available.
     #[arg(long)]
     pub cpu: bool,
+    /// Draw meshes as their quads' edges, to see how the mesher merged faces (the GPU
+    /// renderer only; the window toggles it with F3).
+    #[arg(long, conflicts_with = "cpu")]
+    pub wireframe: bool,
     /// Fly a scripted path over the streamed terrain for this many seconds, headless, and
     /// print frame-time percentiles (CPU, GPU, frame) and nodes streamed per second.
     #[arg(long, value_name = "SECONDS", value_parser = parse_seconds, allow_hyphen_values = true, conflicts_with_all = ["window", "vox", "chunks", "cpu", "camera"])]

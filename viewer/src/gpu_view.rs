@@ -159,13 +159,14 @@ pub struct GpuFrame {
 
 /// Renders `scene` from `camera` with the GPU renderer on a headless Vulkan device: meshes
 /// every chunk, sizes the renderer to what the meshes hold (so any scene the device's memory
-/// holds is drawn, however many chunks), uploads them, draws one frame, reads it back.
+/// holds is drawn, however many chunks), uploads them, draws one frame (in the wireframe view
+/// with `wireframe`), reads it back.
 pub fn render_scene(
     scene: &Scene,
     camera: &Camera,
     lighting: &Lighting,
-    width: u32,
-    height: u32,
+    (width, height): (u32, u32),
+    wireframe: bool,
 ) -> Result<GpuFrame, GpuViewError> {
     let ctx = GpuContext::new_headless(&DeviceOptions::default()).map_err(GpuViewError::Device)?;
     let size = scene.world.size();
@@ -177,6 +178,7 @@ pub fn render_scene(
     let handles = upload_meshes(&mut renderer, &meshes)?;
     renderer.set_camera(&render_camera(camera, size));
     renderer.set_lighting(&lighting_params(lighting));
+    renderer.set_wireframe(wireframe);
     let timings = renderer.render().map_err(GpuViewError::Renderer)?;
     let image = renderer.read_image().map_err(GpuViewError::Renderer)?;
     Ok(GpuFrame {

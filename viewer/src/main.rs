@@ -126,6 +126,7 @@ fn main() -> ExitCode {
             overlay: !args.no_overlay,
             screenshot_dir: args.screenshot_dir.clone(),
             screenshot_at: args.screenshot_at,
+            wireframe: args.wireframe,
             ..WindowOptions::new(width, height)
         };
         let source = match &shown {
@@ -168,8 +169,12 @@ fn fixed_frame(
     let gpu = if args.cpu {
         Err("--cpu given".to_owned())
     } else {
-        match render_scene(scene, view, &lighting, width, height) {
+        match render_scene(scene, view, &lighting, (width, height), args.wireframe) {
             Ok(frame) => Ok(frame),
+            Err(GpuViewError::Device(e)) if e.is_no_adapter() && args.wireframe => {
+                eprintln!("viewer: --wireframe needs the GPU renderer: {e}");
+                return None;
+            }
             Err(GpuViewError::Device(e)) if e.is_no_adapter() => Err(e.to_string()),
             Err(e) => {
                 eprintln!("viewer: GPU renderer: {e}");
@@ -223,7 +228,13 @@ fn streamed_frame(
         Some("--cpu given".to_owned())
     } else {
         match GpuContext::new_headless(&DeviceOptions::default()) {
-            Ok(ctx) => return streamed_gpu_frame(&ctx, settings, view, (width, height)),
+            Ok(ctx) => {
+                return streamed_gpu_frame(&ctx, settings, view, (width, height), args.wireframe);
+            }
+            Err(e) if e.is_no_adapter() && args.wireframe => {
+                eprintln!("viewer: --wireframe needs the GPU renderer: {e}");
+                return None;
+            }
             Err(e) if e.is_no_adapter() => Some(e.to_string()),
             Err(e) => {
                 eprintln!("viewer: GPU renderer: {}", DeviceError::to_string(&e));
@@ -258,6 +269,7 @@ fn streamed_gpu_frame(
     settings: &StreamSettings,
     view: &Camera,
     (width, height): (u32, u32),
+    wireframe: bool,
 ) -> Option<(Vec<u8>, String)> {
     let camera = render_camera(view, settings.chunk);
     let loaded = Instant::now();
@@ -266,6 +278,7 @@ fn streamed_gpu_frame(
             eprintln!("viewer: {}", status.progress_line());
         })?;
         let load_time = loaded.elapsed();
+        streamed.renderer_mut().set_wireframe(wireframe);
         let passes = draw_frame(ctx, &mut streamed)?;
         let image = streamed
             .renderer()

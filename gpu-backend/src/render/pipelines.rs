@@ -72,6 +72,10 @@ pub struct Pipelines {
     pub quad_gbuffer: RenderPipeline,
     /// Smooth quads into the G-buffer.
     pub smooth_gbuffer: RenderPipeline,
+    /// The wireframe view of `quad_gbuffer`: only the quads' edges.
+    pub quad_gbuffer_wire: RenderPipeline,
+    /// The wireframe view of `smooth_gbuffer`.
+    pub smooth_gbuffer_wire: RenderPipeline,
     /// Transparent greedy quads, lit and blended into the HDR target.
     pub quad_transparent: RenderPipeline,
     /// Lighting and tonemap.
@@ -269,6 +273,33 @@ impl Pipelines {
                 cull_back: true,
             },
         );
+        // Back faces stay culled: the wireframe shows what the filled view shows.
+        let quad_gbuffer_wire = pipeline(
+            device,
+            PipelineDesc {
+                label: "quads to gbuffer, wireframe",
+                module: &geometry,
+                vertex: "vs_quad_wire",
+                fragment: "fs_gbuffer_wire",
+                groups: [&frame_layout, &quad_layout],
+                targets: &gbuffer_targets,
+                depth: depth_state(true),
+                cull_back: true,
+            },
+        );
+        let smooth_gbuffer_wire = pipeline(
+            device,
+            PipelineDesc {
+                label: "smooth to gbuffer, wireframe",
+                module: &geometry,
+                vertex: "vs_smooth_wire",
+                fragment: "fs_gbuffer_wire",
+                groups: [&frame_layout, &smooth_layout],
+                targets: &gbuffer_targets,
+                depth: depth_state(true),
+                cull_back: true,
+            },
+        );
         let quad_transparent = pipeline(
             device,
             PipelineDesc {
@@ -345,6 +376,8 @@ impl Pipelines {
             hdr_read_layout,
             quad_gbuffer,
             smooth_gbuffer,
+            quad_gbuffer_wire,
+            smooth_gbuffer_wire,
             quad_transparent,
             fullscreen,
         }

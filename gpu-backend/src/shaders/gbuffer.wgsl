@@ -68,14 +68,20 @@ fn relative_position(rel: vec3<i32>, local: vec3<f32>) -> vec4<f32> {
     return frame.view_proj * vec4<f32>(p, 1.0);
 }
 
+// The corner of its quad that vertex `vertex` of the bound page is: slot `vertex & 3`, after
+// the AO diagonal flip of mesher::blocky::triangle_indices (split along corners 1-3 when they
+// are brighter, by renaming corner slot k to corner (k + 1) & 3).
+fn quad_corner(vertex: u32) -> u32 {
+    let q = quads[vertex >> 2u];
+    let flip = packed_quad_ao(q, 1u) + packed_quad_ao(q, 3u) > packed_quad_ao(q, 0u) + packed_quad_ao(q, 2u);
+    return ((vertex & 3u) + u32(flip)) & 3u;
+}
+
 // Corner `vertex & 3` of quad `vertex >> 2` of the bound page, in the chunk of the draw's
 // record. `grow`: see vs_quad.
 fn quad_vertex(vertex: u32, instance: u32, grow: bool) -> SurfaceVaryings {
     let q = quads[vertex >> 2u];
-    // The AO diagonal flip of mesher::blocky::triangle_indices: split along corners 1-3 when
-    // they are brighter, by renaming corner slot k to corner (k + 1) & 3.
-    let flip = packed_quad_ao(q, 1u) + packed_quad_ao(q, 3u) > packed_quad_ao(q, 0u) + packed_quad_ao(q, 2u);
-    let corner = ((vertex & 3u) + u32(flip)) & 3u;
+    let corner = quad_corner(vertex);
     let record = records[instance];
     let rel = vec3<i32>(record.chunk_x, record.chunk_y, record.chunk_z);
     let scale = f32(1u << min(record.level, 15u));
@@ -112,8 +118,48 @@ fn vs_quad_transparent(@builtin(vertex_index) vertex: u32, @builtin(instance_ind
     return quad_vertex(vertex, instance, false);
 }
 
+// The wireframe view: a surface point and where it lies in its quad (0..1 on both axes).
+struct WireVaryings {
+    @builtin(position) position: vec4<f32>,
+    @location(0) @interpolate(flat) block: u32,
+    @location(1) ao: f32,
+    @location(2) normal: vec3<f32>,
+    @location(3) in_quad: vec2<f32>,
+}
+
+// Corner k of a quad, in the quad's own 0..1 coordinates (corners run around the quad).
+fn corner_in_quad(k: u32) -> vec2<f32> {
+    return array<vec2<f32>, 4>(vec2(0.0, 0.0), vec2(1.0, 0.0), vec2(1.0, 1.0), vec2(0.0, 1.0))[k & 3u];
+}
+
+fn wire(surface: SurfaceVaryings, corner: u32) -> WireVaryings {
+    var out: WireVaryings;
+    out.position = surface.position;
+    out.block = surface.block;
+    out.ao = surface.ao;
+    out.normal = surface.normal;
+    out.in_quad = corner_in_quad(corner);
+    return out;
+}
+
+@vertex
+fn vs_quad_wire(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> WireVaryings {
+    return wire(quad_vertex(vertex, instance, false), quad_corner(vertex));
+}
+
+@vertex
+fn vs_smooth_wire(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> WireVaryings {
+    let slot = array<u32, 6>(0u, 1u, 2u, 0u, 2u, 3u)[vertex % 6u];
+    return wire(smooth_vertex(vertex, instance), slot);
+}
+
 @vertex
 fn vs_smooth(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> SurfaceVaryings {
+    return smooth_vertex(vertex, instance);
+}
+
+// Vertex `vertex % 6` of smooth quad `vertex / 6` of the draw `instance`.
+fn smooth_vertex(vertex: u32, instance: u32) -> SurfaceVaryings {
     let draw = smooth_draws[instance];
     let q = vertex / 6u;
     // Triangles (a, b, c) and (a, c, d) of the quad's corners.
@@ -162,6 +208,16 @@ fn transparent_colour(block: u32, ao: f32, normal: vec3<f32>) -> vec4<f32> {
 
 @fragment
 fn fs_gbuffer(in: SurfaceVaryings) -> GBufferOut {
+    return gbuffer_texels(in.block, in.ao, in.normal);
+}
+
+// The wireframe view: only the pixels within about one pixel of the quad's edges are drawn.
+@fragment
+fn fs_gbuffer_wire(in: WireVaryings) -> GBufferOut {
+    let pixels = min(in.in_quad, 1.0 - in.in_quad) / max(fwidth(in.in_quad), vec2<f32>(1e-6));
+    if min(pixels.x, pixels.y) > 1.0 {
+        discard;
+    }
     return gbuffer_texels(in.block, in.ao, in.normal);
 }
 

@@ -62,6 +62,7 @@ impl<'a> App<'a> {
             camera: FlyCamera::new(view, 32.0),
             panel: Panel {
                 show: options.overlay,
+                wireframe: options.wireframe,
                 ..Panel::default()
             },
             screenshot: false,
@@ -278,6 +279,9 @@ impl ApplicationHandler for App<'_> {
                     }
                 } else if code == KeyCode::F1 && pressed {
                     self.panel.show = !self.panel.show;
+                } else if code == KeyCode::F3 && pressed {
+                    self.panel.wireframe = !self.panel.wireframe;
+                    gpu.window().request_redraw();
                 } else if code == KeyCode::F12 && pressed {
                     self.screenshot = true;
                     gpu.window().request_redraw();

@@ -276,6 +276,7 @@ impl GpuWindow {
         let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
         if ready {
             let renderer = self.drawn.renderer_mut();
+            renderer.set_wireframe(panel.wireframe);
             renderer
                 .record_frame(&mut encoder)
                 .map_err(WindowError::Renderer)?;

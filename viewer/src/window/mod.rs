@@ -14,7 +14,8 @@
 //! ```
 //!
 //! Controls: W/A/S/D (or the arrows) move, Space rises, Shift sinks, a left or right mouse drag
-//! looks around, the wheel changes the speed, F1 shows or hides the overlay, F12 writes a
+//! looks around, the wheel changes the speed, F1 shows or hides the overlay, F3 switches the
+//! wireframe view (also a checkbox in the overlay), F12 writes a
 //! screenshot (the renderer's frame without the overlay; its path is printed and shown),
 //! Escape closes. On the streamed terrain the overlay also switches the mesher mode, the far
 //! draws, the error budget and the layers ([`Controls`](crate::controls::Controls)).
@@ -75,6 +76,8 @@ pub struct WindowOptions {
     pub screenshot_dir: PathBuf,
     /// Tests: write a screenshot after this many presented frames, as F12 would.
     pub screenshot_at: Option<u64>,
+    /// Start in the wireframe view (F3 toggles it).
+    pub wireframe: bool,
 }
 
 impl WindowOptions {
@@ -90,6 +93,7 @@ impl WindowOptions {
             overlay: true,
             screenshot_dir: PathBuf::from("target/screenshots"),
             screenshot_at: None,
+            wireframe: false,
         }
     }
 }

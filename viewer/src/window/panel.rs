@@ -10,7 +10,7 @@ use crate::stream::settings::FAR_CHOICES;
 
 /// The control hints shown at the bottom of the window.
 pub const HINTS: &str = "W/A/S/D move · Space/Shift up/down · drag to look · wheel: speed · \
-                         F1 overlay · F12 screenshot · Esc quit";
+                         F1 overlay · F3 wireframe · F12 screenshot · Esc quit";
 
 /// What the overlay shows this frame.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -26,6 +26,8 @@ pub struct Panel {
     pub banner: Option<String>,
     /// The last message: a screenshot's path, a refused control.
     pub message: Option<String>,
+    /// Draw meshes as their quads' edges (F3, or the overlay's checkbox).
+    pub wireframe: bool,
 }
 
 /// Builds the overlay's UI for `panel` into `ctx` (egui edits `panel.controls`).
@@ -55,6 +57,7 @@ pub fn ui(ctx: &Context, panel: &mut Panel) {
             for line in &panel.lines {
                 ui.monospace(line);
             }
+            ui.checkbox(&mut panel.wireframe, "wireframe (F3)");
             if let Some(controls) = &mut panel.controls {
                 ui.separator();
                 controls_ui(ui, controls);

@@ -152,6 +152,9 @@ pub struct Renderer {
     /// The depth attachment holds only the clear value (no G-buffer pass drew since the last
     /// clear), so a frame that draws nothing into the G-buffer may skip the pass.
     depth_clear: bool,
+    /// The wireframe view: meshes are drawn as their quads' edges (see
+    /// [`Renderer::set_wireframe`]).
+    wireframe: bool,
     cull: CullPass,
     cull_frame: CullFrame,
     opaque_commands: CullOutput,
@@ -313,6 +316,7 @@ impl Renderer {
             per_level: [0; 16],
             smooth_chunks: 0,
             depth_clear: false,
+            wireframe: false,
             cull,
             cull_frame,
             opaque_commands,
@@ -401,6 +405,26 @@ impl Renderer {
     /// Sets the light of the next frames.
     pub fn set_lighting(&mut self, lighting: &LightingParams) {
         self.lighting = *lighting;
+    }
+
+    /// Turns the wireframe view on or off: meshed quads (greedy and smooth) are drawn as
+    /// their edges, about a pixel wide, lit as usual, with the sky or the far field behind.
+    /// It shows how the mesher merged faces. Far-drawn blocks are drawn as usual (a block
+    /// there covers about a pixel). On the compute opaque path the meshes go through the
+    /// G-buffer pass while the view is on.
+    pub fn set_wireframe(&mut self, on: bool) {
+        self.wireframe = on;
+    }
+
+    /// Whether the wireframe view is on.
+    pub fn wireframe(&self) -> bool {
+        self.wireframe
+    }
+
+    /// Whether the opaque quads of this frame go through the compute rasteriser (the compute
+    /// opaque path, outside the wireframe view).
+    pub(super) fn quads_in_compute(&self) -> bool {
+        self.quad_raster.is_some() && !self.wireframe
     }
 
     /// The far path in use and why it was chosen.

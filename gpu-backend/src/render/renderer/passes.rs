@@ -127,8 +127,12 @@ impl Renderer {
             multiview_mask: None,
         });
         // On the compute opaque path the quads went to the visibility buffer instead.
-        if self.quad_raster.is_none() {
-            pass.set_pipeline(&self.pipelines.quad_gbuffer);
+        if !self.quads_in_compute() {
+            pass.set_pipeline(if self.wireframe {
+                &self.pipelines.quad_gbuffer_wire
+            } else {
+                &self.pipelines.quad_gbuffer
+            });
             pass.set_bind_group(0, frame_group, &[]);
             pass.set_index_buffer(self.quad_indices.slice(..), wgpu::IndexFormat::Uint32);
             for page in 0..self.cull.layout().page_count {
@@ -140,7 +144,11 @@ impl Renderer {
         }
         let pairs = self.cull.layout().smooth_pairs;
         if pairs > 0 && self.has_smooth() {
-            pass.set_pipeline(&self.pipelines.smooth_gbuffer);
+            pass.set_pipeline(if self.wireframe {
+                &self.pipelines.smooth_gbuffer_wire
+            } else {
+                &self.pipelines.smooth_gbuffer
+            });
             pass.set_bind_group(0, frame_group, &[]);
             for pair in 0..pairs {
                 if let Some(group) = self.smooth_group(pair, commands) {

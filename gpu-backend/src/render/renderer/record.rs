@@ -203,7 +203,11 @@ impl Renderer {
             &self.cull_params(true, phase),
         )?;
         self.timer.end(encoder, scope);
-        if let Some(raster) = &self.quad_raster {
+        if let Some(raster) = self
+            .quad_raster
+            .as_ref()
+            .filter(|_| self.quads_in_compute())
+        {
             let scope = self
                 .timer
                 .begin(encoder, label("quad raster", "quad raster late"));
@@ -248,7 +252,7 @@ impl Renderer {
         // On the compute opaque path with no smooth layer and no raster far draws nothing
         // is rasterised: the pass only clears the depth, which stays clear until a pass
         // draws (a full-screen clear costs ~0.16 ms on the H100's few raster units).
-        let draws = self.quad_raster.is_none() || self.has_smooth() || self.far_raster.is_some();
+        let draws = !self.quads_in_compute() || self.has_smooth() || self.far_raster.is_some();
         if !draws && (late || self.depth_clear) {
             return Ok(());
         }

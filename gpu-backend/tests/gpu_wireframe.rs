@@ -1,0 +1,160 @@
+//! The wireframe view on a real device: only the quads' edges are drawn, lit as in the filled
+//! view; it looks the same on the raster and compute opaque paths; turning it off gives the
+//! filled image back.
+
+use gpu_backend::gigabuffer::ChunkLayersData;
+use gpu_backend::render::{
+    ChunkMeshData, FrameImage, OpaquePath, RenderCamera, Renderer, RendererConfig,
+};
+use gpu_backend::test_support::{headless_or_skip, in_ci};
+use gpu_backend::{DeviceOptions, GpuContext};
+use voxel_core::formats::{PackedQuad, PackedQuadFields};
+use voxel_core::{
+    BlockId, ChunkCoord, ChunkSize, FaceDirection, Material, MaterialPalette, WorldPos,
+};
+
+const SIZE: u32 = 96;
+
+fn palette() -> MaterialPalette {
+    let mut p = MaterialPalette::new();
+    p.push(Material::opaque(200, 50, 50)).unwrap();
+    p.push(Material::opaque(40, 160, 60)).unwrap();
+    p
+}
+
+/// The chunk's floor as four 8 x 8 quads (two materials), so their shared edges cross at the
+/// chunk's centre.
+fn floor() -> Vec<PackedQuad> {
+    [(0, 0), (8, 0), (0, 8), (8, 8)]
+        .into_iter()
+        .enumerate()
+        .map(|(i, (x, z))| {
+            PackedQuad::encode(&PackedQuadFields {
+                position: [x, 0, z],
+                width: 8,
+                height: 8,
+                face: FaceDirection::PosY,
+                ao: [3; 4],
+                block: BlockId(1 + (i as u16 & 1)),
+            })
+            .unwrap()
+        })
+        .collect()
+}
+
+/// Straight down at the centre of chunk (0, 0, 0) from 24 blocks above: the whole floor is in
+/// view, with sky around it.
+fn camera() -> RenderCamera {
+    RenderCamera::from_world(
+        WorldPos::new(8, 24, 8),
+        [0.0, 0.5, 0.0],
+        ChunkSize::S16,
+        0.0,
+        -std::f64::consts::FRAC_PI_2 + 1e-3,
+        1.0,
+    )
+}
+
+/// A renderer on `path` holding the floor, and its filled and wireframe frames.
+fn frames(ctx: &GpuContext, path: OpaquePath) -> (Renderer, FrameImage, FrameImage) {
+    let mut config = RendererConfig::new(SIZE, SIZE, ChunkSize::S16);
+    config.opaque = path;
+    let mut renderer = Renderer::new(ctx, &config, &palette()).unwrap();
+    renderer.set_camera(&camera());
+    let quads = floor();
+    let mut layers = ChunkLayersData::default();
+    layers.opaque_quads[FaceDirection::PosY.index() as usize] = &quads;
+    renderer
+        .upload_chunk(&ChunkMeshData {
+            coord: ChunkCoord::new(0, 0, 0),
+            lod: 0,
+            layers,
+        })
+        .unwrap();
+    renderer.render().unwrap();
+    let filled = renderer.read_image().unwrap();
+    renderer.set_wireframe(true);
+    assert!(renderer.wireframe());
+    renderer.render().unwrap();
+    let wire = renderer.read_image().unwrap();
+    (renderer, filled, wire)
+}
+
+fn pixel(image: &FrameImage, x: u32, y: u32) -> [u8; 4] {
+    let i = ((y * image.width + x) * 4) as usize;
+    image.rgba[i..i + 4].try_into().unwrap()
+}
+
+fn close(a: [u8; 4], b: [u8; 4]) -> bool {
+    a.iter().zip(&b).all(|(&a, &b)| a.abs_diff(b) <= 2)
+}
+
+/// Pixels whose colour differs from the sky's (the image corner is sky in both views).
+fn surface_pixels(image: &FrameImage) -> Vec<(u32, u32)> {
+    let sky = pixel(image, 0, 0);
+    (0..SIZE)
+        .flat_map(|y| (0..SIZE).map(move |x| (x, y)))
+        .filter(|&(x, y)| !close(pixel(image, x, y), sky))
+        .collect()
+}
+
+#[test]
+fn the_wireframe_draws_only_quad_edges_lit_as_the_filled_view() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let (mut renderer, filled, wire) = frames(&ctx, OpaquePath::Raster);
+    let sky = pixel(&filled, 0, 0);
+    assert_eq!(sky, pixel(&wire, 0, 0), "the corner is sky in both views");
+    let filled_px = surface_pixels(&filled);
+    let wire_px = surface_pixels(&wire);
+    // The floor (16 blocks seen from 24 above at a 1 radian field of view) covers a square of
+    // about 40 px; its wireframe is that square's outline plus the centre cross.
+    assert!(filled_px.len() > 1000, "{} floor pixels", filled_px.len());
+    assert!(
+        !wire_px.is_empty() && wire_px.len() * 4 < filled_px.len(),
+        "wireframe {} pixels against {} filled",
+        wire_px.len(),
+        filled_px.len()
+    );
+    // The centre cross: the shared edges of the four quads meet under the eye.
+    let c = SIZE / 2;
+    assert!(
+        (c - 2..=c + 1).any(|x| !close(pixel(&wire, x, c + 8), sky)),
+        "the edge between two quads is drawn"
+    );
+    // The middle of a quad (a quarter of the floor in from its corner) shows the sky.
+    let quarter = (c as f32 - filled_px.iter().map(|p| c.abs_diff(p.0)).max().unwrap() as f32 / 2.0)
+        .round() as u32;
+    assert!(close(pixel(&wire, quarter, quarter), sky));
+    assert!(!close(pixel(&filled, quarter, quarter), sky));
+    // Every edge pixel is lit as the filled view lights the same point.
+    for &(x, y) in &wire_px {
+        assert!(
+            close(pixel(&wire, x, y), pixel(&filled, x, y)),
+            "({x}, {y}): {:?} against {:?}",
+            pixel(&wire, x, y),
+            pixel(&filled, x, y)
+        );
+    }
+    // Off again: the filled image comes back.
+    renderer.set_wireframe(false);
+    renderer.render().unwrap();
+    assert_eq!(renderer.read_image().unwrap().rgba, filled.rgba);
+
+    // The compute opaque path draws the wireframe through the same G-buffer pass.
+    if !ctx.capabilities.int64_atomics {
+        assert!(!in_ci(), "CI's lavapipe has 64-bit atomic min/max");
+        eprintln!(
+            "compute opaque path not checked: {} lacks 64-bit atomic min/max",
+            ctx.capabilities.adapter
+        );
+        return;
+    }
+    let (_, compute_filled, compute_wire) = frames(&ctx, OpaquePath::Compute);
+    assert_eq!(
+        compute_wire.rgba, wire.rgba,
+        "wireframe alike on both paths"
+    );
+    assert_eq!(surface_pixels(&compute_filled).len(), filled_px.len());
+}
