@@ -73,10 +73,11 @@ pub struct Args {
     /// Streamed terrain: far draws of distant nodes (off, auto, splat, sprite, quads3).
     #[arg(long, value_name = "PATH", default_value = "auto", value_parser = parse_far, conflicts_with_all = ["vox", "chunks"])]
     pub far: FarRequest,
-    /// Streamed terrain: how opaque quads are drawn, `raster` (the G-buffer pass) or
-    /// `compute` (the compute rasteriser: faster on GPUs with few raster units; needs 64-bit
-    /// atomics).
-    #[arg(long, value_name = "PATH", default_value = "raster", value_parser = parse_opaque, conflicts_with_all = ["vox", "chunks"])]
+    /// Streamed terrain: how opaque quads are drawn, `raster` (the G-buffer pass), `compute`
+    /// (the compute rasteriser: faster on GPUs with few raster units; needs 64-bit atomics) or
+    /// `auto` (both drawn at the first view and the faster kept; raster where the compute path
+    /// or GPU timestamps are missing).
+    #[arg(long, value_name = "PATH", default_value = "auto", value_parser = parse_opaque, conflicts_with_all = ["vox", "chunks"])]
     pub opaque: OpaquePath,
     /// Streamed terrain: GPU memory for node data, MiB.
     #[arg(long, value_name = "MIB", default_value_t = 1024, value_parser = clap::value_parser!(u64).range(1..=1 << 20), conflicts_with_all = ["vox", "chunks"])]
@@ -190,12 +191,15 @@ fn parse_far(text: &str) -> Result<FarRequest, String> {
         })
 }
 
-/// `raster` or `compute`.
+/// `raster`, `compute` or `auto`.
 fn parse_opaque(text: &str) -> Result<OpaquePath, String> {
     match text {
         "raster" => Ok(OpaquePath::Raster),
         "compute" => Ok(OpaquePath::Compute),
-        _ => Err(format!("{text:?} is not an opaque path (raster, compute)")),
+        "auto" => Ok(OpaquePath::Auto),
+        _ => Err(format!(
+            "{text:?} is not an opaque path (auto, raster, compute)"
+        )),
     }
 }
 
@@ -268,7 +272,7 @@ mod tests {
         assert_eq!(s.opaque, OpaquePath::Compute);
         assert_eq!(
             parse(&[]).unwrap().stream_settings().opaque,
-            OpaquePath::Raster
+            OpaquePath::Auto
         );
         assert_eq!(
             (s.radius, s.budget_px, s.mesher),

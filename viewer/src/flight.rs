@@ -30,7 +30,7 @@ use crate::camera::Camera;
 use crate::gpu_view::render_camera;
 use crate::headless::{draw_frame, load};
 use crate::stream::{StreamError, StreamSettings, StreamStatus};
-use crate::view::StreamedView;
+use crate::view::{OPAQUE_TRIAL_FRAMES, StreamedView};
 
 /// Frames per second of the flight's clock.
 pub const FLIGHT_HZ: f64 = 60.0;
@@ -250,6 +250,11 @@ pub fn fly(
     )?;
     let first_view_seconds = loading.elapsed().as_secs_f64();
     let first_view_nodes = view.streamer().status().resident_nodes;
+    // `--opaque auto`: measured at the first view, before the flight.
+    let opaque = match view.choose_opaque_path(OPAQUE_TRIAL_FRAMES)? {
+        Some(choice) => format!("auto: {choice}"),
+        None => format!("{:?}", settings.opaque),
+    };
     // One untimed frame: first-use costs (pipelines, bind groups) are not streaming's.
     draw_frame(ctx, &mut view)?;
     let before = view.streamer().counters();
@@ -340,7 +345,7 @@ pub fn fly(
         budget_px: settings.budget_px,
         far: view.streamer().far_choice().to_string(),
         mesher: settings.mesher.name().to_owned(),
-        opaque: format!("{:?}", settings.opaque),
+        opaque,
     })
 }
 

@@ -38,7 +38,7 @@ use viewer::scene::{
     Scene, Terrain, TerrainBlocks, camera_looking_at, terrain_scene, terrain_view,
 };
 use viewer::stream::StreamSettings;
-use viewer::view::StreamedView;
+use viewer::view::{OPAQUE_TRIAL_FRAMES, StreamedView};
 use viewer::window::mode::{Mode, choose_mode, display_present};
 use viewer::window::{WindowOptions, WindowSource, run_window};
 use voxel_core::{BlockId, ChunkSize, WorldPos};
@@ -278,6 +278,9 @@ fn streamed_gpu_frame(
             eprintln!("viewer: {}", status.progress_line());
         })?;
         let load_time = loaded.elapsed();
+        if let Some(choice) = streamed.choose_opaque_path(OPAQUE_TRIAL_FRAMES)? {
+            eprintln!("viewer: opaque path (auto): {choice}");
+        }
         streamed.renderer_mut().set_wireframe(wireframe);
         let passes = draw_frame(ctx, &mut streamed)?;
         let image = streamed

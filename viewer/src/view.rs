@@ -13,16 +13,22 @@
 //! the view's nodes on the GPU while the new one loads.
 
 use gpu_backend::GpuContext;
-use gpu_backend::render::{RenderCamera, Renderer};
+use gpu_backend::render::{OpaqueChoice, OpaquePath, RenderCamera, Renderer};
 
 use crate::controls::Controls;
 use crate::stream::{StreamError, StreamSettings, StreamStatus, Streamer};
+
+/// Frames per opaque path that `--opaque auto` draws to choose (see
+/// [`StreamedView::choose_opaque_path`]).
+pub const OPAQUE_TRIAL_FRAMES: usize = 8;
 
 /// The streamer that draws, and the one replacing it (see the [module docs](self)).
 pub struct StreamedView {
     current: Streamer,
     next: Option<Streamer>,
     size: (u32, u32),
+    /// The opaque path measured with `--opaque auto`, kept for replacement renderers.
+    opaque_choice: Option<OpaqueChoice>,
 }
 
 impl StreamedView {
@@ -37,6 +43,7 @@ impl StreamedView {
             current: Streamer::new(ctx, settings, width, height)?,
             next: None,
             size: (width, height),
+            opaque_choice: None,
         })
     }
 
@@ -54,10 +61,46 @@ impl StreamedView {
             next.renderer_mut().flush_uploads();
             if next.ready() {
                 self.current = self.next.take().expect("checked above");
+                if let Some(choice) = &self.opaque_choice {
+                    self.current
+                        .renderer_mut()
+                        .set_opaque_path(choice.path)
+                        .map_err(StreamError::Renderer)?;
+                }
                 return Ok(true);
             }
         }
         Ok(false)
+    }
+
+    /// With [`OpaquePath::Auto`] in the settings: draws the current view `frames` times with
+    /// each opaque path and keeps the faster, for this renderer and every replacement (see
+    /// `Renderer::measure_opaque_paths`). `None` when the settings name a path, or once
+    /// chosen. Call it once the view is [`ready`](Self::ready), so the frames draw the view.
+    pub fn choose_opaque_path(
+        &mut self,
+        frames: usize,
+    ) -> Result<Option<OpaqueChoice>, StreamError> {
+        if self.settings().opaque != OpaquePath::Auto || self.opaque_choice.is_some() {
+            return Ok(None);
+        }
+        let choice = self
+            .current
+            .renderer_mut()
+            .measure_opaque_paths(frames)
+            .map_err(StreamError::Renderer)?;
+        if let Some(next) = &mut self.next {
+            next.renderer_mut()
+                .set_opaque_path(choice.path)
+                .map_err(StreamError::Renderer)?;
+        }
+        self.opaque_choice = Some(choice.clone());
+        Ok(Some(choice))
+    }
+
+    /// The opaque path measured by [`choose_opaque_path`](Self::choose_opaque_path), once.
+    pub fn opaque_choice(&self) -> Option<&OpaqueChoice> {
+        self.opaque_choice.as_ref()
     }
 
     /// True once the drawing streamer has committed a plan (frames show no hole).

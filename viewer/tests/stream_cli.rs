@@ -103,6 +103,8 @@ fn a_flight_prints_percentiles_and_writes_them_as_json() {
         "{gpu}"
     );
     assert!(stdout.contains("nodes/s"), "{stdout}");
+    // The default `--opaque auto` chose a path at the first view, and says how.
+    assert!(stdout.contains("opaque path auto: "), "{stdout}");
 
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json_path).unwrap()).unwrap();

@@ -27,6 +27,9 @@ pub enum RenderError {
     },
     /// The device lacks a feature the renderer needs.
     MissingFeature(&'static str),
+    /// [`Renderer::set_opaque_path`](crate::render::Renderer::set_opaque_path) asked for a
+    /// path this renderer cannot draw with (why).
+    OpaquePathUnavailable(&'static str),
     /// The gigabuffer refused an upload or free.
     Gigabuffer(GigabufferError),
     /// The chunk table is full or the slot is stale.
@@ -67,6 +70,9 @@ impl fmt::Display for RenderError {
             ),
             RenderError::MissingFeature(feature) => {
                 write!(f, "the device lacks {feature}, which the renderer needs")
+            }
+            RenderError::OpaquePathUnavailable(why) => {
+                write!(f, "that opaque path is not available: {why}")
             }
             RenderError::Gigabuffer(e) => write!(f, "gigabuffer: {e}"),
             RenderError::Table(e) => write!(f, "chunk table: {e}"),

@@ -98,6 +98,6 @@ pub use lighting::LightingParams;
 pub use materials::{GpuMaterial, gpu_materials};
 pub use pipelines::FullscreenPath;
 pub use quad_raster::OpaquePath;
-pub use renderer::{Renderer, RendererConfig};
+pub use renderer::{OpaqueChoice, Renderer, RendererConfig};
 pub use residency::{ChunkMeshData, SmoothFrame, SmoothRanges, chunk_record, mesh_bounds};
 pub use targets::{FrameImage, RenderTargets};

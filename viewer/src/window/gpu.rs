@@ -22,7 +22,7 @@ use crate::gpu_view::upload_world;
 use crate::lighting::{Lighting, lighting_params};
 use crate::screenshot::{ScreenshotError, save_screenshot};
 use crate::stream::StreamError;
-use crate::view::StreamedView;
+use crate::view::{OPAQUE_TRIAL_FRAMES, StreamedView};
 
 /// The clear colour of the window while the first view loads (a dusk sky).
 const LOADING_SKY: wgpu::Color = wgpu::Color {
@@ -270,6 +270,16 @@ impl GpuWindow {
             Drawn::Fixed { renderer, .. } => renderer.set_camera(camera),
             Drawn::Streamed(view) => {
                 view.update(camera).map_err(WindowError::Stream)?;
+                // `--opaque auto`: chosen once, at the first view.
+                if view.ready()
+                    && let Some(choice) = view
+                        .choose_opaque_path(OPAQUE_TRIAL_FRAMES)
+                        .map_err(WindowError::Stream)?
+                {
+                    let line = format!("opaque path (auto): {choice}");
+                    println!("viewer: {line}");
+                    panel.message = Some(line);
+                }
             }
         }
         let ready = self.drawn.ready();

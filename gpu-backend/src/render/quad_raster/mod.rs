@@ -154,4 +154,10 @@ pub enum OpaquePath {
     /// This compute rasteriser into the visibility buffer: for compute-heavy GPUs with few
     /// raster units. Needs 64-bit atomic min/max.
     Compute,
+    /// Both paths are built (the compute one only where the device has 64-bit atomic
+    /// min/max) and the raster one draws until
+    /// [`Renderer::measure_opaque_paths`](crate::render::Renderer::measure_opaque_paths)
+    /// keeps the faster on this GPU, or [`Renderer::set_opaque_path`](crate::render::Renderer::set_opaque_path)
+    /// picks one.
+    Auto,
 }

@@ -1,8 +1,11 @@
 //! [`Renderer`]: resident chunks, camera and lighting in; one frame recorded into one encoder.
 //! The frame's order is in [`record`], the draw passes' recording in [`passes`].
 
+mod opaque_choice;
 mod passes;
 mod record;
+
+pub use opaque_choice::OpaqueChoice;
 
 use std::collections::HashMap;
 
@@ -155,6 +158,9 @@ pub struct Renderer {
     /// The wireframe view: meshes are drawn as their quads' edges (see
     /// [`Renderer::set_wireframe`]).
     wireframe: bool,
+    /// The opaque path drawing now: `Raster` or `Compute` (the latter only with
+    /// `quad_raster`).
+    opaque: OpaquePath,
     cull: CullPass,
     cull_frame: CullFrame,
     opaque_commands: CullOutput,
@@ -239,12 +245,16 @@ impl Renderer {
                 )));
             }
         }
-        let compute_opaque = config.opaque == OpaquePath::Compute;
-        if compute_opaque && !ctx.capabilities.int64_atomics {
-            return Err(RenderError::MissingFeature(
-                "SHADER_INT64_ATOMIC_MIN_MAX (the compute opaque path)",
-            ));
-        }
+        let compute_opaque = match config.opaque {
+            OpaquePath::Raster => false,
+            OpaquePath::Compute if !ctx.capabilities.int64_atomics => {
+                return Err(RenderError::MissingFeature(
+                    "SHADER_INT64_ATOMIC_MIN_MAX (the compute opaque path)",
+                ));
+            }
+            OpaquePath::Compute => true,
+            OpaquePath::Auto => ctx.capabilities.int64_atomics,
+        };
         let splat = if far_choice.path == FarPath::Splat || compute_opaque {
             Some(FarSplat::new(
                 device,
@@ -317,6 +327,11 @@ impl Renderer {
             smooth_chunks: 0,
             depth_clear: false,
             wireframe: false,
+            opaque: if config.opaque == OpaquePath::Compute {
+                OpaquePath::Compute
+            } else {
+                OpaquePath::Raster
+            },
             cull,
             cull_frame,
             opaque_commands,
@@ -424,7 +439,34 @@ impl Renderer {
     /// Whether the opaque quads of this frame go through the compute rasteriser (the compute
     /// opaque path, outside the wireframe view).
     pub(super) fn quads_in_compute(&self) -> bool {
-        self.quad_raster.is_some() && !self.wireframe
+        self.opaque == OpaquePath::Compute && self.quad_raster.is_some() && !self.wireframe
+    }
+
+    /// The opaque path drawing now: `Raster` or `Compute` (`Auto` only picks between them).
+    pub fn opaque_path(&self) -> OpaquePath {
+        self.opaque
+    }
+
+    /// Draws the opaque quads of the next frames with `path`. `Compute` needs a renderer made
+    /// with [`RendererConfig::opaque`] `Compute`, or `Auto` on a device with 64-bit atomic
+    /// min/max; `Auto` is not a path to draw with (see
+    /// [`measure_opaque_paths`](Self::measure_opaque_paths)).
+    pub fn set_opaque_path(&mut self, path: OpaquePath) -> Result<(), RenderError> {
+        match path {
+            OpaquePath::Auto => Err(RenderError::OpaquePathUnavailable(
+                "Auto picks a path; name Raster or Compute",
+            )),
+            OpaquePath::Compute if self.quad_raster.is_none() => {
+                Err(RenderError::OpaquePathUnavailable(
+                    "the compute rasteriser was not built (make the renderer with opaque \
+                     Compute, or Auto on a device with 64-bit atomic min/max)",
+                ))
+            }
+            _ => {
+                self.opaque = path;
+                Ok(())
+            }
+        }
     }
 
     /// The far path in use and why it was chosen.

@@ -1,10 +1,11 @@
-//! The wireframe view on a real device: only the quads' edges are drawn, lit as in the filled
-//! view; it looks the same on the raster and compute opaque paths; turning it off gives the
-//! filled image back.
+//! The renderer's view options on a real device. The wireframe view: only the quads' edges
+//! are drawn, lit as in the filled view; it looks the same on the raster and compute opaque
+//! paths; turning it off gives the filled image back. The opaque path: `Auto` measures both
+//! and keeps one, switching draws the same image, and a path the renderer lacks is an error.
 
 use gpu_backend::gigabuffer::ChunkLayersData;
 use gpu_backend::render::{
-    ChunkMeshData, FrameImage, OpaquePath, RenderCamera, Renderer, RendererConfig,
+    ChunkMeshData, FrameImage, OpaquePath, RenderCamera, RenderError, Renderer, RendererConfig,
 };
 use gpu_backend::test_support::{headless_or_skip, in_ci};
 use gpu_backend::{DeviceOptions, GpuContext};
@@ -55,8 +56,8 @@ fn camera() -> RenderCamera {
     )
 }
 
-/// A renderer on `path` holding the floor, and its filled and wireframe frames.
-fn frames(ctx: &GpuContext, path: OpaquePath) -> (Renderer, FrameImage, FrameImage) {
+/// A renderer made with `path`, holding the floor, seen from above.
+fn floor_renderer(ctx: &GpuContext, path: OpaquePath) -> Renderer {
     let mut config = RendererConfig::new(SIZE, SIZE, ChunkSize::S16);
     config.opaque = path;
     let mut renderer = Renderer::new(ctx, &config, &palette()).unwrap();
@@ -71,6 +72,12 @@ fn frames(ctx: &GpuContext, path: OpaquePath) -> (Renderer, FrameImage, FrameIma
             layers,
         })
         .unwrap();
+    renderer
+}
+
+/// A renderer on `path` holding the floor, and its filled and wireframe frames.
+fn frames(ctx: &GpuContext, path: OpaquePath) -> (Renderer, FrameImage, FrameImage) {
+    let mut renderer = floor_renderer(ctx, path);
     renderer.render().unwrap();
     let filled = renderer.read_image().unwrap();
     renderer.set_wireframe(true);
@@ -157,4 +164,72 @@ fn the_wireframe_draws_only_quad_edges_lit_as_the_filled_view() {
         "wireframe alike on both paths"
     );
     assert_eq!(surface_pixels(&compute_filled).len(), filled_px.len());
+}
+
+/// Pixels of `a` and `b` that differ by more than 8/255 in a channel.
+fn pixels_off(a: &FrameImage, b: &FrameImage) -> usize {
+    a.rgba
+        .chunks(4)
+        .zip(b.rgba.chunks(4))
+        .filter(|(a, b)| a.iter().zip(*b).any(|(a, b)| a.abs_diff(*b) > 8))
+        .count()
+}
+
+#[test]
+fn auto_measures_both_opaque_paths_and_keeps_one_that_draws_the_same_image() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    // A renderer made for the raster path alone cannot switch, and says why.
+    let mut raster_only = floor_renderer(&ctx, OpaquePath::Raster);
+    assert!(matches!(
+        raster_only.set_opaque_path(OpaquePath::Compute),
+        Err(RenderError::OpaquePathUnavailable(_))
+    ));
+    assert!(raster_only.set_opaque_path(OpaquePath::Auto).is_err());
+    let choice = raster_only.measure_opaque_paths(2).unwrap();
+    assert_eq!(choice.path, OpaquePath::Raster);
+    assert!(choice.measured_ms.is_none() && choice.unmeasured.is_some());
+    assert!(
+        choice.to_string().starts_with("raster (not measured: "),
+        "{choice}"
+    );
+    raster_only.render().unwrap();
+    let raster_image = raster_only.read_image().unwrap();
+
+    if !ctx.capabilities.int64_atomics {
+        assert!(!in_ci(), "CI's lavapipe has 64-bit atomic min/max");
+        eprintln!(
+            "Auto not measured: {} lacks 64-bit atomic min/max",
+            ctx.capabilities.adapter
+        );
+        return;
+    }
+    let mut auto = floor_renderer(&ctx, OpaquePath::Auto);
+    assert_eq!(
+        auto.opaque_path(),
+        OpaquePath::Raster,
+        "raster until measured"
+    );
+    let choice = auto.measure_opaque_paths(3).unwrap();
+    assert_eq!(auto.opaque_path(), choice.path);
+    let (raster_ms, compute_ms) = choice.measured_ms.expect("lavapipe has timestamps");
+    assert!(raster_ms > 0.0 && compute_ms > 0.0, "{choice}");
+    let faster = if compute_ms < raster_ms {
+        OpaquePath::Compute
+    } else {
+        OpaquePath::Raster
+    };
+    assert_eq!(choice.path, faster, "{choice}");
+    // Either path draws the floor alike (the compute rasteriser matches the raster pass).
+    for path in [OpaquePath::Raster, OpaquePath::Compute] {
+        auto.set_opaque_path(path).unwrap();
+        auto.render().unwrap();
+        let image = auto.read_image().unwrap();
+        let off = pixels_off(&image, &raster_image);
+        assert!(
+            off * 100 <= image.rgba.len() / 4,
+            "{path:?}: {off} pixels off"
+        );
+    }
 }
