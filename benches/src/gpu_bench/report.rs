@@ -358,7 +358,7 @@ mod tests {
         };
         let table = markdown(&report);
         assert!(table.contains(
-            "| 1 px | Splat | 4 | Compute | off | Raster | 3.0 | 3.0 | 4.0 | 3.5 | 1.5 |"
+            "| 1 px | Splat | 4 | Compute | off | Raster | 3.0 | 3.0 | 4.0 | 3.5 | 1.0 | 1.5 |"
         ));
         assert!(table.contains("| full |"));
         assert!(table.contains("0.500 | 0.100 %"));
