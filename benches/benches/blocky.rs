@@ -25,10 +25,11 @@
 //! benchmarking thread's CPU time ([`benches::cpu_time`]) unless `BENCH_CLOCK=wall`.
 //!
 //! Before the criterion group of each synthetic input, the meshers the bars compare (ours
-//! visible and greedy, `block-mesh` visible and greedy, `block-mesh-bgm`, `bgm fast_mesh+masks`)
-//! are also timed interleaved (`blocky_support/interleaved.rs`: each in turn, 100 rounds, thread
-//! CPU time), and the report lines give their minima, medians and the bars' ratios, which a
-//! shared, noisy machine disturbs far less than the sequential criterion measurements.
+//! visible and greedy with AO on and off, `block-mesh` visible and greedy, `block-mesh-bgm`,
+//! `bgm fast_mesh+masks`) are also timed interleaved (`blocky_support/interleaved.rs`: each in
+//! turn, 100 rounds, thread CPU time), and the report lines give their minima, medians and the
+//! bars' ratios, which a shared, noisy machine disturbs far less than the sequential criterion
+//! measurements.
 //! `BLOCKY_INTERLEAVED_ROUNDS` sets the rounds (0 skips it).
 
 use std::collections::BTreeSet;
@@ -304,6 +305,8 @@ fn interleaved_timing<S: Shape<3, Coord = u32>>(prep: &Prepared<'_>, shape: &S, 
     let max = [p - 1; 3];
     let (mut ours_visible, mut ours_greedy) = (GreedyMesher::new(), GreedyMesher::new());
     let (mut out_visible, mut out_greedy) = (BlockyMesh::new(), BlockyMesh::new());
+    let mut ours_no_ao = GreedyMesher::new().with_ambient_occlusion(false);
+    let mut out_no_ao = BlockyMesh::new();
     let mut unit = UnitQuadBuffer::new();
     let mut greedy = GreedyQuadsBuffer::new(prep.bm.first().map_or(0, Vec::len));
     let mut bmbgm = BinaryGreedyQuadsBuffer::new();
@@ -330,6 +333,18 @@ fn interleaved_timing<S: Shape<3, Coord = u32>>(prep: &Prepared<'_>, shape: &S, 
                         .mesh(black_box(c), classes, &mut out_greedy)
                         .unwrap();
                     black_box(&out_greedy);
+                }
+            }),
+        },
+        Timed {
+            name: "ours greedy no-ao",
+            kind: Kind::OursGreedyNoAo,
+            run: Box::new(move || {
+                for c in chunks {
+                    ours_no_ao
+                        .mesh(black_box(c), classes, &mut out_no_ao)
+                        .unwrap();
+                    black_box(&out_no_ao);
                 }
             }),
         },

@@ -7,8 +7,8 @@
 //!
 //! Arguments: the start of an input's name (see `benches::mesh_inputs`; `vox/maze` and the
 //! other sample models when `../shared/data/vox` is there), a mode (`greedy`,
-//! `visible`, `u16`, `baseline` for greedy on `InstructionSet::Baseline`, or `stats` for faces
-//! per line and direction), and a number of meshes. `MESHER_ISA=baseline|x86-v3|x86-v4` pins
+//! `visible`, `u16`, `baseline` for greedy on `InstructionSet::Baseline`, any of these with
+//! `-noao` for AO off, or `stats` for faces per line and direction), and a number of meshes. `MESHER_ISA=baseline|x86-v3|x86-v4` pins
 //! the instruction set (default: the detected one). The time is the thread's CPU time, taken
 //! over 20 batches: the minimum and the median per mesh, since on a shared machine the minimum
 //! is the steadier figure.
@@ -49,14 +49,18 @@ fn main() {
 
 /// Meshes `input` `meshes` times in 20 batches and prints the minimum and median per mesh.
 fn time_meshes(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usize) {
+    let (kind, ao) = match mode.strip_suffix("-noao") {
+        Some(kind) => (kind, false),
+        None => (mode, true),
+    };
     let pinned = match std::env::var("MESHER_ISA").as_deref() {
         Ok("baseline") => Some(InstructionSet::Baseline),
         Ok("x86-v3") => Some(InstructionSet::X86V3),
         Ok("x86-v4") => Some(InstructionSet::X86V4),
-        _ if mode == "baseline" => Some(InstructionSet::Baseline),
+        _ if kind == "baseline" => Some(InstructionSet::Baseline),
         _ => None,
     };
-    let mut mesher = GreedyMesher::new();
+    let mut mesher = GreedyMesher::new().with_ambient_occlusion(ao);
     if let Some(set) = pinned {
         mesher = mesher
             .with_instruction_set(set)
@@ -65,7 +69,7 @@ fn time_meshes(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: us
     let mut out = BlockyMesh::new();
     let mut run = |out: &mut BlockyMesh| {
         for c in &input.chunks {
-            match mode {
+            match kind {
                 "visible" => mesher.visible_faces(black_box(c), classes, out),
                 "u16" => mesher.mesh_u16(black_box(as_u16(c)), classes, out),
                 _ => mesher.mesh(black_box(c), classes, out),

@@ -15,6 +15,8 @@ pub enum Kind {
     OursVisible,
     /// Our greedy quads (from a `PaddedChunk`, AO on).
     OursGreedy,
+    /// Our greedy quads with AO off, which should never take longer than with AO on.
+    OursGreedyNoAo,
     /// `block-mesh`'s `visible_block_faces`.
     PeerVisible,
     /// A peer's greedy mesher.
@@ -39,8 +41,8 @@ struct Spread {
 }
 
 /// Runs `timed` interleaved for `rounds` rounds (after one warm-up round) and prints each
-/// mesher's minimum and median and the bars' ratios: `block-mesh` visible over ours, and the
-/// fastest peer greedy mesher over ours.
+/// mesher's minimum and median and the bars' ratios: `block-mesh` visible over ours, the
+/// fastest peer greedy mesher over ours, and our greedy mesher with AO off over AO on.
 pub fn report(input: &str, mut timed: Vec<Timed<'_>>, rounds: usize) {
     let mut samples = vec![Vec::with_capacity(rounds); timed.len()];
     for round in 0..=rounds {
@@ -92,6 +94,11 @@ pub fn report(input: &str, mut timed: Vec<Timed<'_>>, rounds: usize) {
         Kind::PeerGreedy,
         Kind::OursGreedy,
         "fastest peer greedy / ours greedy",
+    );
+    ratio(
+        Kind::OursGreedyNoAo,
+        Kind::OursGreedy,
+        "ours greedy no-ao / ours greedy",
     );
 }
 

@@ -123,16 +123,28 @@ impl<'a> Quads<'a> {
         {
             return;
         }
-        let count = bits.count_ones();
-        self.out.extend((0..count).map(|_| {
+        let count = bits.count_ones() as usize;
+        self.out.reserve(count);
+        // Written in place rather than through `Vec::extend`, whose loop the compiler inlines
+        // here or not (then three more instructions a quad, outside this instruction set)
+        // depending on unrelated code.
+        let spare = self.out.spare_capacity_mut();
+        let count = count.min(spare.len());
+        for quad in &mut spare[..count] {
             let b = u64::from(bits.trailing_zeros());
             bits &= bits.wrapping_sub(1);
             let both = base.wrapping_add(b << shift);
-            PackedQuad {
+            quad.write(PackedQuad {
                 position_size: both as u32,
                 face_ao_block: (both >> 32) as u32,
-            }
-        }));
+            });
+        }
+        #[expect(unsafe_code, reason = "marks the quads written above as the vector's")]
+        // SAFETY: `reserve` made room for `count` quads, and the loop wrote the first `count`
+        // spare entries.
+        unsafe {
+            self.out.set_len(self.out.len() + count);
+        }
     }
 
     /// Appends the buffered quads to the output and empties the buffer.
@@ -233,13 +245,23 @@ impl<const D: usize> SliceFaces<'_, D> {
     }
 
     /// Word 0 of a quad at line `l`, bit `b`, spanning `lines` lines and `bits` bits.
+    ///
+    /// Each field holds its value minus one (all at least 1) in bits of its own, so the
+    /// fields add without carries: the slice's field and the four ones taken off are one
+    /// constant per slice, and each other field costs a shift and an add.
     #[inline(always)]
     pub(crate) fn position_size(&self, l: usize, b: usize, lines: usize, bits: usize) -> u32 {
-        ((self.n as u32 - 1) << Direction::<D>::SHIFT_N)
-            | ((l as u32 - 1) << Direction::<D>::SHIFT_L)
-            | ((b as u32 - 1) << Direction::<D>::SHIFT_B)
-            | ((lines as u32 - 1) << Direction::<D>::SIZE_SHIFT_L)
-            | ((bits as u32 - 1) << Direction::<D>::SIZE_SHIFT_B)
+        let ones = (1 << Direction::<D>::SHIFT_L)
+            + (1 << Direction::<D>::SHIFT_B)
+            + (1 << Direction::<D>::SIZE_SHIFT_L)
+            + (1 << Direction::<D>::SIZE_SHIFT_B);
+        let slice = (self.n as u32).wrapping_sub(1) << Direction::<D>::SHIFT_N;
+        slice
+            .wrapping_sub(ones)
+            .wrapping_add((l as u32) << Direction::<D>::SHIFT_L)
+            .wrapping_add((b as u32) << Direction::<D>::SHIFT_B)
+            .wrapping_add((lines as u32) << Direction::<D>::SIZE_SHIFT_L)
+            .wrapping_add((bits as u32) << Direction::<D>::SIZE_SHIFT_B)
     }
 
     /// Fails if the layer is checked and the id of `key` is unknown; `known` caches, one bit
@@ -274,21 +296,19 @@ impl<const D: usize> SliceFaces<'_, D> {
         Err(MeshError::UnknownBlock { id, position })
     }
 
-    /// Pushes the quad at line `l`, bit `b`, spanning `lines` lines and `bits` bits.
+    /// Pushes the quad at line `l`, bit `b`, spanning `lines` lines and `bits` bits, with word 1
+    /// `word` (its id was checked already).
     #[inline(always)]
     pub(crate) fn push(
         &self,
         out: &mut Quads<'_>,
-        known: &mut u64,
         (l, b, lines, bits): (usize, usize, usize, usize),
-        key: u32,
-    ) -> Result<(), MeshError> {
-        self.check(key, known, l, b)?;
+        word: u32,
+    ) {
         out.push(PackedQuad {
             position_size: self.position_size(l, b, lines, bits),
-            face_ao_block: key | D as u32,
+            face_ao_block: word,
         });
-        Ok(())
     }
 }
 

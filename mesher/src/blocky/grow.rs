@@ -1,107 +1,104 @@
 //! Growing greedy quads from the equal-key masks, in `block-mesh`'s order: along bits first
 //! (the ±X and ±Z faces) or along lines first (the ±Y faces), from origins taken line by line
 //! (±Y, ±Z) or bit by bit (±X, whose bits run along `block-mesh`'s slowest scan axis).
+//!
+//! The faces' ids were checked when they were keyed, so growing cannot fail. Line 0 and the
+//! lines past the chunk hold no face, so a quad stops growing there without a bound check.
 
 use super::faces::{Quads, SliceFaces};
 use super::masks::Slice;
-use super::merge::Keys;
+use super::merge::{Keys, key_bits};
 use super::slices::Direction;
-use crate::MeshError;
 
 /// Greedy quads growing along bits first, then lines (the ±X and ±Z faces), from the faces of
 /// the lines of `left`; leaves `faces` empty. Quads start at the lowest line, then the lowest
 /// bit, or, for [`Direction::BIT_MAJOR`] directions, at the lowest bit, then the lowest line.
 #[inline(always)]
-pub(crate) fn greedy_bits_first<const D: usize>(
+pub(crate) fn greedy_bits_first<const D: usize, const AO: bool>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
-    e: usize,
     mut left: u64,
     keys: &Keys,
-    known: &mut u64,
     out: &mut Quads<'_>,
-) -> Result<(), MeshError> {
+) {
     if Direction::<D>::BIT_MAJOR {
-        // The lowest bit with a face, then every line with a face there, in order; one pass
-        // over the lines per bit. A quad grown from a line takes faces of later lines only, so
-        // a line is final once visited, and every face at that bit is gone after the pass.
+        // The faces as columns (`columns[b]` bit `l`: a face at line `l`, bit `b`), so a bit's
+        // origins are the set bits of one word: those whose face is still there (not taken by
+        // a quad from an earlier bit or line). This costs a few operations per face; a pass
+        // over every line with faces for every bit cost far more on slices with many merging
+        // faces (AO off).
+        let mut columns: Slice = [0; 64];
         let mut any = 0u64;
-        let mut rest = left;
-        while rest != 0 {
-            let l = rest.trailing_zeros() as usize;
-            rest &= rest - 1;
-            any |= faces[l & 63];
+        while left != 0 {
+            let l = left.trailing_zeros() as usize;
+            left &= left - 1;
+            let mut m = faces[l & 63];
+            any |= m;
+            while m != 0 {
+                columns[m.trailing_zeros() as usize & 63] |= 1 << l;
+                m &= m - 1;
+            }
         }
         while any != 0 {
             let b = any.trailing_zeros() as usize;
-            any = 0;
-            let mut rest = left;
-            while rest != 0 {
-                let l = rest.trailing_zeros() as usize;
-                rest &= rest - 1;
+            any &= any - 1;
+            let mut column = columns[b & 63];
+            while column != 0 {
+                let l = column.trailing_zeros() as usize;
+                column &= column - 1;
                 if (faces[l & 63] >> b) & 1 != 0 {
-                    grow_bits_first(s, faces, e, (l, b), keys, known, out)?;
+                    grow_bits_first::<D, AO>(s, faces, (l, b), keys, out);
                 }
-                any |= faces[l & 63];
-                left &= !(u64::from(faces[l & 63] == 0) << l);
             }
         }
-        return Ok(());
+        return;
     }
     while left != 0 {
         let l = left.trailing_zeros() as usize;
         left &= left - 1;
         while faces[l & 63] != 0 {
             let b = faces[l & 63].trailing_zeros() as usize;
-            grow_bits_first(s, faces, e, (l, b), keys, known, out)?;
+            grow_bits_first::<D, AO>(s, faces, (l, b), keys, out);
         }
     }
-    Ok(())
 }
 
 /// Grows one quad from the face at line `l`, bit `b`: along bits while the next face is
 /// present with an equal key, then along lines while the whole next row is; takes its faces
 /// out of `faces` and writes it.
 #[inline(always)]
-fn grow_bits_first<const D: usize>(
+fn grow_bits_first<const D: usize, const AO: bool>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
-    e: usize,
     (l, b): (usize, usize),
     keys: &Keys,
-    known: &mut u64,
     out: &mut Quads<'_>,
-) -> Result<(), MeshError> {
+) {
     let key = keys.key(l, b);
     let here = faces[l & 63];
     // Faces still present from b on with the same key.
     let chain = (keys.along[l & 63] & here & (here >> 1)) >> b;
-    let bits = 1 + chain.trailing_ones() as usize;
-    let mask = (u64::MAX >> ((64 - bits) & 63)) << b;
+    let (bits, mask) = run_of(chain, b);
     faces[l & 63] &= !mask;
     let mut lines = 1;
-    while l + lines <= e
-        && faces[(l + lines) & 63] & mask == mask
-        && keys.across[(l + lines - 1) & 63] & mask == mask
+    while faces[(l + lines) & 63] & mask == mask && keys.across[(l + lines - 1) & 63] & mask == mask
     {
         faces[(l + lines) & 63] &= !mask;
         lines += 1;
     }
-    s.push(out, known, (l, b, lines, bits), key)
+    s.push(out, (l, b, lines, bits), key | key_bits::<D, AO>());
 }
 
 /// Greedy quads growing along lines first, then bits (the ±Y faces), starting from the lines
 /// of `left`; leaves `faces` empty.
 #[inline(always)]
-pub(crate) fn greedy_lines_first<const D: usize>(
+pub(crate) fn greedy_lines_first<const D: usize, const AO: bool>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
-    e: usize,
     mut left: u64,
     keys: &Keys,
-    known: &mut u64,
     out: &mut Quads<'_>,
-) -> Result<(), MeshError> {
+) {
     while left != 0 {
         let l = left.trailing_zeros() as usize;
         left &= left - 1;
@@ -114,23 +111,29 @@ pub(crate) fn greedy_lines_first<const D: usize>(
             let mut lines = 1;
             // Bit j: faces b + j and b + j + 1 present with equal keys in every line so far.
             let mut chain = (along & here & (here >> 1)) >> b;
-            while l + lines <= e
-                && faces[(l + lines) & 63] & bit != 0
-                && keys.across[(l + lines - 1) & 63] & bit != 0
+            while faces[(l + lines) & 63] & bit != 0 && keys.across[(l + lines - 1) & 63] & bit != 0
             {
                 let f = faces[(l + lines) & 63];
                 chain &= (keys.along[(l + lines) & 63] & f & (f >> 1)) >> b;
                 lines += 1;
             }
-            let bits = 1 + chain.trailing_ones() as usize;
-            let mask = (u64::MAX >> ((64 - bits) & 63)) << b;
+            let (bits, mask) = run_of(chain, b);
             here &= !mask;
-            for k in l + 1..l + lines {
-                faces[k & 63] &= !mask;
+            for f in faces.iter_mut().take(l + lines).skip(l + 1) {
+                *f &= !mask;
             }
-            s.push(out, known, (l, b, lines, bits), key)?;
+            s.push(out, (l, b, lines, bits), key | key_bits::<D, AO>());
         }
         faces[l & 63] = 0;
     }
-    Ok(())
+}
+
+/// The faces of a quad's row starting at bit `b`, given `chain` (bit `j`: faces `b + j` and
+/// `b + j + 1` merge): how many, and their mask. The row ends at the lowest zero of `chain`,
+/// and `x ^ (x - 1)` keeps the bits up to the lowest one of `x` (one BMI instruction).
+#[inline(always)]
+fn run_of(chain: u64, b: usize) -> (usize, u64) {
+    let ends = !chain;
+    let row = ends ^ ends.wrapping_sub(1);
+    (row.count_ones() as usize, row << b)
 }

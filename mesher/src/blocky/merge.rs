@@ -27,8 +27,9 @@
 //! one bit each, kept for the whole chunk: the passes that write 1 x 1 quads only OR each
 //! face's id bit into a mask (and note an id of 64 or more), and compare it with the cache once
 //! per slice or line; only a mask with a bit the cache lacks (or a large id) sends the faces
-//! through the per-face check, which names the first unknown id and its position. Grown quads
-//! are checked one by one.
+//! through the per-face check, which names the first unknown id and its position. The greedy
+//! pass keys (and so checks) every face before it writes any quad, so its grown quads need no
+//! check of their own.
 
 use voxel_core::formats::PackedQuad;
 
@@ -82,6 +83,14 @@ impl Keys {
     }
 }
 
+/// The bits of `PackedQuad` word 1 that a quad of the greedy pass has besides its key: the
+/// face direction and, with AO off, the 4 unoccluded corners (all 3), which the keys then
+/// leave out (one operation less per face).
+#[inline(always)]
+pub(crate) const fn key_bits<const D: usize, const AO: bool>() -> u32 {
+    D as u32 | if AO { 0 } else { 0xFF << 3 }
+}
+
 /// Bit `l` set iff line `l` of `faces` has a face.
 #[inline(always)]
 pub(crate) fn rows_of(faces: &Slice) -> u64 {
@@ -132,7 +141,6 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
     rows: u64,
-    e: usize,
     keys: &mut Keys,
     out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
@@ -177,14 +185,14 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
         faces[l & 63] = here & !alone;
         left |= u64::from(here != alone) << l;
     }
-    emit_alone(s, rows, keys, out);
-    let grown = if Direction::<D>::LINES_FIRST {
-        greedy_lines_first(s, faces, e, left, keys, &mut known, out)
+    emit_alone::<D, AO>(s, rows, keys, out);
+    if Direction::<D>::LINES_FIRST {
+        greedy_lines_first::<D, AO>(s, faces, left, keys, out);
     } else {
-        greedy_bits_first(s, faces, e, left, keys, &mut known, out)
-    };
+        greedy_bits_first::<D, AO>(s, faces, left, keys, out);
+    }
     keys.known = known;
-    grown
+    Ok(())
 }
 
 /// The keys of the faces `f` of line `l` into the table, each compared with the face before it
@@ -220,7 +228,11 @@ fn keyed_line<const D: usize, const AO: bool>(
         m &= m - 1;
         let id = ids.id(b);
         seen_here |= SliceFaces::<D>::seen_bit(id);
-        let key = id << 11 | s.ao::<AO>(front, b) << 3;
+        let key = if AO {
+            id << 11 | s.ao::<AO>(front, b) << 3
+        } else {
+            id << 11
+        };
         here[b & 63] = key;
         along |= u64::from(previous == key) << b;
         previous = key;
@@ -252,7 +264,12 @@ fn check_faces<const D: usize>(
 
 /// The 1 x 1 quads of the alone faces of the lines `rows` (keys in the table).
 #[inline(always)]
-fn emit_alone<const D: usize>(s: &SliceFaces<'_, D>, rows: u64, keys: &Keys, out: &mut Quads<'_>) {
+fn emit_alone<const D: usize, const AO: bool>(
+    s: &SliceFaces<'_, D>,
+    rows: u64,
+    keys: &Keys,
+    out: &mut Quads<'_>,
+) {
     let mut n = out.len;
     let mut rest = rows;
     while rest != 0 {
@@ -266,7 +283,7 @@ fn emit_alone<const D: usize>(s: &SliceFaces<'_, D>, rows: u64, keys: &Keys, out
             m &= m - 1;
             out.buf[n & 4095] = PackedQuad {
                 position_size: word | ((b as u32 - 1) << Direction::<D>::SHIFT_B),
-                face_ao_block: row[b & 63] | D as u32,
+                face_ao_block: row[b & 63] | key_bits::<D, AO>(),
             };
             n += 1;
         }

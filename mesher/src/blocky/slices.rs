@@ -162,7 +162,7 @@ pub(crate) fn mesh_direction<const D: usize>(
             check: Some(classes),
         };
         if any != 0 {
-            emit(input, &slice_faces, &mut faces, e, keys, buf, opaque)?;
+            emit(input, &slice_faces, &mut faces, keys, buf, opaque)?;
         }
 
         let Some(t_layout) = t_layout else { continue };
@@ -195,7 +195,7 @@ pub(crate) fn mesh_direction<const D: usize>(
             }
         }
         slice_faces.check = None;
-        emit(input, &slice_faces, &mut faces, e, keys, buf, transparent)?;
+        emit(input, &slice_faces, &mut faces, keys, buf, transparent)?;
     }
     Ok(())
 }
@@ -226,7 +226,6 @@ fn emit<const D: usize>(
     input: &Input<'_>,
     slice: &SliceFaces<'_, D>,
     faces: &mut Slice,
-    e: usize,
     keys: &mut Keys,
     buf: &mut SliceQuads,
     out: &mut Vec<PackedQuad>,
@@ -238,8 +237,8 @@ fn emit<const D: usize>(
     match (merge, input.ao) {
         (false, true) => unit_quads::<D, true>(slice, faces, rows, keys, &mut quads)?,
         (false, false) => unit_quads::<D, false>(slice, faces, rows, keys, &mut quads)?,
-        (true, true) => greedy::<D, true>(slice, faces, rows, e, keys, &mut quads)?,
-        (true, false) => greedy::<D, false>(slice, faces, rows, e, keys, &mut quads)?,
+        (true, true) => greedy::<D, true>(slice, faces, rows, keys, &mut quads)?,
+        (true, false) => greedy::<D, false>(slice, faces, rows, keys, &mut quads)?,
     }
     quads.flush();
     Ok(())
