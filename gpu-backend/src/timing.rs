@@ -355,7 +355,8 @@ impl GpuTimer {
     pub fn resolve(&mut self, encoder: &mut CommandEncoder) {
         let scopes = std::mem::take(&mut self.scopes);
         if self.queued.len() == FRAMES_IN_FLIGHT {
-            // Its readback is the one this frame takes next (they are used in turn).
+            // Readbacks are taken in turn, so after this at most two queued frames hold
+            // one, the two taken last, and the next in turn is free.
             self.queued.pop_front();
             self.dropped += 1;
         }

@@ -168,7 +168,8 @@ pub struct FlightReport {
     pub far: String,
     /// Mesher mode.
     pub mesher: String,
-    /// How opaque quads were drawn (`Raster` or `Compute`).
+    /// How opaque quads were drawn: `Raster` or `Compute`, or with `--opaque auto` the
+    /// measured choice (`auto: compute (GPU time per frame: ...)`).
     pub opaque: String,
 }
 
