@@ -150,12 +150,7 @@ fn the_wireframe_draws_only_quad_edges_lit_as_the_filled_view() {
     assert_eq!(renderer.read_image().unwrap().rgba, filled.rgba);
 
     // The compute opaque path draws the wireframe through the same G-buffer pass.
-    if !ctx.capabilities.int64_atomics {
-        assert!(!in_ci(), "CI's lavapipe has 64-bit atomic min/max");
-        eprintln!(
-            "compute opaque path not checked: {} lacks 64-bit atomic min/max",
-            ctx.capabilities.adapter
-        );
+    if !has_compute_path(&ctx, "the wireframe on the compute opaque path") {
         return;
     }
     let (_, compute_filled, compute_wire) = frames(&ctx, OpaquePath::Compute);
@@ -164,6 +159,19 @@ fn the_wireframe_draws_only_quad_edges_lit_as_the_filled_view() {
         "wireframe alike on both paths"
     );
     assert_eq!(surface_pixels(&compute_filled).len(), filled_px.len());
+}
+
+/// Whether the device can run the compute opaque path (64-bit atomic min/max); otherwise
+/// prints that `what` is not checked (CI's lavapipe has them, so there it fails instead).
+fn has_compute_path(ctx: &GpuContext, what: &str) -> bool {
+    if !ctx.capabilities.int64_atomics {
+        assert!(!in_ci(), "CI's lavapipe has 64-bit atomic min/max");
+        eprintln!(
+            "{what} not checked: {} lacks 64-bit atomic min/max",
+            ctx.capabilities.adapter
+        );
+    }
+    ctx.capabilities.int64_atomics
 }
 
 /// Pixels of `a` and `b` that differ by more than 8/255 in a channel.
@@ -197,12 +205,7 @@ fn auto_measures_both_opaque_paths_and_keeps_one_that_draws_the_same_image() {
     raster_only.render().unwrap();
     let raster_image = raster_only.read_image().unwrap();
 
-    if !ctx.capabilities.int64_atomics {
-        assert!(!in_ci(), "CI's lavapipe has 64-bit atomic min/max");
-        eprintln!(
-            "Auto not measured: {} lacks 64-bit atomic min/max",
-            ctx.capabilities.adapter
-        );
+    if !has_compute_path(&ctx, "Auto's measurement") {
         return;
     }
     let mut auto = floor_renderer(&ctx, OpaquePath::Auto);

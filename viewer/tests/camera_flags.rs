@@ -10,17 +10,9 @@ use std::process::Stdio;
 use std::time::{Duration, Instant};
 
 use support::{
-    KillOnDrop, Xvfb, have_adapter, read_xwd, run_viewer, text, viewer_command, xvfb_or_skip,
+    KillOnDrop, Xvfb, have_adapter, read_png, read_xwd, run_viewer, text, viewer_command,
+    xvfb_or_skip,
 };
-
-/// The RGBA pixels of a PNG file.
-fn read_png(path: &Path) -> Vec<u8> {
-    let decoder = png::Decoder::new(std::io::Cursor::new(std::fs::read(path).expect("the PNG")));
-    let mut reader = decoder.read_info().expect("PNG header");
-    let mut rgba = vec![0; reader.output_buffer_size().expect("PNG size")];
-    reader.next_frame(&mut rgba).expect("PNG pixels");
-    rgba
-}
 
 /// Renders the one-chunk terrain (columns 0..32 on x and z) headless with the CPU raycaster
 /// and `extra` arguments; returns the RGBA pixels.

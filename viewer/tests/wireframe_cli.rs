@@ -3,7 +3,7 @@
 
 mod support;
 
-use support::{have_adapter, run_viewer, text};
+use support::{have_adapter, read_png, run_viewer, text};
 
 /// Renders the streamed terrain headless (meshes only) with `extra` flags; the PNG's RGBA.
 fn frame(dir: &std::path::Path, name: &str, extra: &[&str]) -> Vec<u8> {
@@ -30,11 +30,7 @@ fn frame(dir: &std::path::Path, name: &str, extra: &[&str]) -> Vec<u8> {
     let output = run_viewer(&args, None);
     let (stdout, stderr) = (text(&output.stdout), text(&output.stderr));
     assert!(output.status.success(), "{stdout}\n{stderr}");
-    let decoder = png::Decoder::new(std::io::Cursor::new(std::fs::read(&out).unwrap()));
-    let mut reader = decoder.read_info().unwrap();
-    let mut rgba = vec![0; reader.output_buffer_size().unwrap()];
-    reader.next_frame(&mut rgba).unwrap();
-    rgba
+    read_png(&out)
 }
 
 #[test]

@@ -247,58 +247,41 @@ impl Pipelines {
         let geometry = GBUFFER.create_module(device);
         let fullscreen = DEFERRED.create_module(device);
         let gbuffer_targets = [Some(ALBEDO_FORMAT.into()), Some(NORMAL_FORMAT.into())];
-        let quad_gbuffer = pipeline(
-            device,
-            PipelineDesc {
-                label: "quads to gbuffer",
-                module: &geometry,
-                vertex: "vs_quad",
-                fragment: "fs_gbuffer",
-                groups: [&frame_layout, &quad_layout],
-                targets: &gbuffer_targets,
-                depth: depth_state(true),
-                cull_back: true,
-            },
+        // The opaque surfaces into the G-buffer: depth written, back faces culled (the
+        // wireframe views too: they show what the filled views show).
+        let gbuffer = |label, vertex, fragment, surface_layout| {
+            pipeline(
+                device,
+                PipelineDesc {
+                    label,
+                    module: &geometry,
+                    vertex,
+                    fragment,
+                    groups: [&frame_layout, surface_layout],
+                    targets: &gbuffer_targets,
+                    depth: depth_state(true),
+                    cull_back: true,
+                },
+            )
+        };
+        let quad_gbuffer = gbuffer("quads to gbuffer", "vs_quad", "fs_gbuffer", &quad_layout);
+        let smooth_gbuffer = gbuffer(
+            "smooth to gbuffer",
+            "vs_smooth",
+            "fs_gbuffer",
+            &smooth_layout,
         );
-        let smooth_gbuffer = pipeline(
-            device,
-            PipelineDesc {
-                label: "smooth to gbuffer",
-                module: &geometry,
-                vertex: "vs_smooth",
-                fragment: "fs_gbuffer",
-                groups: [&frame_layout, &smooth_layout],
-                targets: &gbuffer_targets,
-                depth: depth_state(true),
-                cull_back: true,
-            },
+        let quad_gbuffer_wire = gbuffer(
+            "quads to gbuffer, wireframe",
+            "vs_quad_wire",
+            "fs_gbuffer_wire",
+            &quad_layout,
         );
-        // Back faces stay culled: the wireframe shows what the filled view shows.
-        let quad_gbuffer_wire = pipeline(
-            device,
-            PipelineDesc {
-                label: "quads to gbuffer, wireframe",
-                module: &geometry,
-                vertex: "vs_quad_wire",
-                fragment: "fs_gbuffer_wire",
-                groups: [&frame_layout, &quad_layout],
-                targets: &gbuffer_targets,
-                depth: depth_state(true),
-                cull_back: true,
-            },
-        );
-        let smooth_gbuffer_wire = pipeline(
-            device,
-            PipelineDesc {
-                label: "smooth to gbuffer, wireframe",
-                module: &geometry,
-                vertex: "vs_smooth_wire",
-                fragment: "fs_gbuffer_wire",
-                groups: [&frame_layout, &smooth_layout],
-                targets: &gbuffer_targets,
-                depth: depth_state(true),
-                cull_back: true,
-            },
+        let smooth_gbuffer_wire = gbuffer(
+            "smooth to gbuffer, wireframe",
+            "vs_smooth_wire",
+            "fs_gbuffer_wire",
+            &smooth_layout,
         );
         let quad_transparent = pipeline(
             device,

@@ -144,6 +144,15 @@ pub fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
 
+/// The RGBA pixels of a PNG file.
+pub fn read_png(path: &Path) -> Vec<u8> {
+    let decoder = png::Decoder::new(std::io::Cursor::new(std::fs::read(path).expect("the PNG")));
+    let mut reader = decoder.read_info().expect("PNG header");
+    let mut rgba = vec![0; reader.output_buffer_size().expect("PNG size")];
+    reader.next_frame(&mut rgba).expect("PNG pixels");
+    rgba
+}
+
 /// A Vulkan adapter exists (else it printed `skipped: <test>: no Vulkan adapter`; panics
 /// under CI).
 pub fn have_adapter() -> bool {
