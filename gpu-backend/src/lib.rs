@@ -24,6 +24,7 @@
 //! - [`from_mesher`]: the mesher's output as upload data;
 //! - [`present`]: a window's swapchain ([`WindowOutput`]) and the pass that copies the
 //!   renderer's output into it;
+//! - [`pass_chain`]: a frame's consecutive compute steps in one compute pass;
 //! - [`timing`]: per-pass GPU time from timestamp queries, CPU wall time as the fallback;
 //! - [`png`]: frames as PNG bytes.
 //!
@@ -42,6 +43,7 @@ pub mod from_mesher;
 mod fullscreen;
 pub mod gigabuffer;
 pub mod hiz;
+pub mod pass_chain;
 pub mod png;
 pub mod present;
 #[cfg(feature = "test-support")]

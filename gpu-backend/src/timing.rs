@@ -18,7 +18,11 @@
 //! otherwise as the begin / end write of an empty compute pass (plain `TIMESTAMP_QUERY`
 //! suffices). [`compute_pass_writes`](GpuTimer::compute_pass_writes) and
 //! [`render_pass_writes`](GpuTimer::render_pass_writes) give a pass descriptor's
-//! `timestamp_writes` instead, timing exactly that pass. [`resolve`](GpuTimer::resolve) resolves
+//! `timestamp_writes` instead, timing exactly that pass. [`begin_chained`](GpuTimer::begin_chained)
+//! and [`end_chained`](GpuTimer::end_chained) time a step of a
+//! [`PassChain`](crate::pass_chain::PassChain): with `TIMESTAMP_QUERY_INSIDE_PASSES` they write
+//! into the chain's open compute pass, so the steps of a frame keep sharing it; otherwise they
+//! fall back to `begin` / `end` on the chain's encoder. [`resolve`](GpuTimer::resolve) resolves
 //! the used queries and copies them to a mappable buffer; [`collect`](GpuTimer::collect) waits,
 //! reads them and converts ticks with the queue's timestamp period. Scope time is GPU time
 //! between the two writes; a backwards pair (which drivers may give around reordered work)
@@ -56,6 +60,7 @@ use wgpu::{
 };
 
 use crate::device::{GpuCapabilities, GpuContext, TimingPath};
+use crate::pass_chain::PassChain;
 
 /// One timed scope.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -130,6 +135,7 @@ struct Timestamps {
     next_readback: usize,
     period_ns: f32,
     inside_encoders: bool,
+    inside_passes: bool,
 }
 
 /// A resolved frame waiting to be collected.
@@ -176,8 +182,8 @@ impl GpuTimer {
         let timestamps = match capabilities.timing {
             TimingPath::GpuTimestamps {
                 inside_encoders,
+                inside_passes,
                 period_ns,
-                ..
             } => {
                 let queries = 2 * max_scopes;
                 let bytes = u64::from(queries) * wgpu::QUERY_SIZE as u64;
@@ -210,6 +216,7 @@ impl GpuTimer {
                     next_readback: 0,
                     period_ns,
                     inside_encoders,
+                    inside_passes,
                 })
             }
             TimingPath::Cpu => None,
@@ -319,6 +326,40 @@ impl GpuTimer {
             }
         }
         self.scopes[index].ended = true;
+    }
+
+    /// [`begin`](Self::begin) for a step of a [`PassChain`]: with
+    /// `TIMESTAMP_QUERY_INSIDE_PASSES` the timestamp goes into the chain's open compute pass,
+    /// so timing does not split the pass; otherwise as `begin` on the chain's encoder (which
+    /// ends the open pass).
+    pub fn begin_chained(&mut self, chain: &mut PassChain<'_>, label: &str) -> TimerScope {
+        match &self.timestamps {
+            Some(t) if t.inside_passes => {
+                let Some((index, query)) = self.open(label) else {
+                    return TimerScope { index: None };
+                };
+                let t = self.timestamps.as_ref().expect("matched above");
+                chain.compute().write_timestamp(&t.query_set, query);
+                TimerScope { index: Some(index) }
+            }
+            _ => self.begin(chain.encoder(), label),
+        }
+    }
+
+    /// [`end`](Self::end) for a scope opened with [`begin_chained`](Self::begin_chained).
+    pub fn end_chained(&mut self, chain: &mut PassChain<'_>, scope: TimerScope) {
+        match &self.timestamps {
+            Some(t) if t.inside_passes => {
+                let Some(index) = scope.index else {
+                    return;
+                };
+                chain
+                    .compute()
+                    .write_timestamp(&t.query_set, self.scopes[index].query + 1);
+                self.scopes[index].ended = true;
+            }
+            _ => self.end(chain.encoder(), scope),
+        }
     }
 
     /// Timestamp writes that time one compute pass as a scope labelled `label` (pass them as

@@ -1,11 +1,13 @@
 //! The GPU timer on both paths: timestamp queries give positive durations that grow with the
 //! work dispatched and fit inside the wall time of the submission; the CPU fallback gives wall
-//! times of each scope's own submission; labels come back in order.
+//! times of each scope's own submission; labels come back in order. Steps of a pass chain share
+//! one compute pass where timestamps can be written inside passes, and give the same results.
 
 use std::time::Instant;
 
-use gpu_backend::cull::{CullCamera, CullConfig, CullLayer, CullPass};
+use gpu_backend::cull::{CullCamera, CullConfig, CullInputs, CullLayer, CullParams, CullPass};
 use gpu_backend::gigabuffer::{DataKind, PageLayout};
+use gpu_backend::pass_chain::PassChain;
 use gpu_backend::test_support::{headless_or_skip, skip};
 use gpu_backend::timing::{FRAMES_IN_FLIGHT, GpuTimer, PassTime, TimerError, TimingSource};
 use gpu_backend::{DeviceOptions, GpuContext, MeshedChunkTable, TimingPath};
@@ -384,4 +386,118 @@ fn frames_in_flight_are_collected_oldest_first_and_overflow_drops_the_oldest() {
     let times = timer.collect().unwrap();
     assert_eq!(&labels_of(&times), frames.last().unwrap());
     assert_eq!(timer.frames_in_flight(), 0);
+}
+
+/// Records light, heavy and a cull as timed steps of one [`PassChain`] (the cull prepared
+/// before the chain starts), submits, and returns the figures, the compute passes the chain
+/// opened, and the cull's counts.
+fn time_chain(ctx: &GpuContext, timer: &mut GpuTimer) -> (Vec<PassTime>, u32, Vec<u32>) {
+    let busy = Busy::new(ctx, &[LIGHT, HEAVY]);
+    let (cull, table) = cull_setup(ctx);
+    let output = cull.create_output("chained").unwrap();
+    let camera = CullCamera::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
+    let inputs = CullInputs {
+        table: &table,
+        nodes: None,
+        frame: None,
+        occlusion: None,
+    };
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    let prepared = cull
+        .prepare_with(
+            &mut encoder,
+            &inputs,
+            &camera,
+            CullLayer::Opaque,
+            &output,
+            &CullParams::default(),
+        )
+        .unwrap()
+        .expect("the table has slots");
+    let mut chain = PassChain::new(&mut encoder, "chained");
+    for (label, iterations) in [("light", LIGHT), ("heavy", HEAVY)] {
+        let scope = timer.begin_chained(&mut chain, label);
+        busy.dispatch(chain.compute(), iterations);
+        timer.end_chained(&mut chain, scope);
+    }
+    let scope = timer.begin_chained(&mut chain, "cull");
+    cull.dispatch(chain.compute(), &prepared);
+    timer.end_chained(&mut chain, scope);
+    let passes = chain.passes_opened();
+    drop(chain);
+    timer.resolve(&mut encoder);
+    ctx.queue.submit([encoder.finish()]);
+    let times = timer.collect().unwrap();
+    let read = output.read(&ctx.device, &ctx.queue).unwrap();
+    (times, passes, read.wanted)
+}
+
+/// The counts of the same cull recorded on its own (`CullPass::record`).
+fn cull_alone(ctx: &GpuContext) -> Vec<u32> {
+    let (cull, table) = cull_setup(ctx);
+    let output = cull.create_output("alone").unwrap();
+    let camera = CullCamera::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    cull.record(&mut encoder, &table, &camera, CullLayer::Opaque, &output)
+        .unwrap();
+    ctx.queue.submit([encoder.finish()]);
+    output.read(&ctx.device, &ctx.queue).unwrap().wanted
+}
+
+#[test]
+fn chained_steps_share_one_compute_pass_when_timestamps_fit_inside_passes() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let TimingPath::GpuTimestamps {
+        inside_passes,
+        period_ns,
+        ..
+    } = ctx.capabilities.timing
+    else {
+        skip("the adapter has no timestamp queries");
+        return;
+    };
+    let expected_counts = cull_alone(&ctx);
+    assert!(expected_counts[0] > 0);
+    let with = |inside_encoders, inside_passes| {
+        let mut caps = ctx.capabilities.clone();
+        caps.timing = TimingPath::GpuTimestamps {
+            inside_encoders,
+            inside_passes,
+            period_ns,
+        };
+        GpuTimer::with_capabilities(&ctx.device, &ctx.queue, &caps, 8)
+    };
+    let mut timers = vec![
+        ("encoder timestamps", with(true, false), 3),
+        ("empty passes", with(false, false), 3),
+        (
+            "no timestamps",
+            GpuTimer::with_capabilities(
+                &ctx.device,
+                &ctx.queue,
+                &gpu_backend::GpuCapabilities {
+                    timing: TimingPath::Cpu,
+                    ..ctx.capabilities.clone()
+                },
+                8,
+            ),
+            3,
+        ),
+    ];
+    if inside_passes {
+        timers.insert(0, ("timestamps inside passes", with(true, true), 1));
+    } else {
+        println!("the adapter cannot write timestamps inside passes: that path is not run");
+    }
+    for (name, mut timer, passes) in timers {
+        let (times, opened, counts) = time_chain(&ctx, &mut timer);
+        let labels: Vec<&str> = times.iter().map(|t| t.label.as_str()).collect();
+        assert_eq!(labels, ["light", "heavy", "cull"], "{name}");
+        assert!(times.iter().all(|t| t.nanoseconds > 0), "{name}: {times:?}");
+        // Each step's timestamps on the encoder end the pass, so each step opens its own.
+        assert_eq!(opened, passes, "{name}");
+        assert_eq!(counts, expected_counts, "{name}: the chained cull's counts");
+    }
 }

@@ -304,15 +304,65 @@ impl CullPass {
         output: &CullOutput,
         params: &CullParams,
     ) -> Result<(), CullError> {
+        if let Some(prepared) = self.prepare_with(encoder, inputs, camera, layer, output, params)? {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("cull"),
+                timestamp_writes: None,
+            });
+            self.dispatch(&mut pass, &prepared);
+        }
+        Ok(())
+    }
+
+    /// The first half of [`record_with`](Self::record_with): its copies and clears, recorded
+    /// into `encoder`; [`dispatch`](Self::dispatch) records the rest into any later compute
+    /// pass of the same encoder (several records can share one pass; see
+    /// [`PassChain`](crate::pass_chain::PassChain)). `None`: nothing to dispatch (no slots).
+    pub fn prepare_with(
+        &self,
+        encoder: &mut CommandEncoder,
+        inputs: &CullInputs<'_>,
+        camera: &CullCamera,
+        layer: CullLayer,
+        output: &CullOutput,
+        params: &CullParams,
+    ) -> Result<Option<PreparedCull>, CullError> {
         let Some((bind_group, groups)) =
             self.prepare(encoder, inputs, camera, layer, output, params)?
         else {
-            return Ok(());
+            return Ok(None);
         };
-        let mut pass = cull_pass(encoder, "cull", &bind_group);
-        pass.set_pipeline(&self.pipeline);
-        dispatch_slots(&mut pass, groups);
-        Ok(())
+        Ok(Some(PreparedCull {
+            bind_group,
+            groups,
+            ordered: None,
+        }))
+    }
+
+    /// Records a prepared record's dispatches into `pass`.
+    pub fn dispatch(&self, pass: &mut wgpu::ComputePass<'_>, prepared: &PreparedCull) {
+        let Some(ordered) = &prepared.ordered else {
+            pass.set_bind_group(0, &prepared.bind_group, &[]);
+            pass.set_pipeline(&self.pipeline);
+            dispatch_slots(pass, prepared.groups);
+            return;
+        };
+        if let Some((args_group, _)) = &ordered.from_list {
+            pass.set_pipeline(&self.ordered.list_args);
+            pass.set_bind_group(0, args_group, &[]);
+            pass.dispatch_workgroups(1, 1, 1);
+        }
+        pass.set_bind_group(0, &prepared.bind_group, &[]);
+        let dispatch = |pass: &mut wgpu::ComputePass<'_>| match &ordered.from_list {
+            Some((_, list_args)) => pass.dispatch_workgroups_indirect(list_args, 0),
+            None => dispatch_slots(pass, prepared.groups),
+        };
+        pass.set_pipeline(&self.ordered.count);
+        dispatch(pass);
+        pass.set_pipeline(&self.ordered.prefix);
+        pass.dispatch_workgroups(self.layout.page_count, 1, 1);
+        pass.set_pipeline(&self.ordered.scatter);
+        dispatch(pass);
     }
 
     /// Like [`record`](Self::record), but each page's commands come back to front: sorted by
@@ -359,14 +409,37 @@ impl CullPass {
         output: &CullOutput,
         params: &CullParams,
     ) -> Result<(), CullError> {
+        if let Some(prepared) =
+            self.prepare_ordered_with(encoder, inputs, camera, layer, output, params)?
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("ordered cull"),
+                timestamp_writes: None,
+            });
+            self.dispatch(&mut pass, &prepared);
+        }
+        Ok(())
+    }
+
+    /// The first half of [`record_ordered_with`](Self::record_ordered_with), as
+    /// [`prepare_with`](Self::prepare_with) is of `record_with`.
+    pub fn prepare_ordered_with(
+        &self,
+        encoder: &mut CommandEncoder,
+        inputs: &CullInputs<'_>,
+        camera: &CullCamera,
+        layer: CullLayer,
+        output: &CullOutput,
+        params: &CullParams,
+    ) -> Result<Option<PreparedCull>, CullError> {
         let Some((bind_group, groups)) =
             self.prepare(encoder, inputs, camera, layer, output, params)?
         else {
-            return Ok(());
+            return Ok(None);
         };
         encoder.clear_buffer(&output.order_counts, 0, None);
         let frame = inputs.frame.unwrap_or(&self.own_frame);
-        if params.from_list {
+        let from_list = params.from_list.then(|| {
             let args_group = self.bind_cache.get(
                 &self.device,
                 "transparent list dispatch",
@@ -377,29 +450,13 @@ impl CullPass {
                     buffer_entry(2, &frame.transparent_list),
                 ],
             );
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("transparent list dispatch"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&self.ordered.list_args);
-            pass.set_bind_group(0, &args_group, &[]);
-            pass.dispatch_workgroups(1, 1, 1);
-        }
-        let mut pass = cull_pass(encoder, "ordered cull", &bind_group);
-        let dispatch = |pass: &mut wgpu::ComputePass<'_>| {
-            if params.from_list {
-                pass.dispatch_workgroups_indirect(&frame.list_args, 0);
-            } else {
-                dispatch_slots(pass, groups);
-            }
-        };
-        pass.set_pipeline(&self.ordered.count);
-        dispatch(&mut pass);
-        pass.set_pipeline(&self.ordered.prefix);
-        pass.dispatch_workgroups(self.layout.page_count, 1, 1);
-        pass.set_pipeline(&self.ordered.scatter);
-        dispatch(&mut pass);
-        Ok(())
+            (args_group, frame.list_args.clone())
+        });
+        Ok(Some(PreparedCull {
+            bind_group,
+            groups,
+            ordered: Some(OrderedDispatch { from_list }),
+        }))
     }
 
     /// The copies and clears every record starts with, and the bind group; `None` when the
@@ -506,18 +563,24 @@ struct OrderedPipelines {
     list_args_layout: BindGroupLayout,
 }
 
-/// A compute pass with the cull's bind group set.
-fn cull_pass<'e>(
-    encoder: &'e mut CommandEncoder,
-    label: &str,
-    bind_group: &wgpu::BindGroup,
-) -> wgpu::ComputePass<'e> {
-    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-        label: Some(label),
-        timestamp_writes: None,
-    });
-    pass.set_bind_group(0, bind_group, &[]);
-    pass
+/// A cull record whose copies and clears are in the encoder and whose dispatches are not yet
+/// recorded ([`CullPass::prepare_with`], [`CullPass::prepare_ordered_with`]; recorded by
+/// [`CullPass::dispatch`]).
+#[derive(Debug)]
+pub struct PreparedCull {
+    bind_group: wgpu::BindGroup,
+    /// Workgroups over the table's slots.
+    groups: u32,
+    /// `Some` for the back-to-front record.
+    ordered: Option<OrderedDispatch>,
+}
+
+/// What the ordered record dispatches besides the slots.
+#[derive(Debug)]
+struct OrderedDispatch {
+    /// Over the transparent list instead of every slot: the group and buffer of the indirect
+    /// dispatch that sizes it.
+    from_list: Option<(wgpu::BindGroup, Buffer)>,
 }
 
 /// Dispatches `groups` workgroups of slots, folded into two dimensions past the per-dimension

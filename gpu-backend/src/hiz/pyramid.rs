@@ -244,11 +244,23 @@ impl DepthPyramid {
         timestamp_writes: Option<ComputePassTimestampWrites<'_>>,
     ) -> Result<(), HizError> {
         self.check_inputs(depth, visibility)?;
-        let level0 = self.level0_group(depth, visibility);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("hiz build"),
             timestamp_writes,
         });
+        self.record_build_in(&mut pass, depth, visibility)
+    }
+
+    /// [`record_build`](Self::record_build) into an open compute pass (of a
+    /// [`PassChain`](crate::pass_chain::PassChain), say): the same dispatches, same errors.
+    pub fn record_build_in(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        depth: &TextureView,
+        visibility: Option<&Buffer>,
+    ) -> Result<(), HizError> {
+        self.check_inputs(depth, visibility)?;
+        let level0 = self.level0_group(depth, visibility);
         pass.set_pipeline(&self.level0_pipeline);
         pass.set_bind_group(0, &level0, &[]);
         let groups = |(w, h): (u32, u32)| (w.div_ceil(WORKGROUP), h.div_ceil(WORKGROUP));

@@ -1,7 +1,10 @@
 // The dispatch sizes of the quad rasteriser (render::quad_raster), on the GPU so that the CPU
 // never waits for the cull's counts:
 // - qr_page_args: per quad page, one workgroup per drawn command (min(counts[p], C)), folded
-//   into x and y below 65535 workgroups per dimension, with the page's first command slot;
+//   into x and y below 65535 workgroups per dimension, with the page's first command slot; it
+//   also zeroes the record's list counts (state words below QR_FIRST_STAT_WORD), since it is
+//   the record's first dispatch and nothing in it reads them: a record then needs no clear in
+//   the encoder, and the records of a frame's phases can share one compute pass;
 // - qr_tile_args: one workgroup per tile entry the quads pass appended, folded the same way.
 
 // Twin of render::quad_raster::ArgsParams.
@@ -17,6 +20,9 @@ struct ArgsParams {
 const MAX_GROUPS: u32 = 65535u;
 // The state word counting tile entries (render::quad_raster::StateWord::TileCount).
 const QR_TILE_COUNT: u32 = 0u;
+// The first statistics word (render::quad_raster::FIRST_STAT_WORD): the words below it are the
+// record's list counts.
+const QR_FIRST_STAT_WORD: u32 = 8u;
 
 @group(0) @binding(0) var<storage, read> counts: array<u32>;
 @group(0) @binding(1) var<storage, read_write> page_args: array<u32>;
@@ -32,6 +38,11 @@ fn fold(n: u32) -> vec2<u32> {
 @compute @workgroup_size(64)
 fn qr_page_args(@builtin(global_invocation_id) id: vec3<u32>) {
     let p = id.x;
+    if p == 0u {
+        for (var word = 0u; word < QR_FIRST_STAT_WORD; word++) {
+            atomicStore(&state[word], 0u);
+        }
+    }
     if p >= params.page_count {
         return;
     }

@@ -216,8 +216,19 @@ impl FarSplat {
         encoder.clear_buffer(&self.range, 0, None);
     }
 
-    /// Splats the far-list entries appended since the last record of the frame.
+    /// Splats the far-list entries appended since the last record of the frame: one compute
+    /// pass of [`record_in`](Self::record_in).
     pub fn record(&self, encoder: &mut CommandEncoder, inputs: &SplatInputs<'_>) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("splat"),
+            timestamp_writes: None,
+        });
+        self.record_in(&mut pass, inputs);
+    }
+
+    /// [`record`](Self::record) into an open compute pass: the dispatch that sizes the splat
+    /// from the far list's count, then the splat.
+    pub fn record_in(&self, pass: &mut wgpu::ComputePass<'_>, inputs: &SplatInputs<'_>) {
         let args_group = self.bind_cache.get(
             &self.device,
             "far args",
@@ -235,10 +246,6 @@ impl FarSplat {
             &[buffer_entry(0, inputs.frame_uniforms)],
         );
         let group = self.splat_group(inputs);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("splat"),
-            timestamp_writes: None,
-        });
         pass.set_pipeline(&self.args);
         pass.set_bind_group(0, &args_group, &[]);
         pass.dispatch_workgroups(1, 1, 1);

@@ -329,6 +329,7 @@ mod tests {
             U32(StateWord::TileCount as u32)
         );
         assert_eq!(constant(&a, "MAX_GROUPS"), U32(MAX_GROUPS));
+        assert_eq!(constant(&a, "QR_FIRST_STAT_WORD"), U32(FIRST_STAT_WORD));
         for (name, spec) in [("qr_quads", &m), ("qr_tiles", &m)] {
             let ep = spec.entry_points.iter().find(|e| e.name == name).unwrap();
             assert_eq!(ep.workgroup_size, [WORKGROUP, 1, 1], "{name}");

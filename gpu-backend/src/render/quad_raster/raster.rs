@@ -136,18 +136,32 @@ impl QuadRaster {
     }
 
     /// Records the rasterisation of every drawn command of `inputs.commands` into
-    /// `inputs.visibility` (which the caller clears once per frame, like the far splat's).
-    ///
-    /// In encoder order: the list counters are cleared, then one compute pass: `qr_page_args`
-    /// (the pages' dispatches from the cull's counts), `qr_quads` once per created quad page
-    /// (indirect: one workgroup per drawn command), `qr_tile_args`, `qr_tiles` (indirect: one
-    /// workgroup per tile entry). Record it after the cull that wrote the commands, in the same
-    /// or an earlier-submitted encoder. CPU cost: a few checks, two cache lookups (bind groups
-    /// are made on first use of a buffer, see [`cached`](Self::cached)), and `4 + pages`
-    /// dispatches.
+    /// `inputs.visibility` (which the caller clears once per frame, like the far splat's): one
+    /// compute pass of [`record_in`](Self::record_in).
     pub fn record(
         &self,
         encoder: &mut CommandEncoder,
+        inputs: &QuadRasterInputs<'_>,
+    ) -> Result<(), QuadRasterError> {
+        self.check(inputs)?;
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("quad raster"),
+            timestamp_writes: None,
+        });
+        self.record_in(&mut pass, inputs)
+    }
+
+    /// [`record`](Self::record) into an open compute pass (of a
+    /// [`PassChain`](crate::pass_chain::PassChain), say): `qr_page_args` (the pages' dispatches
+    /// from the cull's counts; it also zeroes the list counters), `qr_quads` once per created
+    /// quad page (indirect: one workgroup per drawn command), `qr_tile_args`, `qr_tiles`
+    /// (indirect: one workgroup per tile entry). Record it after the cull that wrote the
+    /// commands, in the same or an earlier-submitted encoder. CPU cost: a few checks, two cache
+    /// lookups (bind groups are made on first use of a buffer, see [`cached`](Self::cached)),
+    /// and `4 + pages` dispatches.
+    pub fn record_in(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
         inputs: &QuadRasterInputs<'_>,
     ) -> Result<(), QuadRasterError> {
         self.check(inputs)?;
@@ -165,12 +179,7 @@ impl QuadRaster {
             .group
             .clone();
         let output = cache.output(&maker, inputs.commands, inputs.quads);
-        encoder.clear_buffer(&self.state, 0, Some(u64::from(FIRST_STAT_WORD) * 4));
         let page_count = inputs.commands.layout().page_count;
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("quad raster"),
-            timestamp_writes: None,
-        });
         pass.set_pipeline(&self.pipelines.page_args);
         pass.set_bind_group(0, &output.args_group, &[]);
         pass.dispatch_workgroups(page_count.div_ceil(64), 1, 1);

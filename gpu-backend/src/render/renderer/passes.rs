@@ -7,6 +7,7 @@ use super::Renderer;
 use crate::bind::buffer_entry;
 use crate::cull::CullOutput;
 use crate::gigabuffer::DataKind;
+use crate::pass_chain::PassChain;
 use crate::render::pipelines::FullscreenPipelines;
 
 impl Renderer {
@@ -210,11 +211,20 @@ impl Renderer {
         }
     }
 
+    /// Whether the full-screen passes are compute dispatches (else fragment passes).
+    pub(super) fn fullscreen_in_compute(&self) -> bool {
+        matches!(
+            self.pipelines.fullscreen,
+            FullscreenPipelines::Compute { .. }
+        )
+    }
+
     /// The lighting pass (`tonemap = false`: G-buffer and far visibility to HDR) or the
-    /// tonemap pass (HDR to the output), as a fragment or a compute pass.
+    /// tonemap pass (HDR to the output): a fragment pass, or a dispatch in the chain's
+    /// compute pass.
     pub(super) fn record_fullscreen(
         &self,
-        encoder: &mut CommandEncoder,
+        chain: &mut PassChain<'_>,
         frame_group: &BindGroup,
         tonemap: bool,
     ) {
@@ -223,10 +233,7 @@ impl Renderer {
             binding,
             resource: wgpu::BindingResource::TextureView(view),
         };
-        let compute = matches!(
-            self.pipelines.fullscreen,
-            FullscreenPipelines::Compute { .. }
-        );
+        let compute = self.fullscreen_in_compute();
         let (visibility, transparent) = match &self.splat {
             Some(splat) => (splat.visibility(), splat.transparent()),
             None => (&self.no_visibility, &self.no_visibility),
@@ -265,7 +272,7 @@ impl Renderer {
                 tonemap: tone,
             } => {
                 let target = if tonemap { &t.output } else { &t.hdr };
-                let mut pass = crate::fullscreen::fullscreen_pass(encoder, label, target);
+                let mut pass = crate::fullscreen::fullscreen_pass(chain.encoder(), label, target);
                 pass.set_pipeline(if tonemap { tone } else { lighting });
                 pass.set_bind_group(0, frame_group, &[]);
                 pass.set_bind_group(1, &group, &[]);
@@ -275,10 +282,7 @@ impl Renderer {
                 lighting,
                 tonemap: tone,
             } => {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(label),
-                    timestamp_writes: None,
-                });
+                let pass = chain.compute();
                 pass.set_pipeline(if tonemap { tone } else { lighting });
                 pass.set_bind_group(0, frame_group, &[]);
                 pass.set_bind_group(1, &group, &[]);

@@ -5,17 +5,18 @@ use wgpu::CommandEncoder;
 
 use super::Renderer;
 use crate::cull::{
-    CullCamera, CullInputs, CullLayer, CullParams, CullStats, LodParams, OcclusionInputs,
-    OcclusionView, PHASE_EARLY, PHASE_LATE, PHASE_TEST, lod,
+    CullInputs, CullLayer, CullParams, CullStats, LodParams, OcclusionInputs, OcclusionView,
+    PHASE_EARLY, PHASE_LATE, PHASE_TEST, PreparedCull, lod,
 };
 use crate::gigabuffer::DataKind;
+use crate::pass_chain::PassChain;
 use crate::render::error::RenderError;
 use crate::render::far::FarPath;
 use crate::render::far::raster::{FarRaster, FarRasterInputs};
 use crate::render::far::splat::{SplatInputs, SplatStats};
 use crate::render::frame::{FRAME_SPLAT, FrameShape, FrameUniforms};
 use crate::render::quad_raster::{QuadRasterInputs, QuadRasterStats};
-use crate::timing::PassTime;
+use crate::timing::{PassTime, TimerScope};
 
 impl Renderer {
     /// The highest level of detail any resident chunk has.
@@ -85,6 +86,11 @@ impl Renderer {
     ///          [─► depth pyramid ─► cull late ─► far splat ─► G-buffer (load)]   occlusion only
     ///          ─► cull transparent (back to front) ─► lighting ─► transparent ─► tonemap
     /// ```
+    ///
+    /// Every copy and clear comes first; the steps that only dispatch then share compute
+    /// passes ([`PassChain`]), which only a render pass ends: on the compute opaque path with
+    /// compute full-screen passes the frame is one compute pass up to lighting, the transparent
+    /// pass, and the tonemap's pass.
     pub fn record_frame(&mut self, encoder: &mut CommandEncoder) -> Result<(), RenderError> {
         let (width, height) = (self.targets.width, self.targets.height);
         self.gigabuffer.flush(encoder);
@@ -103,7 +109,57 @@ impl Renderer {
         self.queue
             .write_buffer(&self.frame_uniforms, 0, bytemuck::bytes_of(&uniforms));
         let frame_group = self.frame_group();
-        let cull_camera = self.camera.cull_camera(width, height);
+        let culls = self.prepare_culls(encoder)?;
+        let mut chain = PassChain::new(encoder, "frame compute");
+        self.record_opaque_phase(&mut chain, &frame_group, culls.early.as_ref(), PHASE_EARLY)?;
+        if let Some(occlusion) = &self.occlusion {
+            let scope = self.timer.begin_chained(&mut chain, "hiz");
+            occlusion
+                .pyramid
+                .record_build_in(
+                    chain.compute(),
+                    &self.targets.depth,
+                    self.splat.as_ref().map(|s| s.visibility()),
+                )
+                .map_err(RenderError::Hiz)?;
+            self.timer.end_chained(&mut chain, scope);
+            self.record_opaque_phase(&mut chain, &frame_group, culls.late.as_ref(), PHASE_LATE)?;
+        }
+
+        // The transparent layer, back to front (see `render::transparent`).
+        let far_raster = self.far_raster_inputs().is_some();
+        let scope = self.begin_step(&mut chain, "cull transparent", !far_raster);
+        if let Some(prepared) = &culls.transparent {
+            self.cull.dispatch(chain.compute(), prepared);
+        }
+        let far_group = self.far_raster_inputs().map(|(raster, inputs)| {
+            raster.record_all_args(chain.encoder(), &inputs);
+            raster.bind_group(&inputs)
+        });
+        self.end_step(&mut chain, scope);
+
+        let compute = self.fullscreen_in_compute();
+        let scope = self.begin_step(&mut chain, "lighting", compute);
+        self.record_fullscreen(&mut chain, &frame_group, false);
+        self.end_step(&mut chain, scope);
+
+        let scope = self.begin_step(&mut chain, "transparent", false);
+        self.record_transparent(chain.encoder(), &frame_group, far_group.as_ref());
+        self.end_step(&mut chain, scope);
+
+        let scope = self.begin_step(&mut chain, "tonemap", compute);
+        self.record_fullscreen(&mut chain, &frame_group, true);
+        self.end_step(&mut chain, scope);
+        drop(chain);
+        self.timer.resolve(encoder);
+        Ok(())
+    }
+
+    /// The frame's clears and every cull record's copies and clears, in `encoder` before the
+    /// frame's compute chain, so that the dispatches after them can share compute passes.
+    fn prepare_culls(&self, encoder: &mut CommandEncoder) -> Result<FrameCulls, RenderError> {
+        let (width, height) = (self.targets.width, self.targets.height);
+        let camera = self.camera.cull_camera(width, height);
         self.cull_frame.clear(encoder);
         if let Some(splat) = &self.splat {
             splat.clear(encoder);
@@ -111,29 +167,26 @@ impl Renderer {
         if let Some(raster) = &self.far_raster {
             raster.clear(encoder);
         }
-
-        self.record_opaque_phase(encoder, &frame_group, &cull_camera, PHASE_EARLY)?;
-        if let Some(occlusion) = &self.occlusion {
-            let scope = self.timer.begin(encoder, "hiz");
-            occlusion
-                .pyramid
-                .record_build(
-                    encoder,
-                    &self.targets.depth,
-                    self.splat.as_ref().map(|s| s.visibility()),
-                )
-                .map_err(RenderError::Hiz)?;
-            self.timer.end(encoder, scope);
-            self.record_opaque_phase(encoder, &frame_group, &cull_camera, PHASE_LATE)?;
-        }
-
-        // The transparent layer, back to front (see `render::transparent`).
-        let scope = self.timer.begin(encoder, "cull transparent");
         let inputs = self.cull_inputs();
-        self.cull.record_ordered_with(
+        let mut opaque = |commands, phase| {
+            self.cull.prepare_with(
+                encoder,
+                &inputs,
+                &camera,
+                CullLayer::Opaque,
+                commands,
+                &self.cull_params(true, phase),
+            )
+        };
+        let early = opaque(&self.opaque_commands, PHASE_EARLY)?;
+        let late = match &self.occlusion {
+            Some(o) => opaque(&o.late_commands, PHASE_LATE)?,
+            None => None,
+        };
+        let transparent = self.cull.prepare_ordered_with(
             encoder,
             &inputs,
-            &cull_camera,
+            &camera,
             CullLayer::Transparent,
             &self.transparent_commands,
             &CullParams {
@@ -141,25 +194,40 @@ impl Renderer {
                 ..self.cull_params(false, PHASE_TEST)
             },
         )?;
-        let far_group = self.far_raster_inputs().map(|(raster, inputs)| {
-            raster.record_all_args(encoder, &inputs);
-            raster.bind_group(&inputs)
-        });
-        self.timer.end(encoder, scope);
+        Ok(FrameCulls {
+            early,
+            late,
+            transparent,
+        })
+    }
 
-        let scope = self.timer.begin(encoder, "lighting");
-        self.record_fullscreen(encoder, &frame_group, false);
-        self.timer.end(encoder, scope);
+    /// Opens the timer scope of a step of the frame: inside the chain's compute pass when the
+    /// step only dispatches (`dispatches_only`), on the encoder otherwise (so that a step of
+    /// render passes does not open a compute pass for its timestamps).
+    fn begin_step(
+        &mut self,
+        chain: &mut PassChain<'_>,
+        label: &str,
+        dispatches_only: bool,
+    ) -> StepScope {
+        let scope = if dispatches_only {
+            self.timer.begin_chained(chain, label)
+        } else {
+            self.timer.begin(chain.encoder(), label)
+        };
+        StepScope {
+            scope,
+            dispatches_only,
+        }
+    }
 
-        let scope = self.timer.begin(encoder, "transparent");
-        self.record_transparent(encoder, &frame_group, far_group.as_ref());
-        self.timer.end(encoder, scope);
-
-        let scope = self.timer.begin(encoder, "tonemap");
-        self.record_fullscreen(encoder, &frame_group, true);
-        self.timer.end(encoder, scope);
-        self.timer.resolve(encoder);
-        Ok(())
+    /// Closes a scope of [`begin_step`](Self::begin_step).
+    fn end_step(&mut self, chain: &mut PassChain<'_>, step: StepScope) {
+        if step.dispatches_only {
+            self.timer.end_chained(chain, step.scope);
+        } else {
+            self.timer.end(chain.encoder(), step.scope);
+        }
     }
 
     /// What every cull record of the frame reads.
@@ -175,14 +243,16 @@ impl Renderer {
         }
     }
 
-    /// One opaque phase: the cull into its commands, the splat of the far nodes it listed, and
-    /// the G-buffer pass of its meshed nodes (the early phase clears the G-buffer, the late one
-    /// draws over it). Without occlusion culling the early phase draws every node.
+    /// One opaque phase: the cull into its commands (`cull`, prepared by
+    /// [`prepare_culls`](Self::prepare_culls); `None` when the table has no slots), the splat of
+    /// the far nodes it listed, and the G-buffer pass of its meshed nodes (the early phase
+    /// clears the G-buffer, the late one draws over it). Without occlusion culling the early
+    /// phase draws every node.
     fn record_opaque_phase(
         &mut self,
-        encoder: &mut CommandEncoder,
+        chain: &mut PassChain<'_>,
         frame_group: &wgpu::BindGroup,
-        camera: &CullCamera,
+        cull: Option<&PreparedCull>,
         phase: u32,
     ) -> Result<(), RenderError> {
         let late = phase == PHASE_LATE;
@@ -192,17 +262,11 @@ impl Renderer {
         };
         let label =
             |name: &'static str, late_name: &'static str| if late { late_name } else { name };
-        let scope = self.timer.begin(encoder, label("cull", "cull late"));
-        let inputs = self.cull_inputs();
-        self.cull.record_with(
-            encoder,
-            &inputs,
-            camera,
-            CullLayer::Opaque,
-            commands,
-            &self.cull_params(true, phase),
-        )?;
-        self.timer.end(encoder, scope);
+        let scope = self.timer.begin_chained(chain, label("cull", "cull late"));
+        if let Some(cull) = cull {
+            self.cull.dispatch(chain.compute(), cull);
+        }
+        self.timer.end_chained(chain, scope);
         if let Some(raster) = self
             .quad_raster
             .as_ref()
@@ -210,9 +274,9 @@ impl Renderer {
         {
             let scope = self
                 .timer
-                .begin(encoder, label("quad raster", "quad raster late"));
-            raster.record(
-                encoder,
+                .begin_chained(chain, label("quad raster", "quad raster late"));
+            raster.record_in(
+                chain.compute(),
                 &QuadRasterInputs {
                     frame_uniforms: &self.frame_uniforms,
                     commands,
@@ -226,7 +290,7 @@ impl Renderer {
                     height: self.targets.height,
                 },
             )?;
-            self.timer.end(encoder, scope);
+            self.timer.end_chained(chain, scope);
         }
         let splat = self
             .splat
@@ -236,9 +300,9 @@ impl Renderer {
         {
             let scope = self
                 .timer
-                .begin(encoder, label("far splat", "far splat late"));
-            splat.record(
-                encoder,
+                .begin_chained(chain, label("far splat", "far splat late"));
+            splat.record_in(
+                chain.compute(),
                 &SplatInputs {
                     frame_uniforms: &self.frame_uniforms,
                     table: self.table.buffer(),
@@ -247,7 +311,7 @@ impl Renderer {
                     frame: &self.cull_frame,
                 },
             );
-            self.timer.end(encoder, scope);
+            self.timer.end_chained(chain, scope);
         }
         // On the compute opaque path with no smooth layer and no raster far draws nothing
         // is rasterised: the pass only clears the depth, which stays clear until a pass
@@ -257,6 +321,7 @@ impl Renderer {
             return Ok(());
         }
         // The raster far draws' commands are timed with the G-buffer pass that draws them.
+        let encoder = chain.encoder();
         let scope = self.timer.begin(encoder, label("gbuffer", "gbuffer late"));
         let far_group = self.far_raster_inputs().map(|(raster, inputs)| {
             raster.record_phase_args(encoder, &inputs);
@@ -364,4 +429,19 @@ impl Renderer {
             SplatStats::from_words(&words),
         ))
     }
+}
+
+/// The frame's cull records, prepared ([`Renderer::prepare_culls`]); `None` where a record has
+/// nothing to dispatch.
+struct FrameCulls {
+    early: Option<PreparedCull>,
+    /// With occlusion culling only.
+    late: Option<PreparedCull>,
+    transparent: Option<PreparedCull>,
+}
+
+/// A timer scope of one step of the frame, and where its timestamps go.
+struct StepScope {
+    scope: TimerScope,
+    dispatches_only: bool,
 }
