@@ -24,7 +24,7 @@ use std::sync::OnceLock;
 
 use common::Rng;
 use gpu_backend::hiz::{
-    DepthPyramid, HizError, level_sizes, merge_visibility_reference, pyramid_reference,
+    DepthPyramid, HizError, TAIL_LEVELS, level_sizes, merge_visibility_reference, pyramid_reference,
     rect_test_reference,
 };
 use gpu_backend::shaders::{HIZ_PROBE, validate};
@@ -90,6 +90,18 @@ fn check_size(ctx: &GpuContext, fill: &Fill, rng: &mut Rng, width: u32, height: 
         pyramid.level_sizes(),
         level_sizes(width, height).unwrap().as_slice()
     );
+    // Level 0, one dispatch per level but the last four, one for those (none below level 0
+    // on a one-level pyramid).
+    let levels = pyramid.levels();
+    let expected = if levels == 1 {
+        1
+    } else {
+        2 + (levels - 1).saturating_sub(TAIL_LEVELS as u32)
+    };
+    assert_eq!(pyramid.build_dispatches(), expected, "{what}");
+    if (width, height) == (1920, 1080) {
+        assert_eq!((levels, expected), (10, 7), "the count BENCHMARKS.md states");
+    }
     let merged = merge_visibility_reference(&depth, &words).unwrap();
     assert!(
         merged != depth || width * height < 64,

@@ -21,6 +21,16 @@ pub const REDUCE_SOURCE: u32 = 3;
 /// `hiz_reduce`: level `m`, `texture_storage_2d<r32float, write>` (`hiz_reduce_out`).
 pub const REDUCE_OUT: u32 = 4;
 
+/// `hiz_tail`: the level it starts from, `texture_2d<f32>` (`hiz_tail_source`).
+pub const TAIL_SOURCE: u32 = 5;
+/// `hiz_tail`: the levels below the source, in order, `texture_storage_2d<r32float, write>`
+/// (`hiz_tail_out0` ..).
+pub const TAIL_OUT: [u32; TAIL_LEVELS] = [6, 7, 8, 9];
+/// Levels `hiz_tail` writes at most (`HIZ_TAIL_LEVELS`): the pyramid's last four, from the
+/// level before them (at most 31 texels on a side, since it halves at most four times to
+/// 1 x 1). Four outputs are WebGPU's default limit of storage textures per shader stage.
+pub const TAIL_LEVELS: usize = 4;
+
 /// A compute binding of `ty`.
 const fn compute(binding: u32, ty: BindingType) -> BindGroupLayoutEntry {
     BindGroupLayoutEntry {
@@ -72,6 +82,15 @@ pub(crate) const REDUCE_ENTRIES: [BindGroupLayoutEntry; 2] = [
     compute(REDUCE_OUT, STORAGE_OUT),
 ];
 
+/// The entries of `hiz_tail`'s bind group.
+pub(crate) const TAIL_ENTRIES: [BindGroupLayoutEntry; 1 + TAIL_LEVELS] = [
+    compute(TAIL_SOURCE, PYRAMID_SAMPLED),
+    compute(TAIL_OUT[0], STORAGE_OUT),
+    compute(TAIL_OUT[1], STORAGE_OUT),
+    compute(TAIL_OUT[2], STORAGE_OUT),
+    compute(TAIL_OUT[3], STORAGE_OUT),
+];
+
 /// The bind group layout of `entries`.
 pub(crate) fn layout(
     device: &Device,
@@ -89,7 +108,7 @@ mod tests {
     use naga::{AddressSpace, ImageClass, ScalarKind, StorageAccess, TypeInner};
     use wgpu::{BindGroupLayoutEntry, BindingType, BufferBindingType, TextureSampleType};
 
-    use super::{LEVEL0_ENTRIES, REDUCE_ENTRIES};
+    use super::{LEVEL0_ENTRIES, REDUCE_ENTRIES, TAIL_ENTRIES, TAIL_LEVELS};
     use crate::hiz::DepthPyramid;
     use crate::shaders::{HIZ_BUILD, HIZ_FUNCTIONS, validate};
 
@@ -203,6 +222,28 @@ mod tests {
         let [source, reduce_out] = &REDUCE_ENTRIES;
         assert_binding(&module, "hiz_source", source);
         assert_binding(&module, "hiz_reduce_out", reduce_out);
+        assert_binding(&module, "hiz_tail_source", &TAIL_ENTRIES[0]);
+        for (level, entry) in TAIL_ENTRIES[1..].iter().enumerate() {
+            assert_binding(&module, &format!("hiz_tail_out{level}"), entry);
+        }
+        let constant = |name: &str| {
+            module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name))
+                .map(|(_, c)| &module.global_expressions[c.init])
+                .unwrap_or_else(|| panic!("no constant {name}"))
+        };
+        assert_eq!(
+            constant("HIZ_TAIL_LEVELS"),
+            &naga::Expression::Literal(naga::Literal::U32(TAIL_LEVELS as u32))
+        );
+        let tail = module
+            .entry_points
+            .iter()
+            .find(|e| e.name == "hiz_tail")
+            .expect("the tail's entry point");
+        assert_eq!(tail.stage, naga::ShaderStage::Compute);
         for entry in ["hiz_level0", "hiz_reduce"] {
             let ep = module
                 .entry_points

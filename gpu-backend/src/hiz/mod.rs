@@ -4,8 +4,9 @@
 //!
 //! ```text
 //!  depth (Depth32Float, W x H) ─┐
-//!  visibility (W*H x u64, opt) ─┴─► hiz_level0 ─► level 0 ─► hiz_reduce ─► level 1 ─► … ─► 1 x 1
-//!                                   (1 dispatch)   (R32Float mip chain, one dispatch per level)
+//!  visibility (W*H x u64, opt) ─┴─► hiz_level0 ─► level 0 ─► hiz_reduce ─► … ─► level s ─► hiz_tail ─► … ─► 1 x 1
+//!                                   (1 dispatch)   (R32Float mip chain,       (fifth level   (the last four
+//!                                                   one dispatch per level)    from the end)  levels: 1 dispatch)
 //!
 //!  cull shader:  hiz.wgsl + `var hiz_texture: texture_2d<f32>` (DepthPyramid::texture_view())
 //!                hiz_rect_visible(rect_min, rect_max, nearest_depth) -> bool
@@ -35,8 +36,13 @@
 //! column of texels of a level are wider (under 2x) at odd sizes, so a rectangle at the
 //! screen's right or bottom edge may be tested a little more coarsely.
 //!
-//! **Build** ([`DepthPyramid::record_build`]): one compute pass, one dispatch per level (10 at
-//! 1920 x 1080), no render pass, no uniforms (sizes from `textureDimensions`). Level 0 reads
+//! **Build** ([`DepthPyramid::record_build`]): one compute pass, one dispatch per level but
+//! the last [`TAIL_LEVELS`], then one dispatch of one workgroup (`hiz_tail`) for those, each
+//! kept in workgroup memory for the next (7 dispatches at 1920 x 1080 instead of 10: levels
+//! 0-5, then 6-9; see [`DepthPyramid::build_dispatches`]). Each dispatch costs the CPU a
+//! barrier and a driver call (on the NVIDIA driver, together about 14 k instructions), and
+//! the small levels cannot fill a GPU anyway. No render pass, no uniforms (sizes from
+//! `textureDimensions`). Level 0 reads
 //! each pixel's depth with `textureLoad` and, when a visibility buffer is given, takes
 //! `max(depth, bitcast<f32>(high word))` (the nearer of the two) before the minimum. The
 //! visibility buffer is the splatting pass's `W * H` 64-bit `atomicMax` words, row-major
@@ -51,10 +57,9 @@
 //! of visibility words when given) and writes 2.1 MB; the other nine levels read 2.8 MB and
 //! write 0.7 MB: about 14 MB without and 30 MB with a visibility buffer, some 5-10 µs of
 //! H100 bandwidth. Reads are coalesced (neighbouring invocations read neighbouring pixel
-//! pairs). The last levels (60 x 34 texels and smaller) are too small to fill a GPU, so the
-//! chain of 10 dependent dispatches, each waiting for the one before, likely costs more than
-//! the bytes; if it shows in a profile, fuse the small levels into one workgroup (AMD's
-//! single-pass downsampler) or the first two levels into one dispatch.
+//! pairs). The last levels (15 x 8 texels and smaller at 1080p) are far too small to fill a
+//! GPU; they go to the tail's single workgroup, as AMD's single-pass downsampler does for its
+//! last levels.
 //!
 //! **Test** (`hiz.wgsl`, documented there as an API: [`HIZ_FUNCTIONS`]): a shader prepends
 //! it and declares `hiz_texture`; `hiz_rect_visible(rect_min, rect_max, nearest_depth)`
@@ -110,6 +115,7 @@ mod test_rng;
 
 pub use bindings::{
     LEVEL0_DEPTH, LEVEL0_OUT, LEVEL0_VISIBILITY, PYRAMID_FORMAT, REDUCE_OUT, REDUCE_SOURCE,
+    TAIL_LEVELS, TAIL_OUT, TAIL_SOURCE,
 };
 pub use error::HizError;
 pub use levels::{MAX_SCREEN_EDGE, footprint, half, level_sizes, pixel_span, texel_of_pixel};

@@ -11,7 +11,8 @@ use wgpu::{
 
 use super::bindings::{
     LEVEL0_DEPTH, LEVEL0_ENTRIES, LEVEL0_OUT, LEVEL0_VISIBILITY, PYRAMID_FORMAT, PYRAMID_SAMPLED,
-    REDUCE_ENTRIES, REDUCE_OUT, REDUCE_SOURCE, layout,
+    REDUCE_ENTRIES, REDUCE_OUT, REDUCE_SOURCE, TAIL_ENTRIES, TAIL_LEVELS, TAIL_OUT, TAIL_SOURCE,
+    layout,
 };
 use super::error::HizError;
 use super::levels::{check_screen, level_sizes};
@@ -38,8 +39,13 @@ pub struct DepthPyramid {
     level0_layout: BindGroupLayout,
     level0_pipeline: ComputePipeline,
     reduce_pipeline: ComputePipeline,
-    /// `reduce_groups[m - 1]` reads mip `m - 1` and writes mip `m`.
+    /// `reduce_groups[m - 1]` reads mip `m - 1` and writes mip `m` (only those down to the
+    /// tail's source are dispatched).
     reduce_groups: Vec<BindGroup>,
+    tail_pipeline: ComputePipeline,
+    /// The tail: the level it starts from (the one before the last `TAIL_LEVELS`, or level
+    /// 0) and its bind group; `None` when the pyramid has one level.
+    tail: Option<(usize, BindGroup)>,
     /// Level 0's single-mip storage view.
     level0_view: TextureView,
     /// One zero word, bound when a build has no visibility buffer.
@@ -109,6 +115,10 @@ impl DepthPyramid {
         };
         let level0_pipeline = pipeline("hiz_level0", &level0_layout);
         let reduce_pipeline = pipeline("hiz_reduce", &reduce_layout);
+        let tail_layout = layout(device, "hiz tail", &TAIL_ENTRIES);
+        let tail_pipeline = pipeline("hiz_tail", &tail_layout);
+        let tail = tail_source(&sizes)
+            .map(|source| (source, tail_group(device, &tail_layout, &mips, source)));
         let reduce_groups = mips
             .windows(2)
             .map(|pair| {
@@ -150,6 +160,8 @@ impl DepthPyramid {
             level0_pipeline,
             reduce_pipeline,
             reduce_groups,
+            tail_pipeline,
+            tail,
             level0_view,
             dummy_visibility,
             max_visibility_bytes: limits.max_storage_buffer_binding_size,
@@ -211,16 +223,16 @@ impl DepthPyramid {
         }
     }
 
-    /// Records the build of every level into `encoder`: one compute pass, one dispatch per
-    /// level, no render pass. `depth` is a view of the whole `Depth32Float` depth texture of
+    /// Records the build of every level into `encoder`: one compute pass of
+    /// [`build_dispatches`](Self::build_dispatches) dispatches, no render pass. `depth` is a view of the whole `Depth32Float` depth texture of
     /// the pyramid's screen (mip 0, created with `TEXTURE_BINDING`); `visibility`, when given,
     /// the splatting pass's buffer of `width * height` 64-bit words (`STORAGE` usage; see the
     /// [module docs](super)).
     ///
     /// CPU cost per call: a few checks, a lookup among the cached level-0 bind groups (a new
     /// pair of inputs creates one, evicting the oldest of 4; each holds a reference to its
-    /// inputs until evicted or the pyramid is dropped), one pass, two pipelines,
-    /// [`levels`](Self::levels) bind groups and dispatches.
+    /// inputs until evicted or the pyramid is dropped), one pass, up to three pipelines,
+    /// [`build_dispatches`](Self::build_dispatches) bind groups and dispatches.
     ///
     /// Errors (nothing is recorded): [`HizError::DepthFormat`], [`HizError::DepthSize`],
     /// [`HizError::DepthNotSampleable`], [`HizError::VisibilityNotStorage`],
@@ -266,15 +278,31 @@ impl DepthPyramid {
         let groups = |(w, h): (u32, u32)| (w.div_ceil(WORKGROUP), h.div_ceil(WORKGROUP));
         let (x, y) = groups(self.sizes[0]);
         pass.dispatch_workgroups(x, y, 1);
-        if self.sizes.len() > 1 {
+        // Levels 1 ..= the tail's source one dispatch each, the rest in the tail's.
+        let reduced = self.tail.as_ref().map_or(self.sizes.len(), |(s, _)| s + 1);
+        if reduced > 1 {
             pass.set_pipeline(&self.reduce_pipeline);
         }
-        for (group, &size) in self.reduce_groups.iter().zip(&self.sizes[1..]) {
+        for (group, &size) in self.reduce_groups.iter().zip(&self.sizes[1..reduced]) {
             pass.set_bind_group(0, group, &[]);
             let (x, y) = groups(size);
             pass.dispatch_workgroups(x, y, 1);
         }
+        if let Some((_, group)) = &self.tail {
+            pass.set_pipeline(&self.tail_pipeline);
+            pass.set_bind_group(0, group, &[]);
+            pass.dispatch_workgroups(1, 1, 1);
+        }
         Ok(())
+    }
+
+    /// The dispatches of one build: level 0's, one per level but the last
+    /// [`TAIL_LEVELS`](super::TAIL_LEVELS), and one for those.
+    pub fn build_dispatches(&self) -> u32 {
+        match &self.tail {
+            Some((source, _)) => *source as u32 + 2,
+            None => self.sizes.len() as u32,
+        }
     }
 
     /// Refuses inputs that would fail wgpu's validation (which panics by default) or read
@@ -379,4 +407,69 @@ impl DepthPyramid {
             .lock()
             .map_or_else(|e| e.into_inner().len(), |c| c.len())
     }
+}
+
+/// The level the tail starts from: the one before the last [`TAIL_LEVELS`] levels, or level 0
+/// when there are fewer; `None` for a pyramid of one level (nothing below level 0).
+fn tail_source(sizes: &[(u32, u32)]) -> Option<usize> {
+    let last = sizes.len().checked_sub(1).filter(|&l| l > 0)?;
+    Some(last.saturating_sub(TAIL_LEVELS))
+}
+
+/// The tail's bind group: mip `source`, then the mips below it, then 1 x 1 stand-ins where
+/// the pyramid has fewer than [`TAIL_LEVELS`] levels left (layers of one small texture, never
+/// written: the shader stops at the 1 x 1 level).
+fn tail_group(
+    device: &Device,
+    layout: &BindGroupLayout,
+    mips: &[TextureView],
+    source: usize,
+) -> BindGroup {
+    let below = &mips[source + 1..];
+    debug_assert!(below.len() <= TAIL_LEVELS, "the tail starts four levels from the end");
+    let stand_ins = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("hiz tail stand-ins"),
+        size: wgpu::Extent3d {
+            width: 1,
+            height: 1,
+            depth_or_array_layers: TAIL_LEVELS as u32,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: PYRAMID_FORMAT,
+        usage: TextureUsages::STORAGE_BINDING,
+        view_formats: &[],
+    });
+    let outputs: Vec<TextureView> = (0..TAIL_LEVELS)
+        .map(|step| {
+            below.get(step).cloned().unwrap_or_else(|| {
+                stand_ins.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some("hiz tail stand-in"),
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: step as u32,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                })
+            })
+        })
+        .collect();
+    let mut entries = vec![wgpu::BindGroupEntry {
+        binding: TAIL_SOURCE,
+        resource: BindingResource::TextureView(&mips[source]),
+    }];
+    entries.extend(
+        outputs
+            .iter()
+            .zip(TAIL_OUT)
+            .map(|(view, binding)| wgpu::BindGroupEntry {
+                binding,
+                resource: BindingResource::TextureView(view),
+            }),
+    );
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("hiz tail"),
+        layout,
+        entries: &entries,
+    })
 }
