@@ -1,8 +1,9 @@
 //! Small helpers for bind groups: whole-buffer entries, and a cache so that recording a frame
 //! reuses bind groups instead of creating a score of them every frame.
 
-use std::collections::HashMap;
 use std::sync::Mutex;
+
+use rustc_hash::FxHashMap;
 
 use wgpu::{
     BindGroup, BindGroupEntry, BindGroupLayout, BindingResource, Buffer, Device, TextureView,
@@ -30,7 +31,7 @@ type Key = (BindGroupLayout, Vec<(u32, Held)>);
 /// (resized targets and reallocated buffers leave stale entries behind).
 #[derive(Debug, Default)]
 pub(crate) struct BindGroupCache {
-    groups: Mutex<HashMap<Key, BindGroup>>,
+    groups: Mutex<FxHashMap<Key, BindGroup>>,
 }
 
 impl BindGroupCache {

@@ -24,8 +24,8 @@ use std::sync::OnceLock;
 
 use common::Rng;
 use gpu_backend::hiz::{
-    DepthPyramid, HizError, TAIL_LEVELS, level_sizes, merge_visibility_reference, pyramid_reference,
-    rect_test_reference,
+    DepthPyramid, HizError, TAIL_LEVELS, level_sizes, merge_visibility_reference,
+    pyramid_reference, rect_test_reference,
 };
 use gpu_backend::shaders::{HIZ_PROBE, validate};
 use gpu_backend::test_support::headless_or_skip;
@@ -100,7 +100,11 @@ fn check_size(ctx: &GpuContext, fill: &Fill, rng: &mut Rng, width: u32, height: 
     };
     assert_eq!(pyramid.build_dispatches(), expected, "{what}");
     if (width, height) == (1920, 1080) {
-        assert_eq!((levels, expected), (10, 7), "the count BENCHMARKS.md states");
+        assert_eq!(
+            (levels, expected),
+            (10, 7),
+            "the count BENCHMARKS.md states"
+        );
     }
     let merged = merge_visibility_reference(&depth, &words).unwrap();
     assert!(

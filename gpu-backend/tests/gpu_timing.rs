@@ -5,7 +5,9 @@
 
 use std::time::Instant;
 
-use gpu_backend::cull::{CullCamera, CullConfig, CullInputs, CullLayer, CullParams, CullPass};
+use gpu_backend::cull::{
+    CullCamera, CullConfig, CullError, CullInputs, CullLayer, CullParams, CullPass, UniformSource,
+};
 use gpu_backend::gigabuffer::{DataKind, PageLayout};
 use gpu_backend::pass_chain::PassChain;
 use gpu_backend::test_support::{headless_or_skip, skip};
@@ -13,6 +15,7 @@ use gpu_backend::timing::{FRAMES_IN_FLIGHT, GpuTimer, PassTime, TimerError, Timi
 use gpu_backend::{DeviceOptions, GpuContext, MeshedChunkTable, TimingPath};
 use voxel_core::formats::{FaceLayerRange, MeshedChunkInfo};
 use voxel_core::{ChunkCoord, ChunkSize};
+use wgpu::util::DeviceExt;
 
 /// A compute pass of `invocations` threads each running a dependent loop of `iterations`.
 const BUSY: &str = r"
@@ -401,8 +404,28 @@ fn time_chain(ctx: &GpuContext, timer: &mut GpuTimer) -> (Vec<PassTime>, u32, Ve
         nodes: None,
         frame: None,
         occlusion: None,
+        uniforms: UniformSource::Own,
     };
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    // The uniforms from a shared staging buffer, after 256 bytes of someone else's.
+    let params = CullParams::default();
+    let uniforms = cull.uniforms(&inputs, &camera, CullLayer::Opaque, &params);
+    let mut bytes = vec![0xAB; 256];
+    bytes.extend_from_slice(bytemuck::bytes_of(&uniforms));
+    let staging = ctx
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("staged uniforms"),
+            contents: &bytes,
+            usage: wgpu::BufferUsages::COPY_SRC,
+        });
+    let inputs = CullInputs {
+        uniforms: UniformSource::Staged {
+            buffer: &staging,
+            offset: 256,
+        },
+        ..inputs
+    };
     let prepared = cull
         .prepare_with(
             &mut encoder,
@@ -410,7 +433,7 @@ fn time_chain(ctx: &GpuContext, timer: &mut GpuTimer) -> (Vec<PassTime>, u32, Ve
             &camera,
             CullLayer::Opaque,
             &output,
-            &CullParams::default(),
+            &params,
         )
         .unwrap()
         .expect("the table has slots");
@@ -499,5 +522,57 @@ fn chained_steps_share_one_compute_pass_when_timestamps_fit_inside_passes() {
         // Each step's timestamps on the encoder end the pass, so each step opens its own.
         assert_eq!(opened, passes, "{name}");
         assert_eq!(counts, expected_counts, "{name}: the chained cull's counts");
+    }
+}
+
+#[test]
+fn staged_uniforms_that_cannot_be_copied_are_errors() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let (cull, table) = cull_setup(&ctx);
+    let output = cull.create_output("staged").unwrap();
+    let camera = CullCamera::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
+    let inputs = CullInputs {
+        table: &table,
+        nodes: None,
+        frame: None,
+        occlusion: None,
+        uniforms: UniformSource::Own,
+    };
+    let buffer = |size, usage| {
+        ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size,
+            usage,
+            mapped_at_creation: false,
+        })
+    };
+    let copy = buffer(1024, wgpu::BufferUsages::COPY_SRC);
+    let no_copy = buffer(1024, wgpu::BufferUsages::COPY_DST);
+    let small = buffer(64, wgpu::BufferUsages::COPY_SRC);
+    for (buffer, offset) in [(&copy, 2), (&copy, 1020), (&no_copy, 0), (&small, 0)] {
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        let inputs = CullInputs {
+            uniforms: UniformSource::Staged { buffer, offset },
+            ..inputs
+        };
+        let result = cull.prepare_with(
+            &mut encoder,
+            &inputs,
+            &camera,
+            CullLayer::Opaque,
+            &output,
+            &CullParams::default(),
+        );
+        let error = result.expect_err("an unusable staging buffer");
+        assert_eq!(
+            error,
+            CullError::StagedUniformsUnusable {
+                offset,
+                buffer_size: buffer.size()
+            }
+        );
+        assert!(error.to_string().contains("COPY_SRC"), "{error}");
     }
 }

@@ -314,7 +314,7 @@ impl CullConfig {
     }
 }
 
-/// Why a cull pass or output cannot be created.
+/// Why a cull pass or output cannot be created, or a record cannot be prepared.
 #[derive(Clone, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum CullError {
@@ -359,6 +359,14 @@ pub enum CullError {
     OutputMismatch,
     /// A record asked for occlusion culling without the visibility bits and depth pyramid.
     OcclusionInputsMissing,
+    /// Staged uniforms (`UniformSource::Staged`) that cannot be copied: the buffer lacks
+    /// `COPY_SRC`, the offset is not a multiple of 4, or the uniforms run past its end.
+    StagedUniformsUnusable {
+        /// The offset given.
+        offset: u64,
+        /// The staging buffer's size.
+        buffer_size: u64,
+    },
 }
 
 impl fmt::Display for CullError {
@@ -404,6 +412,14 @@ impl fmt::Display for CullError {
                 f,
                 "occlusion culling needs the visibility bits and the depth pyramid in the \
                  record's inputs"
+            ),
+            CullError::StagedUniformsUnusable {
+                offset,
+                buffer_size,
+            } => write!(
+                f,
+                "staged cull uniforms at offset {offset} of a {buffer_size}-byte buffer cannot                  be copied: the buffer needs COPY_SRC usage, the offset a multiple of 4, and                  {} bytes from it",
+                size_of::<CullUniforms>()
             ),
             CullError::OutputMismatch => {
                 write!(

@@ -98,7 +98,7 @@ pub use node::{
 };
 pub use order::{ORDER_KEYS, cull_reference_ordered, cull_reference_ordered_with, depth_key};
 pub use output::{CullFrame, CullOutput, CullReadback};
-pub use pass::{CullInputs, CullPass, OcclusionInputs, PreparedCull};
+pub use pass::{CullInputs, CullPass, OcclusionInputs, PreparedCull, UniformSource};
 pub use reference::{
     ChunkCull, Command, CullReference, SmoothCommand, cull_chunk, cull_node, cull_reference,
     cull_reference_with, face_draw_count, face_mask, in_frustum, layer_range, node_box, node_rel,

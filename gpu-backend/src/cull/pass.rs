@@ -28,8 +28,8 @@ const BINDINGS: u32 = 14;
 
 /// What a record reads besides its camera: the chunk table, the node table in the same slots
 /// (`None`: no node records, as for chunks uploaded without smooth quads, blocks or skirts),
-/// and the frame's shared buffers (`None`: the pass's own, for records whose far list and
-/// statistics nobody reads).
+/// the frame's shared buffers (`None`: the pass's own, for records whose far list and
+/// statistics nobody reads), and where its uniforms come from.
 #[derive(Clone, Copy, Debug)]
 pub struct CullInputs<'a> {
     /// The chunk table.
@@ -40,6 +40,8 @@ pub struct CullInputs<'a> {
     pub frame: Option<&'a CullFrame>,
     /// Occlusion culling's inputs (needed when the record's parameters turn it on).
     pub occlusion: Option<OcclusionInputs<'a>>,
+    /// Where the record's uniforms are copied from.
+    pub uniforms: UniformSource<'a>,
 }
 
 /// What two-phase occlusion culling reads and writes: a bit per table slot (visible in the last
@@ -281,6 +283,7 @@ impl CullPass {
             nodes: None,
             frame: None,
             occlusion: None,
+            uniforms: UniformSource::Own,
         };
         self.record_with(
             encoder,
@@ -386,6 +389,7 @@ impl CullPass {
             nodes: None,
             frame: None,
             occlusion: None,
+            uniforms: UniformSource::Own,
         };
         self.record_ordered_with(
             encoder,
@@ -459,6 +463,25 @@ impl CullPass {
         }))
     }
 
+    /// The uniforms a record of `layer` with `inputs`, `camera` and `params` copies in: what a
+    /// caller writes into its own staging buffer for [`UniformSource::Staged`]
+    /// (`inputs.uniforms` is not read).
+    pub fn uniforms(
+        &self,
+        inputs: &CullInputs<'_>,
+        camera: &CullCamera,
+        layer: CullLayer,
+        params: &CullParams,
+    ) -> CullUniforms {
+        CullUniforms::new(
+            &self.layout,
+            camera,
+            layer,
+            inputs.table.slot_bound(),
+            params,
+        )
+    }
+
     /// The copies and clears every record starts with, and the bind group; `None` when the
     /// table has no slots (nothing to dispatch).
     fn prepare(
@@ -487,15 +510,34 @@ impl CullPass {
             return Err(CullError::OcclusionInputsMissing);
         }
         let slot_bound = table.slot_bound();
-        let uniforms = CullUniforms::new(&self.layout, camera, layer, slot_bound, params);
-        let staging = self
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("cull uniforms staging"),
-                contents: bytemuck::bytes_of(&uniforms),
-                usage: BufferUsages::COPY_SRC,
-            });
-        encoder.copy_buffer_to_buffer(&staging, 0, &output.uniforms, 0, None);
+        let size = size_of::<CullUniforms>() as u64;
+        match inputs.uniforms {
+            UniformSource::Own => {
+                let uniforms = self.uniforms(inputs, camera, layer, params);
+                let staging = self
+                    .device
+                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("cull uniforms staging"),
+                        contents: bytemuck::bytes_of(&uniforms),
+                        usage: BufferUsages::COPY_SRC,
+                    });
+                encoder.copy_buffer_to_buffer(&staging, 0, &output.uniforms, 0, size);
+            }
+            UniformSource::Staged { buffer, offset } => {
+                let fits = buffer.usage().contains(BufferUsages::COPY_SRC)
+                    && offset.is_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT)
+                    && offset
+                        .checked_add(size)
+                        .is_some_and(|end| end <= buffer.size());
+                if !fits {
+                    return Err(CullError::StagedUniformsUnusable {
+                        offset,
+                        buffer_size: buffer.size(),
+                    });
+                }
+                encoder.copy_buffer_to_buffer(buffer, offset, &output.uniforms, 0, size);
+            }
+        }
         encoder.clear_buffer(&output.counts, 0, None);
         encoder.clear_buffer(&output.smooth_counts, 0, None);
         if self.multi_draw == MultiDrawPath::ZeroedCommands {
@@ -561,6 +603,22 @@ struct OrderedPipelines {
     scatter: ComputePipeline,
     list_args: ComputePipeline,
     list_args_layout: BindGroupLayout,
+}
+
+/// Where a prepared record's uniforms are copied from.
+#[derive(Clone, Copy, Debug)]
+pub enum UniformSource<'a> {
+    /// A staging buffer made for the record (one buffer creation per record).
+    Own,
+    /// [`CullPass::uniforms`]' bytes, already at `offset` of `buffer` (`COPY_SRC` usage,
+    /// `offset` a multiple of 4): one staging buffer for several records' uniforms and the
+    /// caller's own, since each buffer creation costs the CPU more than the copies.
+    Staged {
+        /// The staging buffer.
+        buffer: &'a Buffer,
+        /// Where the record's uniforms start.
+        offset: u64,
+    },
 }
 
 /// A cull record whose copies and clears are in the encoder and whose dispatches are not yet

@@ -426,7 +426,10 @@ fn tail_group(
     source: usize,
 ) -> BindGroup {
     let below = &mips[source + 1..];
-    debug_assert!(below.len() <= TAIL_LEVELS, "the tail starts four levels from the end");
+    debug_assert!(
+        below.len() <= TAIL_LEVELS,
+        "the tail starts four levels from the end"
+    );
     let stand_ins = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("hiz tail stand-ins"),
         size: wgpu::Extent3d {

@@ -9,6 +9,7 @@ pub mod terrain;
 
 use gpu_backend::cull::{
     CullConfig, CullInputs, CullLayer, CullOutput, CullParams, CullPass, DrawRecord, LodParams,
+    UniformSource,
 };
 use gpu_backend::gigabuffer::{ChunkLayersData, DataKind, Gigabuffer, GigabufferConfig};
 use gpu_backend::readback::read_buffer;
@@ -187,6 +188,7 @@ impl<'a> Rig<'a> {
             nodes: None,
             frame: None,
             occlusion: None,
+            uniforms: UniformSource::Own,
         };
         self.cull
             .record_with(
