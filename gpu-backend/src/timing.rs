@@ -20,7 +20,7 @@
 //! [`render_pass_writes`](GpuTimer::render_pass_writes) give a pass descriptor's
 //! `timestamp_writes` instead, timing exactly that pass. [`begin_chained`](GpuTimer::begin_chained)
 //! and [`end_chained`](GpuTimer::end_chained) time a step of a
-//! [`PassChain`](crate::pass_chain::PassChain): with `TIMESTAMP_QUERY_INSIDE_PASSES` they write
+//! [`PassChain`]: with `TIMESTAMP_QUERY_INSIDE_PASSES` they write
 //! into the chain's open compute pass, so the steps of a frame keep sharing it; otherwise they
 //! fall back to `begin` / `end` on the chain's encoder. [`resolve`](GpuTimer::resolve) resolves
 //! the used queries and copies them to a mappable buffer; [`collect`](GpuTimer::collect) waits,
