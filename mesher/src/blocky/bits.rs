@@ -132,6 +132,16 @@ pub(crate) fn row_contains(row: &[u16], id: u16) -> bool {
     row.iter().fold(0u16, |acc, &v| acc | u16::from(v == id)) != 0
 }
 
+/// True if `bits` has at least 4 set bits (without `popcnt`, which the baseline x86-64 target
+/// lacks): the lines worth the fast path's fixed cost.
+#[inline(always)]
+pub(crate) fn many(bits: u64) -> bool {
+    let mut x = bits & bits.wrapping_sub(1);
+    x &= x.wrapping_sub(1);
+    x &= x.wrapping_sub(1);
+    x != 0
+}
+
 /// Transposes a 64 x 64 bit matrix in place: afterwards bit `c` of word `r` is what bit `r` of
 /// word `c` was. Six rounds of block swaps (32, 16, ..., 1), each a masked exchange between
 /// word pairs, so the cost is fixed (about 1,200 simple operations) whatever the bits are.

@@ -6,8 +6,8 @@ use alloc::vec::Vec;
 use voxel_core::BlockId;
 use voxel_core::formats::PackedQuad;
 
-use super::masks::Slice;
-use super::slices::Direction;
+use super::direction::Direction;
+use super::masks::{Front, Slice};
 use super::wide::Wide;
 use crate::{BlockClasses, MeshError};
 
@@ -61,9 +61,6 @@ impl LineIds<'_> {
         }
     }
 }
-
-/// The opaque lines of the front slice around line `l`.
-pub(crate) type Front = (u64, u64, u64);
 
 /// Room for the quads of one slice (at most 62 x 62 faces), written in place and appended to
 /// the output with one copy per slice, which keeps the loops free of the output vector's

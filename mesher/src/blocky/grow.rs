@@ -5,10 +5,10 @@
 //! The faces' ids were checked when they were keyed, so growing cannot fail. Line 0 and the
 //! lines past the chunk hold no face, so a quad stops growing there without a bound check.
 
+use super::direction::Direction;
 use super::faces::{Quads, SliceFaces};
+use super::keys::{Keys, key_bits};
 use super::masks::Slice;
-use super::merge::{Keys, key_bits};
-use super::slices::Direction;
 
 /// Greedy quads growing along bits first, then lines (the ±X and ±Z faces), from the faces of
 /// the lines of `left`; leaves `faces` empty. Quads start at the lowest line, then the lowest

@@ -21,11 +21,12 @@
 use voxel_core::BlockId;
 use voxel_core::formats::PackedQuad;
 
-use super::bits::faces_of_id;
+use super::bits::{faces_of_id, many};
+use super::direction::Direction;
 use super::faces::Quads;
-use super::line_units::{NeighbourhoodMemo, many};
+use super::input::Input;
 use super::masks::Slice;
-use super::slices::{Direction, Input};
+use super::memo::NeighbourhoodMemo;
 use crate::{BlockClasses, MeshError};
 
 /// Removes, in place, the faces of a slice that `lone_x` emitted: those with no neighbouring

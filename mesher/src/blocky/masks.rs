@@ -42,6 +42,9 @@ pub(crate) const FEW_TRANSPARENT: usize = 4;
 /// 64 lines of one slice.
 pub(crate) type Slice = [u64; 64];
 
+/// The opaque lines of the front slice around line `l`.
+pub(crate) type Front = (u64, u64, u64);
+
 /// What the column masks say about a chunk before any face is looked at.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Content {

@@ -31,12 +31,16 @@
 
 pub mod ao;
 mod bits;
+mod direction;
 mod faces;
 mod greedy;
 mod grow;
+mod input;
+mod keys;
 mod line_units;
 mod lone_x;
 mod masks;
+mod memo;
 mod merge;
 mod mesh;
 mod plain;

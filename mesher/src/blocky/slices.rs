@@ -23,77 +23,16 @@ use alloc::vec::Vec;
 
 use voxel_core::formats::PackedQuad;
 
-use super::ao::AO_TABLES;
+use super::bits::many;
+use super::direction::Direction;
 use super::faces::{Quads, SliceFaces, SliceQuads};
-use super::line_units::{NeighbourhoodMemo, many};
+use super::input::Input;
+use super::keys::Keys;
 use super::lone_x::drop_handled;
-use super::masks::{Layouts, Slice};
-use super::merge::{Keys, greedy, rows_of, unit_quads};
-use super::wide::Wide;
+use super::masks::Slice;
+use super::memo::NeighbourhoodMemo;
+use super::merge::{greedy, rows_of, unit_quads};
 use crate::{BlockClasses, MeshError};
-
-/// How face direction `D` (index in `FaceDirection::ALL`) maps onto slices, lines and bits.
-/// Everything but the strides is a constant, so each direction's loops are compiled with
-/// immediate shifts and offsets.
-pub(crate) struct Direction<const D: usize>;
-
-impl<const D: usize> Direction<D> {
-    /// Layout index (0 = A, 1 = B, 2 = C).
-    pub const LAYOUT: usize = [2, 1, 0][D / 2];
-    /// True for the positive faces: the front slice is `n + 1`.
-    pub const POSITIVE: bool = D.is_multiple_of(2);
-    /// The axes (0 = x, 1 = y, 2 = z) of the slice, line and bit coordinates.
-    const AXES: [u32; 3] = [[0, 1, 2], [1, 2, 0], [2, 1, 0]][D / 2];
-    /// Bit offset, in `PackedQuad` word 0, of the slice coordinate.
-    pub const SHIFT_N: u32 = 6 * Self::AXES[0];
-    /// Bit offset in word 0 of the line coordinate.
-    pub const SHIFT_L: u32 = 6 * Self::AXES[1];
-    /// Bit offset in word 0 of the bit coordinate.
-    pub const SHIFT_B: u32 = 6 * Self::AXES[2];
-    /// Bit offset in word 0 of the quad's extent along lines: its height (the bits run along
-    /// every face's width axis).
-    pub const SIZE_SHIFT_L: u32 = 24;
-    /// Bit offset in word 0 of the quad's extent along bits: its width.
-    pub const SIZE_SHIFT_B: u32 = 18;
-    /// Grow quads along lines first (`block-mesh`'s order for the ±Y faces; the others grow
-    /// along bits first).
-    pub const LINES_FIRST: bool = D / 2 == 1;
-    /// Start quads at the lowest bit, then the lowest line (`block-mesh`'s scan order for the
-    /// ±X faces, whose bits run along z); the others start at the lowest line, then bit.
-    pub const BIT_MAJOR: bool = D / 2 == 0;
-    /// AO by 3 x 3 front neighbourhood.
-    pub const AO_TABLE: &'static [u8; 512] = &AO_TABLES[D];
-
-    /// Voxel index strides of a step in slice, line and bit, for padded edge `p`.
-    #[inline(always)]
-    pub fn strides(p: usize) -> [usize; 3] {
-        Self::AXES.map(|a| p.pow(a))
-    }
-}
-
-/// Everything the walk reads.
-pub(crate) struct Input<'a> {
-    /// Padded ids, x fastest.
-    pub voxels: &'a [u16],
-    /// Padded edge.
-    pub p: usize,
-    /// Opaque masks.
-    pub opaque: Layouts<'a>,
-    /// Transparent masks, if any voxel is transparent.
-    pub transparent: Option<Layouts<'a>>,
-    /// Two different transparent ids occur.
-    pub mixed_transparent: bool,
-    /// Compute AO (else every corner is 3 and merging ignores AO).
-    pub ao: bool,
-    /// Merge faces into greedy quads (else one quad per face).
-    pub merge: bool,
-    /// Per ±X direction, the rows whose lone faces `lone_x` emitted (bit z of line y).
-    pub handled: [Slice; 2],
-    /// Some row is marked in `handled`.
-    pub lone_x_rows: bool,
-    /// Write lines of 1 x 1 quads with the AVX-512 kernels.
-    pub wide: Option<Wide>,
-}
 
 const ZERO: Slice = [0; 64];
 
