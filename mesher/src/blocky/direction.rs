@@ -1,5 +1,7 @@
 //! [`Direction`]: how each face direction maps onto slices, lines and bits.
 
+use voxel_core::formats::PackedQuad;
+
 use super::ao::AO_TABLES;
 
 /// How face direction `D` (index in `FaceDirection::ALL`) maps onto slices, lines and bits.
@@ -13,18 +15,20 @@ impl<const D: usize> Direction<D> {
     /// True for the positive faces: the front slice is `n + 1`.
     pub const POSITIVE: bool = D.is_multiple_of(2);
     /// The axes (0 = x, 1 = y, 2 = z) of the slice, line and bit coordinates.
-    const AXES: [u32; 3] = [[0, 1, 2], [1, 2, 0], [2, 1, 0]][D / 2];
+    pub const AXES: [u32; 3] = [[0, 1, 2], [1, 2, 0], [2, 1, 0]][D / 2];
     /// Bit offset, in `PackedQuad` word 0, of the slice coordinate.
-    pub const SHIFT_N: u32 = 6 * Self::AXES[0];
+    pub const SHIFT_N: u32 = PackedQuad::POSITION_SHIFTS[Self::AXES[0] as usize];
     /// Bit offset in word 0 of the line coordinate.
-    pub const SHIFT_L: u32 = 6 * Self::AXES[1];
+    pub const SHIFT_L: u32 = PackedQuad::POSITION_SHIFTS[Self::AXES[1] as usize];
     /// Bit offset in word 0 of the bit coordinate.
-    pub const SHIFT_B: u32 = 6 * Self::AXES[2];
+    pub const SHIFT_B: u32 = PackedQuad::POSITION_SHIFTS[Self::AXES[2] as usize];
     /// Bit offset in word 0 of the quad's extent along lines: its height (the bits run along
     /// every face's width axis).
-    pub const SIZE_SHIFT_L: u32 = 24;
+    pub const SIZE_SHIFT_L: u32 = PackedQuad::HEIGHT_SHIFT;
     /// Bit offset in word 0 of the quad's extent along bits: its width.
-    pub const SIZE_SHIFT_B: u32 = 18;
+    pub const SIZE_SHIFT_B: u32 = PackedQuad::WIDTH_SHIFT;
+    /// The face direction's bits in `PackedQuad` word 1.
+    pub const FACE: u32 = (D as u32) << PackedQuad::FACE_SHIFT;
     /// Grow quads along lines first (`block-mesh`'s order for the ±Y faces; the others grow
     /// along bits first).
     pub const LINES_FIRST: bool = D / 2 == 1;

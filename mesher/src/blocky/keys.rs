@@ -1,6 +1,9 @@
 //! [`Keys`]: the greedy pass's scratch for one slice (every face's key, the equal-key masks),
 //! and [`key_bits`], the bits of a quad's word 1 that its key leaves out.
 
+use voxel_core::formats::PackedQuad;
+
+use super::direction::Direction;
 use super::masks::{Front, Slice};
 use super::memo::NeighbourhoodMemo;
 
@@ -52,5 +55,10 @@ impl Keys {
 /// leave out (one operation less per face).
 #[inline(always)]
 pub(crate) const fn key_bits<const D: usize, const AO: bool>() -> u32 {
-    D as u32 | if AO { 0 } else { 0xFF << 3 }
+    let ao = if AO {
+        0
+    } else {
+        PackedQuad::AO_UNOCCLUDED << PackedQuad::AO_SHIFT
+    };
+    Direction::<D>::FACE | ao
 }

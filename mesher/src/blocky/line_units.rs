@@ -106,7 +106,9 @@ impl<const D: usize> SliceFaces<'_, D> {
         let id = ids.id(b);
         let quad = PackedQuad {
             position_size: word | ((b as u32).wrapping_sub(1) << Direction::<D>::SHIFT_B),
-            face_ao_block: id << 11 | self.ao::<AO>(front, b) << 3 | D as u32,
+            face_ao_block: id << PackedQuad::BLOCK_SHIFT
+                | self.ao::<AO>(front, b) << PackedQuad::AO_SHIFT
+                | Direction::<D>::FACE,
         };
         (quad, id)
     }
@@ -173,7 +175,11 @@ impl<const D: usize> SliceFaces<'_, D> {
             } else {
                 [u64::MAX; 8]
             },
-            first: u64::from(D as u32) << 32 | u64::from(self.position_size(l, 1, 1, 1)),
+            first: PackedQuad {
+                position_size: self.position_size(l, 1, 1, 1),
+                face_ao_block: Direction::<D>::FACE,
+            }
+            .to_u64(),
             shift: Direction::<D>::SHIFT_B,
         };
         if wide.unit_line(&line, out.out) & !*known != 0 {
@@ -190,7 +196,7 @@ impl<const D: usize> SliceFaces<'_, D> {
         while m != 0 {
             let b = m.trailing_zeros() as usize;
             m &= m - 1;
-            self.check(self.id(l, b) << 11, known, l, b)?;
+            self.check(self.id(l, b) << PackedQuad::BLOCK_SHIFT, known, l, b)?;
         }
         Ok(())
     }
@@ -216,7 +222,11 @@ impl<const D: usize> SliceFaces<'_, D> {
                     self.ao::<AO>(front, b0),
                 )
             });
-            (same & bits, self.id(l, b0) << 11 | ao0 << 3)
+            let id0 = self.id(l, b0);
+            (
+                same & bits,
+                id0 << PackedQuad::BLOCK_SHIFT | ao0 << PackedQuad::AO_SHIFT,
+            )
         } else {
             (bits, self.key::<AO>(l, b0))
         };
@@ -225,7 +235,7 @@ impl<const D: usize> SliceFaces<'_, D> {
             LineIds::Row(row) => faces_of_id(row, row[b0], same_ao),
             // ±X faces: the ids are strided, read one by one but compared without a branch.
             LineIds::Strided { .. } => {
-                let id0 = key0 >> 11;
+                let id0 = key0 >> PackedQuad::BLOCK_SHIFT;
                 let mut differ = 0u64;
                 let mut m = same_ao;
                 while m != 0 {
@@ -238,7 +248,8 @@ impl<const D: usize> SliceFaces<'_, D> {
         };
         self.check(key0, known, l, b0)?;
         let first = self.position_size(l, 1, 1, 1);
-        out.push_bits(same_key, first, Direction::<D>::SHIFT_B, key0 | D as u32);
+        let key = key0 | Direction::<D>::FACE;
+        out.push_bits(same_key, first, Direction::<D>::SHIFT_B, key);
         let rest = bits & !same_key;
         if rest == 0 {
             return Ok(());

@@ -168,13 +168,17 @@ fn emit_row<const D: usize>(
         if ao {
             u32::from(Direction::<D>::AO_TABLE[code & 511])
         } else {
-            0xFF
+            PackedQuad::AO_UNOCCLUDED
         }
     };
-    let key_of = |id: u16, code: usize| u32::from(id) << 11 | ao_of(code) << 3 | D as u32;
+    let key_of = |id: u16, code: usize| {
+        u32::from(id) << PackedQuad::BLOCK_SHIFT
+            | ao_of(code) << PackedQuad::AO_SHIFT
+            | Direction::<D>::FACE
+    };
     let key = |x: usize| key_of(ids.get(x).copied().unwrap_or(0), code(x));
     let check = |key: u32, x: usize, known: &mut u64| {
-        let id = key >> 11;
+        let id = key >> PackedQuad::BLOCK_SHIFT;
         if id < 64 && (*known >> id) & 1 != 0 {
             return Ok(());
         }
@@ -190,7 +194,7 @@ fn emit_row<const D: usize>(
         })
     };
     // Word 0 of the face at x: chunk-local x, y, z; width and height 1.
-    let word = (((y - 1) << 6) | ((z - 1) << 12)) as u32;
+    let word = ((y - 1) << PackedQuad::Y_SHIFT | (z - 1) << PackedQuad::Z_SHIFT) as u32;
     let mut rest = bits;
     {
         // Faces with the first face's front neighbourhood and id share its key. One pass over
@@ -210,13 +214,15 @@ fn emit_row<const D: usize>(
             });
             (same & bits, ao0)
         } else {
-            (bits, 0xFF)
+            (bits, PackedQuad::AO_UNOCCLUDED)
         };
         let id0 = ids.get(x0).copied().unwrap_or(0);
-        let key0 = u32::from(id0) << 11 | ao0 << 3 | D as u32;
+        let key0 = u32::from(id0) << PackedQuad::BLOCK_SHIFT
+            | ao0 << PackedQuad::AO_SHIFT
+            | Direction::<D>::FACE;
         same = faces_of_id(ids, id0, same);
         check(key0, x0, known)?;
-        out.push_bits(same, word, 0, key0);
+        out.push_bits(same, word, PackedQuad::X_SHIFT, key0);
         rest &= !same;
     }
     while rest != 0 {
@@ -225,7 +231,7 @@ fn emit_row<const D: usize>(
         let k = key(x);
         check(k, x, known)?;
         out.push(PackedQuad {
-            position_size: word | (x as u32 - 1),
+            position_size: word | (x as u32 - 1) << PackedQuad::X_SHIFT,
             face_ao_block: k,
         });
     }

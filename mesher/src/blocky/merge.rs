@@ -179,9 +179,9 @@ fn keyed_line<const D: usize, const AO: bool>(
         let id = ids.id(b);
         seen_here |= SliceFaces::<D>::seen_bit(id);
         let key = if AO {
-            id << 11 | s.ao::<AO>(front, b) << 3
+            id << PackedQuad::BLOCK_SHIFT | s.ao::<AO>(front, b) << PackedQuad::AO_SHIFT
         } else {
-            id << 11
+            id << PackedQuad::BLOCK_SHIFT
         };
         here[b & 63] = key;
         along |= u64::from(previous == key) << b;
