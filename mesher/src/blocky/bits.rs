@@ -132,6 +132,39 @@ pub(crate) fn row_contains(row: &[u16], id: u16) -> bool {
     row.iter().fold(0u16, |acc, &v| acc | u16::from(v == id)) != 0
 }
 
+/// The indexes of the set bits of `bits`, lowest first: the bit-scan loop (`trailing_zeros`,
+/// then clear the lowest set bit) written once. Every index is below 64.
+#[inline(always)]
+pub(crate) fn ones(bits: u64) -> Ones {
+    Ones(bits)
+}
+
+/// The iterator of [`ones`]: the bits not yielded yet.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Ones(u64);
+
+impl Ones {
+    /// The index the next call to `next` yields, without taking it.
+    #[inline(always)]
+    pub(crate) fn peek(self) -> Option<usize> {
+        (self.0 != 0).then(|| self.0.trailing_zeros() as usize)
+    }
+}
+
+impl Iterator for Ones {
+    type Item = usize;
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<usize> {
+        if self.0 == 0 {
+            return None;
+        }
+        let i = self.0.trailing_zeros() as usize;
+        self.0 &= self.0 - 1;
+        Some(i)
+    }
+}
+
 /// True if `bits` has at least 4 set bits (without `popcnt`, which the baseline x86-64 target
 /// lacks): the lines worth the fast path's fixed cost.
 #[inline(always)]
@@ -167,7 +200,18 @@ pub(crate) fn transpose64(m: &mut [u64; 64]) {
 
 #[cfg(test)]
 mod tests {
+    use alloc::vec::Vec;
+
     use super::*;
+
+    #[test]
+    fn ones_yields_the_set_bits_lowest_first() {
+        for bits in [0u64, 1, 1 << 63, 0x8000_0000_0000_0001, 0x5555, u64::MAX] {
+            let want: Vec<usize> = (0..64).filter(|&i| bits >> i & 1 == 1).collect();
+            assert_eq!(ones(bits).collect::<Vec<_>>(), want, "{bits:#x}");
+            assert_eq!(ones(bits).peek(), want.first().copied());
+        }
+    }
 
     #[test]
     fn transpose_matches_the_definition() {

@@ -5,6 +5,7 @@
 //! The faces' ids were checked when they were keyed, so growing cannot fail. Line 0 and the
 //! lines past the chunk hold no face, so a quad stops growing there without a bound check.
 
+use super::bits::ones;
 use super::direction::Direction;
 use super::faces::{Quads, SliceFaces};
 use super::keys::{Keys, key_bits};
@@ -17,7 +18,7 @@ use super::masks::Slice;
 pub(crate) fn greedy_bits_first<const D: usize, const AO: bool>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
-    mut left: u64,
+    left: u64,
     keys: &Keys,
     out: &mut Quads<'_>,
 ) {
@@ -29,23 +30,15 @@ pub(crate) fn greedy_bits_first<const D: usize, const AO: bool>(
         // faces (AO off).
         let mut columns: Slice = [0; 64];
         let mut any = 0u64;
-        while left != 0 {
-            let l = left.trailing_zeros() as usize;
-            left &= left - 1;
-            let mut m = faces[l & 63];
+        for l in ones(left) {
+            let m = faces[l & 63];
             any |= m;
-            while m != 0 {
-                columns[m.trailing_zeros() as usize & 63] |= 1 << l;
-                m &= m - 1;
+            for b in ones(m) {
+                columns[b & 63] |= 1 << l;
             }
         }
-        while any != 0 {
-            let b = any.trailing_zeros() as usize;
-            any &= any - 1;
-            let mut column = columns[b & 63];
-            while column != 0 {
-                let l = column.trailing_zeros() as usize;
-                column &= column - 1;
+        for b in ones(any) {
+            for l in ones(columns[b & 63]) {
                 if (faces[l & 63] >> b) & 1 != 0 {
                     grow_bits_first::<D, AO>(s, faces, (l, b), keys, out);
                 }
@@ -53,9 +46,7 @@ pub(crate) fn greedy_bits_first<const D: usize, const AO: bool>(
         }
         return;
     }
-    while left != 0 {
-        let l = left.trailing_zeros() as usize;
-        left &= left - 1;
+    for l in ones(left) {
         while faces[l & 63] != 0 {
             let b = faces[l & 63].trailing_zeros() as usize;
             grow_bits_first::<D, AO>(s, faces, (l, b), keys, out);
@@ -95,13 +86,11 @@ fn grow_bits_first<const D: usize, const AO: bool>(
 pub(crate) fn greedy_lines_first<const D: usize, const AO: bool>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
-    mut left: u64,
+    left: u64,
     keys: &Keys,
     out: &mut Quads<'_>,
 ) {
-    while left != 0 {
-        let l = left.trailing_zeros() as usize;
-        left &= left - 1;
+    for l in ones(left) {
         let mut here = faces[l & 63];
         let along = keys.along[l & 63];
         while here != 0 {

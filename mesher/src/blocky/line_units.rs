@@ -19,7 +19,7 @@
 use voxel_core::formats::PackedQuad;
 
 use super::ao::{CORNER_OFFSETS, ao_planes};
-use super::bits::faces_of_id;
+use super::bits::{faces_of_id, ones};
 use super::direction::Direction;
 use super::faces::{LineIds, Quads, SliceFaces};
 use super::masks::Front;
@@ -77,10 +77,7 @@ impl<const D: usize> SliceFaces<'_, D> {
         // The ids seen: checked against the cache of known ids once, after the line, instead
         // of once per face.
         let mut seen = 0u64;
-        let mut m = bits;
-        while m != 0 {
-            let b = m.trailing_zeros() as usize;
-            m &= m - 1;
+        for b in ones(bits) {
             let (quad, id) = self.unit_quad::<AO>(ids, front, word, b);
             seen |= Self::seen_bit(id);
             out.buf[n & 4095] = quad;
@@ -157,10 +154,7 @@ impl<const D: usize> SliceFaces<'_, D> {
         let ids = match self.line_ids(l) {
             LineIds::Row(row) => row,
             ids @ LineIds::Strided { .. } => {
-                let mut m = bits;
-                while m != 0 {
-                    let b = m.trailing_zeros() as usize;
-                    m &= m - 1;
+                for b in ones(bits) {
                     strided[b & 63] = ids.id(b) as u16;
                 }
                 &strided
@@ -192,10 +186,7 @@ impl<const D: usize> SliceFaces<'_, D> {
     /// line with an id the cache does not hold yet.
     #[cold]
     fn check_line(&self, l: usize, bits: u64, known: &mut u64) -> Result<(), MeshError> {
-        let mut m = bits;
-        while m != 0 {
-            let b = m.trailing_zeros() as usize;
-            m &= m - 1;
+        for b in ones(bits) {
             self.check(self.id(l, b) << PackedQuad::BLOCK_SHIFT, known, l, b)?;
         }
         Ok(())
@@ -237,10 +228,7 @@ impl<const D: usize> SliceFaces<'_, D> {
             LineIds::Strided { .. } => {
                 let id0 = key0 >> PackedQuad::BLOCK_SHIFT;
                 let mut differ = 0u64;
-                let mut m = same_ao;
-                while m != 0 {
-                    let b = m.trailing_zeros() as usize;
-                    m &= m - 1;
+                for b in ones(same_ao) {
                     differ |= u64::from(ids.id(b) != id0) << b;
                 }
                 same_ao & !differ

@@ -21,7 +21,7 @@
 use voxel_core::BlockId;
 use voxel_core::formats::PackedQuad;
 
-use super::bits::{faces_of_id, many};
+use super::bits::{faces_of_id, many, ones};
 use super::direction::Direction;
 use super::faces::Quads;
 use super::input::Input;
@@ -225,9 +225,7 @@ fn emit_row<const D: usize>(
         out.push_bits(same, word, PackedQuad::X_SHIFT, key0);
         rest &= !same;
     }
-    while rest != 0 {
-        let x = rest.trailing_zeros() as usize;
-        rest &= rest - 1;
+    for x in ones(rest) {
         let k = key(x);
         check(k, x, known)?;
         out.push(PackedQuad {

@@ -33,7 +33,7 @@ use alloc::vec::Vec;
 
 use voxel_core::BlockId;
 
-use super::bits::{nonzero_lines, row_contains, row_equal, transpose64};
+use super::bits::{nonzero_lines, ones, row_contains, row_equal, transpose64};
 use crate::BlockClasses;
 
 /// Up to this many transparent ids in the palette, rows are classified with SIMD compares.
@@ -218,10 +218,7 @@ impl Masks {
                         }
                     }
                 } else {
-                    let mut bits = occ;
-                    while bits != 0 {
-                        let x = bits.trailing_zeros() as usize;
-                        bits &= bits - 1;
+                    for x in ones(occ) {
                         let id = row.get(x).copied().unwrap_or(0);
                         if classes.is_transparent(BlockId(id)) {
                             t |= 1 << x;

@@ -33,7 +33,7 @@
 
 use voxel_core::formats::PackedQuad;
 
-use super::bits::{many, nonzero_lines};
+use super::bits::{many, nonzero_lines, ones};
 use super::direction::Direction;
 use super::faces::{Quads, SliceFaces};
 use super::grow::{greedy_bits_first, greedy_lines_first};
@@ -56,12 +56,10 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool>(
     keys: &mut Keys,
     out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
-    let mut rest = rows;
-    while rest != 0 {
-        let l = rest.trailing_zeros() as usize;
-        rest &= rest - 1;
-        if rest != 0 {
-            s.prefetch_line(rest.trailing_zeros() as usize);
+    let mut lines = ones(rows);
+    while let Some(l) = lines.next() {
+        if let Some(next) = lines.peek() {
+            s.prefetch_line(next);
         }
         let f = faces[l & 63];
         // Many faces and none with a neighbouring face (a checkerboard): most share one key.
@@ -97,12 +95,10 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
     let mut known = keys.known;
     let mut lone_lines = 0u64;
     let mut seen = 0u64;
-    let mut rest = rows;
-    while rest != 0 {
-        let l = rest.trailing_zeros() as usize;
-        rest &= rest - 1;
-        if rest != 0 {
-            s.prefetch_line(rest.trailing_zeros() as usize);
+    let mut lines = ones(rows);
+    while let Some(l) = lines.next() {
+        if let Some(next) = lines.peek() {
+            s.prefetch_line(next);
         }
         let f = faces[l & 63];
         if many_lone(faces, l) {
@@ -118,10 +114,7 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
         check_faces(s, faces, rows, keys, &mut known)?;
     }
     let mut left = 0u64;
-    let mut rest = rows;
-    while rest != 0 {
-        let l = rest.trailing_zeros() as usize;
-        rest &= rest - 1;
+    for l in ones(rows) {
         let here = faces[l & 63];
         // Bit b of the stored mask: face b has the key of the face before it in the line.
         let along = (keys.along[l & 63] >> 1) & here & (here >> 1);
@@ -172,10 +165,7 @@ fn keyed_line<const D: usize, const AO: bool>(
     // No key is all ones (ids have 16 bits): the line's first face equals no previous one.
     let mut previous = u32::MAX;
     let mut seen_here = 0u64;
-    let mut m = f;
-    while m != 0 {
-        let b = m.trailing_zeros() as usize;
-        m &= m - 1;
+    for b in ones(f) {
         let id = ids.id(b);
         seen_here |= SliceFaces::<D>::seen_bit(id);
         let key = if AO {
@@ -221,16 +211,10 @@ fn emit_alone<const D: usize, const AO: bool>(
     out: &mut Quads<'_>,
 ) {
     let mut n = out.len;
-    let mut rest = rows;
-    while rest != 0 {
-        let l = rest.trailing_zeros() as usize;
-        rest &= rest - 1;
+    for l in ones(rows) {
         let word = s.position_size(l, 1, 1, 1);
         let row = &keys.keys[l & 63];
-        let mut m = keys.alone[l & 63];
-        while m != 0 {
-            let b = m.trailing_zeros() as usize;
-            m &= m - 1;
+        for b in ones(keys.alone[l & 63]) {
             out.buf[n & 4095] = PackedQuad {
                 position_size: word | ((b as u32 - 1) << Direction::<D>::SHIFT_B),
                 face_ao_block: row[b & 63] | key_bits::<D, AO>(),
@@ -252,14 +236,8 @@ fn many_lone(faces: &Slice, l: usize) -> bool {
 /// Calls `f(l, b)` for every set bit `b` of `masks[l]`, for the lines `l` of `rows` in order.
 #[inline(always)]
 fn each_face(rows: u64, masks: &Slice, mut f: impl FnMut(usize, usize)) {
-    let mut rest = rows;
-    while rest != 0 {
-        let l = rest.trailing_zeros() as usize;
-        rest &= rest - 1;
-        let mut m = masks[l & 63];
-        while m != 0 {
-            let b = m.trailing_zeros() as usize;
-            m &= m - 1;
+    for l in ones(rows) {
+        for b in ones(masks[l & 63]) {
             f(l, b);
         }
     }

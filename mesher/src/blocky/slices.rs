@@ -23,7 +23,7 @@ use alloc::vec::Vec;
 
 use voxel_core::formats::PackedQuad;
 
-use super::bits::many;
+use super::bits::{many, ones};
 use super::direction::Direction;
 use super::faces::{Quads, SliceFaces, SliceQuads};
 use super::input::Input;
@@ -141,13 +141,11 @@ pub(crate) fn mesh_direction<const D: usize>(
 
 /// The bits of `both` (transparent voxels with a transparent front voxel) whose two ids
 /// differ; `at` holds the slice, front slice and line, `strides` the voxel index strides.
-fn differing_ids(voxels: &[u16], at: [usize; 3], strides: [usize; 3], mut both: u64) -> u64 {
+fn differing_ids(voxels: &[u16], at: [usize; 3], strides: [usize; 3], both: u64) -> u64 {
     let [n, front_n, l] = at;
     let [stride_n, stride_l, stride_b] = strides;
     let mut out = 0;
-    while both != 0 {
-        let b = both.trailing_zeros() as usize;
-        both &= both - 1;
+    for b in ones(both) {
         let id = |n: usize| {
             let i = n * stride_n + l * stride_l + b * stride_b;
             voxels.get(i).copied().unwrap_or(0)
