@@ -131,6 +131,8 @@ impl<'a> Quads<'a> {
         // depending on unrelated code.
         let spare = self.out.spare_capacity_mut();
         let count = count.min(spare.len());
+        // A counted loop over the spare entries with the bit scan inline: `zip` with
+        // `bits::ones` checks both ends per quad (callgrind: 32 % more on a checkerboard).
         for quad in &mut spare[..count] {
             let b = u64::from(bits.trailing_zeros());
             bits &= bits.wrapping_sub(1);

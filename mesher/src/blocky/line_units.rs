@@ -124,7 +124,9 @@ impl<const D: usize> SliceFaces<'_, D> {
         let word = self.position_size(l, 1, 1, 1);
         let mut seen = 0u64;
         let mut m = bits;
-        // One capacity check for the line (as `push_bits`).
+        // One capacity check for the line (as `push_bits`): `extend` from a range knows its
+        // length, an iterator of the bits (`bits::ones`) would not, so the bits are scanned
+        // by hand.
         out.out.extend((0..bits.count_ones()).map(|_| {
             let b = m.trailing_zeros() as usize;
             m &= m.wrapping_sub(1);
