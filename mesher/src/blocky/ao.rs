@@ -170,7 +170,7 @@ pub(crate) const CORNER_OFFSETS: [[(i32, i32); 4]; 6] = [
 pub(crate) fn ao_planes(corners: &[(i32, i32); 4], front: [u64; 3]) -> [u64; 8] {
     // Bit b: the front voxel at line offset `dl`, bit offset `db` of the face at bit b.
     let plane = |dl: i32, db: i32| {
-        let f = front[(dl + 1) as usize & 3];
+        let f = front[(dl + 1) as usize];
         match db {
             -1 => f << 1,
             0 => f,

@@ -132,6 +132,23 @@ pub(crate) fn row_contains(row: &[u16], id: u16) -> bool {
     row.iter().fold(0u16, |acc, &v| acc | u16::from(v == id)) != 0
 }
 
+/// `i` as an index into an array of `N` entries (`N` a power of two): `i & (N - 1)`, with
+/// `i < N` asserted in debug builds.
+///
+/// For indexes that are in range by an invariant the compiler cannot see (the line after or
+/// before a line, `l + 1` and `l - 1`; rows of a run-time chunk size; the end of a slice's
+/// quad buffer): a plain index would add a compare and a branch to a panic in the hot loops,
+/// while the mask is one AND. Tests and fuzzers run debug builds, so a broken invariant panics
+/// there rather than giving wrong quads.
+#[inline(always)]
+pub(crate) fn masked<const N: usize>(i: usize) -> usize {
+    debug_assert!(
+        N.is_power_of_two() && i < N,
+        "index {i} out of range 0..{N}"
+    );
+    i & (N - 1)
+}
+
 /// The indexes of the set bits of `bits`, lowest first: the bit-scan loop (`trailing_zeros`,
 /// then clear the lowest set bit) written once. Every index is below 64.
 #[inline(always)]

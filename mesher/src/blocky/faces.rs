@@ -6,6 +6,7 @@ use alloc::vec::Vec;
 use voxel_core::BlockId;
 use voxel_core::formats::PackedQuad;
 
+use super::bits::masked;
 use super::direction::Direction;
 use super::masks::{Front, Slice};
 use super::wide::Wide;
@@ -52,7 +53,7 @@ impl LineIds<'_> {
     #[inline(always)]
     pub(crate) fn id(self, b: usize) -> u32 {
         match self {
-            LineIds::Row(row) => u32::from(row[b & 63]),
+            LineIds::Row(row) => u32::from(row[b]),
             LineIds::Strided {
                 voxels,
                 start,
@@ -100,7 +101,7 @@ impl<'a> Quads<'a> {
     /// Appends one quad.
     #[inline(always)]
     pub(crate) fn push(&mut self, q: PackedQuad) {
-        self.buf[self.len & 4095] = q;
+        self.buf[masked::<4096>(self.len)] = q;
         self.len += 1;
     }
 
@@ -160,9 +161,9 @@ impl<const D: usize> SliceFaces<'_, D> {
     #[inline(always)]
     pub(crate) fn front_lines(&self, l: usize) -> Front {
         (
-            self.front[(l - 1) & 63],
-            self.front[l & 63],
-            self.front[(l + 1) & 63],
+            self.front[masked::<64>(l - 1)],
+            self.front[l],
+            self.front[masked::<64>(l + 1)],
         )
     }
 
@@ -240,9 +241,9 @@ impl<const D: usize> SliceFaces<'_, D> {
         if !AO {
             return PackedQuad::AO_UNOCCLUDED;
         }
-        let s = (b - 1) & 63;
+        let s = masked::<64>(b - 1);
         let code = ((f0 >> s) & 7) | ((f1 >> s) & 7) << 3 | ((f2 >> s) & 7) << 6;
-        u32::from(Direction::<D>::AO_TABLE[(code & 511) as usize])
+        u32::from(Direction::<D>::AO_TABLE[code as usize])
     }
 
     /// Word 0 of a quad at line `l`, bit `b`, spanning `lines` lines and `bits` bits.

@@ -46,7 +46,7 @@ impl Keys {
     /// The key of the face at line `l`, bit `b` (meaningful only where a face was keyed).
     #[inline(always)]
     pub(crate) fn key(&self, l: usize, b: usize) -> u32 {
-        self.keys[l & 63][b & 63]
+        self.keys[l][b]
     }
 }
 

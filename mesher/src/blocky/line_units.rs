@@ -19,7 +19,7 @@
 use voxel_core::formats::PackedQuad;
 
 use super::ao::{CORNER_OFFSETS, ao_planes};
-use super::bits::{faces_of_id, ones};
+use super::bits::{faces_of_id, masked, ones};
 use super::direction::Direction;
 use super::faces::{LineIds, Quads, SliceFaces};
 use super::masks::Front;
@@ -80,7 +80,7 @@ impl<const D: usize> SliceFaces<'_, D> {
         for b in ones(bits) {
             let (quad, id) = self.unit_quad::<AO>(ids, front, word, b);
             seen |= Self::seen_bit(id);
-            out.buf[n & 4095] = quad;
+            out.buf[masked::<4096>(n)] = quad;
             n += 1;
         }
         if seen & !*known != 0 {
@@ -157,7 +157,7 @@ impl<const D: usize> SliceFaces<'_, D> {
             LineIds::Row(row) => row,
             ids @ LineIds::Strided { .. } => {
                 for b in ones(bits) {
-                    strided[b & 63] = ids.id(b) as u16;
+                    strided[b] = ids.id(b) as u16;
                 }
                 &strided
             }
@@ -206,7 +206,7 @@ impl<const D: usize> SliceFaces<'_, D> {
         known: &mut u64,
         out: &mut Quads<'_>,
     ) -> Result<(), MeshError> {
-        let b0 = bits.trailing_zeros() as usize & 63;
+        let b0 = masked::<64>(bits.trailing_zeros() as usize);
         let (same_ao, key0) = if AO {
             let front = self.front_lines(l);
             let (same, ao0) = memo.split(&front, b0, || {

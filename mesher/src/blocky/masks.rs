@@ -33,7 +33,7 @@ use alloc::vec::Vec;
 
 use voxel_core::BlockId;
 
-use super::bits::{nonzero_lines, ones, row_contains, row_equal, transpose64};
+use super::bits::{masked, nonzero_lines, ones, row_contains, row_equal, transpose64};
 use crate::BlockClasses;
 
 /// Up to this many transparent ids in the palette, rows are classified with SIMD compares.
@@ -267,7 +267,7 @@ fn word_transpose(p: usize, a: &[Slice], out: &mut Vec<Slice>) {
     // Slice by slice of the output: 64 strided reads, one contiguous 512-byte write.
     for (y, slot) in out.iter_mut().enumerate() {
         for (word, slab) in slot.iter_mut().zip(a) {
-            *word = slab[y & 63];
+            *word = slab[masked::<64>(y)];
         }
     }
 }
@@ -301,7 +301,7 @@ fn bit_transpose(p: usize, b: &[Slice], out: &mut Vec<Slice>, lines: &mut u64) {
             *lines |= bit;
         }
         for (x, slot) in out.iter_mut().enumerate() {
-            slot[y & 63] = m[x & 63];
+            slot[masked::<64>(y)] = m[masked::<64>(x)];
         }
     }
 }

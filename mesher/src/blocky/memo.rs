@@ -42,8 +42,8 @@ impl FrontVoxels for [u64; 9] {
 pub(crate) struct NeighbourhoodMemo<F> {
     /// Front voxels, first bit (64: an empty entry), same-neighbourhood bits, AO byte.
     entries: [(F, usize, u64, u32); 2],
-    /// The entry the next miss replaces.
-    next: usize,
+    /// The entry the next miss replaces (0 or 1).
+    next: bool,
 }
 
 impl<F: FrontVoxels> NeighbourhoodMemo<F> {
@@ -51,7 +51,7 @@ impl<F: FrontVoxels> NeighbourhoodMemo<F> {
     pub(crate) fn new() -> Self {
         NeighbourhoodMemo {
             entries: [(F::NONE, 64, 0, 0); 2],
-            next: 0,
+            next: false,
         }
     }
 
@@ -69,8 +69,8 @@ impl<F: FrontVoxels> NeighbourhoodMemo<F> {
             }
         }
         let (same, ao) = compute();
-        self.entries[self.next & 1] = (*front, b0, same, ao);
-        self.next ^= 1;
+        self.entries[usize::from(self.next)] = (*front, b0, same, ao);
+        self.next = !self.next;
         (same, ao)
     }
 }

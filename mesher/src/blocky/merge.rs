@@ -33,7 +33,7 @@
 
 use voxel_core::formats::PackedQuad;
 
-use super::bits::{many, nonzero_lines, ones};
+use super::bits::{many, masked, nonzero_lines, ones};
 use super::direction::Direction;
 use super::faces::{Quads, SliceFaces};
 use super::grow::{greedy_bits_first, greedy_lines_first};
@@ -61,7 +61,7 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool>(
         if let Some(next) = lines.peek() {
             s.prefetch_line(next);
         }
-        let f = faces[l & 63];
+        let f = faces[l];
         // Many faces and none with a neighbouring face (a checkerboard): most share one key.
         if many_lone(faces, l) {
             s.line_units::<AO>(l, f, &mut keys.memo, &mut keys.known, out)?;
@@ -100,10 +100,10 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
         if let Some(next) = lines.peek() {
             s.prefetch_line(next);
         }
-        let f = faces[l & 63];
+        let f = faces[l];
         if many_lone(faces, l) {
             s.line_units::<AO>(l, f, &mut keys.memo, &mut known, out)?;
-            faces[l & 63] = 0;
+            faces[l] = 0;
             lone_lines |= 1 << l;
             continue;
         }
@@ -115,17 +115,17 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
     }
     let mut left = 0u64;
     for l in ones(rows) {
-        let here = faces[l & 63];
+        let here = faces[l];
         // Bit b of the stored mask: face b has the key of the face before it in the line.
-        let along = (keys.along[l & 63] >> 1) & here & (here >> 1);
-        let across = keys.across[l & 63] & here & faces[(l + 1) & 63];
+        let along = (keys.along[l] >> 1) & here & (here >> 1);
+        let across = keys.across[l] & here & faces[masked::<64>(l + 1)];
         // Line l - 1 already went through this loop (or has no face): its entry is final.
-        let below = keys.across[(l - 1) & 63] & faces[(l - 1) & 63] & here;
-        keys.along[l & 63] = along;
-        keys.across[l & 63] = across;
+        let below = keys.across[masked::<64>(l - 1)] & faces[masked::<64>(l - 1)] & here;
+        keys.along[l] = along;
+        keys.across[l] = across;
         let alone = here & !along & !(along << 1) & !across & !below;
-        keys.alone[l & 63] = alone;
-        faces[l & 63] = here & !alone;
+        keys.alone[l] = alone;
+        faces[l] = here & !alone;
         left |= u64::from(here != alone) << l;
     }
     emit_alone::<D, AO>(s, rows, keys, out);
@@ -157,7 +157,7 @@ fn keyed_line<const D: usize, const AO: bool>(
     let ids = s.line_ids(l);
     let front = s.front_lines(l);
     // Two row pointers: the line's keys and the line before's, one bit index into both.
-    let (before, here) = keys.keys.split_at_mut(l & 63);
+    let (before, here) = keys.keys.split_at_mut(l);
     let here = &mut here[0];
     let before = before.last().unwrap_or(&[0; 64]);
     let mut along = 0u64;
@@ -173,14 +173,14 @@ fn keyed_line<const D: usize, const AO: bool>(
         } else {
             id << PackedQuad::BLOCK_SHIFT
         };
-        here[b & 63] = key;
+        here[b] = key;
         along |= u64::from(previous == key) << b;
         previous = key;
-        below |= u64::from(before[b & 63] == key) << b;
+        below |= u64::from(before[b] == key) << b;
     }
     *seen |= seen_here;
-    keys.along[l & 63] = along;
-    keys.across[(l - 1) & 63] = below;
+    keys.along[l] = along;
+    keys.across[masked::<64>(l - 1)] = below;
 }
 
 /// Checks the id of every face of the lines `rows` (keys in the table): the slow path of a
@@ -213,11 +213,11 @@ fn emit_alone<const D: usize, const AO: bool>(
     let mut n = out.len;
     for l in ones(rows) {
         let word = s.position_size(l, 1, 1, 1);
-        let row = &keys.keys[l & 63];
-        for b in ones(keys.alone[l & 63]) {
-            out.buf[n & 4095] = PackedQuad {
+        let row = &keys.keys[l];
+        for b in ones(keys.alone[l]) {
+            out.buf[masked::<4096>(n)] = PackedQuad {
                 position_size: word | ((b as u32 - 1) << Direction::<D>::SHIFT_B),
-                face_ao_block: row[b & 63] | key_bits::<D, AO>(),
+                face_ao_block: row[b] | key_bits::<D, AO>(),
             };
             n += 1;
         }
@@ -229,15 +229,16 @@ fn emit_alone<const D: usize, const AO: bool>(
 /// slice (a checkerboard stripe): the lines the bulk path takes.
 #[inline(always)]
 fn many_lone(faces: &Slice, l: usize) -> bool {
-    let f = faces[l & 63];
-    many(f) && f & ((f << 1) | (f >> 1) | faces[(l - 1) & 63] | faces[(l + 1) & 63]) == 0
+    let f = faces[l];
+    many(f)
+        && f & ((f << 1) | (f >> 1) | faces[masked::<64>(l - 1)] | faces[masked::<64>(l + 1)]) == 0
 }
 
 /// Calls `f(l, b)` for every set bit `b` of `masks[l]`, for the lines `l` of `rows` in order.
 #[inline(always)]
 fn each_face(rows: u64, masks: &Slice, mut f: impl FnMut(usize, usize)) {
     for l in ones(rows) {
-        for b in ones(masks[l & 63]) {
+        for b in ones(masks[l]) {
             f(l, b);
         }
     }

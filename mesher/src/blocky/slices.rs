@@ -23,7 +23,7 @@ use alloc::vec::Vec;
 
 use voxel_core::formats::PackedQuad;
 
-use super::bits::{many, ones};
+use super::bits::{many, masked, ones};
 use super::direction::Direction;
 use super::faces::{Quads, SliceFaces, SliceQuads};
 use super::input::Input;
@@ -85,7 +85,7 @@ pub(crate) fn mesh_direction<const D: usize>(
             }
         }
         faces[0] = 0;
-        faces[(p - 1) & 63] = 0;
+        faces[masked::<64>(p - 1)] = 0;
         if Direction::<D>::LAYOUT == 2 && any != 0 && input.lone_x_rows {
             // Some lone ±X faces were emitted from the rows.
             drop_handled(&mut faces, &input.handled[D & 1]);
@@ -119,12 +119,12 @@ pub(crate) fn mesh_direction<const D: usize>(
             continue;
         }
         faces[0] = 0;
-        faces[(p - 1) & 63] = 0;
+        faces[masked::<64>(p - 1)] = 0;
         if input.mixed_transparent {
             for l in 1..e + 1 {
-                let both = t_cur[l & 63] & t_front[l & 63] & inner;
+                let both = t_cur[masked::<64>(l)] & t_front[masked::<64>(l)] & inner;
                 if both != 0 {
-                    faces[l & 63] |= differing_ids(
+                    faces[masked::<64>(l)] |= differing_ids(
                         input.voxels,
                         [n, front_n, l],
                         [stride_n, stride_l, stride_b],
@@ -189,8 +189,8 @@ fn emit<const D: usize>(
 fn isolated_faces(faces: &Slice, rows: u64) -> bool {
     // Line l - 1 has no face: l is the first line with one.
     let l = rows.trailing_zeros() as usize;
-    let f = faces[l & 63];
-    if !many(f) || f & ((f << 1) | (f >> 1) | faces[(l + 1) & 63]) != 0 {
+    let f = faces[masked::<64>(l)];
+    if !many(f) || f & ((f << 1) | (f >> 1) | faces[masked::<64>(l + 1)]) != 0 {
         return false;
     }
     // Lines 0 and 63 never hold faces (padding).
