@@ -17,7 +17,7 @@
 //!   +--------+--------+
 //! ```
 //!
-//! Values are stored per corner in [`PackedQuad`](voxel_core::formats::PackedQuad) in the order
+//! Values are stored per corner in [`PackedQuad`] in the order
 //! of `PackedQuadFields::corners`.
 //!
 //! # The flip

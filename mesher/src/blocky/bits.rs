@@ -1,5 +1,6 @@
-//! Bit tools for 64-voxel rows: occupancy and id-match masks of a row of `u16` ids, and the
-//! 64 x 64 bit-matrix transpose that turns x-rows into y-rows.
+//! Bit tools for 64-voxel rows: occupancy and id-match masks of a row of `u16` ids, the
+//! 64 x 64 bit-matrix transpose that turns x-rows into y-rows, the iterator over a word's set
+//! bits ([`ones`]), and indexes kept in range by a mask ([`masked`]).
 
 /// Gathers 8 bytes of `0` / `1` (byte `i` the value of bit `i`) into the low 8 bits.
 ///
