@@ -169,10 +169,6 @@ fn emit<const D: usize>(
 ) -> Result<(), MeshError> {
     let mut quads = Quads::new(buf, out, input.wide);
     let rows = rows_of(faces);
-    if rows == 0 {
-        // No face: a transparent slice whose voxels all face their own id or opaque ones.
-        return Ok(());
-    }
     // Faces none of which touches another are their own greedy quads: no merging to do.
     let merge = input.merge && !isolated_faces(faces, rows);
     match (merge, input.ao) {
