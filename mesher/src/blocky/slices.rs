@@ -181,15 +181,18 @@ fn emit<const D: usize>(
     Ok(())
 }
 
-/// True when no face of the slice (lines `rows`, not empty) has a neighbouring face, as on a
+/// True when no face of the slice (lines `rows`) has a neighbouring face, as on a
 /// checkerboard: then every face is a 1 x 1 greedy quad, and the greedy pass's per-line
 /// bookkeeping can be skipped. Only slices whose first line with faces has [`many`] such
 /// faces are scanned, so that slices of other shapes (terrain) pay a handful of operations.
 #[inline(always)]
 fn isolated_faces(faces: &Slice, rows: u64) -> bool {
-    // Line l - 1 has no face: l is the first line with one.
-    let l = rows.trailing_zeros() as usize;
-    let f = faces[masked::<64>(l)];
+    // Line l - 1 has no face: l is the first line with one. A slice may have none (transparent
+    // voxels that face only their own id): then the mask turns l = 64 into line 0, which holds
+    // no face (padding), and the answer is false. (Returning early for such slices instead moved
+    // meshing with AO off by up to 1 % in callgrind, through code layout.)
+    let l = rows.trailing_zeros() as usize & 63;
+    let f = faces[l];
     if !many(f) || f & ((f << 1) | (f >> 1) | faces[masked::<64>(l + 1)]) != 0 {
         return false;
     }
