@@ -66,6 +66,53 @@ fn bit_layout_matches_the_documentation() {
     assert_eq!(packed.face_ao_block, 5 | 0xFF << 3 | 0xFFFF << 11);
 }
 
+/// The exported shifts and masks are the documented layout: each field of the sample sits at
+/// its shift, and the masks are the fields' widths.
+#[test]
+fn exported_shifts_and_masks_are_the_layout() {
+    let packed = PackedQuad::encode(&sample()).unwrap();
+    let w0 = packed.position_size;
+    let field = |shift: u32| (w0 >> shift) & PackedQuad::FIELD_MASK;
+    assert_eq!(PackedQuad::POSITION_SHIFTS.map(field), [1, 2, 3]);
+    assert_eq!(field(PackedQuad::WIDTH_SHIFT), 3);
+    assert_eq!(field(PackedQuad::HEIGHT_SHIFT), 4);
+    let w1 = packed.face_ao_block;
+    let face = (w1 >> PackedQuad::FACE_SHIFT) & PackedQuad::FACE_MASK;
+    assert_eq!(face, u32::from(FaceDirection::NegY.index()));
+    assert_eq!(
+        (w1 >> PackedQuad::AO_SHIFT) & PackedQuad::AO_MASK,
+        0b11_10_01_00
+    );
+    assert_eq!(
+        (w1 >> PackedQuad::BLOCK_SHIFT) & PackedQuad::BLOCK_MASK,
+        0x1234
+    );
+    assert_eq!(
+        [
+            PackedQuad::FIELD_MASK,
+            PackedQuad::FACE_MASK,
+            PackedQuad::AO_MASK,
+            PackedQuad::BLOCK_MASK
+        ],
+        [63, 7, 0xFF, 0xFFFF]
+    );
+    let unoccluded = PackedQuadFields {
+        ao: [PackedQuad::MAX_AO; 4],
+        ..sample()
+    };
+    let w1 = PackedQuad::encode(&unoccluded).unwrap().face_ao_block;
+    assert_eq!(
+        (w1 >> PackedQuad::AO_SHIFT) & PackedQuad::AO_MASK,
+        PackedQuad::AO_UNOCCLUDED
+    );
+    assert_eq!(PackedQuad::pack_ao([0, 1, 2, 3]), 0b11_10_01_00);
+    assert_eq!(PackedQuad::unpack_ao(0b11_10_01_00), [0, 1, 2, 3]);
+    // `to_u64` is the quad's bytes read as a little-endian integer.
+    let both = packed.to_u64();
+    assert_eq!(both.to_le_bytes(), bytemuck::bytes_of(&packed));
+    assert_eq!(PackedQuad::from_u64(both), packed);
+}
+
 fn out_of_range(field: &'static str, value: i64, min: i64, max: i64) -> FormatError {
     FormatError::IntegerOutOfRange {
         field,

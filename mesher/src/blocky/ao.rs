@@ -17,7 +17,7 @@
 //!   +--------+--------+
 //! ```
 //!
-//! Values are stored per corner in [`PackedQuad`](voxel_core::formats::PackedQuad) in the order
+//! Values are stored per corner in [`PackedQuad`] in the order
 //! of `PackedQuadFields::corners`.
 //!
 //! # The flip
@@ -34,6 +34,7 @@
 //! ```
 
 use voxel_core::FaceDirection;
+use voxel_core::formats::PackedQuad;
 
 /// Ambient occlusion of one face corner from its three front-layer neighbours (see the
 /// [module docs](self)): `3` unoccluded, `0` darkest.
@@ -120,15 +121,14 @@ const fn ao_table(face: FaceDirection) -> [u8; 512] {
     let mut table = [0u8; 512];
     let mut code = 0usize;
     while code < 512 {
-        let mut packed = 0u8;
+        let mut ao = [0u8; 4];
         let mut i = 0;
         while i < 4 {
             let (dl, db) = corners[i];
-            let ao = corner_ao(solid(code, dl, 0), solid(code, 0, db), solid(code, dl, db));
-            packed |= ao << (2 * i);
+            ao[i] = corner_ao(solid(code, dl, 0), solid(code, 0, db), solid(code, dl, db));
             i += 1;
         }
-        table[code] = packed;
+        table[code] = PackedQuad::pack_ao(ao) as u8;
         code += 1;
     }
     table
@@ -170,7 +170,7 @@ pub(crate) const CORNER_OFFSETS: [[(i32, i32); 4]; 6] = [
 pub(crate) fn ao_planes(corners: &[(i32, i32); 4], front: [u64; 3]) -> [u64; 8] {
     // Bit b: the front voxel at line offset `dl`, bit offset `db` of the face at bit b.
     let plane = |dl: i32, db: i32| {
-        let f = front[(dl + 1) as usize & 3];
+        let f = front[(dl + 1) as usize];
         match db {
             -1 => f << 1,
             0 => f,
@@ -180,8 +180,10 @@ pub(crate) fn ao_planes(corners: &[(i32, i32); 4], front: [u64; 3]) -> [u64; 8] 
     let mut planes = [0u64; 8];
     for (i, &(dl, db)) in corners.iter().enumerate() {
         let (s1, s2, c) = (plane(dl, 0), plane(0, db), plane(dl, db));
-        planes[2 * i] = (c & (s1 ^ s2)) | !(s1 | s2 | c);
-        planes[2 * i + 1] = !((s1 & s2) | (c & (s1 | s2)));
+        // The corner's value is bits `k` (low) and `k + 1` (high) of the AO byte.
+        let k = PackedQuad::AO_CORNER_BITS as usize * i;
+        planes[k] = (c & (s1 ^ s2)) | !(s1 | s2 | c);
+        planes[k + 1] = !((s1 & s2) | (c & (s1 | s2)));
     }
     planes
 }
@@ -189,7 +191,7 @@ pub(crate) fn ao_planes(corners: &[(i32, i32); 4], front: [u64; 3]) -> [u64; 8] 
 /// Unpacks an AO byte into the 4 corner values.
 #[cfg(test)]
 pub(crate) const fn unpack(ao: u8) -> [u8; 4] {
-    [ao & 3, (ao >> 2) & 3, (ao >> 4) & 3, ao >> 6]
+    PackedQuad::unpack_ao(ao as u32)
 }
 
 #[cfg(test)]

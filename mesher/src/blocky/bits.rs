@@ -1,5 +1,6 @@
-//! Bit tools for 64-voxel rows: occupancy and id-match masks of a row of `u16` ids, and the
-//! 64 x 64 bit-matrix transpose that turns x-rows into y-rows.
+//! Bit tools for 64-voxel rows: occupancy and id-match masks of a row of `u16` ids, the
+//! 64 x 64 bit-matrix transpose that turns x-rows into y-rows, the iterator over a word's set
+//! bits ([`ones`]), and indexes kept in range by a mask ([`masked`]).
 
 /// Gathers 8 bytes of `0` / `1` (byte `i` the value of bit `i`) into the low 8 bits.
 ///
@@ -132,6 +133,66 @@ pub(crate) fn row_contains(row: &[u16], id: u16) -> bool {
     row.iter().fold(0u16, |acc, &v| acc | u16::from(v == id)) != 0
 }
 
+/// `i` as an index into an array of `N` entries (`N` a power of two): `i & (N - 1)`, with
+/// `i < N` asserted in debug builds.
+///
+/// For indexes that are in range by an invariant the compiler cannot see (the line after or
+/// before a line, `l + 1` and `l - 1`; rows of a run-time chunk size; the end of a slice's
+/// quad buffer): a plain index would add a compare and a branch to a panic in the hot loops,
+/// while the mask is one AND. Tests and fuzzers run debug builds, so a broken invariant panics
+/// there rather than giving wrong quads.
+#[inline(always)]
+pub(crate) fn masked<const N: usize>(i: usize) -> usize {
+    debug_assert!(
+        N.is_power_of_two() && i < N,
+        "index {i} out of range 0..{N}"
+    );
+    i & (N - 1)
+}
+
+/// The indexes of the set bits of `bits`, lowest first: the bit-scan loop (`trailing_zeros`,
+/// then clear the lowest set bit) written once. Every index is below 64.
+#[inline(always)]
+pub(crate) fn ones(bits: u64) -> Ones {
+    Ones(bits)
+}
+
+/// The iterator of [`ones`]: the bits not yielded yet.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Ones(u64);
+
+impl Ones {
+    /// The index the next call to `next` yields, without taking it.
+    #[inline(always)]
+    pub(crate) fn peek(self) -> Option<usize> {
+        (self.0 != 0).then(|| self.0.trailing_zeros() as usize)
+    }
+}
+
+impl Iterator for Ones {
+    type Item = usize;
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<usize> {
+        if self.0 == 0 {
+            return None;
+        }
+        let i = self.0.trailing_zeros() as usize;
+        self.0 &= self.0 - 1;
+        Some(i)
+    }
+}
+
+/// True if `bits` has at least 4 set bits (without `popcnt`, which the baseline x86-64 target
+/// lacks): the lines worth the fast path's fixed cost.
+#[inline(always)]
+pub(crate) fn many(bits: u64) -> bool {
+    let mut x = bits & bits.wrapping_sub(1);
+    x &= x.wrapping_sub(1);
+    x &= x.wrapping_sub(1);
+    x != 0
+}
+
 /// Transposes a 64 x 64 bit matrix in place: afterwards bit `c` of word `r` is what bit `r` of
 /// word `c` was. Six rounds of block swaps (32, 16, ..., 1), each a masked exchange between
 /// word pairs, so the cost is fixed (about 1,200 simple operations) whatever the bits are.
@@ -157,7 +218,18 @@ pub(crate) fn transpose64(m: &mut [u64; 64]) {
 
 #[cfg(test)]
 mod tests {
+    use alloc::vec::Vec;
+
     use super::*;
+
+    #[test]
+    fn ones_yields_the_set_bits_lowest_first() {
+        for bits in [0u64, 1, 1 << 63, 0x8000_0000_0000_0001, 0x5555, u64::MAX] {
+            let want: Vec<usize> = (0..64).filter(|&i| bits >> i & 1 == 1).collect();
+            assert_eq!(ones(bits).collect::<Vec<_>>(), want, "{bits:#x}");
+            assert_eq!(ones(bits).peek(), want.first().copied());
+        }
+    }
 
     #[test]
     fn transpose_matches_the_definition() {

@@ -9,11 +9,12 @@ use voxel_core::formats::PackedQuad;
 
 use super::BlockyMesh;
 use super::faces::{Quads, SliceQuads};
+use super::input::Input;
+use super::keys::Keys;
 use super::lone_x::lone_x;
 use super::masks::{Content, Masks};
-use super::merge::Keys;
 use super::plain::{build_columns, padded_edge_of};
-use super::slices::{Input, mesh_direction};
+use super::slices::mesh_direction;
 use super::wide::Wide;
 use crate::{BlockClasses, InstructionSet, MeshError};
 

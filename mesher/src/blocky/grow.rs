@@ -5,10 +5,11 @@
 //! The faces' ids were checked when they were keyed, so growing cannot fail. Line 0 and the
 //! lines past the chunk hold no face, so a quad stops growing there without a bound check.
 
+use super::bits::{masked, ones};
+use super::direction::Direction;
 use super::faces::{Quads, SliceFaces};
+use super::keys::{Keys, key_bits};
 use super::masks::Slice;
-use super::merge::{Keys, key_bits};
-use super::slices::Direction;
 
 /// Greedy quads growing along bits first, then lines (the ±X and ±Z faces), from the faces of
 /// the lines of `left`; leaves `faces` empty. Quads start at the lowest line, then the lowest
@@ -17,7 +18,7 @@ use super::slices::Direction;
 pub(crate) fn greedy_bits_first<const D: usize, const AO: bool>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
-    mut left: u64,
+    left: u64,
     keys: &Keys,
     out: &mut Quads<'_>,
 ) {
@@ -29,35 +30,25 @@ pub(crate) fn greedy_bits_first<const D: usize, const AO: bool>(
         // faces (AO off).
         let mut columns: Slice = [0; 64];
         let mut any = 0u64;
-        while left != 0 {
-            let l = left.trailing_zeros() as usize;
-            left &= left - 1;
-            let mut m = faces[l & 63];
+        for l in ones(left) {
+            let m = faces[l];
             any |= m;
-            while m != 0 {
-                columns[m.trailing_zeros() as usize & 63] |= 1 << l;
-                m &= m - 1;
+            for b in ones(m) {
+                columns[b] |= 1 << l;
             }
         }
-        while any != 0 {
-            let b = any.trailing_zeros() as usize;
-            any &= any - 1;
-            let mut column = columns[b & 63];
-            while column != 0 {
-                let l = column.trailing_zeros() as usize;
-                column &= column - 1;
-                if (faces[l & 63] >> b) & 1 != 0 {
+        for b in ones(any) {
+            for l in ones(columns[b]) {
+                if (faces[l] >> b) & 1 != 0 {
                     grow_bits_first::<D, AO>(s, faces, (l, b), keys, out);
                 }
             }
         }
         return;
     }
-    while left != 0 {
-        let l = left.trailing_zeros() as usize;
-        left &= left - 1;
-        while faces[l & 63] != 0 {
-            let b = faces[l & 63].trailing_zeros() as usize;
+    for l in ones(left) {
+        while faces[l] != 0 {
+            let b = faces[l].trailing_zeros() as usize;
             grow_bits_first::<D, AO>(s, faces, (l, b), keys, out);
         }
     }
@@ -75,15 +66,16 @@ fn grow_bits_first<const D: usize, const AO: bool>(
     out: &mut Quads<'_>,
 ) {
     let key = keys.key(l, b);
-    let here = faces[l & 63];
+    let here = faces[l];
     // Faces still present from b on with the same key.
-    let chain = (keys.along[l & 63] & here & (here >> 1)) >> b;
+    let chain = (keys.along[l] & here & (here >> 1)) >> b;
     let (bits, mask) = run_of(chain, b);
-    faces[l & 63] &= !mask;
+    faces[l] &= !mask;
     let mut lines = 1;
-    while faces[(l + lines) & 63] & mask == mask && keys.across[(l + lines - 1) & 63] & mask == mask
+    while faces[masked::<64>(l + lines)] & mask == mask
+        && keys.across[masked::<64>(l + lines - 1)] & mask == mask
     {
-        faces[(l + lines) & 63] &= !mask;
+        faces[masked::<64>(l + lines)] &= !mask;
         lines += 1;
     }
     s.push(out, (l, b, lines, bits), key | key_bits::<D, AO>());
@@ -95,15 +87,13 @@ fn grow_bits_first<const D: usize, const AO: bool>(
 pub(crate) fn greedy_lines_first<const D: usize, const AO: bool>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
-    mut left: u64,
+    left: u64,
     keys: &Keys,
     out: &mut Quads<'_>,
 ) {
-    while left != 0 {
-        let l = left.trailing_zeros() as usize;
-        left &= left - 1;
-        let mut here = faces[l & 63];
-        let along = keys.along[l & 63];
+    for l in ones(left) {
+        let mut here = faces[l];
+        let along = keys.along[l];
         while here != 0 {
             let b = here.trailing_zeros() as usize;
             let key = keys.key(l, b);
@@ -111,10 +101,11 @@ pub(crate) fn greedy_lines_first<const D: usize, const AO: bool>(
             let mut lines = 1;
             // Bit j: faces b + j and b + j + 1 present with equal keys in every line so far.
             let mut chain = (along & here & (here >> 1)) >> b;
-            while faces[(l + lines) & 63] & bit != 0 && keys.across[(l + lines - 1) & 63] & bit != 0
+            while faces[masked::<64>(l + lines)] & bit != 0
+                && keys.across[masked::<64>(l + lines - 1)] & bit != 0
             {
-                let f = faces[(l + lines) & 63];
-                chain &= (keys.along[(l + lines) & 63] & f & (f >> 1)) >> b;
+                let f = faces[masked::<64>(l + lines)];
+                chain &= (keys.along[masked::<64>(l + lines)] & f & (f >> 1)) >> b;
                 lines += 1;
             }
             let (bits, mask) = run_of(chain, b);
@@ -124,7 +115,7 @@ pub(crate) fn greedy_lines_first<const D: usize, const AO: bool>(
             }
             s.push(out, (l, b, lines, bits), key | key_bits::<D, AO>());
         }
-        faces[l & 63] = 0;
+        faces[l] = 0;
     }
 }
 

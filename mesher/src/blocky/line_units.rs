@@ -19,93 +19,13 @@
 use voxel_core::formats::PackedQuad;
 
 use super::ao::{CORNER_OFFSETS, ao_planes};
-use super::bits::faces_of_id;
-use super::faces::{Front, LineIds, Quads, SliceFaces};
-use super::slices::Direction;
+use super::bits::{faces_of_id, masked, ones};
+use super::direction::Direction;
+use super::faces::{LineIds, Quads, SliceFaces};
+use super::masks::Front;
+use super::memo::NeighbourhoodMemo;
 use super::wide::{UnitLine, Wide};
 use crate::MeshError;
-
-/// True if `bits` has at least 4 set bits (without `popcnt`, which the baseline x86-64 target
-/// lacks): the lines worth the fast path's fixed cost.
-#[inline(always)]
-pub(crate) fn many(bits: u64) -> bool {
-    let mut x = bits & bits.wrapping_sub(1);
-    x &= x.wrapping_sub(1);
-    x &= x.wrapping_sub(1);
-    x != 0
-}
-
-/// The front voxels a line's AO split is computed from: its 3 front lines here, its 9 bit
-/// planes in [`super::lone_x`].
-pub(crate) trait FrontVoxels: Copy {
-    /// A value no line has in an entry with first bit 64 (never matched).
-    const NONE: Self;
-    /// Equal front voxels. Written as one OR of XORs for the planes: an array comparison
-    /// compiles to a call.
-    fn same_as(&self, other: &Self) -> bool;
-}
-
-impl FrontVoxels for Front {
-    const NONE: Self = (0, 0, 0);
-
-    #[inline(always)]
-    fn same_as(&self, other: &Self) -> bool {
-        ((self.0 ^ other.0) | (self.1 ^ other.1) | (self.2 ^ other.2)) == 0
-    }
-}
-
-impl FrontVoxels for [u64; 9] {
-    const NONE: Self = [0; 9];
-
-    #[inline(always)]
-    fn same_as(&self, other: &Self) -> bool {
-        self.iter()
-            .zip(other)
-            .fold(0, |differ, (a, b)| differ | (a ^ b))
-            == 0
-    }
-}
-
-/// The AO split of the last two lines of lone faces met: the bits whose front neighbourhood
-/// equals that of the line's first face, and that face's AO byte, by front voxels and first
-/// bit. Two entries, because periodic slices (a checkerboard's, or stripes) repeat their lines
-/// every other line; a hit saves the 9 bit-plane comparisons (7 % of a checkerboard's time).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct NeighbourhoodMemo<F> {
-    /// Front voxels, first bit (64: an empty entry), same-neighbourhood bits, AO byte.
-    entries: [(F, usize, u64, u32); 2],
-    /// The entry the next miss replaces.
-    next: usize,
-}
-
-impl<F: FrontVoxels> NeighbourhoodMemo<F> {
-    /// No entry.
-    pub(crate) fn new() -> Self {
-        NeighbourhoodMemo {
-            entries: [(F::NONE, 64, 0, 0); 2],
-            next: 0,
-        }
-    }
-
-    /// The split for front voxels `front` and first bit `b0`, from an entry or from `compute`.
-    #[inline(always)]
-    pub(crate) fn split(
-        &mut self,
-        front: &F,
-        b0: usize,
-        compute: impl FnOnce() -> (u64, u32),
-    ) -> (u64, u32) {
-        for (f, b, same, ao) in &self.entries {
-            if *b == b0 && f.same_as(front) {
-                return (*same, *ao);
-            }
-        }
-        let (same, ao) = compute();
-        self.entries[self.next & 1] = (*front, b0, same, ao);
-        self.next ^= 1;
-        (same, ao)
-    }
-}
 
 /// Faces from which a line of 1 x 1 quads is written straight into the output (see
 /// [`SliceFaces::units`]).
@@ -157,13 +77,10 @@ impl<const D: usize> SliceFaces<'_, D> {
         // The ids seen: checked against the cache of known ids once, after the line, instead
         // of once per face.
         let mut seen = 0u64;
-        let mut m = bits;
-        while m != 0 {
-            let b = m.trailing_zeros() as usize;
-            m &= m - 1;
+        for b in ones(bits) {
             let (quad, id) = self.unit_quad::<AO>(ids, front, word, b);
             seen |= Self::seen_bit(id);
-            out.buf[n & 4095] = quad;
+            out.buf[masked::<4096>(n)] = quad;
             n += 1;
         }
         if seen & !*known != 0 {
@@ -186,7 +103,9 @@ impl<const D: usize> SliceFaces<'_, D> {
         let id = ids.id(b);
         let quad = PackedQuad {
             position_size: word | ((b as u32).wrapping_sub(1) << Direction::<D>::SHIFT_B),
-            face_ao_block: id << 11 | self.ao::<AO>(front, b) << 3 | D as u32,
+            face_ao_block: id << PackedQuad::BLOCK_SHIFT
+                | self.ao::<AO>(front, b) << PackedQuad::AO_SHIFT
+                | Direction::<D>::FACE,
         };
         (quad, id)
     }
@@ -205,7 +124,9 @@ impl<const D: usize> SliceFaces<'_, D> {
         let word = self.position_size(l, 1, 1, 1);
         let mut seen = 0u64;
         let mut m = bits;
-        // One capacity check for the line (as `push_bits`).
+        // One capacity check for the line (as `push_bits`): `extend` from a range knows its
+        // length, an iterator of the bits (`bits::ones`) would not, so the bits are scanned
+        // by hand.
         out.out.extend((0..bits.count_ones()).map(|_| {
             let b = m.trailing_zeros() as usize;
             m &= m.wrapping_sub(1);
@@ -235,11 +156,8 @@ impl<const D: usize> SliceFaces<'_, D> {
         let ids = match self.line_ids(l) {
             LineIds::Row(row) => row,
             ids @ LineIds::Strided { .. } => {
-                let mut m = bits;
-                while m != 0 {
-                    let b = m.trailing_zeros() as usize;
-                    m &= m - 1;
-                    strided[b & 63] = ids.id(b) as u16;
+                for b in ones(bits) {
+                    strided[b] = ids.id(b) as u16;
                 }
                 &strided
             }
@@ -253,7 +171,11 @@ impl<const D: usize> SliceFaces<'_, D> {
             } else {
                 [u64::MAX; 8]
             },
-            first: u64::from(D as u32) << 32 | u64::from(self.position_size(l, 1, 1, 1)),
+            first: PackedQuad {
+                position_size: self.position_size(l, 1, 1, 1),
+                face_ao_block: Direction::<D>::FACE,
+            }
+            .to_u64(),
             shift: Direction::<D>::SHIFT_B,
         };
         if wide.unit_line(&line, out.out) & !*known != 0 {
@@ -266,17 +188,15 @@ impl<const D: usize> SliceFaces<'_, D> {
     /// line with an id the cache does not hold yet.
     #[cold]
     fn check_line(&self, l: usize, bits: u64, known: &mut u64) -> Result<(), MeshError> {
-        let mut m = bits;
-        while m != 0 {
-            let b = m.trailing_zeros() as usize;
-            m &= m - 1;
-            self.check(self.id(l, b) << 11, known, l, b)?;
+        for b in ones(bits) {
+            self.check(self.id(l, b) << PackedQuad::BLOCK_SHIFT, known, l, b)?;
         }
         Ok(())
     }
 
     /// Appends a 1 x 1 quad for every face of `bits` (not empty) in line `l`, a line with
-    /// [`many`] faces: faces that share the first face's key cost one add and one store each.
+    /// [`many`](super::bits::many) faces: faces that share the first face's key cost one add
+    /// and one store each.
     #[inline(always)]
     pub(crate) fn line_units<const AO: bool>(
         &self,
@@ -286,7 +206,7 @@ impl<const D: usize> SliceFaces<'_, D> {
         known: &mut u64,
         out: &mut Quads<'_>,
     ) -> Result<(), MeshError> {
-        let b0 = bits.trailing_zeros() as usize & 63;
+        let b0 = masked::<64>(bits.trailing_zeros() as usize);
         let (same_ao, key0) = if AO {
             let front = self.front_lines(l);
             let (same, ao0) = memo.split(&front, b0, || {
@@ -295,7 +215,11 @@ impl<const D: usize> SliceFaces<'_, D> {
                     self.ao::<AO>(front, b0),
                 )
             });
-            (same & bits, self.id(l, b0) << 11 | ao0 << 3)
+            let id0 = self.id(l, b0);
+            (
+                same & bits,
+                id0 << PackedQuad::BLOCK_SHIFT | ao0 << PackedQuad::AO_SHIFT,
+            )
         } else {
             (bits, self.key::<AO>(l, b0))
         };
@@ -304,12 +228,9 @@ impl<const D: usize> SliceFaces<'_, D> {
             LineIds::Row(row) => faces_of_id(row, row[b0], same_ao),
             // ±X faces: the ids are strided, read one by one but compared without a branch.
             LineIds::Strided { .. } => {
-                let id0 = key0 >> 11;
+                let id0 = key0 >> PackedQuad::BLOCK_SHIFT;
                 let mut differ = 0u64;
-                let mut m = same_ao;
-                while m != 0 {
-                    let b = m.trailing_zeros() as usize;
-                    m &= m - 1;
+                for b in ones(same_ao) {
                     differ |= u64::from(ids.id(b) != id0) << b;
                 }
                 same_ao & !differ
@@ -317,7 +238,8 @@ impl<const D: usize> SliceFaces<'_, D> {
         };
         self.check(key0, known, l, b0)?;
         let first = self.position_size(l, 1, 1, 1);
-        out.push_bits(same_key, first, Direction::<D>::SHIFT_B, key0 | D as u32);
+        let key = key0 | Direction::<D>::FACE;
+        out.push_bits(same_key, first, Direction::<D>::SHIFT_B, key);
         let rest = bits & !same_key;
         if rest == 0 {
             return Ok(());

@@ -21,11 +21,12 @@
 use voxel_core::BlockId;
 use voxel_core::formats::PackedQuad;
 
-use super::bits::faces_of_id;
+use super::bits::{faces_of_id, many, masked, ones};
+use super::direction::Direction;
 use super::faces::Quads;
-use super::line_units::{NeighbourhoodMemo, many};
+use super::input::Input;
 use super::masks::Slice;
-use super::slices::{Direction, Input};
+use super::memo::NeighbourhoodMemo;
 use crate::{BlockClasses, MeshError};
 
 /// Removes, in place, the faces of a slice that `lone_x` emitted: those with no neighbouring
@@ -33,11 +34,12 @@ use crate::{BlockClasses, MeshError};
 #[inline(always)]
 pub(crate) fn drop_handled(faces: &mut Slice, handled: &Slice) {
     let old = *faces;
-    for (l, f) in faces.iter_mut().enumerate() {
-        let before = old[l.wrapping_sub(1) & 63] * u64::from(l > 0);
-        let after = old[(l + 1) & 63] * u64::from(l < 63);
-        let lone = *f & !((*f << 1) | (*f >> 1) | before | after);
-        *f &= !(lone & handled[l]);
+    // Lines 0 and 63 hold no face (padding): skipping them keeps `l - 1` and `l + 1` in range.
+    debug_assert!(old[0] == 0 && old[63] == 0);
+    for l in 1..63 {
+        let f = old[l];
+        let lone = f & !((f << 1) | (f >> 1) | old[l - 1] | old[l + 1]);
+        faces[l] &= !(lone & handled[l]);
     }
 }
 
@@ -80,8 +82,11 @@ pub(crate) fn lone_x<const D: usize>(
     let mut here = [0u64; 64];
     let mut above = [0u64; 64];
     let lone_rows = |below: &Slice, here: &Slice, above: &Slice, y: usize| {
-        let near = here[(y - 1) & 63] | here[(y + 1) & 63] | below[y & 63] | above[y & 63];
-        here[y & 63] & !near
+        let near = here[masked::<64>(y - 1)]
+            | here[masked::<64>(y + 1)]
+            | below[masked::<64>(y)]
+            | above[masked::<64>(y)];
+        here[masked::<64>(y)] & !near
     };
     // The sample: the middle slab.
     let mid = e / 2 + 1;
@@ -92,7 +97,7 @@ pub(crate) fn lone_x<const D: usize>(
     // would pay the whole scan for little.
     let all_lone = |y: usize| {
         let lone = lone_rows(&below, &here, &above, y);
-        many(lone) && lone == here[y & 63]
+        many(lone) && lone == here[masked::<64>(y)]
     };
     if !(1..=e).any(all_lone) {
         return Ok(());
@@ -108,11 +113,11 @@ pub(crate) fn lone_x<const D: usize>(
             if !many(lone) {
                 continue;
             }
-            handled[y & 63] |= 1 << z;
+            handled[masked::<64>(y)] |= 1 << z;
             // Plane 3r + c, bit x: the front voxel of the face at x, at y + r - 1, z + c - 1
             // (layout C's line and bit offsets, as the AO table reads them).
             let planes: [u64; 9] = core::array::from_fn(|k| {
-                let row = slab(z + k % 3 - 1)[(y + k / 3 - 1) & 63];
+                let row = slab(z + k % 3 - 1)[masked::<64>(y + k / 3 - 1)];
                 if Direction::<D>::POSITIVE {
                     row >> 1
                 } else {
@@ -165,15 +170,19 @@ fn emit_row<const D: usize>(
     };
     let ao_of = |code: usize| {
         if ao {
-            u32::from(Direction::<D>::AO_TABLE[code & 511])
+            u32::from(Direction::<D>::AO_TABLE[code])
         } else {
-            0xFF
+            PackedQuad::AO_UNOCCLUDED
         }
     };
-    let key_of = |id: u16, code: usize| u32::from(id) << 11 | ao_of(code) << 3 | D as u32;
+    let key_of = |id: u16, code: usize| {
+        u32::from(id) << PackedQuad::BLOCK_SHIFT
+            | ao_of(code) << PackedQuad::AO_SHIFT
+            | Direction::<D>::FACE
+    };
     let key = |x: usize| key_of(ids.get(x).copied().unwrap_or(0), code(x));
     let check = |key: u32, x: usize, known: &mut u64| {
-        let id = key >> 11;
+        let id = key >> PackedQuad::BLOCK_SHIFT;
         if id < 64 && (*known >> id) & 1 != 0 {
             return Ok(());
         }
@@ -189,13 +198,13 @@ fn emit_row<const D: usize>(
         })
     };
     // Word 0 of the face at x: chunk-local x, y, z; width and height 1.
-    let word = (((y - 1) << 6) | ((z - 1) << 12)) as u32;
+    let word = ((y - 1) << PackedQuad::Y_SHIFT | (z - 1) << PackedQuad::Z_SHIFT) as u32;
     let mut rest = bits;
     {
         // Faces with the first face's front neighbourhood and id share its key. One pass over
         // the planes gives both the first face's neighbourhood code and the faces that share it
         // (or the memo has them from a row with the same planes).
-        let x0 = bits.trailing_zeros() as usize & 63;
+        let x0 = masked::<64>(bits.trailing_zeros() as usize);
         let (mut same, ao0) = if ao {
             let (same, ao0) = memo.split(planes, x0, || {
                 let mut same = u64::MAX;
@@ -209,22 +218,22 @@ fn emit_row<const D: usize>(
             });
             (same & bits, ao0)
         } else {
-            (bits, 0xFF)
+            (bits, PackedQuad::AO_UNOCCLUDED)
         };
         let id0 = ids.get(x0).copied().unwrap_or(0);
-        let key0 = u32::from(id0) << 11 | ao0 << 3 | D as u32;
+        let key0 = u32::from(id0) << PackedQuad::BLOCK_SHIFT
+            | ao0 << PackedQuad::AO_SHIFT
+            | Direction::<D>::FACE;
         same = faces_of_id(ids, id0, same);
         check(key0, x0, known)?;
-        out.push_bits(same, word, 0, key0);
+        out.push_bits(same, word, PackedQuad::X_SHIFT, key0);
         rest &= !same;
     }
-    while rest != 0 {
-        let x = rest.trailing_zeros() as usize;
-        rest &= rest - 1;
+    for x in ones(rest) {
         let k = key(x);
         check(k, x, known)?;
         out.push(PackedQuad {
-            position_size: word | (x as u32 - 1),
+            position_size: word | (x as u32 - 1) << PackedQuad::X_SHIFT,
             face_ao_block: k,
         });
     }

@@ -33,7 +33,7 @@ use alloc::vec::Vec;
 
 use voxel_core::BlockId;
 
-use super::bits::{nonzero_lines, row_contains, row_equal, transpose64};
+use super::bits::{masked, nonzero_lines, ones, row_contains, row_equal, transpose64};
 use crate::BlockClasses;
 
 /// Up to this many transparent ids in the palette, rows are classified with SIMD compares.
@@ -41,6 +41,9 @@ pub(crate) const FEW_TRANSPARENT: usize = 4;
 
 /// 64 lines of one slice.
 pub(crate) type Slice = [u64; 64];
+
+/// The opaque lines of the front slice around line `l`.
+pub(crate) type Front = (u64, u64, u64);
 
 /// What the column masks say about a chunk before any face is looked at.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -215,10 +218,7 @@ impl Masks {
                         }
                     }
                 } else {
-                    let mut bits = occ;
-                    while bits != 0 {
-                        let x = bits.trailing_zeros() as usize;
-                        bits &= bits - 1;
+                    for x in ones(occ) {
                         let id = row.get(x).copied().unwrap_or(0);
                         if classes.is_transparent(BlockId(id)) {
                             t |= 1 << x;
@@ -267,7 +267,7 @@ fn word_transpose(p: usize, a: &[Slice], out: &mut Vec<Slice>) {
     // Slice by slice of the output: 64 strided reads, one contiguous 512-byte write.
     for (y, slot) in out.iter_mut().enumerate() {
         for (word, slab) in slot.iter_mut().zip(a) {
-            *word = slab[y & 63];
+            *word = slab[masked::<64>(y)];
         }
     }
 }
@@ -301,7 +301,7 @@ fn bit_transpose(p: usize, b: &[Slice], out: &mut Vec<Slice>, lines: &mut u64) {
             *lines |= bit;
         }
         for (x, slot) in out.iter_mut().enumerate() {
-            slot[y & 63] = m[x & 63];
+            slot[masked::<64>(y)] = m[masked::<64>(x)];
         }
     }
 }

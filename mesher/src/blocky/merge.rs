@@ -33,63 +33,13 @@
 
 use voxel_core::formats::PackedQuad;
 
-use super::bits::nonzero_lines;
-use super::faces::{Front, Quads, SliceFaces};
+use super::bits::{many, masked, nonzero_lines, ones};
+use super::direction::Direction;
+use super::faces::{Quads, SliceFaces};
 use super::grow::{greedy_bits_first, greedy_lines_first};
-use super::line_units::{NeighbourhoodMemo, many};
+use super::keys::{Keys, key_bits};
 use super::masks::Slice;
-use super::slices::Direction;
 use crate::MeshError;
-
-/// Scratch of the greedy pass for one slice: the key of every face by line and bit, and per
-/// line which neighbouring faces have equal keys. Only entries of faces (and of lines with
-/// faces) are meaningful; everything is rewritten before it is read, so nothing is cleared
-/// between slices.
-#[derive(Clone, Debug)]
-pub(crate) struct Keys {
-    /// Key by line and bit.
-    keys: [[u32; 64]; 64],
-    /// `along[l]` bit `b`: the faces at `(l, b)` and `(l, b + 1)` merge and have equal keys.
-    pub(crate) along: Slice,
-    /// `across[l]` bit `b`: the faces at `(l, b)` and `(l + 1, b)` merge and have equal keys.
-    pub(crate) across: Slice,
-    /// `alone[l]` bit `b`: the face at `(l, b)` has no neighbour with an equal key.
-    alone: Slice,
-    /// Ids below 64 known to the classes, one bit each (see [`SliceFaces::check`]); kept for a
-    /// whole chunk, so a slice's first face does not miss the cache.
-    pub(crate) known: u64,
-    /// The AO splits of the last lines of many lone faces (reset per direction: its entries
-    /// hold AO looked up in the direction's table).
-    pub(crate) memo: NeighbourhoodMemo<Front>,
-}
-
-impl Keys {
-    /// Zeroed scratch.
-    pub(crate) fn new() -> Self {
-        Keys {
-            keys: [[0; 64]; 64],
-            along: [0; 64],
-            across: [0; 64],
-            alone: [0; 64],
-            known: 0,
-            memo: NeighbourhoodMemo::new(),
-        }
-    }
-
-    /// The key of the face at line `l`, bit `b` (meaningful only where a face was keyed).
-    #[inline(always)]
-    pub(crate) fn key(&self, l: usize, b: usize) -> u32 {
-        self.keys[l & 63][b & 63]
-    }
-}
-
-/// The bits of `PackedQuad` word 1 that a quad of the greedy pass has besides its key: the
-/// face direction and, with AO off, the 4 unoccluded corners (all 3), which the keys then
-/// leave out (one operation less per face).
-#[inline(always)]
-pub(crate) const fn key_bits<const D: usize, const AO: bool>() -> u32 {
-    D as u32 | if AO { 0 } else { 0xFF << 3 }
-}
 
 /// Bit `l` set iff line `l` of `faces` has a face.
 #[inline(always)]
@@ -106,14 +56,12 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool>(
     keys: &mut Keys,
     out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
-    let mut rest = rows;
-    while rest != 0 {
-        let l = rest.trailing_zeros() as usize;
-        rest &= rest - 1;
-        if rest != 0 {
-            s.prefetch_line(rest.trailing_zeros() as usize);
+    let mut lines = ones(rows);
+    while let Some(l) = lines.next() {
+        if let Some(next) = lines.peek() {
+            s.prefetch_line(next);
         }
-        let f = faces[l & 63];
+        let f = faces[l];
         // Many faces and none with a neighbouring face (a checkerboard): most share one key.
         if many_lone(faces, l) {
             s.line_units::<AO>(l, f, &mut keys.memo, &mut keys.known, out)?;
@@ -147,17 +95,15 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
     let mut known = keys.known;
     let mut lone_lines = 0u64;
     let mut seen = 0u64;
-    let mut rest = rows;
-    while rest != 0 {
-        let l = rest.trailing_zeros() as usize;
-        rest &= rest - 1;
-        if rest != 0 {
-            s.prefetch_line(rest.trailing_zeros() as usize);
+    let mut lines = ones(rows);
+    while let Some(l) = lines.next() {
+        if let Some(next) = lines.peek() {
+            s.prefetch_line(next);
         }
-        let f = faces[l & 63];
+        let f = faces[l];
         if many_lone(faces, l) {
             s.line_units::<AO>(l, f, &mut keys.memo, &mut known, out)?;
-            faces[l & 63] = 0;
+            faces[l] = 0;
             lone_lines |= 1 << l;
             continue;
         }
@@ -168,21 +114,18 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
         check_faces(s, faces, rows, keys, &mut known)?;
     }
     let mut left = 0u64;
-    let mut rest = rows;
-    while rest != 0 {
-        let l = rest.trailing_zeros() as usize;
-        rest &= rest - 1;
-        let here = faces[l & 63];
+    for l in ones(rows) {
+        let here = faces[l];
         // Bit b of the stored mask: face b has the key of the face before it in the line.
-        let along = (keys.along[l & 63] >> 1) & here & (here >> 1);
-        let across = keys.across[l & 63] & here & faces[(l + 1) & 63];
+        let along = (keys.along[l] >> 1) & here & (here >> 1);
+        let across = keys.across[l] & here & faces[masked::<64>(l + 1)];
         // Line l - 1 already went through this loop (or has no face): its entry is final.
-        let below = keys.across[(l - 1) & 63] & faces[(l - 1) & 63] & here;
-        keys.along[l & 63] = along;
-        keys.across[l & 63] = across;
+        let below = keys.across[masked::<64>(l - 1)] & faces[masked::<64>(l - 1)] & here;
+        keys.along[l] = along;
+        keys.across[l] = across;
         let alone = here & !along & !(along << 1) & !across & !below;
-        keys.alone[l & 63] = alone;
-        faces[l & 63] = here & !alone;
+        keys.alone[l] = alone;
+        faces[l] = here & !alone;
         left |= u64::from(here != alone) << l;
     }
     emit_alone::<D, AO>(s, rows, keys, out);
@@ -214,7 +157,7 @@ fn keyed_line<const D: usize, const AO: bool>(
     let ids = s.line_ids(l);
     let front = s.front_lines(l);
     // Two row pointers: the line's keys and the line before's, one bit index into both.
-    let (before, here) = keys.keys.split_at_mut(l & 63);
+    let (before, here) = keys.keys.split_at_mut(l);
     let here = &mut here[0];
     let before = before.last().unwrap_or(&[0; 64]);
     let mut along = 0u64;
@@ -222,25 +165,22 @@ fn keyed_line<const D: usize, const AO: bool>(
     // No key is all ones (ids have 16 bits): the line's first face equals no previous one.
     let mut previous = u32::MAX;
     let mut seen_here = 0u64;
-    let mut m = f;
-    while m != 0 {
-        let b = m.trailing_zeros() as usize;
-        m &= m - 1;
+    for b in ones(f) {
         let id = ids.id(b);
         seen_here |= SliceFaces::<D>::seen_bit(id);
         let key = if AO {
-            id << 11 | s.ao::<AO>(front, b) << 3
+            id << PackedQuad::BLOCK_SHIFT | s.ao::<AO>(front, b) << PackedQuad::AO_SHIFT
         } else {
-            id << 11
+            id << PackedQuad::BLOCK_SHIFT
         };
-        here[b & 63] = key;
+        here[b] = key;
         along |= u64::from(previous == key) << b;
         previous = key;
-        below |= u64::from(before[b & 63] == key) << b;
+        below |= u64::from(before[b] == key) << b;
     }
     *seen |= seen_here;
-    keys.along[l & 63] = along;
-    keys.across[(l - 1) & 63] = below;
+    keys.along[l] = along;
+    keys.across[masked::<64>(l - 1)] = below;
 }
 
 /// Checks the id of every face of the lines `rows` (keys in the table): the slow path of a
@@ -271,19 +211,13 @@ fn emit_alone<const D: usize, const AO: bool>(
     out: &mut Quads<'_>,
 ) {
     let mut n = out.len;
-    let mut rest = rows;
-    while rest != 0 {
-        let l = rest.trailing_zeros() as usize;
-        rest &= rest - 1;
+    for l in ones(rows) {
         let word = s.position_size(l, 1, 1, 1);
-        let row = &keys.keys[l & 63];
-        let mut m = keys.alone[l & 63];
-        while m != 0 {
-            let b = m.trailing_zeros() as usize;
-            m &= m - 1;
-            out.buf[n & 4095] = PackedQuad {
+        let row = &keys.keys[l];
+        for b in ones(keys.alone[l]) {
+            out.buf[masked::<4096>(n)] = PackedQuad {
                 position_size: word | ((b as u32 - 1) << Direction::<D>::SHIFT_B),
-                face_ao_block: row[b & 63] | key_bits::<D, AO>(),
+                face_ao_block: row[b] | key_bits::<D, AO>(),
             };
             n += 1;
         }
@@ -295,21 +229,16 @@ fn emit_alone<const D: usize, const AO: bool>(
 /// slice (a checkerboard stripe): the lines the bulk path takes.
 #[inline(always)]
 fn many_lone(faces: &Slice, l: usize) -> bool {
-    let f = faces[l & 63];
-    many(f) && f & ((f << 1) | (f >> 1) | faces[(l - 1) & 63] | faces[(l + 1) & 63]) == 0
+    let f = faces[l];
+    many(f)
+        && f & ((f << 1) | (f >> 1) | faces[masked::<64>(l - 1)] | faces[masked::<64>(l + 1)]) == 0
 }
 
 /// Calls `f(l, b)` for every set bit `b` of `masks[l]`, for the lines `l` of `rows` in order.
 #[inline(always)]
 fn each_face(rows: u64, masks: &Slice, mut f: impl FnMut(usize, usize)) {
-    let mut rest = rows;
-    while rest != 0 {
-        let l = rest.trailing_zeros() as usize;
-        rest &= rest - 1;
-        let mut m = masks[l & 63];
-        while m != 0 {
-            let b = m.trailing_zeros() as usize;
-            m &= m - 1;
+    for l in ones(rows) {
+        for b in ones(masks[l]) {
             f(l, b);
         }
     }

@@ -28,15 +28,54 @@
 //! border decides whether a face on the chunk's boundary is hidden and how its corners are
 //! shaded. Quad positions are chunk-local
 //! (padded coordinate - 1).
+//!
+//! # Module map
+//!
+//! The greedy mesher's modules in the order the data flows through them, from a chunk's ids
+//! to [`PackedQuad`](voxel_core::formats::PackedQuad)s (see [`GreedyMesher`] for the steps).
+//! A step calls the steps after it and reads the types of those before it and of the leaves
+//! listed below; no module imports one that imports it back (a test reads the sources and
+//! checks).
+//!
+//! | step | module | what it does |
+//! | ---- | ------ | ------------ |
+//! | entry | `greedy` | [`GreedyMesher`]: the entry points, the per-instruction-set copies, and `mesh_chunk`, which runs the steps below for one chunk |
+//! | 1 | `plain` | a plain padded `u16` array's occupancy columns ([`GreedyMesher::mesh_u16`] only; a `PaddedChunk` has its own) |
+//! | 2 | `masks` | opaque and transparent bit masks in the three slice layouts, and the early exit for empty and buried chunks |
+//! | 3 | `input` | `Input`: what the rest reads (ids, masks, options), built once per chunk |
+//! | 4 | `lone_x` | a pre-pass: ±X faces with no neighbouring face, in rows of many, written straight from the occupancy rows (checkerboards) |
+//! | 5 | `slices` | per direction and slice: the face lines (`cur & !front`), opaque then transparent, handed to `merge` |
+//! | 6 | `merge` | per slice: keys (id + AO) of the faces, equal-key masks, the faces that merge with nothing written as 1 x 1 quads |
+//! | 7 | `grow` | greedy quads grown from the equal-key masks, in `block-mesh`'s order |
+//! | 7 | `line_units` | lines of faces that become 1 x 1 quads: per face, or in bulk for faces that share a key |
+//! | out | `mesh` | [`BlockyMesh`]: the quads, opaque and transparent, per face direction |
+//!
+//! The leaves those steps share:
+//!
+//! | module | holds |
+//! | ------ | ----- |
+//! | `faces` | `SliceFaces`, one slice as the passes read it (ids, AO, quad words, id checks), and `Quads`, where its quads go |
+//! | `direction` | `Direction<D>`: a face direction's slice, line and bit axes and its `PackedQuad` shifts, as constants |
+//! | `keys` | `Keys`, the greedy pass's scratch (keys and equal-key masks of one slice) |
+//! | `memo` | `NeighbourhoodMemo`: the AO split of recent lines, for periodic slices |
+//! | `ao` | the AO rule, the per-direction AO tables, AO of a whole line as bit planes, the diagonal flip |
+//! | `wide` | the AVX-512 kernels that write lines of 1 x 1 quads ([`InstructionSet::X86V4`](crate::InstructionSet::X86V4)) |
+//! | `bits` | bit tools: row masks, the 64 x 64 transpose, `ones` (set bits), `masked` (indexes kept in range) |
+//!
+//! [`visible_faces`] (one quad per face) runs the same steps with merging off.
 
 pub mod ao;
 mod bits;
+mod direction;
 mod faces;
 mod greedy;
 mod grow;
+mod input;
+mod keys;
 mod line_units;
 mod lone_x;
 mod masks;
+mod memo;
 mod merge;
 mod mesh;
 mod plain;

@@ -74,9 +74,15 @@ impl Wide {
             // checked every feature `push_bits_avx512` is compiled for.
             unsafe {
                 match shift {
-                    0 => kernels::push_bits_avx512::<0>(out, bits, base),
-                    6 => kernels::push_bits_avx512::<6>(out, bits, base),
-                    12 => kernels::push_bits_avx512::<12>(out, bits, base),
+                    PackedQuad::X_SHIFT => {
+                        kernels::push_bits_avx512::<{ PackedQuad::X_SHIFT }>(out, bits, base);
+                    }
+                    PackedQuad::Y_SHIFT => {
+                        kernels::push_bits_avx512::<{ PackedQuad::Y_SHIFT }>(out, bits, base);
+                    }
+                    PackedQuad::Z_SHIFT => {
+                        kernels::push_bits_avx512::<{ PackedQuad::Z_SHIFT }>(out, bits, base);
+                    }
                     _ => return false,
                 }
             }
@@ -266,8 +272,8 @@ mod kernels {
             // word1 << 32 | word0, word 1 = id << 11 | ao << 3 | face.
             let quads = _mm512_ternarylogic_epi64::<0xFE>(
                 lanes,
-                _mm512_slli_epi64::<43>(ids),
-                _mm512_slli_epi64::<35>(ao),
+                _mm512_slli_epi64::<{ PackedQuad::WORD1_SHIFT + PackedQuad::BLOCK_SHIFT }>(ids),
+                _mm512_slli_epi64::<{ PackedQuad::WORD1_SHIFT + PackedQuad::AO_SHIFT }>(ao),
             );
             let small = _mm512_maskz_mov_epi64(_mm512_cmplt_epu64_mask(ids, sixty_four), ids);
             seen = _mm512_mask_or_epi64(seen, mask, seen, _mm512_sllv_epi64(one, small));
@@ -298,10 +304,12 @@ mod tests {
                 let id = u32::from(line.ids[b]);
                 seen |= 1 << if id < 64 { id } else { 0 };
                 let ao = (0..8).fold(0u32, |ao, k| ao | (((line.ao[k] >> b) & 1) as u32) << k);
-                let both = line.first + ((b as u64 - 1) << line.shift);
+                let quad = PackedQuad::from_u64(line.first + ((b as u64 - 1) << line.shift));
                 PackedQuad {
-                    position_size: both as u32,
-                    face_ao_block: (both >> 32) as u32 | id << 11 | ao << 3,
+                    face_ao_block: quad.face_ao_block
+                        | id << PackedQuad::BLOCK_SHIFT
+                        | ao << PackedQuad::AO_SHIFT,
+                    ..quad
                 }
             })
             .collect();
@@ -328,13 +336,19 @@ mod tests {
             0,
         ];
         for bits in bit_sets {
-            for shift in [0, 6, 12] {
+            for shift in PackedQuad::POSITION_SHIFTS {
                 for ao in [
                     [0; 8],
                     [u64::MAX; 8],
                     [0x0123_4567_89AB_CDEF, 0, u64::MAX, 5, 6, 7, 8, 9],
                 ] {
-                    let first = 5u64 << 32 | u64::from(0x3F_FFFFu32 & !(63 << shift));
+                    // Every position bit set but the bit coordinate's, face 5.
+                    let position = (1 << (PackedQuad::Z_SHIFT + PackedQuad::FIELD_BITS)) - 1;
+                    let first = PackedQuad {
+                        position_size: position & !(PackedQuad::FIELD_MASK << shift),
+                        face_ao_block: 5,
+                    }
+                    .to_u64();
                     let line = UnitLine {
                         bits,
                         ids: &ids,
@@ -350,16 +364,14 @@ mod tests {
 
                     let key = 0x0FFF_FFFFu64;
                     let mut out = vec![PackedQuad::default()];
-                    let base = (key << 32 | first).wrapping_sub(1 << shift);
+                    let base = (key << PackedQuad::WORD1_SHIFT | first).wrapping_sub(1 << shift);
                     assert!(wide.push_bits(&mut out, bits, base, shift));
                     let same_key: Vec<PackedQuad> = (1..64u64)
                         .filter(|b| bits >> b & 1 == 1)
                         .map(|b| {
-                            let both = (key << 32 | first) + ((b - 1) << shift);
-                            PackedQuad {
-                                position_size: both as u32,
-                                face_ao_block: (both >> 32) as u32,
-                            }
+                            let both =
+                                (key << PackedQuad::WORD1_SHIFT | first) + ((b - 1) << shift);
+                            PackedQuad::from_u64(both)
                         })
                         .collect();
                     assert_eq!(out[1..], same_key[..], "bits {bits:#x} shift {shift}");

@@ -82,10 +82,10 @@ pub struct PackedQuadFields {
     pub block: BlockId,
 }
 
-/// Word 0 bits that must be zero.
-const WORD0_RESERVED: u32 = !0 << 30;
-/// Word 1 bits that must be zero.
-const WORD1_RESERVED: u32 = !0 << 27;
+/// Word 0 bits that must be zero: those past `height - 1`.
+const WORD0_RESERVED: u32 = !0 << (PackedQuad::HEIGHT_SHIFT + PackedQuad::FIELD_BITS);
+/// Word 1 bits that must be zero: those past the block id.
+const WORD1_RESERVED: u32 = !0 << (PackedQuad::BLOCK_SHIFT + 16);
 
 impl PackedQuad {
     /// Largest valid position axis.
@@ -94,6 +94,90 @@ impl PackedQuad {
     pub const MAX_SIZE: u32 = 64;
     /// Largest valid per-corner AO value (unoccluded).
     pub const MAX_AO: u8 = 3;
+
+    // The bit layout (the tables above) as named shifts and masks, for code that writes quads
+    // word by word (a mesher's inner loops) instead of through `encode`. Being constants, they
+    // fold into the same immediates a hand-written shift would use.
+
+    /// Bit offset in `position_size` of the x position, [`FIELD_MASK`](Self::FIELD_MASK) wide.
+    pub const X_SHIFT: u32 = 0;
+    /// Bit offset in `position_size` of the y position, [`FIELD_MASK`](Self::FIELD_MASK) wide.
+    pub const Y_SHIFT: u32 = 6;
+    /// Bit offset in `position_size` of the z position, [`FIELD_MASK`](Self::FIELD_MASK) wide.
+    pub const Z_SHIFT: u32 = 12;
+    /// The position shifts by axis (x, y, z): [`X_SHIFT`](Self::X_SHIFT),
+    /// [`Y_SHIFT`](Self::Y_SHIFT), [`Z_SHIFT`](Self::Z_SHIFT).
+    pub const POSITION_SHIFTS: [u32; 3] = [Self::X_SHIFT, Self::Y_SHIFT, Self::Z_SHIFT];
+    /// Bit offset in `position_size` of `width - 1`, [`FIELD_MASK`](Self::FIELD_MASK) wide.
+    pub const WIDTH_SHIFT: u32 = 18;
+    /// Bit offset in `position_size` of `height - 1`, [`FIELD_MASK`](Self::FIELD_MASK) wide.
+    pub const HEIGHT_SHIFT: u32 = 24;
+    /// Width in bits of each `position_size` field (a position axis, `width - 1`,
+    /// `height - 1`).
+    pub const FIELD_BITS: u32 = 6;
+    /// Mask of a `position_size` field once shifted down: `(1 << FIELD_BITS) - 1`.
+    pub const FIELD_MASK: u32 = (1 << Self::FIELD_BITS) - 1;
+    /// Bit offset in `face_ao_block` of the face direction's index,
+    /// [`FACE_MASK`](Self::FACE_MASK) wide.
+    pub const FACE_SHIFT: u32 = 0;
+    /// Mask of the face direction's index once shifted down (3 bits).
+    pub const FACE_MASK: u32 = 7;
+    /// Bit offset in `face_ao_block` of the 4 packed AO values (corner `i` at bits
+    /// `AO_SHIFT + 2i..AO_SHIFT + 2i + 2`), [`AO_MASK`](Self::AO_MASK) wide.
+    pub const AO_SHIFT: u32 = 3;
+    /// Mask of the 4 packed AO values once shifted down (8 bits).
+    pub const AO_MASK: u32 = 0xFF;
+    /// The 4 packed AO values of a quad with every corner unoccluded ([`MAX_AO`](Self::MAX_AO)).
+    pub const AO_UNOCCLUDED: u32 = 0xFF;
+    /// Bit offset in `face_ao_block` of the block id, [`BLOCK_MASK`](Self::BLOCK_MASK) wide.
+    pub const BLOCK_SHIFT: u32 = 11;
+    /// Mask of the block id once shifted down (16 bits).
+    pub const BLOCK_MASK: u32 = 0xFFFF;
+    /// Bits of one corner's AO value inside the AO field (corner `i` at `2i..2i + 2`).
+    pub const AO_CORNER_BITS: u32 = 2;
+    /// Bit offset of `face_ao_block` in [`to_u64`](Self::to_u64)'s value.
+    pub const WORD1_SHIFT: u32 = 32;
+
+    /// Both words as one `u64`, `position_size` in the low half: the quad's 8 bytes as a
+    /// little-endian integer. Lets a mesher add to both words with one 64-bit add.
+    #[inline(always)]
+    pub const fn to_u64(self) -> u64 {
+        (self.face_ao_block as u64) << Self::WORD1_SHIFT | self.position_size as u64
+    }
+
+    /// The AO field (shifted down) of the 4 corner values `ao` (each at most
+    /// [`MAX_AO`](Self::MAX_AO); larger values spill into the next corner).
+    #[inline(always)]
+    pub const fn pack_ao(ao: [u8; 4]) -> u32 {
+        let mut packed = 0;
+        let mut i = 0;
+        while i < 4 {
+            packed |= (ao[i] as u32) << (Self::AO_CORNER_BITS * i as u32);
+            i += 1;
+        }
+        packed
+    }
+
+    /// The 4 corner values of an AO field (shifted down; bits past the field are ignored).
+    #[inline(always)]
+    pub const fn unpack_ao(field: u32) -> [u8; 4] {
+        let mut ao = [0u8; 4];
+        let mut i = 0;
+        while i < 4 {
+            ao[i] = ((field >> (Self::AO_CORNER_BITS * i as u32)) & Self::MAX_AO as u32) as u8;
+            i += 1;
+        }
+        ao
+    }
+
+    /// The quad whose [`to_u64`](Self::to_u64) is `both`.
+    #[inline(always)]
+    pub const fn from_u64(both: u64) -> PackedQuad {
+        PackedQuad {
+            position_size: both as u32,
+            face_ao_block: (both >> Self::WORD1_SHIFT) as u32,
+        }
+    }
 
     /// The WGSL struct `PackedQuad { position_size: u32, face_ao_block: u32 }`.
     pub const WGSL_LAYOUT: WgslStruct = WgslStruct {
@@ -128,21 +212,25 @@ impl PackedQuad {
             "PackedQuad.ao[2]",
             "PackedQuad.ao[3]",
         ];
-        let mut ao = 0;
-        for (i, (&value, field)) in fields.ao.iter().zip(AO).enumerate() {
-            ao |= check_max(field, value.into(), Self::MAX_AO.into())? << (2 * i);
+        for (&value, field) in fields.ao.iter().zip(AO) {
+            check_max(field, value.into(), Self::MAX_AO.into())?;
         }
+        let ao = Self::pack_ao(fields.ao);
         Ok(PackedQuad {
-            position_size: x | y << 6 | z << 12 | w << 18 | h << 24,
-            face_ao_block: u32::from(fields.face.index())
-                | ao << 3
-                | u32::from(fields.block.0) << 11,
+            position_size: x << Self::X_SHIFT
+                | y << Self::Y_SHIFT
+                | z << Self::Z_SHIFT
+                | w << Self::WIDTH_SHIFT
+                | h << Self::HEIGHT_SHIFT,
+            face_ao_block: u32::from(fields.face.index()) << Self::FACE_SHIFT
+                | ao << Self::AO_SHIFT
+                | u32::from(fields.block.0) << Self::BLOCK_SHIFT,
         })
     }
 
     /// The block type the quad shows (word 1, bits 11..27), without decoding the rest.
     pub fn block(self) -> BlockId {
-        BlockId((self.face_ao_block >> 11) as u16)
+        BlockId(((self.face_ao_block >> Self::BLOCK_SHIFT) & Self::BLOCK_MASK) as u16)
     }
 
     /// Unpacks the fields, or fails with [`FormatError::InvalidFaceDirection`] for face 6 or 7
@@ -152,13 +240,13 @@ impl PackedQuad {
         let w1 = self.face_ao_block;
         check_reserved("PackedQuad.position_size", w0, WORD0_RESERVED)?;
         check_reserved("PackedQuad.face_ao_block", w1, WORD1_RESERVED)?;
-        let ao = |i: u32| ((w1 >> (3 + 2 * i)) & 3) as u8;
+        let field = |shift: u32| (w0 >> shift) & Self::FIELD_MASK;
         Ok(PackedQuadFields {
-            position: [w0 & 63, (w0 >> 6) & 63, (w0 >> 12) & 63],
-            width: ((w0 >> 18) & 63) + 1,
-            height: ((w0 >> 24) & 63) + 1,
-            face: FaceDirection::from_index((w1 & 7) as u8)?,
-            ao: [ao(0), ao(1), ao(2), ao(3)],
+            position: Self::POSITION_SHIFTS.map(field),
+            width: field(Self::WIDTH_SHIFT) + 1,
+            height: field(Self::HEIGHT_SHIFT) + 1,
+            face: FaceDirection::from_index(((w1 >> Self::FACE_SHIFT) & Self::FACE_MASK) as u8)?,
+            ao: Self::unpack_ao(w1 >> Self::AO_SHIFT),
             block: self.block(),
         })
     }

@@ -1,0 +1,28 @@
+//! [`Input`]: everything the walk over a chunk's slices reads, built once per chunk.
+
+use super::masks::{Layouts, Slice};
+use super::wide::Wide;
+
+/// Everything the walk reads.
+pub(crate) struct Input<'a> {
+    /// Padded ids, x fastest.
+    pub voxels: &'a [u16],
+    /// Padded edge.
+    pub p: usize,
+    /// Opaque masks.
+    pub opaque: Layouts<'a>,
+    /// Transparent masks, if any voxel is transparent.
+    pub transparent: Option<Layouts<'a>>,
+    /// Two different transparent ids occur.
+    pub mixed_transparent: bool,
+    /// Compute AO (else every corner is 3 and merging ignores AO).
+    pub ao: bool,
+    /// Merge faces into greedy quads (else one quad per face).
+    pub merge: bool,
+    /// Per ±X direction, the rows whose lone faces `lone_x` emitted (bit z of line y).
+    pub handled: [Slice; 2],
+    /// Some row is marked in `handled`.
+    pub lone_x_rows: bool,
+    /// Write lines of 1 x 1 quads with the AVX-512 kernels.
+    pub wide: Option<Wide>,
+}

@@ -1,0 +1,64 @@
+//! [`Keys`]: the greedy pass's scratch for one slice (every face's key, the equal-key masks),
+//! and [`key_bits`], the bits of a quad's word 1 that its key leaves out.
+
+use voxel_core::formats::PackedQuad;
+
+use super::direction::Direction;
+use super::masks::{Front, Slice};
+use super::memo::NeighbourhoodMemo;
+
+/// Scratch of the greedy pass for one slice: the key of every face by line and bit, and per
+/// line which neighbouring faces have equal keys. Only entries of faces (and of lines with
+/// faces) are meaningful; everything is rewritten before it is read, so nothing is cleared
+/// between slices.
+#[derive(Clone, Debug)]
+pub(crate) struct Keys {
+    /// Key by line and bit.
+    pub(crate) keys: [[u32; 64]; 64],
+    /// `along[l]` bit `b`: the faces at `(l, b)` and `(l, b + 1)` merge and have equal keys.
+    pub(crate) along: Slice,
+    /// `across[l]` bit `b`: the faces at `(l, b)` and `(l + 1, b)` merge and have equal keys.
+    pub(crate) across: Slice,
+    /// `alone[l]` bit `b`: the face at `(l, b)` has no neighbour with an equal key.
+    pub(crate) alone: Slice,
+    /// Ids below 64 known to the classes, one bit each (see
+    /// [`SliceFaces::check`](super::faces::SliceFaces::check)); kept for a whole chunk, so a
+    /// slice's first face does not miss the cache.
+    pub(crate) known: u64,
+    /// The AO splits of the last lines of many lone faces (reset per direction: its entries
+    /// hold AO looked up in the direction's table).
+    pub(crate) memo: NeighbourhoodMemo<Front>,
+}
+
+impl Keys {
+    /// Zeroed scratch.
+    pub(crate) fn new() -> Self {
+        Keys {
+            keys: [[0; 64]; 64],
+            along: [0; 64],
+            across: [0; 64],
+            alone: [0; 64],
+            known: 0,
+            memo: NeighbourhoodMemo::new(),
+        }
+    }
+
+    /// The key of the face at line `l`, bit `b` (meaningful only where a face was keyed).
+    #[inline(always)]
+    pub(crate) fn key(&self, l: usize, b: usize) -> u32 {
+        self.keys[l][b]
+    }
+}
+
+/// The bits of `PackedQuad` word 1 that a quad of the greedy pass has besides its key: the
+/// face direction and, with AO off, the 4 unoccluded corners (all 3), which the keys then
+/// leave out (one operation less per face).
+#[inline(always)]
+pub(crate) const fn key_bits<const D: usize, const AO: bool>() -> u32 {
+    let ao = if AO {
+        0
+    } else {
+        PackedQuad::AO_UNOCCLUDED << PackedQuad::AO_SHIFT
+    };
+    Direction::<D>::FACE | ao
+}
