@@ -7,7 +7,7 @@
 //! | id | what is timed |
 //! | --- | --- |
 //! | `ours greedy` | `GreedyMesher::mesh` from a `PaddedChunk` (occupancy columns already there), AO on, on the instruction set detected at run time (`InstructionSet::detect`) |
-//! | `ours greedy x86-v3` | the same pinned to `InstructionSet::X86V3` (AVX2, no AVX-512; skipped on CPUs without it) |
+//! | `ours greedy x86-v3` | the same pinned to `InstructionSet::X86V3` (AVX2; skipped on CPUs without it) |
 //! | `ours greedy baseline-isa` | the same pinned to `InstructionSet::Baseline` (the compilation target's features only) |
 //! | `ours greedy no-ao` | the same with AO off (merges on id alone, as the peers do) |
 //! | `ours greedy u16` | `GreedyMesher::mesh_u16` from the plain padded `u16` array: mask build included, AO on |

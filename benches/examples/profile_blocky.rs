@@ -8,7 +8,7 @@
 //! Arguments: the start of an input's name (see `benches::mesh_inputs`; `vox/maze` and the
 //! other sample models when `../shared/data/vox` is there), a mode (`greedy`,
 //! `visible`, `u16`, `baseline` for greedy on `InstructionSet::Baseline`, any of these with
-//! `-noao` for AO off, or `stats` for faces per line and direction), and a number of meshes. `MESHER_ISA=baseline|x86-v3|x86-v4` pins
+//! `-noao` for AO off, or `stats` for faces per line and direction), and a number of meshes. `MESHER_ISA=baseline|x86-v3` pins
 //! the instruction set (default: the detected one). The time is the thread's CPU time, taken
 //! over 20 batches: the minimum and the median per mesh, since on a shared machine the minimum
 //! is the steadier figure.
@@ -56,7 +56,6 @@ fn time_meshes(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: us
     let pinned = match std::env::var("MESHER_ISA").as_deref() {
         Ok("baseline") => Some(InstructionSet::Baseline),
         Ok("x86-v3") => Some(InstructionSet::X86V3),
-        Ok("x86-v4") => Some(InstructionSet::X86V4),
         _ if kind == "baseline" => Some(InstructionSet::Baseline),
         _ => None,
     };

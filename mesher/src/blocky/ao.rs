@@ -149,45 +149,6 @@ pub(crate) static AO_TABLES: [[u8; 512]; 6] = [
     ao_table(FaceDirection::NegZ),
 ];
 
-/// The corner offsets of the six directions (see [`corner_offsets`]), in
-/// [`FaceDirection::ALL`] order.
-pub(crate) const CORNER_OFFSETS: [[(i32, i32); 4]; 6] = [
-    corner_offsets(FaceDirection::PosX),
-    corner_offsets(FaceDirection::NegX),
-    corner_offsets(FaceDirection::PosY),
-    corner_offsets(FaceDirection::NegY),
-    corner_offsets(FaceDirection::PosZ),
-    corner_offsets(FaceDirection::NegZ),
-];
-
-/// The AO bytes of a whole line of faces at once, as 8 bit planes: bit `b` of plane `k` is
-/// bit `k` of the AO byte ([`AO_TABLES`]) of the face at bit `b`, for a line whose front
-/// lines (line offsets -1, 0, +1) are `front`. Bit-parallel [`corner_ao`]: per corner, with
-/// `s1`, `s2` its side voxels and `c` its diagonal one, AO is at least 2 exactly when at most
-/// one of them is opaque (its high bit), and odd (3 or 1) when none is, or when the diagonal
-/// and exactly one side are.
-#[inline(always)]
-pub(crate) fn ao_planes(corners: &[(i32, i32); 4], front: [u64; 3]) -> [u64; 8] {
-    // Bit b: the front voxel at line offset `dl`, bit offset `db` of the face at bit b.
-    let plane = |dl: i32, db: i32| {
-        let f = front[(dl + 1) as usize];
-        match db {
-            -1 => f << 1,
-            0 => f,
-            _ => f >> 1,
-        }
-    };
-    let mut planes = [0u64; 8];
-    for (i, &(dl, db)) in corners.iter().enumerate() {
-        let (s1, s2, c) = (plane(dl, 0), plane(0, db), plane(dl, db));
-        // The corner's value is bits `k` (low) and `k + 1` (high) of the AO byte.
-        let k = PackedQuad::AO_CORNER_BITS as usize * i;
-        planes[k] = (c & (s1 ^ s2)) | !(s1 | s2 | c);
-        planes[k + 1] = !((s1 & s2) | (c & (s1 | s2)));
-    }
-    planes
-}
-
 /// Unpacks an AO byte into the 4 corner values.
 #[cfg(test)]
 pub(crate) const fn unpack(ao: u8) -> [u8; 4] {
@@ -214,28 +175,6 @@ mod tests {
             assert_eq!(unpack(table[0]), [3; 4]);
             // Everything but the centre (the front cell itself, never opaque for a visible face).
             assert_eq!(unpack(table[511 & !(1 << 4)]), [0; 4]);
-        }
-    }
-
-    /// Every neighbourhood code of every direction, placed at a few bits of a line: the planes
-    /// give the table's byte there.
-    #[test]
-    fn ao_planes_equal_the_tables() {
-        for (d, table) in AO_TABLES.iter().enumerate() {
-            for (code, &want) in table.iter().enumerate() {
-                for b in [1usize, 2, 31, 62] {
-                    // Code bit 3r + c: line offset r - 1, bit offset c - 1, at bit b.
-                    let front: [u64; 3] = core::array::from_fn(|r| {
-                        (0..3).fold(0u64, |line, c| {
-                            line | (((code >> (3 * r + c)) & 1) as u64) << (b + c - 1)
-                        })
-                    });
-                    let planes = ao_planes(&CORNER_OFFSETS[d], front);
-                    let byte =
-                        (0..8).fold(0u8, |byte, k| byte | (((planes[k] >> b) & 1) as u8) << k);
-                    assert_eq!(byte, want, "direction {d}, code {code:#011b}, bit {b}");
-                }
-            }
         }
     }
 

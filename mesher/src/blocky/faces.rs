@@ -9,7 +9,6 @@ use voxel_core::formats::PackedQuad;
 use super::bits::masked;
 use super::direction::Direction;
 use super::masks::{Front, Slice};
-use super::wide::Wide;
 use crate::{BlockClasses, MeshError};
 
 /// The faces of one slice of direction `D`, as the merge passes see them.
@@ -78,24 +77,13 @@ pub(crate) struct Quads<'a> {
     pub len: usize,
     /// The output, appended to with the buffer's quads once the slice is done.
     pub out: &'a mut Vec<PackedQuad>,
-    /// Write lines of 1 x 1 quads with the AVX-512 kernels.
-    pub wide: Option<Wide>,
 }
 
 impl<'a> Quads<'a> {
-    /// An empty buffer in front of `out`, written with the AVX-512 kernels if `wide` is given.
+    /// An empty buffer in front of `out`.
     #[inline(always)]
-    pub(crate) fn new(
-        buf: &'a mut SliceQuads,
-        out: &'a mut Vec<PackedQuad>,
-        wide: Option<Wide>,
-    ) -> Self {
-        Quads {
-            buf,
-            len: 0,
-            out,
-            wide,
-        }
+    pub(crate) fn new(buf: &'a mut SliceQuads, out: &'a mut Vec<PackedQuad>) -> Self {
+        Quads { buf, len: 0, out }
     }
 
     /// Appends one quad.
@@ -120,11 +108,6 @@ impl<'a> Quads<'a> {
             face_ao_block: key,
         };
         let base = quad.to_u64().wrapping_sub(1 << shift);
-        if let Some(wide) = self.wide
-            && wide.push_bits(self.out, bits, base, shift)
-        {
-            return;
-        }
         let count = bits.count_ones() as usize;
         self.out.reserve(count);
         // Written in place rather than through `Vec::extend`, whose loop the compiler inlines
@@ -340,15 +323,11 @@ mod tests {
                 1 << PackedQuad::BLOCK_SHIFT,
             ),
         ];
-        let wide = Wide::new(crate::InstructionSet::X86V4);
-        for ((first, shift, key), wide) in cases
-            .into_iter()
-            .flat_map(|case| [(case, None), (case, wide)])
-        {
+        for (first, shift, key) in cases {
             let bits = 0x8000_0000_0000_0002u64 | 0x0F0F << 20;
             let mut buf = [PackedQuad::default(); 4096];
             let mut out = vec![PackedQuad::default()];
-            let mut quads = Quads::new(&mut buf, &mut out, wide);
+            let mut quads = Quads::new(&mut buf, &mut out);
             quads.push_bits(bits, first, shift, key);
             let want: Vec<PackedQuad> = (1..64u32)
                 .filter(|b| bits >> b & 1 == 1)
@@ -357,11 +336,7 @@ mod tests {
                     face_ao_block: key,
                 })
                 .collect();
-            assert_eq!(
-                out[1..],
-                want[..],
-                "first {first:#x} shift {shift} wide {wide:?}"
-            );
+            assert_eq!(out[1..], want[..], "first {first:#x} shift {shift}");
         }
     }
 }

@@ -15,7 +15,6 @@ use super::lone_x::lone_x;
 use super::masks::{Content, Masks};
 use super::plain::{build_columns, padded_edge_of};
 use super::slices::mesh_direction;
-use super::wide::Wide;
 use crate::{BlockClasses, InstructionSet, MeshError};
 
 /// A reusable blocky mesher: greedy quads (or one quad per face) with per-vertex ambient
@@ -45,9 +44,8 @@ use crate::{BlockClasses, InstructionSet, MeshError};
 ///    store each.
 ///
 /// All of it is compiled twice: for the compilation target and, on x86-64, for the AVX2 and
-/// BMI2 level most CPUs have ([`InstructionSet`]); on CPUs with AVX-512 the lines of many
-/// 1 x 1 quads are written 8 quads per instruction by a few kernels. A new mesher runs the
-/// best set the CPU supports, and every set gives the same quads in the same order.
+/// BMI2 level most CPUs have ([`InstructionSet`]). A new mesher runs the best set the CPU
+/// supports, and every set gives the same quads in the same order.
 ///
 /// ```
 /// use mesher::blocky::{BlockyMesh, GreedyMesher};
@@ -100,8 +98,6 @@ struct Job<'a> {
     ao: bool,
     /// Greedy quads (else one quad per face).
     merge: bool,
-    /// Write lines of 1 x 1 quads with the AVX-512 kernels ([`InstructionSet::X86V4`]).
-    wide: Option<Wide>,
 }
 
 impl Default for GreedyMesher {
@@ -196,7 +192,6 @@ impl GreedyMesher {
             classes,
             ao: self.ambient_occlusion,
             merge,
-            wide: Wide::new(self.instruction_set),
         };
         self.run(&job, out)
     }
@@ -220,7 +215,6 @@ impl GreedyMesher {
             classes,
             ao: self.ambient_occlusion,
             merge: true,
-            wide: Wide::new(self.instruction_set),
         };
         self.run(&job, out)
     }
@@ -232,21 +226,20 @@ impl GreedyMesher {
         let result = match self.instruction_set {
             InstructionSet::Baseline => mesh_chunk(scratch, job, out),
             #[cfg(target_arch = "x86_64")]
-            InstructionSet::X86V3 | InstructionSet::X86V4 => {
+            InstructionSet::X86V3 => {
                 #[expect(
                     unsafe_code,
                     reason = "calls code compiled for CPU features that were checked at run time"
                 )]
-                // SAFETY: a mesher holds `X86V3` or `X86V4` only if
-                // `InstructionSet::is_supported` found every feature `mesh_chunk_x86_v3` is
-                // compiled for (both sets include them; `new` takes the detected set,
-                // `with_instruction_set` checks it).
+                // SAFETY: a mesher holds `X86V3` only if `InstructionSet::is_supported` found
+                // every feature `mesh_chunk_x86_v3` is compiled for (`new` takes the detected
+                // set, `with_instruction_set` checks it).
                 unsafe {
                     mesh_chunk_x86_v3(scratch, job, out)
                 }
             }
             #[cfg(not(target_arch = "x86_64"))]
-            InstructionSet::X86V3 | InstructionSet::X86V4 => mesh_chunk(scratch, job, out),
+            InstructionSet::X86V3 => mesh_chunk(scratch, job, out),
         };
         if result.is_err() {
             out.clear();
@@ -303,22 +296,11 @@ fn mesh_chunk(scratch: &mut Scratch, job: &Job<'_>, out: &mut BlockyMesh) -> Res
         merge: job.merge,
         handled: [[0; 64]; 2],
         lone_x_rows: false,
-        wide: job.wide,
     };
     let [o0, o1, ..] = &mut out.opaque.faces;
     let mut handled = [[0; 64]; 2];
-    lone_x::<0>(
-        &input,
-        classes,
-        &mut Quads::new(quads, o0, job.wide),
-        &mut handled[0],
-    )?;
-    lone_x::<1>(
-        &input,
-        classes,
-        &mut Quads::new(quads, o1, job.wide),
-        &mut handled[1],
-    )?;
+    lone_x::<0>(&input, classes, &mut Quads::new(quads, o0), &mut handled[0])?;
+    lone_x::<1>(&input, classes, &mut Quads::new(quads, o1), &mut handled[1])?;
     input.lone_x_rows = handled.iter().flatten().any(|&rows| rows != 0);
     input.handled = handled;
     let [o0, o1, o2, o3, o4, o5] = &mut out.opaque.faces;

@@ -1,7 +1,6 @@
 //! [`Input`]: everything the walk over a chunk's slices reads, built once per chunk.
 
 use super::masks::{Layouts, Slice};
-use super::wide::Wide;
 
 /// Everything the walk reads.
 pub(crate) struct Input<'a> {
@@ -23,6 +22,4 @@ pub(crate) struct Input<'a> {
     pub handled: [Slice; 2],
     /// Some row is marked in `handled`.
     pub lone_x_rows: bool,
-    /// Write lines of 1 x 1 quads with the AVX-512 kernels.
-    pub wide: Option<Wide>,
 }

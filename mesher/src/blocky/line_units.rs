@@ -18,13 +18,11 @@
 
 use voxel_core::formats::PackedQuad;
 
-use super::ao::{CORNER_OFFSETS, ao_planes};
 use super::bits::{faces_of_id, masked, ones};
 use super::direction::Direction;
 use super::faces::{LineIds, Quads, SliceFaces};
 use super::masks::Front;
 use super::memo::NeighbourhoodMemo;
-use super::wide::{UnitLine, Wide};
 use crate::MeshError;
 
 /// Faces from which a line of 1 x 1 quads is written straight into the output (see
@@ -50,8 +48,8 @@ impl<const D: usize> SliceFaces<'_, D> {
     /// Appends a 1 x 1 quad for every face of `bits` in line `l`, the line's id row and front
     /// lines read once.
     ///
-    /// Lines of [`DIRECT_MIN`] faces or more are written straight into the output (with the
-    /// AVX-512 kernel where there is one), which saves copying them out of the slice's buffer
+    /// Lines of [`DIRECT_MIN`] faces or more are written straight into the output, which
+    /// saves copying them out of the slice's buffer
     /// but costs a capacity check per line: shorter lines go through the buffer. The rule
     /// does not depend on the instruction set, so neither does the order of the quads.
     #[inline(always)]
@@ -63,10 +61,7 @@ impl<const D: usize> SliceFaces<'_, D> {
         out: &mut Quads<'_>,
     ) -> Result<(), MeshError> {
         if bits.count_ones() >= DIRECT_MIN {
-            return match out.wide {
-                Some(wide) => self.units_wide::<AO>(wide, l, bits, known, out),
-                None => self.units_direct::<AO>(l, bits, known, out),
-            };
+            return self.units_direct::<AO>(l, bits, known, out);
         }
         let ids = self.line_ids(l);
         let front = self.front_lines(l);
@@ -135,50 +130,6 @@ impl<const D: usize> SliceFaces<'_, D> {
             quad
         }));
         if seen & !*known != 0 {
-            self.check_line(l, bits, known)?;
-        }
-        Ok(())
-    }
-
-    /// [`units`](Self::units) with the AVX-512 kernel: the line's AO bytes come as bit planes
-    /// from whole-line operations on the front lines, and the quads are built 8 at a time.
-    /// ±X lines have their ids strided; those of the faces are copied into a row first.
-    #[inline(always)]
-    fn units_wide<const AO: bool>(
-        &self,
-        wide: Wide,
-        l: usize,
-        bits: u64,
-        known: &mut u64,
-        out: &mut Quads<'_>,
-    ) -> Result<(), MeshError> {
-        let mut strided = [0u16; 64];
-        let ids = match self.line_ids(l) {
-            LineIds::Row(row) => row,
-            ids @ LineIds::Strided { .. } => {
-                for b in ones(bits) {
-                    strided[b] = ids.id(b) as u16;
-                }
-                &strided
-            }
-        };
-        let (f0, f1, f2) = self.front_lines(l);
-        let line = UnitLine {
-            bits,
-            ids,
-            ao: if AO {
-                ao_planes(&CORNER_OFFSETS[D], [f0, f1, f2])
-            } else {
-                [u64::MAX; 8]
-            },
-            first: PackedQuad {
-                position_size: self.position_size(l, 1, 1, 1),
-                face_ao_block: Direction::<D>::FACE,
-            }
-            .to_u64(),
-            shift: Direction::<D>::SHIFT_B,
-        };
-        if wide.unit_line(&line, out.out) & !*known != 0 {
             self.check_line(l, bits, known)?;
         }
         Ok(())

@@ -59,7 +59,6 @@
 //! | `keys` | `Keys`, the greedy pass's scratch (keys and equal-key masks of one slice) |
 //! | `memo` | `NeighbourhoodMemo`: the AO split of recent lines, for periodic slices |
 //! | `ao` | the AO rule, the per-direction AO tables, AO of a whole line as bit planes, the diagonal flip |
-//! | `wide` | the AVX-512 kernels that write lines of 1 x 1 quads ([`InstructionSet::X86V4`](crate::InstructionSet::X86V4)) |
 //! | `bits` | bit tools: row masks, the 64 x 64 transpose, `ones` (set bits), `masked` (indexes kept in range) |
 //!
 //! [`visible_faces`] (one quad per face) runs the same steps with merging off.
@@ -81,7 +80,6 @@ mod mesh;
 mod plain;
 mod slices;
 mod visible;
-mod wide;
 
 pub use ao::{corner_ao, triangle_indices};
 pub use greedy::GreedyMesher;

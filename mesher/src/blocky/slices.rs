@@ -167,7 +167,7 @@ fn emit<const D: usize>(
     buf: &mut SliceQuads,
     out: &mut Vec<PackedQuad>,
 ) -> Result<(), MeshError> {
-    let mut quads = Quads::new(buf, out, input.wide);
+    let mut quads = Quads::new(buf, out);
     let rows = rows_of(faces);
     // Faces none of which touches another are their own greedy quads: no merging to do.
     let merge = input.merge && !isolated_faces(faces, rows);
