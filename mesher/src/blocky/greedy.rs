@@ -83,6 +83,8 @@ struct Scratch {
     quads: Box<SliceQuads>,
     /// Occupancy columns built by [`GreedyMesher::mesh_u16`].
     columns: Vec<u64>,
+    /// The occupancy of the whole array, 64 ids a word, for building columns shorter than 64.
+    flat_columns: Vec<u64>,
 }
 
 /// One chunk to mesh, and how.
@@ -115,6 +117,7 @@ impl GreedyMesher {
                 keys: Box::new(Keys::new()),
                 quads: Box::new([PackedQuad::default(); 4096]),
                 columns: Vec::new(),
+                flat_columns: Vec::new(),
             },
             ambient_occlusion: true,
             instruction_set: InstructionSet::detect(),
@@ -273,11 +276,12 @@ fn mesh_chunk(scratch: &mut Scratch, job: &Job<'_>, out: &mut BlockyMesh) -> Res
         keys,
         quads,
         columns: built,
+        flat_columns,
     } = scratch;
     let columns = match job.columns {
         Some(columns) => columns,
         None => {
-            build_columns(job.p, job.voxels, built);
+            build_columns(job.p, job.voxels, built, flat_columns);
             built.as_slice()
         }
     };
