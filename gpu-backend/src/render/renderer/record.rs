@@ -108,7 +108,7 @@ impl Renderer {
         };
         let uniforms = FrameUniforms::new(&self.camera, &self.lighting, &shape);
         let frame_group = self.frame_group();
-        let culls = self.prepare_culls(encoder, &uniforms)?;
+        let culls = self.prepare_frame(encoder, &uniforms)?;
         let mut chain = PassChain::new(encoder, "frame compute");
         self.record_opaque_phase(&mut chain, &frame_group, culls.early.as_ref(), PHASE_EARLY)?;
         if let Some(occlusion) = &self.occlusion {
@@ -159,7 +159,7 @@ impl Renderer {
     /// compute passes. The frame's and the records' uniforms go through one staging buffer:
     /// creating a buffer (or `Queue::write_buffer`, which creates one) costs the CPU more than
     /// the copies (on the NVIDIA driver about 10 k and 34 k instructions).
-    fn prepare_culls(
+    fn prepare_frame(
         &self,
         encoder: &mut CommandEncoder,
         frame_uniforms: &FrameUniforms,
@@ -282,7 +282,7 @@ impl Renderer {
     }
 
     /// One opaque phase: the cull into its commands (`cull`, prepared by
-    /// [`prepare_culls`](Self::prepare_culls); `None` when the table has no slots), the splat of
+    /// [`prepare_frame`](Self::prepare_frame); `None` when the table has no slots), the splat of
     /// the far nodes it listed, and the G-buffer pass of its meshed nodes (the early phase
     /// clears the G-buffer, the late one draws over it). Without occlusion culling the early
     /// phase draws every node.
@@ -469,7 +469,7 @@ impl Renderer {
     }
 }
 
-/// The frame's cull records, prepared ([`Renderer::prepare_culls`]); `None` where a record has
+/// The frame's cull records, prepared ([`Renderer::prepare_frame`]); `None` where a record has
 /// nothing to dispatch.
 struct FrameCulls {
     early: Option<PreparedCull>,
