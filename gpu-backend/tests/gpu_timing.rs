@@ -391,6 +391,18 @@ fn frames_in_flight_are_collected_oldest_first_and_overflow_drops_the_oldest() {
     assert_eq!(timer.frames_in_flight(), 0);
 }
 
+/// Cull inputs of `table` alone: no node records, the pass's own frame buffers, no
+/// occlusion, uniforms from a staging buffer of the record's own.
+fn table_only(table: &MeshedChunkTable) -> CullInputs<'_> {
+    CullInputs {
+        table,
+        nodes: None,
+        frame: None,
+        occlusion: None,
+        uniforms: UniformSource::Own,
+    }
+}
+
 /// Records light, heavy and a cull as timed steps of one [`PassChain`] (the cull prepared
 /// before the chain starts), submits, and returns the figures, the compute passes the chain
 /// opened, and the cull's counts.
@@ -399,13 +411,7 @@ fn time_chain(ctx: &GpuContext, timer: &mut GpuTimer) -> (Vec<PassTime>, u32, Ve
     let (cull, table) = cull_setup(ctx);
     let output = cull.create_output("chained").unwrap();
     let camera = CullCamera::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
-    let inputs = CullInputs {
-        table: &table,
-        nodes: None,
-        frame: None,
-        occlusion: None,
-        uniforms: UniformSource::Own,
-    };
+    let inputs = table_only(&table);
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
     // The uniforms from a shared staging buffer, after 256 bytes of someone else's.
     let params = CullParams::default();
@@ -533,13 +539,7 @@ fn staged_uniforms_that_cannot_be_copied_are_errors() {
     let (cull, table) = cull_setup(&ctx);
     let output = cull.create_output("staged").unwrap();
     let camera = CullCamera::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
-    let inputs = CullInputs {
-        table: &table,
-        nodes: None,
-        frame: None,
-        occlusion: None,
-        uniforms: UniformSource::Own,
-    };
+    let inputs = table_only(&table);
     let buffer = |size, usage| {
         ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: None,

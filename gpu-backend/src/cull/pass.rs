@@ -307,13 +307,8 @@ impl CullPass {
         output: &CullOutput,
         params: &CullParams,
     ) -> Result<(), CullError> {
-        if let Some(prepared) = self.prepare_with(encoder, inputs, camera, layer, output, params)? {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("cull"),
-                timestamp_writes: None,
-            });
-            self.dispatch(&mut pass, &prepared);
-        }
+        let prepared = self.prepare_with(encoder, inputs, camera, layer, output, params)?;
+        self.dispatch_in_own_pass(encoder, "cull", prepared.as_ref());
         Ok(())
     }
 
@@ -340,6 +335,23 @@ impl CullPass {
             groups,
             ordered: None,
         }))
+    }
+
+    /// [`dispatch`](Self::dispatch) in a compute pass of its own (nothing when `prepared` is
+    /// `None`): the second half of the `record_*` methods.
+    fn dispatch_in_own_pass(
+        &self,
+        encoder: &mut CommandEncoder,
+        label: &str,
+        prepared: Option<&PreparedCull>,
+    ) {
+        if let Some(prepared) = prepared {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(label),
+                timestamp_writes: None,
+            });
+            self.dispatch(&mut pass, prepared);
+        }
     }
 
     /// Records a prepared record's dispatches into `pass`.
@@ -413,15 +425,8 @@ impl CullPass {
         output: &CullOutput,
         params: &CullParams,
     ) -> Result<(), CullError> {
-        if let Some(prepared) =
-            self.prepare_ordered_with(encoder, inputs, camera, layer, output, params)?
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("ordered cull"),
-                timestamp_writes: None,
-            });
-            self.dispatch(&mut pass, &prepared);
-        }
+        let prepared = self.prepare_ordered_with(encoder, inputs, camera, layer, output, params)?;
+        self.dispatch_in_own_pass(encoder, "ordered cull", prepared.as_ref());
         Ok(())
     }
 

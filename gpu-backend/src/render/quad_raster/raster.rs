@@ -148,7 +148,8 @@ impl QuadRaster {
             label: Some("quad raster"),
             timestamp_writes: None,
         });
-        self.record_in(&mut pass, inputs)
+        self.record_checked(&mut pass, inputs);
+        Ok(())
     }
 
     /// [`record`](Self::record) into an open compute pass (of a
@@ -165,6 +166,12 @@ impl QuadRaster {
         inputs: &QuadRasterInputs<'_>,
     ) -> Result<(), QuadRasterError> {
         self.check(inputs)?;
+        self.record_checked(pass, inputs);
+        Ok(())
+    }
+
+    /// [`record_in`](Self::record_in) after its checks.
+    fn record_checked(&self, pass: &mut wgpu::ComputePass<'_>, inputs: &QuadRasterInputs<'_>) {
         let maker = Maker {
             device: &self.device,
             layouts: &self.layouts,
@@ -200,7 +207,6 @@ impl QuadRaster {
         pass.set_bind_group(0, &frame, &[]);
         pass.set_bind_group(1, &self.lists, &[]);
         pass.dispatch_workgroups_indirect(&self.tile_dispatch, 0);
-        Ok(())
     }
 
     fn check(&self, inputs: &QuadRasterInputs<'_>) -> Result<(), QuadRasterError> {
