@@ -1,8 +1,10 @@
 //! Blocky meshers side by side with the peer crates, same inputs, same run:
 //! `cargo bench -p benches --bench blocky`.
 //!
-//! One criterion group per input (see `benches::mesh_inputs`); in each, every mesher meshes the
-//! same padded chunk(s), and its bench id carries its output size in quads:
+//! Every input of `benches::mesh_inputs` at 32^3 and at 62^3: the synthetic chunks, the
+//! Menger sponges, the foliage scene and the sample models. In each input's criterion group,
+//! every mesher meshes the same padded chunk(s), and its bench id carries its output size in
+//! quads:
 //!
 //! | id | what is timed |
 //! | --- | --- |
@@ -17,27 +19,35 @@
 //! | `ours visible baseline-isa` | the same pinned to `InstructionSet::Baseline` |
 //! | `block-mesh visible` | `block_mesh::visible_block_faces` |
 //! | `block-mesh greedy` | `block_mesh::greedy_quads` |
-//! | `bgm fast_mesh+masks` | `binary_greedy_meshing`: `compute_opaque_mask` + `compute_transparent_mask` + `Mesher::fast_mesh` |
+//! | `bgm fast_mesh+masks` | `binary_greedy_meshing` (32^3 and 62^3 only, its const generic): `compute_opaque_mask` + `compute_transparent_mask` + `Mesher::fast_mesh` |
+//! | `bgm fast_mesh prebuilt masks` | `Mesher::fast_mesh` alone, on masks built once outside the loop |
 //! | `block-mesh-bgm` | `block_mesh_bgm::binary_greedy_quads` |
 //! | `block-mesh-bgm ao-safe` | `block_mesh_bgm::binary_greedy_quads_ao_safe` (merge rule only, no AO values) |
 //!
 //! The peers take their own voxel arrays, converted once outside the timed loop. Times are the
 //! benchmarking thread's CPU time ([`benches::cpu_time`]) unless `BENCH_CLOCK=wall`.
 //!
-//! Before the criterion group of each synthetic input, the meshers the bars compare (ours
-//! visible and greedy with AO on and off, `block-mesh` visible and greedy, `block-mesh-bgm`,
-//! `bgm fast_mesh+masks`) are also timed interleaved (`blocky_support/interleaved.rs`: each in
-//! turn, 100 rounds, thread CPU time), and the report lines give their minima, medians and the
-//! bars' ratios, which a shared, noisy machine disturbs far less than the sequential criterion
-//! measurements.
-//! `BLOCKY_INTERLEAVED_ROUNDS` sets the rounds (0 skips it).
+//! Before the criterion group of each input, the meshers the bars compare (ours visible, ours
+//! greedy from a `PaddedChunk` and from a `u16` array with AO on and off, `block-mesh` visible
+//! and greedy, `block-mesh-bgm`, and `binary-greedy-meshing` end to end and on prebuilt masks)
+//! are also timed interleaved (`blocky_support/interleaved.rs`: each in turn, thread CPU
+//! time), which a shared, noisy machine disturbs far less than the sequential criterion
+//! measurements. Each input's report lines give their minima and medians and the bars'
+//! ratios; a table of every input's ratios comes last.
+//!
+//! Environment:
+//! - `BLOCKY_INPUTS`: comma-separated parts of input names to run (default: all);
+//! - `BLOCKY_CRITERION=0`: the interleaved timing only, no criterion groups;
+//! - `BLOCKY_INTERLEAVED_ROUNDS` (default 100; 0 skips the interleaved timing) and
+//!   `BLOCKY_INTERLEAVED_SECONDS` (default 10: an input stops after that much wall time, once
+//!   10 rounds are done).
 
 use std::collections::BTreeSet;
 use std::hint::black_box;
 use std::time::Duration;
 
 use benches::cpu_time::{Clock, ThreadCpuTime, clock_from_env};
-use benches::mesh_inputs::{MeshInput, as_u16, synthetic_inputs, vox_dir, vox_inputs};
+use benches::mesh_inputs::{MeshInput, all_inputs, as_u16};
 use block_mesh::ndshape::{ConstShape, ConstShape3u32, RuntimeShape, Shape};
 use block_mesh::{
     GreedyQuadsBuffer, MergeVoxel, RIGHT_HANDED_Y_UP_CONFIG, UnitQuadBuffer, Voxel,
@@ -92,6 +102,7 @@ fn bm_voxels(ids: &[u16], classes: &BlockClasses) -> Vec<BmVoxel> {
 /// Everything one input needs, prepared outside the timed loops.
 struct Prepared<'a> {
     input: &'a MeshInput,
+    size: ChunkSize,
     classes: BlockClasses,
     bm: Vec<Vec<BmVoxel>>,
     transparents: BTreeSet<u16>,
@@ -107,6 +118,7 @@ fn prepare(input: &MeshInput) -> Prepared<'_> {
     let transparents = classes.transparent_ids().iter().map(|id| id.0).collect();
     Prepared {
         input,
+        size: input.chunks.first().map_or(ChunkSize::S62, |c| c.size()),
         classes,
         bm,
         transparents,
@@ -118,12 +130,11 @@ fn bench_ours<M: Measurement>(g: &mut BenchmarkGroup<'_, M>, prep: &Prepared<'_>
     let classes = &prep.classes;
     let mut out = BlockyMesh::new();
 
-    type Run = fn(&mut GreedyMesher, &voxel_core::PaddedChunk, &BlockClasses, &mut BlockyMesh);
-    let greedy: Run = |m, c, k, o| m.mesh(c, k, o).unwrap();
-    let u16_array: Run = |m, c, k, o| m.mesh_u16(as_u16(c), k, o).unwrap();
-    let visible: Run = |m, c, k, o| m.visible_faces(c, k, o).unwrap();
+    let greedy: OursRun = |m, c, k, o| m.mesh(c, k, o).unwrap();
+    let u16_array: OursRun = |m, c, k, o| m.mesh_u16(as_u16(c), k, o).unwrap();
+    let visible: OursRun = |m, c, k, o| m.visible_faces(c, k, o).unwrap();
     // Instruction set (`None`: the detected one), AO, entry point.
-    let runs: [(&str, Option<InstructionSet>, bool, Run); 9] = [
+    let runs: [(&str, Option<InstructionSet>, bool, OursRun); 9] = [
         ("ours greedy", None, true, greedy),
         (
             "ours greedy x86-v3",
@@ -254,100 +265,196 @@ fn bench_block_mesh<M: Measurement, S: Shape<3, Coord = u32>>(
     }
 }
 
-/// `binary-greedy-meshing`'s mesher for chunks of 62 (its const generic).
-type Bgm = binary_greedy_meshing::Mesher<62>;
-
-/// One `binary-greedy-meshing` mesh of `ids`, masks built first, as it asks its callers to do.
-fn bgm_mesh(ids: &[u16], transparents: &BTreeSet<u16>, mesher: &mut Bgm) {
-    let opaque = binary_greedy_meshing::compute_opaque_mask::<62>(ids, transparents);
-    let trans = binary_greedy_meshing::compute_transparent_mask::<62>(ids, transparents);
-    mesher.clear();
-    mesher.fast_mesh(ids, &opaque, &trans);
+/// One `binary-greedy-meshing` mesh of `ids`, masks built first, as it asks its callers to
+/// do. Only the output is reset between meshes: `fast_mesh` overwrites the face masks and
+/// leaves its merge counters at zero, so `Mesher::clear`'s zeroing of them (which its docs ask
+/// for) is skipped, which makes the peer faster, not slower.
+fn bgm_mesh<const CS: usize>(
+    ids: &[u16],
+    transparents: &BTreeSet<u16>,
+    mesher: &mut binary_greedy_meshing::Mesher<CS>,
+) {
+    let opaque = binary_greedy_meshing::compute_opaque_mask::<CS>(ids, transparents);
+    let trans = binary_greedy_meshing::compute_transparent_mask::<CS>(ids, transparents);
+    bgm_fast_mesh(ids, &opaque, &trans, mesher);
 }
 
-/// `binary-greedy-meshing` for chunks of 62 (its const generic): masks built in the loop, as
-/// it asks its callers to do.
-fn bench_bgm<M: Measurement>(g: &mut BenchmarkGroup<'_, M>, prep: &Prepared<'_>) {
-    let mut mesher = Bgm::new();
-    let run = |ids: &[u16], mesher: &mut Bgm| bgm_mesh(ids, &prep.transparents, mesher);
-    let quads: usize = prep
-        .input
+/// `binary-greedy-meshing`'s `fast_mesh` alone, on masks built beforehand (bar 2's peer).
+fn bgm_fast_mesh<const CS: usize>(
+    ids: &[u16],
+    opaque: &[u64],
+    trans: &[u64],
+    mesher: &mut binary_greedy_meshing::Mesher<CS>,
+) {
+    mesher.quads.iter_mut().for_each(Vec::clear);
+    mesher.fast_mesh(ids, opaque, trans);
+}
+
+/// `binary-greedy-meshing`'s opaque and transparent masks of one chunk.
+type BgmMasks = (Box<[u64]>, Box<[u64]>);
+
+/// `binary-greedy-meshing`'s two masks of every chunk of `prep`, built once.
+fn bgm_masks<const CS: usize>(prep: &Prepared<'_>) -> Vec<BgmMasks> {
+    prep.input
         .chunks
         .iter()
         .map(|c| {
-            run(as_u16(c), &mut mesher);
-            mesher.quads.iter().map(Vec::len).sum::<usize>()
+            let ids = as_u16(c);
+            (
+                binary_greedy_meshing::compute_opaque_mask::<CS>(ids, &prep.transparents),
+                binary_greedy_meshing::compute_transparent_mask::<CS>(ids, &prep.transparents),
+            )
         })
-        .sum();
+        .collect()
+}
+
+/// Quads of `binary-greedy-meshing` over every chunk of `prep`; checks on the way that the
+/// bench's reset (output only) gives what a full `Mesher::clear` gives.
+fn bgm_quads<const CS: usize>(
+    prep: &Prepared<'_>,
+    mesher: &mut binary_greedy_meshing::Mesher<CS>,
+) -> usize {
+    let mut total = 0;
+    for c in &prep.input.chunks {
+        bgm_mesh(as_u16(c), &prep.transparents, mesher);
+        let reused = mesher.quads.clone();
+        mesher.clear();
+        bgm_mesh(as_u16(c), &prep.transparents, mesher);
+        assert!(
+            reused == mesher.quads,
+            "{}: bgm output depends on its reset",
+            prep.input.name
+        );
+        total += mesher.quads.iter().map(Vec::len).sum::<usize>();
+    }
+    total
+}
+
+/// `binary-greedy-meshing` for chunks of edge `CS` (its const generic): with its masks built
+/// in the loop, as it asks its callers to do, and `fast_mesh` alone on prebuilt masks.
+fn bench_bgm<M: Measurement, const CS: usize>(g: &mut BenchmarkGroup<'_, M>, prep: &Prepared<'_>) {
+    let mut mesher = binary_greedy_meshing::Mesher::<CS>::new();
+    let quads = bgm_quads(prep, &mut mesher);
     g.bench_function(format!("bgm fast_mesh+masks [{quads} quads]"), |b| {
         b.iter(|| {
             for c in &prep.input.chunks {
-                run(black_box(as_u16(c)), &mut mesher);
+                bgm_mesh(black_box(as_u16(c)), &prep.transparents, &mut mesher);
                 black_box(&mesher.quads);
             }
         })
     });
+    let masks = bgm_masks::<CS>(prep);
+    g.bench_function(
+        format!("bgm fast_mesh prebuilt masks [{quads} quads]"),
+        |b| {
+            b.iter(|| {
+                for (c, (opaque, trans)) in prep.input.chunks.iter().zip(&masks) {
+                    bgm_fast_mesh(black_box(as_u16(c)), opaque, trans, &mut mesher);
+                    black_box(&mesher.quads);
+                }
+            })
+        },
+    );
 }
 
-/// The bars' meshers on one input, interleaved (see the module docs); `bgm` adds
-/// `binary-greedy-meshing`, which takes 62^3 chunks only.
-fn interleaved_timing<S: Shape<3, Coord = u32>>(prep: &Prepared<'_>, shape: &S, p: u32, bgm: bool) {
-    let rounds = std::env::var("BLOCKY_INTERLEAVED_ROUNDS")
-        .ok()
-        .and_then(|r| r.parse().ok())
-        .unwrap_or(100);
-    if rounds == 0 {
-        return;
+/// The interleaved rounds asked for by `BLOCKY_INTERLEAVED_ROUNDS` (default 100; 0 skips the
+/// interleaved timing) and the seconds one input may take (`BLOCKY_INTERLEAVED_SECONDS`,
+/// default 10; at least 10 rounds run).
+fn interleaved_limits() -> (usize, Duration) {
+    let var = |name: &str, default: u64| {
+        std::env::var(name)
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(default)
+    };
+    (
+        var("BLOCKY_INTERLEAVED_ROUNDS", 100) as usize,
+        Duration::from_secs(var("BLOCKY_INTERLEAVED_SECONDS", 10)),
+    )
+}
+
+/// Ours on every input of `prep`, as one interleaved entry.
+fn ours<'a>(
+    name: &'static str,
+    kind: Kind,
+    prep: &'a Prepared<'a>,
+    ao: bool,
+    run: fn(&mut GreedyMesher, &voxel_core::PaddedChunk, &BlockClasses, &mut BlockyMesh),
+) -> Timed<'a> {
+    let mut mesher = GreedyMesher::new().with_ambient_occlusion(ao);
+    let mut out = BlockyMesh::new();
+    Timed {
+        name,
+        kind,
+        run: Box::new(move || {
+            for c in &prep.input.chunks {
+                run(&mut mesher, black_box(c), &prep.classes, &mut out);
+                black_box(&out);
+            }
+        }),
     }
-    let chunks = &prep.input.chunks;
-    let classes = &prep.classes;
+}
+
+/// `binary-greedy-meshing`'s two entries (end to end, and on prebuilt masks) for chunks of
+/// edge `CS`.
+fn bgm_timed<'a, const CS: usize>(prep: &'a Prepared<'a>) -> [Timed<'a>; 2] {
+    let mut end_to_end = binary_greedy_meshing::Mesher::<CS>::new();
+    let mut alone = binary_greedy_meshing::Mesher::<CS>::new();
+    let masks = bgm_masks::<CS>(prep);
+    [
+        Timed {
+            name: "bgm fast_mesh+masks",
+            kind: Kind::PeerGreedy,
+            run: Box::new(move || {
+                for c in &prep.input.chunks {
+                    bgm_mesh(black_box(as_u16(c)), &prep.transparents, &mut end_to_end);
+                    black_box(&end_to_end.quads);
+                }
+            }),
+        },
+        Timed {
+            name: "bgm fast_mesh prebuilt masks",
+            kind: Kind::PeerPrebuiltMasks,
+            run: Box::new(move || {
+                for (c, (opaque, trans)) in prep.input.chunks.iter().zip(&masks) {
+                    bgm_fast_mesh(black_box(as_u16(c)), opaque, trans, &mut alone);
+                    black_box(&alone.quads);
+                }
+            }),
+        },
+    ]
+}
+
+/// The bars' meshers on one input, interleaved (see the module docs).
+fn interleaved_timing<S: Shape<3, Coord = u32>>(
+    prep: &Prepared<'_>,
+    shape: &S,
+    p: u32,
+) -> Option<interleaved::Ratios> {
+    let (rounds, seconds) = interleaved_limits();
+    if rounds == 0 {
+        return None;
+    }
     let faces = &RIGHT_HANDED_Y_UP_CONFIG.faces;
     let max = [p - 1; 3];
-    let (mut ours_visible, mut ours_greedy) = (GreedyMesher::new(), GreedyMesher::new());
-    let (mut out_visible, mut out_greedy) = (BlockyMesh::new(), BlockyMesh::new());
-    let mut ours_no_ao = GreedyMesher::new().with_ambient_occlusion(false);
-    let mut out_no_ao = BlockyMesh::new();
     let mut unit = UnitQuadBuffer::new();
     let mut greedy = GreedyQuadsBuffer::new(prep.bm.first().map_or(0, Vec::len));
     let mut bmbgm = BinaryGreedyQuadsBuffer::new();
-    let mut bgm_mesher = Bgm::new();
+    let greedy_run: OursRun = |m, c, k, o| m.mesh(c, k, o).unwrap();
+    let u16_run: OursRun = |m, c, k, o| m.mesh_u16(as_u16(c), k, o).unwrap();
+    let visible_run: OursRun = |m, c, k, o| m.visible_faces(c, k, o).unwrap();
     let mut timed = vec![
-        Timed {
-            name: "ours visible",
-            kind: Kind::OursVisible,
-            run: Box::new(move || {
-                for c in chunks {
-                    ours_visible
-                        .visible_faces(black_box(c), classes, &mut out_visible)
-                        .unwrap();
-                    black_box(&out_visible);
-                }
-            }),
-        },
-        Timed {
-            name: "ours greedy",
-            kind: Kind::OursGreedy,
-            run: Box::new(move || {
-                for c in chunks {
-                    ours_greedy
-                        .mesh(black_box(c), classes, &mut out_greedy)
-                        .unwrap();
-                    black_box(&out_greedy);
-                }
-            }),
-        },
-        Timed {
-            name: "ours greedy no-ao",
-            kind: Kind::OursGreedyNoAo,
-            run: Box::new(move || {
-                for c in chunks {
-                    ours_no_ao
-                        .mesh(black_box(c), classes, &mut out_no_ao)
-                        .unwrap();
-                    black_box(&out_no_ao);
-                }
-            }),
-        },
+        ours("ours visible", Kind::OursVisible, prep, true, visible_run),
+        ours("ours greedy", Kind::OursGreedyAo, prep, true, greedy_run),
+        ours(
+            "ours greedy no-ao",
+            Kind::OursGreedy,
+            prep,
+            false,
+            greedy_run,
+        ),
+        ours("ours greedy u16", Kind::OursU16Ao, prep, true, u16_run),
+        ours("ours greedy u16 no-ao", Kind::OursU16, prep, false, u16_run),
         Timed {
             name: "block-mesh visible",
             kind: Kind::PeerVisible,
@@ -380,32 +487,35 @@ fn interleaved_timing<S: Shape<3, Coord = u32>>(prep: &Prepared<'_>, shape: &S, 
             }),
         },
     ];
-    if bgm {
-        timed.push(Timed {
-            name: "bgm fast_mesh+masks",
-            kind: Kind::PeerGreedy,
-            run: Box::new(move || {
-                for c in chunks {
-                    bgm_mesh(black_box(as_u16(c)), &prep.transparents, &mut bgm_mesher);
-                    black_box(&bgm_mesher.quads);
-                }
-            }),
-        });
+    match prep.size {
+        ChunkSize::S62 => timed.extend(bgm_timed::<62>(prep)),
+        ChunkSize::S32 => timed.extend(bgm_timed::<32>(prep)),
+        _ => {}
     }
-    interleaved::report(&prep.input.name, timed, rounds);
+    Some(interleaved::report(
+        &prep.input.name,
+        timed,
+        rounds,
+        seconds,
+    ))
 }
 
-fn bench_input<M: Measurement>(c: &mut Criterion<M>, input: &MeshInput, interleave: bool) {
+/// One of our entry points, as the benches call it.
+type OursRun = fn(&mut GreedyMesher, &voxel_core::PaddedChunk, &BlockClasses, &mut BlockyMesh);
+
+fn bench_input<M: Measurement>(
+    c: &mut Criterion<M>,
+    input: &MeshInput,
+    with_criterion: bool,
+) -> Option<interleaved::Ratios> {
     let prep = prepare(input);
-    let size = input.chunks.first().map_or(ChunkSize::S62, |c| c.size());
-    if interleave {
-        let p = size.padded_edge() as u32;
-        match size {
-            ChunkSize::S62 => {
-                interleaved_timing(&prep, &ConstShape3u32::<64, 64, 64> {}, p, true);
-            }
-            _ => interleaved_timing(&prep, &RuntimeShape::<u32, 3>::new([p; 3]), p, false),
-        }
+    let p = prep.size.padded_edge() as u32;
+    let ratios = match prep.size {
+        ChunkSize::S62 => interleaved_timing(&prep, &ConstShape3u32::<64, 64, 64> {}, p),
+        _ => interleaved_timing(&prep, &RuntimeShape::<u32, 3>::new([p; 3]), p),
+    };
+    if !with_criterion {
+        return ratios;
     }
     let mut g = c.benchmark_group(format!(
         "blocky/{} ({} non-air)",
@@ -413,17 +523,29 @@ fn bench_input<M: Measurement>(c: &mut Criterion<M>, input: &MeshInput, interlea
         input.interior_non_air()
     ));
     bench_ours(&mut g, &prep);
-    match size {
+    match prep.size {
         ChunkSize::S62 => {
             bench_block_mesh(&mut g, &prep, &ConstShape3u32::<64, 64, 64> {}, 64);
-            bench_bgm(&mut g, &prep);
+            bench_bgm::<_, 62>(&mut g, &prep);
         }
         other => {
             let p = other.padded_edge() as u32;
             bench_block_mesh(&mut g, &prep, &RuntimeShape::<u32, 3>::new([p; 3]), p);
+            if other == ChunkSize::S32 {
+                bench_bgm::<_, 32>(&mut g, &prep);
+            }
         }
     }
     g.finish();
+    ratios
+}
+
+/// True if `name` is picked by `BLOCKY_INPUTS` (comma-separated parts of input names; unset:
+/// every input).
+fn picked(name: &str) -> bool {
+    std::env::var("BLOCKY_INPUTS").map_or(true, |want| {
+        want.split(',').any(|part| name.contains(part.trim()))
+    })
 }
 
 fn blocky<M: Measurement>(c: &mut Criterion<M>) {
@@ -431,23 +553,26 @@ fn blocky<M: Measurement>(c: &mut Criterion<M>) {
         "ours: instruction set {:?} (detected at run time)",
         InstructionSet::detect()
     );
-    for input in synthetic_inputs() {
-        bench_input(c, &input, true);
-    }
-    match vox_dir() {
-        Some(dir) => {
-            for input in vox_inputs(&dir, ChunkSize::S62) {
-                bench_input(c, &input, false);
+    let with_criterion = std::env::var("BLOCKY_CRITERION").map_or(true, |v| v != "0");
+    let mut table = Vec::new();
+    for size in [ChunkSize::S32, ChunkSize::S62] {
+        let (inputs, vox) = all_inputs(size);
+        if vox.is_none() {
+            eprintln!("no sample models: ../shared/data/vox is not beside the checkout");
+        }
+        for input in inputs.iter().filter(|i| picked(&i.name)) {
+            if let Some(ratios) = bench_input(c, input, with_criterion) {
+                table.push((input.name.clone(), ratios));
             }
         }
-        None => eprintln!("skipped: no sample data (../shared/data/vox)"),
     }
+    interleaved::print_table(&table);
 }
 
 const _: () = assert!(ConstShape3u32::<64, 64, 64>::SIZE == 64 * 64 * 64);
 
-/// 30 samples of about 2 s per bench: the whole run (10 meshers x 17 inputs) takes about 12
-/// minutes on 2 cores. Criterion's command-line options override these.
+/// 30 samples of about 2 s per bench (about 35 s per input). Criterion's command-line options
+/// override these.
 fn config<M: Measurement>(c: Criterion<M>) -> Criterion<M> {
     c.warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(2))

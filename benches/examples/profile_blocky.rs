@@ -3,12 +3,13 @@
 //!
 //! ```sh
 //! cargo run --release -p benches --example profile_blocky -- "terrain 62" greedy 6000
+//! cargo run --release -p benches --example profile_blocky -- "menger L4" u16-noao 600 32
 //! ```
 //!
 //! Arguments: the start of an input's name (see `benches::mesh_inputs`; `vox/maze` and the
 //! other sample models when `../shared/data/vox` is there), a mode (`greedy`,
 //! `visible`, `u16`, `baseline` for greedy on `InstructionSet::Baseline`, any of these with
-//! `-noao` for AO off, or `stats` for faces per line and direction), and a number of meshes. `MESHER_ISA=baseline|x86-v3` pins
+//! `-noao` for AO off, or `stats` for faces per line and direction), a number of meshes and a chunk edge (32 or 62, the default). `MESHER_ISA=baseline|x86-v3` pins
 //! the instruction set (default: the detected one). The time is the thread's CPU time, taken
 //! over 20 batches: the minimum and the median per mesh, since on a shared machine the minimum
 //! is the steadier figure.
@@ -16,7 +17,7 @@
 use std::hint::black_box;
 
 use benches::cpu_time::thread_cpu_now;
-use benches::mesh_inputs::{MeshInput, as_u16, synthetic_inputs, vox_dir, vox_inputs};
+use benches::mesh_inputs::{MeshInput, all_inputs, as_u16};
 use mesher::blocky::{BlockyMesh, GreedyMesher};
 use mesher::{BlockClasses, InstructionSet};
 use voxel_core::{BlockId, ChunkSize, PaddedChunk};
@@ -26,15 +27,17 @@ fn main() {
     let want = args.get(1).map_or("terrain 62", String::as_str);
     let mode = args.get(2).map_or("greedy", String::as_str);
     let meshes: usize = args.get(3).and_then(|r| r.parse().ok()).unwrap_or(6000);
-    let models = vox_dir()
-        .map(|dir| vox_inputs(&dir, ChunkSize::S62))
-        .unwrap_or_default();
-    let Some(input) = synthetic_inputs()
-        .into_iter()
-        .chain(models)
-        .find(|i| i.name.starts_with(want))
-    else {
-        eprintln!("no input named {want:?}");
+    let edge: u32 = args.get(4).and_then(|e| e.parse().ok()).unwrap_or(62);
+    let size = match ChunkSize::from_edge(edge) {
+        Ok(size) => size,
+        Err(e) => {
+            eprintln!("{e}");
+            std::process::exit(2);
+        }
+    };
+    let (inputs, _) = all_inputs(size);
+    let Some(input) = inputs.into_iter().find(|i| i.name.starts_with(want)) else {
+        eprintln!("no input named {want:?} at {edge}^3");
         std::process::exit(2);
     };
     let classes = BlockClasses::from_palette(&input.palette);

@@ -9,12 +9,12 @@
 //! | [`cpu_time`] | [`ThreadCpuTime`](cpu_time::ThreadCpuTime), the criterion clock the bench targets use by default (`BENCH_CLOCK=wall` for wall time) |
 //! | [`gpu_bench`] | the GPU benchmark (binary `gpu_bench`): terrain scenes of growing chunk counts drawn by the renderer, GPU time per pass, bytes, CPU frame time |
 //! | [`gpu_scene`] | the GPU benchmark's scene: the viewer's terrain over `side x side` columns, meshed, nearest chunks first |
-//! | [`rng`] | a tiny seeded PRNG, so every input is the same on every machine and every run |
+//! | [`rng`] | a tiny seeded PRNG (`voxel_scene::rng`), so every input is the same on every machine and every run |
 //! | [`inputs::chunks`] | terrain chunks with caves (32^3, 62^3), a world of 27 of them, uniform and random chunks, random positions |
 //! | [`inputs::formats`] | arrays of valid field values for each packed GPU format, and unit normals |
 //! | [`smooth_inputs`] | density grids for SurfaceNets (the `fast-surface-nets` sphere and sine at 34^3, a 62^3 terrain) and the NoCubes terrain chunk |
 //! | [`report`] | the speed-against-accuracy report (binary `tradeoff_report`, writes `docs/tradeoff.md`): CPU meshing per mode and chunk size, smooth-mesh and format error, the GPU budget sweep, renders at 2^30 offsets |
-//! | [`mesh_inputs`] | padded chunks and palettes for the blocky meshers and their peers: spheres, terrain, checkerboard, random fill, full, empty, the `.vox` samples cut into chunks |
+//! | [`mesh_inputs`] | padded chunks and palettes for the blocky meshers and their peers, at any chunk size: spheres, terrain, checkerboard, random fill, full, empty, Menger sponges, a foliage scene, the `.vox` samples cut into chunks |
 //!
 //! The bench targets live in `benches/benches/` (one file per crate: `voxel_core.rs` today).
 //! Every input is built once, outside the timed loop, by a function here, so two benches that
@@ -37,5 +37,5 @@ pub mod gpu_scene;
 pub mod inputs;
 pub mod mesh_inputs;
 pub mod report;
-pub mod rng;
+pub use voxel_scene::rng;
 pub mod smooth_inputs;

@@ -13,7 +13,12 @@
 //! | `random50` | each voxel air with probability 1/2, else one of 4 opaque ids |
 //! | `full` | every padded voxel stone: buried, no face |
 //! | `empty` | all air |
-//! | `vox/<model>` | a MagicaVoxel sample model from `../shared/data/vox/`, every 62^3 chunk it touches |
+//! | `menger L<level>` | a Menger sponge of level 3, 4 or 5 (edge 27, 81, 243) in stone at the origin, every chunk it touches ([`voxel_scene::detailed::menger`]) |
+//! | `foliage` | a forest floor of 124 x 62 x 124 voxels: trees, leaves with holes in three shades, grass blades, flowers, vines ([`voxel_scene::detailed::foliage`]), every chunk it touches |
+//! | `vox/<model>` | a MagicaVoxel sample model from `../shared/data/vox/`, every chunk it touches |
+//!
+//! Every input exists at any chunk size (the size is in its name); the benches use 32^3 and
+//! 62^3.
 
 use std::path::{Path, PathBuf};
 
@@ -21,10 +26,11 @@ use voxel_core::{
     BlockId, ChunkSize, Material, MaterialPalette, PaddedChunk, gather_neighbourhood,
 };
 use voxel_scene::TerrainBlocks;
+use voxel_scene::detailed::{VoxelBox, foliage, menger};
 use voxel_scene::vox::load_vox_file;
 
 use crate::inputs::chunks::{TERRAIN_CENTRE, terrain_world_dense};
-use crate::rng::Rng;
+use voxel_scene::rng::Rng;
 
 /// One bench input: one or more padded chunks and the palette their ids index.
 pub struct MeshInput {
@@ -145,19 +151,54 @@ pub fn empty(size: ChunkSize) -> MeshInput {
     )
 }
 
-/// The synthetic inputs, in bench order.
-pub fn synthetic_inputs() -> Vec<MeshInput> {
-    let s62 = ChunkSize::S62;
+/// The synthetic inputs at `size`, in bench order.
+pub fn synthetic_inputs(size: ChunkSize) -> Vec<MeshInput> {
     vec![
-        terrain(s62),
-        sphere(s62),
-        sphere(ChunkSize::S32),
-        checkerboard(s62),
-        random_fill(s62, 50),
-        full(s62, false),
-        full(s62, true),
-        empty(s62),
+        terrain(size),
+        sphere(size),
+        checkerboard(size),
+        random_fill(size, 50),
+        full(size, false),
+        full(size, true),
+        empty(size),
     ]
+}
+
+/// The edge of the foliage scene along x and z (its height is 62).
+pub const FOLIAGE_EDGE: usize = 124;
+
+/// The seed of the foliage scene.
+pub const FOLIAGE_SEED: u64 = 11;
+
+fn scene_input(name: &str, scene: &VoxelBox, size: ChunkSize) -> MeshInput {
+    let chunks = scene.padded_chunks(size);
+    MeshInput {
+        name: format!("{name} ({} x {}^3)", chunks.len(), size.edge()),
+        chunks,
+        palette: scene.palette.clone(),
+    }
+}
+
+/// The Menger sponges of levels 3 to 5 and the foliage scene, cut into chunks of `size`.
+pub fn scene_inputs(size: ChunkSize) -> Vec<MeshInput> {
+    let mut out: Vec<MeshInput> = (3..=5)
+        .map(|level| scene_input(&format!("menger L{level}"), &menger(level), size))
+        .collect();
+    let forest = foliage([FOLIAGE_EDGE, 62, FOLIAGE_EDGE], FOLIAGE_SEED);
+    out.push(scene_input("foliage", &forest, size));
+    out
+}
+
+/// Every input at `size`: the synthetic ones, the scenes, then the sample models when
+/// `../shared/data/vox` is there (and `None` when it is not, so callers can say so).
+pub fn all_inputs(size: ChunkSize) -> (Vec<MeshInput>, Option<PathBuf>) {
+    let mut inputs = synthetic_inputs(size);
+    inputs.extend(scene_inputs(size));
+    let dir = vox_dir();
+    if let Some(dir) = &dir {
+        inputs.extend(vox_inputs(dir, size));
+    }
+    (inputs, dir)
 }
 
 /// The folder of the MagicaVoxel samples (`../shared/data/vox` beside the checkout), if present.

@@ -91,6 +91,9 @@ fn every_size_and_fill_once() {
             Fill::Terrain,
             Fill::Checkerboard { holes_percent: 0 },
             Fill::Checkerboard { holes_percent: 3 },
+            Fill::Menger { level: 3 },
+            Fill::Menger { level: 4 },
+            Fill::Foliage,
         ] {
             // Two seeds: the checkerboard is of one id for one of them, of mixed ids for the other.
             for seed in [7, 8] {

@@ -8,7 +8,10 @@
 //!   level of detail, without bounds, for streaming ([`Terrain::fill_node`]);
 //! - [`vox`]: a strict MagicaVoxel `.vox` loader: every model of the scene graph with its
 //!   transforms, hidden nodes and layers left out, palette and materials, and a clear error
-//!   for every malformed file.
+//!   for every malformed file;
+//! - [`detailed`]: dense, detailed scenes for testing and benchmarking meshers (a Menger
+//!   sponge, a foliage scene), cut into padded chunks of any size;
+//! - [`rng`]: the small seeded generator those scenes and the benchmarks' inputs use.
 //!
 //! ```
 //! use voxel_core::ChunkSize;
@@ -18,6 +21,8 @@
 //! assert!(!scene.world.is_empty());
 //! ```
 
+pub mod detailed;
+pub mod rng;
 pub mod terrain;
 pub mod vox;
 

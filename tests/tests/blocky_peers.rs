@@ -270,3 +270,26 @@ fn matches_block_mesh_on_the_sample_models() {
         }
     }
 }
+
+/// The Menger sponges of levels 3 and 4 and a foliage scene, cut into chunks of 32^3 and
+/// 16^3 the way a world is meshed: every chunk against `block-mesh`.
+#[test]
+fn matches_block_mesh_on_the_detailed_scenes() {
+    use voxel_scene::detailed::{foliage, menger};
+    let scenes = [
+        ("menger L3", menger(3)),
+        ("menger L4", menger(4)),
+        ("foliage", foliage([56, 40, 56], 5)),
+    ];
+    for (name, scene) in &scenes {
+        let classes = BlockClasses::from_palette(&scene.palette);
+        for size in [ChunkSize::S16, ChunkSize::S32] {
+            let chunks = scene.padded_chunks(size);
+            assert!(!chunks.is_empty(), "{name}");
+            for padded in &chunks {
+                let (ours, theirs) = compare(padded, &classes);
+                assert!(ours <= theirs, "{name} at {size:?}: {ours} > {theirs}");
+            }
+        }
+    }
+}

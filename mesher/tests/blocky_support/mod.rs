@@ -79,6 +79,12 @@ pub enum Fill {
     /// `holes_percent` of the even voxels are air too: the faces stay alone, but lines with
     /// the same faces get different front neighbourhoods, so AO varies from line to line.
     Checkerboard { holes_percent: u64 },
+    /// A window of a Menger sponge of `level` (a fractal of holes of every size down to one
+    /// voxel) at a random offset, in one of `ids`.
+    Menger { level: u32 },
+    /// A window of a random foliage scene (`voxel_scene::detailed::foliage`: trees, leaves
+    /// with holes, grass blades, vines), its 12 ids mapped onto `ids`.
+    Foliage,
 }
 
 /// A random padded chunk of `size`; `air_border` leaves the one-voxel border air.
@@ -130,6 +136,18 @@ pub fn random_chunk(
                 }
             })
         }
+        Fill::Menger { level } => {
+            let sponge = voxel_scene::detailed::menger(level);
+            let id = ids[rng.below(ids.len() as u64) as usize];
+            window(size, &sponge, &mut rng, |_| id)
+        }
+        Fill::Foliage => {
+            let dims = [48 + rng.below(48) as usize, 40, 48 + rng.below(48) as usize];
+            let forest = voxel_scene::detailed::foliage(dims, rng.next());
+            window(size, &forest, &mut rng, |id| {
+                ids[usize::from(id) % ids.len()]
+            })
+        }
         Fill::Terrain => {
             let heights: Vec<u32> = (0..p * p).map(|_| rng.below(u64::from(p)) as u32).collect();
             let level = rng.below(u64::from(p)) as u32;
@@ -160,6 +178,24 @@ pub fn random_chunk(
         }
     }
     padded
+}
+
+/// The padded chunk of `size` at a random offset into `scene` (which may run past its sides,
+/// where it is air), each id mapped by `map`.
+fn window(
+    size: ChunkSize,
+    scene: &voxel_scene::detailed::VoxelBox,
+    rng: &mut Rng,
+    map: impl Fn(u16) -> u16,
+) -> PaddedChunk {
+    let origin: [i64; 3] = core::array::from_fn(|a| rng.below(scene.dims[a] as u64 + 4) as i64 - 4);
+    PaddedChunk::from_fn(size, |x, y, z| {
+        let at = [x, y, z].map(i64::from);
+        match scene.get(core::array::from_fn(|a| origin[a] + at[a])) {
+            0 => BlockId::AIR,
+            id => BlockId(map(id)),
+        }
+    })
 }
 
 /// Checks a mesh against the reference: same unit faces (position, direction, id, AO) per
@@ -307,5 +343,7 @@ pub fn fills() -> impl proptest::strategy::Strategy<Value = Fill> {
         Just(Fill::Terrain),
         prop_oneof![Just(0u64), 1u64..=20]
             .prop_map(|holes_percent| Fill::Checkerboard { holes_percent }),
+        (2u32..=4).prop_map(|level| Fill::Menger { level }),
+        Just(Fill::Foliage),
     ]
 }

@@ -1,4 +1,4 @@
-//! A tiny deterministic PRNG for bench inputs (xorshift64*). Not for anything but scattering
+//! A tiny deterministic PRNG for generated scenes and bench inputs (xorshift64*). Not for anything but scattering
 //! positions and values: the point is that a seed gives the same sequence everywhere.
 
 use voxel_core::{ChunkSize, LocalPos};
@@ -6,7 +6,7 @@ use voxel_core::{ChunkSize, LocalPos};
 /// xorshift64*: 64 bits of state, seeded with any `u64` (zero is mapped to a non-zero state).
 ///
 /// ```
-/// use benches::rng::Rng;
+/// use voxel_scene::rng::Rng;
 /// let (mut a, mut b) = (Rng::new(5), Rng::new(5));
 /// assert_eq!(a.next_u64(), b.next_u64());
 /// assert!(a.below(10) < 10);
