@@ -23,8 +23,9 @@ pub struct BlockClasses {
     any_smoothable: bool,
     /// Every transparent id, ascending.
     transparent_ids: Vec<BlockId>,
-    /// Bit `id` set for every known id from 1 to 63 (bit 0, air, stays clear).
-    known_below_64: u64,
+    /// Every id below this has a material and no other id does: a palette's ids are
+    /// contiguous from 0.
+    known_below: u32,
 }
 
 const CLASSES: [MaterialClass; 5] = [
@@ -75,9 +76,13 @@ impl BlockClasses {
             any_smoothable |= material.class == MaterialClass::Smoothable;
             emissive[id / 64] |= u64::from(material.emission > 0) << (id % 64);
         }
-        let known_below_64 = (1..64)
-            .filter(|&id| codes.get(id).is_some_and(|&c| c != UNKNOWN))
-            .fold(0u64, |mask, id| mask | 1 << id);
+        let known_below = palette.as_slice().len() as u32;
+        debug_assert!(
+            codes
+                .iter()
+                .enumerate()
+                .all(|(id, &c)| (c != UNKNOWN) == ((id as u32) < known_below))
+        );
         BlockClasses {
             codes,
             any_transparent,
@@ -85,16 +90,16 @@ impl BlockClasses {
             any_clutter_bearing,
             any_smoothable,
             transparent_ids,
-            known_below_64,
+            known_below,
         }
     }
 
-    /// Bit `id` set for every known id from 1 to 63; bit 0 (air) is always clear. The blocky
-    /// mesher's cache of known ids starts from it, so the ids of a palette never take the slow
-    /// path that names an unknown id.
+    /// Every id below this is known and no other id is (a palette's ids run from 0 without a
+    /// gap), so the blocky mesher checks a whole line of faces with one compare of their
+    /// largest id.
     #[inline]
-    pub(crate) fn known_below_64(&self) -> u64 {
-        self.known_below_64
+    pub(crate) fn known_below(&self) -> u32 {
+        self.known_below
     }
 
     /// The class of `id`, or `None` for an id the palette does not know.

@@ -37,6 +37,35 @@ fn row_equal_64(row: &[u16; 64], id: u16) -> u64 {
     mask
 }
 
+/// Bit `i` set iff `a[i] == b[i]`, for two rows of 64 ids: [`row_equal_64`]'s compares and
+/// packing, against a second row instead of one id.
+#[cfg(target_feature = "sse2")]
+#[inline(always)]
+fn rows_equal_64(a: &[u16; 64], b: &[u16; 64]) -> u64 {
+    use safe_arch::{cmp_eq_mask_i16_m128i, m128i, move_mask_i8_m128i, pack_i16_to_i8_m128i};
+    let mut mask = 0u64;
+    for (k, (a, b)) in a.chunks_exact(16).zip(b.chunks_exact(16)).enumerate() {
+        let half = |row: &[u16], from: usize| {
+            m128i::from(core::array::from_fn::<u16, 8, _>(|j| row[from + j]))
+        };
+        let bytes = pack_i16_to_i8_m128i(
+            cmp_eq_mask_i16_m128i(half(a, 0), half(b, 0)),
+            cmp_eq_mask_i16_m128i(half(a, 8), half(b, 8)),
+        );
+        mask |= u64::from(move_mask_i8_m128i(bytes) as u16) << ((16 * k) & 63);
+    }
+    mask
+}
+
+/// Bit `i` set iff `a[i] == b[i]`, for two rows of 64 ids.
+#[inline(always)]
+pub(crate) fn rows_equal(a: &[u16; 64], b: &[u16; 64]) -> u64 {
+    #[cfg(target_feature = "sse2")]
+    return rows_equal_64(a, b);
+    #[cfg(not(target_feature = "sse2"))]
+    (0..64).fold(0u64, |mask, i| mask | u64::from(a[i] == b[i]) << i)
+}
+
 /// Bit `i` set iff `pred(row[i])`, for rows of at most 64 ids.
 ///
 /// A full row of 64 is turned into 64 bytes of `0` / `1` first (one vectorised compare over the
@@ -317,5 +346,19 @@ mod tests {
                 .fold(0u64, |m, (i, &v)| m | u64::from(v != 0) << i);
             assert_eq!(row_non_air(row), non_air, "len {len}");
         }
+    }
+
+    /// Rows equal, different, and equal at some lanes, with ids at the ends of the range.
+    #[test]
+    fn rows_equal_matches_a_plain_loop() {
+        let values = [0u16, 1, 9, 0x7FFF, 0x8000, 0xFFFF];
+        let a: [u16; 64] = core::array::from_fn(|i| values[(i * 5) % values.len()]);
+        for shift in 0..values.len() {
+            let b: [u16; 64] =
+                core::array::from_fn(|i| values[(i * 5 + shift * (i % 3)) % values.len()]);
+            let want = (0..64).fold(0u64, |m, i| m | u64::from(a[i] == b[i]) << i);
+            assert_eq!(rows_equal(&a, &b), want, "shift {shift}");
+        }
+        assert_eq!(rows_equal(&a, &a), u64::MAX);
     }
 }

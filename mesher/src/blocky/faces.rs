@@ -9,7 +9,7 @@ use voxel_core::formats::PackedQuad;
 use super::bits::masked;
 use super::direction::Direction;
 use super::masks::{Front, Slice};
-use crate::{BlockClasses, MeshError};
+use crate::MeshError;
 
 /// The faces of one slice of direction `D`, as the merge passes see them.
 pub(crate) struct SliceFaces<'a, const D: usize> {
@@ -25,8 +25,9 @@ pub(crate) struct SliceFaces<'a, const D: usize> {
     pub front: &'a Slice,
     /// The slice's padded coordinate.
     pub n: usize,
-    /// Check that ids are known (opaque layer).
-    pub check: Option<&'a BlockClasses>,
+    /// Ids below this are known (see [`check`](Self::check)): the classes' bound for the
+    /// opaque layer, `u32::MAX` for the transparent one (its ids have a class).
+    pub known_below: u32,
 }
 
 /// Where the ids of one line of faces are: a contiguous row (bits along x, the ±Y and ±Z faces)
@@ -179,6 +180,18 @@ impl<const D: usize> SliceFaces<'_, D> {
         LineIds::Row(row)
     }
 
+    /// The 64 ids of line `l` from bit `offset` (-1 or 0) on, for the directions whose lines
+    /// are rows in memory (the ±Y and ±Z faces); `None` for the ±X faces and where the row
+    /// would run past the ids.
+    #[inline(always)]
+    pub(crate) fn row_ids(&self, l: usize, offset: isize) -> Option<&[u16; 64]> {
+        if Direction::<D>::LAYOUT == 2 {
+            return None;
+        }
+        let start = (self.base + l * self.stride_l).checked_add_signed(offset)?;
+        self.voxels.get(start..start + 64)?.try_into().ok()
+    }
+
     /// Asks the CPU to fetch the ids of line `l` (a row of 64 ids, two cache lines) ahead of
     /// their use, for the ±Y faces: their lines' rows lie a slab apart (8 KiB at 62^3), a
     /// stride the hardware prefetchers do not follow, and the output written meanwhile evicts
@@ -199,15 +212,6 @@ impl<const D: usize> SliceFaces<'_, D> {
         }
         #[cfg(not(all(target_arch = "x86_64", target_feature = "sse")))]
         let _ = l;
-    }
-
-    /// The bit that marks `id` in a mask of ids seen, checked against the cache of known ids
-    /// (see [`check`](Self::check)): bit `id` for ids below 64, bit 0 for all larger ones.
-    /// Air (id 0) never has a face and bit 0 is never in the cache, so one mask tells both
-    /// "an id the cache lacks" and "an id too large for it".
-    #[inline(always)]
-    pub(crate) fn seen_bit(id: u32) -> u64 {
-        1u64 << if id < 64 { id } else { 0 }
     }
 
     /// The key of the face at line `l`, bit `b`: its id and, with `AO`, its 4 corner values.
@@ -249,29 +253,12 @@ impl<const D: usize> SliceFaces<'_, D> {
             .wrapping_add((bits as u32) << Direction::<D>::SIZE_SHIFT_B)
     }
 
-    /// Fails if the layer is checked and the id of `key` is unknown; `known` caches, one bit
-    /// each, the ids below 64 that passed (a test that stays predictable when ids alternate).
+    /// Fails if the id of `key` is unknown (not below [`known_below`](Self::known_below)),
+    /// naming it and the face's position.
     #[inline(always)]
-    pub(crate) fn check(
-        &self,
-        key: u32,
-        known: &mut u64,
-        l: usize,
-        b: usize,
-    ) -> Result<(), MeshError> {
+    pub(crate) fn check(&self, key: u32, l: usize, b: usize) -> Result<(), MeshError> {
         let id = key >> PackedQuad::BLOCK_SHIFT;
-        if id < 64 && (*known >> id) & 1 != 0 {
-            return Ok(());
-        }
-        let Some(classes) = self.check else {
-            return Ok(());
-        };
-        let id = BlockId(id as u16);
-        if classes.class(id).is_some() {
-            if id.0 < 64 {
-                // Bit 0 stays clear: it marks large ids in `seen_bit` masks.
-                *known |= (1 << id.0) & !1;
-            }
+        if id < self.known_below {
             return Ok(());
         }
         let mut position = [0u32; 3];
@@ -279,7 +266,10 @@ impl<const D: usize> SliceFaces<'_, D> {
         position[axis_n as usize] = self.n as u32;
         position[axis_l as usize] = l as u32;
         position[axis_b as usize] = b as u32;
-        Err(MeshError::UnknownBlock { id, position })
+        Err(MeshError::UnknownBlock {
+            id: BlockId(id as u16),
+            position,
+        })
     }
 
     /// Pushes the quad at line `l`, bit `b`, spanning `lines` lines and `bits` bits, with word 1

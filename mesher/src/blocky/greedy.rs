@@ -286,7 +286,6 @@ fn mesh_chunk(scratch: &mut Scratch, job: &Job<'_>, out: &mut BlockyMesh) -> Res
         }
     };
     let classes = job.classes;
-    keys.known = classes.known_below_64();
     if masks.build(job.p, job.voxels, columns, classes) != Content::Surface {
         return Ok(());
     }

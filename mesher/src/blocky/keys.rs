@@ -21,10 +21,6 @@ pub(crate) struct Keys {
     pub(crate) across: Slice,
     /// `alone[l]` bit `b`: the face at `(l, b)` has no neighbour with an equal key.
     pub(crate) alone: Slice,
-    /// Ids below 64 known to the classes, one bit each (see
-    /// [`SliceFaces::check`](super::faces::SliceFaces::check)); kept for a whole chunk, so a
-    /// slice's first face does not miss the cache.
-    pub(crate) known: u64,
     /// The AO splits of the last lines of many lone faces (reset per direction: its entries
     /// hold AO looked up in the direction's table).
     pub(crate) memo: NeighbourhoodMemo<Front>,
@@ -38,7 +34,6 @@ impl Keys {
             along: [0; 64],
             across: [0; 64],
             alone: [0; 64],
-            known: 0,
             memo: NeighbourhoodMemo::new(),
         }
     }

@@ -57,11 +57,10 @@ impl<const D: usize> SliceFaces<'_, D> {
         &self,
         l: usize,
         bits: u64,
-        known: &mut u64,
         out: &mut Quads<'_>,
     ) -> Result<(), MeshError> {
         if bits.count_ones() >= DIRECT_MIN {
-            return self.units_direct::<AO>(l, bits, known, out);
+            return self.units_direct::<AO>(l, bits, out);
         }
         let ids = self.line_ids(l);
         let front = self.front_lines(l);
@@ -69,17 +68,16 @@ impl<const D: usize> SliceFaces<'_, D> {
         // The end in a local: the buffer's end is stored once, not once per quad (on an error
         // the whole output is dropped).
         let mut n = out.len;
-        // The ids seen: checked against the cache of known ids once, after the line, instead
-        // of once per face.
-        let mut seen = 0u64;
+        // The largest id: checked once, after the line, instead of once per face.
+        let mut seen = 0u32;
         for b in ones(bits) {
             let (quad, id) = self.unit_quad::<AO>(ids, front, word, b);
-            seen |= Self::seen_bit(id);
+            seen = seen.max(id);
             out.buf[masked::<4096>(n)] = quad;
             n += 1;
         }
-        if seen & !*known != 0 {
-            self.check_line(l, bits, known)?;
+        if seen >= self.known_below {
+            self.check_line(l, bits)?;
         }
         out.len = n;
         Ok(())
@@ -111,13 +109,12 @@ impl<const D: usize> SliceFaces<'_, D> {
         &self,
         l: usize,
         bits: u64,
-        known: &mut u64,
         out: &mut Quads<'_>,
     ) -> Result<(), MeshError> {
         let ids = self.line_ids(l);
         let front = self.front_lines(l);
         let word = self.position_size(l, 1, 1, 1);
-        let mut seen = 0u64;
+        let mut seen = 0u32;
         let mut m = bits;
         // One capacity check for the line (as `push_bits`): `extend` from a range knows its
         // length, an iterator of the bits (`bits::ones`) would not, so the bits are scanned
@@ -126,21 +123,21 @@ impl<const D: usize> SliceFaces<'_, D> {
             let b = m.trailing_zeros() as usize;
             m &= m.wrapping_sub(1);
             let (quad, id) = self.unit_quad::<AO>(ids, front, word, b);
-            seen |= Self::seen_bit(id);
+            seen = seen.max(id);
             quad
         }));
-        if seen & !*known != 0 {
-            self.check_line(l, bits, known)?;
+        if seen >= self.known_below {
+            self.check_line(l, bits)?;
         }
         Ok(())
     }
 
     /// [`check`](Self::check)s the id of every face of `bits` in line `l`: the slow path of a
-    /// line with an id the cache does not hold yet.
+    /// line with an id the classes may not know.
     #[cold]
-    fn check_line(&self, l: usize, bits: u64, known: &mut u64) -> Result<(), MeshError> {
+    fn check_line(&self, l: usize, bits: u64) -> Result<(), MeshError> {
         for b in ones(bits) {
-            self.check(self.id(l, b) << PackedQuad::BLOCK_SHIFT, known, l, b)?;
+            self.check(self.id(l, b) << PackedQuad::BLOCK_SHIFT, l, b)?;
         }
         Ok(())
     }
@@ -154,7 +151,6 @@ impl<const D: usize> SliceFaces<'_, D> {
         l: usize,
         bits: u64,
         memo: &mut NeighbourhoodMemo<Front>,
-        known: &mut u64,
         out: &mut Quads<'_>,
     ) -> Result<(), MeshError> {
         let b0 = masked::<64>(bits.trailing_zeros() as usize);
@@ -187,7 +183,7 @@ impl<const D: usize> SliceFaces<'_, D> {
                 same_ao & !differ
             }
         };
-        self.check(key0, known, l, b0)?;
+        self.check(key0, l, b0)?;
         let first = self.position_size(l, 1, 1, 1);
         let key = key0 | Direction::<D>::FACE;
         out.push_bits(same_key, first, Direction::<D>::SHIFT_B, key);
@@ -195,6 +191,6 @@ impl<const D: usize> SliceFaces<'_, D> {
         if rest == 0 {
             return Ok(());
         }
-        self.units::<AO>(l, rest, known, out)
+        self.units::<AO>(l, rest, out)
     }
 }

@@ -104,7 +104,7 @@ pub(crate) fn lone_x<const D: usize>(
     }
     below = [0; 64];
     slab_faces::<D>(slab(1), inner, e, true, &mut here);
-    let mut known = classes.known_below_64();
+    let known_below = classes.known_below();
     let mut memo = NeighbourhoodMemo::new();
     for z in 1..=e {
         slab_faces::<D>(slab(z + 1), inner, e, z < e, &mut above);
@@ -128,12 +128,11 @@ pub(crate) fn lone_x<const D: usize>(
             let ids = input.voxels.get(start..start + p).unwrap_or(&[]);
             emit_row::<D>(
                 input.ao,
-                classes,
                 [y, z],
                 lone,
                 &planes,
                 ids,
-                &mut known,
+                known_below,
                 &mut memo,
                 out,
             )?;
@@ -154,12 +153,11 @@ pub(crate) fn lone_x<const D: usize>(
 #[inline(always)]
 fn emit_row<const D: usize>(
     ao: bool,
-    classes: &BlockClasses,
     [y, z]: [usize; 2],
     bits: u64,
     planes: &[u64; 9],
     ids: &[u16],
-    known: &mut u64,
+    known_below: u32,
     memo: &mut NeighbourhoodMemo<[u64; 9]>,
     out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
@@ -181,15 +179,9 @@ fn emit_row<const D: usize>(
             | Direction::<D>::FACE
     };
     let key = |x: usize| key_of(ids.get(x).copied().unwrap_or(0), code(x));
-    let check = |key: u32, x: usize, known: &mut u64| {
+    let check = |key: u32, x: usize| {
         let id = key >> PackedQuad::BLOCK_SHIFT;
-        if id < 64 && (*known >> id) & 1 != 0 {
-            return Ok(());
-        }
-        if classes.class(BlockId(id as u16)).is_some() {
-            if id < 64 {
-                *known |= 1 << id;
-            }
+        if id < known_below {
             return Ok(());
         }
         Err(MeshError::UnknownBlock {
@@ -225,13 +217,13 @@ fn emit_row<const D: usize>(
             | ao0 << PackedQuad::AO_SHIFT
             | Direction::<D>::FACE;
         same = faces_of_id(ids, id0, same);
-        check(key0, x0, known)?;
+        check(key0, x0)?;
         out.push_bits(same, word, PackedQuad::X_SHIFT, key0);
         rest &= !same;
     }
     for x in ones(rest) {
         let k = key(x);
-        check(k, x, known)?;
+        check(k, x)?;
         out.push(PackedQuad {
             position_size: word | (x as u32 - 1) << PackedQuad::X_SHIFT,
             face_ao_block: k,

@@ -23,17 +23,16 @@
 //! too: it won 6 % on random fills and lost 7 % on terrain once the keying loop was compiled
 //! for BMI2.)
 //!
-//! Unknown ids of the opaque layer are caught through a cache of the ids below 64 that passed,
-//! one bit each, kept for the whole chunk: the passes that write 1 x 1 quads only OR each
-//! face's id bit into a mask (and note an id of 64 or more), and compare it with the cache once
-//! per slice or line; only a mask with a bit the cache lacks (or a large id) sends the faces
-//! through the per-face check, which names the first unknown id and its position. The greedy
-//! pass keys (and so checks) every face before it writes any quad, so its grown quads need no
-//! check of their own.
+//! Unknown ids of the opaque layer are caught with one compare per line or slice: a palette's
+//! ids run from 0 without a gap, so the passes that write 1 x 1 quads keep the largest id they
+//! wrote and compare it with the classes' bound (`known_below`) once; only a larger id sends
+//! the faces through the per-face check, which names the first unknown id and its position.
+//! The greedy pass keys (and so checks) every face before it writes any quad, so its grown
+//! quads need no check of their own.
 
 use voxel_core::formats::PackedQuad;
 
-use super::bits::{many, masked, nonzero_lines, ones};
+use super::bits::{many, masked, nonzero_lines, ones, rows_equal};
 use super::direction::Direction;
 use super::faces::{Quads, SliceFaces};
 use super::grow::{greedy_bits_first, greedy_lines_first};
@@ -64,10 +63,10 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool>(
         let f = faces[l];
         // Many faces and none with a neighbouring face (a checkerboard): most share one key.
         if many_lone(faces, l) {
-            s.line_units::<AO>(l, f, &mut keys.memo, &mut keys.known, out)?;
+            s.line_units::<AO>(l, f, &mut keys.memo, out)?;
             continue;
         }
-        s.units::<AO>(l, f, &mut keys.known, out)?;
+        s.units::<AO>(l, f, out)?;
     }
     *faces = [0; 64];
     Ok(())
@@ -92,9 +91,9 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
     keys: &mut Keys,
     out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
-    let mut known = keys.known;
     let mut lone_lines = 0u64;
-    let mut seen = 0u64;
+    // The largest id keyed.
+    let mut seen = 0u32;
     let mut lines = ones(rows);
     while let Some(l) = lines.next() {
         if let Some(next) = lines.peek() {
@@ -102,7 +101,7 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
         }
         let f = faces[l];
         if many_lone(faces, l) {
-            s.line_units::<AO>(l, f, &mut keys.memo, &mut known, out)?;
+            s.line_units::<AO>(l, f, &mut keys.memo, out)?;
             faces[l] = 0;
             lone_lines |= 1 << l;
             continue;
@@ -110,8 +109,8 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
         keyed_line::<D, AO>(s, l, f, keys, &mut seen);
     }
     let rows = rows & !lone_lines;
-    if seen & !known != 0 {
-        check_faces(s, faces, rows, keys, &mut known)?;
+    if seen >= s.known_below {
+        check_faces(s, faces, rows, keys)?;
     }
     let mut left = 0u64;
     for l in ones(rows) {
@@ -134,14 +133,13 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
     } else {
         greedy_bits_first::<D, AO>(s, faces, left, keys, out);
     }
-    keys.known = known;
     Ok(())
 }
 
 /// The keys of the faces `f` of line `l` into the table, each compared with the face before it
 /// in the line and the face in line `l - 1` (`along[l]` bit `b`: face `b` has the key of the
 /// face before it; `across[l - 1]`: stale entries where there is no face, masked later). The
-/// ids seen go into `seen` (see [`SliceFaces::seen_bit`]).
+/// largest id goes into `seen`.
 ///
 /// Written for few live values (two row pointers and one bit index for the key table, the
 /// previous key in a register), so that the loop runs with few spills: it is most of the
@@ -152,8 +150,11 @@ fn keyed_line<const D: usize, const AO: bool>(
     l: usize,
     f: u64,
     keys: &mut Keys,
-    seen: &mut u64,
+    seen: &mut u32,
 ) {
+    if !AO && f.count_ones() >= ROW_KEYED_MIN && keyed_row(s, l, keys, seen) {
+        return;
+    }
     let ids = s.line_ids(l);
     let front = s.front_lines(l);
     // Two row pointers: the line's keys and the line before's, one bit index into both.
@@ -164,10 +165,10 @@ fn keyed_line<const D: usize, const AO: bool>(
     let mut below = 0u64;
     // No key is all ones (ids have 16 bits): the line's first face equals no previous one.
     let mut previous = u32::MAX;
-    let mut seen_here = 0u64;
+    let mut seen_here = 0u32;
     for b in ones(f) {
         let id = ids.id(b);
-        seen_here |= SliceFaces::<D>::seen_bit(id);
+        seen_here = seen_here.max(id);
         let key = if AO {
             id << PackedQuad::BLOCK_SHIFT | s.ao::<AO>(front, b) << PackedQuad::AO_SHIFT
         } else {
@@ -178,25 +179,57 @@ fn keyed_line<const D: usize, const AO: bool>(
         previous = key;
         below |= u64::from(before[b] == key) << b;
     }
-    *seen |= seen_here;
+    *seen = (*seen).max(seen_here);
     keys.along[l] = along;
     keys.across[masked::<64>(l - 1)] = below;
 }
 
+/// Faces from which a line's keys are all taken at once by [`keyed_row`] (AO off).
+const ROW_KEYED_MIN: u32 = 8;
+
+/// [`keyed_line`] with AO off for a line whose ids are a row in memory (the ±Y and ±Z faces),
+/// all 64 bits at once, with no loop over the faces: the keys are the ids, `along` compares
+/// the row with itself one id earlier and `across` with the line before's row. Entries where
+/// there is no face are stale, as in `keyed_line`, and masked later. `seen` takes the row's
+/// largest id, faces or not: a larger id than the faces' only sends the slice through the
+/// exact per-face check. False (nothing done) for the ±X faces, whose ids are strided, and
+/// at the ids' far end, where a shifted row would run past them.
+#[inline(always)]
+fn keyed_row<const D: usize>(
+    s: &SliceFaces<'_, D>,
+    l: usize,
+    keys: &mut Keys,
+    seen: &mut u32,
+) -> bool {
+    let (Some(row), Some(earlier), Some(before)) = (
+        s.row_ids(l, 0),
+        s.row_ids(l, -1),
+        s.row_ids(masked::<64>(l - 1), 0),
+    ) else {
+        return false;
+    };
+    for (key, &id) in keys.keys[l].iter_mut().zip(row) {
+        *key = u32::from(id) << PackedQuad::BLOCK_SHIFT;
+    }
+    keys.along[l] = rows_equal(row, earlier);
+    keys.across[masked::<64>(l - 1)] = rows_equal(row, before);
+    *seen = (*seen).max(u32::from(row.iter().fold(0, |m, &id| m.max(id))));
+    true
+}
+
 /// Checks the id of every face of the lines `rows` (keys in the table): the slow path of a
-/// slice with an id the cache of known ids does not hold yet.
+/// slice with an id the classes may not know.
 #[cold]
 fn check_faces<const D: usize>(
     s: &SliceFaces<'_, D>,
     faces: &Slice,
     rows: u64,
     keys: &Keys,
-    known: &mut u64,
 ) -> Result<(), MeshError> {
     let mut result = Ok(());
     each_face(rows, faces, |l, b| {
         if result.is_ok() {
-            result = s.check(keys.key(l, b), known, l, b);
+            result = s.check(keys.key(l, b), l, b);
         }
     });
     result

@@ -98,7 +98,7 @@ pub(crate) fn mesh_direction<const D: usize>(
             stride_b,
             front,
             n,
-            check: Some(classes),
+            known_below: classes.known_below(),
         };
         if any != 0 {
             emit(input, &slice_faces, &mut faces, keys, buf, opaque)?;
@@ -133,7 +133,7 @@ pub(crate) fn mesh_direction<const D: usize>(
                 }
             }
         }
-        slice_faces.check = None;
+        slice_faces.known_below = u32::MAX;
         emit(input, &slice_faces, &mut faces, keys, buf, transparent)?;
     }
     Ok(())
