@@ -13,7 +13,7 @@ use super::input::Input;
 use super::keys::Keys;
 use super::lone_x::lone_x;
 use super::masks::{Content, Masks};
-use super::plain::{build_columns, padded_edge_of};
+use super::plain::{FLAT_WORDS, FlatColumns, build_columns, padded_edge_of};
 use super::slices::mesh_direction;
 use crate::{BlockClasses, InstructionSet, MeshError};
 
@@ -84,7 +84,7 @@ struct Scratch {
     /// Occupancy columns built by [`GreedyMesher::mesh_u16`].
     columns: Vec<u64>,
     /// The occupancy of the whole array, 64 ids a word, for building columns shorter than 64.
-    flat_columns: Vec<u64>,
+    flat_columns: Box<FlatColumns>,
 }
 
 /// One chunk to mesh, and how.
@@ -117,7 +117,7 @@ impl GreedyMesher {
                 keys: Box::new(Keys::new()),
                 quads: Box::new([PackedQuad::default(); 4096]),
                 columns: Vec::new(),
-                flat_columns: Vec::new(),
+                flat_columns: Box::new([0; FLAT_WORDS]),
             },
             ambient_occlusion: true,
             instruction_set: InstructionSet::detect(),

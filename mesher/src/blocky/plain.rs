@@ -5,7 +5,7 @@ use alloc::vec::Vec;
 
 use voxel_core::ChunkSize;
 
-use super::bits::row_non_air;
+use super::bits::{masked, row_non_air};
 use crate::MeshError;
 
 /// The padded edge `p` with `p^3 == len`, for the supported chunk sizes.
@@ -20,6 +20,13 @@ pub(crate) fn padded_edge_of(len: usize) -> Result<usize, MeshError> {
         })
 }
 
+/// The occupancy of a whole padded array of edge 34 or less, 64 ids a word (39,304 ids in
+/// 615 words at 34, and one more word that a row ending in the last one reads as empty).
+pub(crate) type FlatColumns = [u64; FLAT_WORDS];
+
+/// Words of [`FlatColumns`]: a power of two, so an index is kept in range by a mask.
+pub(crate) const FLAT_WORDS: usize = 1024;
+
 /// Occupancy columns of a padded array of edge `p`: `out[y + p * z]` has bit `x` set iff the id
 /// at `(x, y, z)` is not air. `flat` is scratch.
 ///
@@ -29,37 +36,48 @@ pub(crate) fn padded_edge_of(len: usize) -> Result<usize, MeshError> {
 /// of the array at bit `i % 64` of word `i / 64`), and each row's `p` bits, which start at bit
 /// `p * row`, are cut out of one or two of its words.
 #[inline(always)]
-pub(crate) fn build_columns(p: usize, voxels: &[u16], out: &mut Vec<u64>, flat: &mut Vec<u64>) {
+pub(crate) fn build_columns(p: usize, voxels: &[u16], out: &mut Vec<u64>, flat: &mut FlatColumns) {
     out.clear();
-    if p == 64 {
-        #[expect(
-            clippy::redundant_closure,
-            reason = "the closure is inlined into the loop; `row_non_air` passed as a function \
-                      went through an outlined call per row (6 instructions, callgrind)"
-        )]
-        out.extend(voxels.chunks_exact(64).map(|row| row_non_air(row)));
-    } else {
-        build_short_columns(p, voxels, out, flat);
+    match p {
+        64 => {
+            #[expect(
+                clippy::redundant_closure,
+                reason = "the closure is inlined into the loop; `row_non_air` passed as a \
+                          function went through an outlined call per row (6 instructions, \
+                          callgrind)"
+            )]
+            out.extend(voxels.chunks_exact(64).map(|row| row_non_air(row)));
+        }
+        34 => build_short_columns::<34>(voxels, out, flat),
+        18 => build_short_columns::<18>(voxels, out, flat),
+        _ => build_short_columns::<10>(voxels, out, flat),
     }
 }
 
-/// [`build_columns`] for rows shorter than 64 ids: a call of its own, since inlined into the
-/// mesher it made the 62^3 path 0.9 % slower (the mesher's other loops compiled differently).
+/// [`build_columns`] for rows of `P` ids, `P` below 64: a call of its own, since inlined into
+/// the mesher it made the 62^3 path 0.9 % slower (the mesher's other loops compiled
+/// differently). `P` is a constant so that a row's word and shift are a multiply and shifts.
 #[inline(never)]
-fn build_short_columns(p: usize, voxels: &[u16], out: &mut Vec<u64>, flat: &mut Vec<u64>) {
-    flat.clear();
-    #[expect(clippy::redundant_closure, reason = "as in `build_columns`")]
-    flat.extend(voxels.chunks(64).map(|ids| row_non_air(ids)));
+fn build_short_columns<const P: usize>(voxels: &[u16], out: &mut Vec<u64>, flat: &mut FlatColumns) {
+    debug_assert_eq!(voxels.len(), P * P * P);
+    debug_assert!((P * P * P).div_ceil(64) < FLAT_WORDS);
+    let whole = voxels.chunks_exact(64);
+    let tail = whole.remainder();
+    let words = whole.len();
+    for (word, ids) in flat.iter_mut().zip(whole) {
+        *word = row_non_air(ids);
+    }
+    flat[masked::<FLAT_WORDS>(words)] = row_non_air(tail);
     // A row's bits may end in the last word: the word after it reads as empty.
-    flat.push(0);
-    let row_bits = (1u64 << p) - 1;
-    out.extend((0..voxels.len() / p).map(|row| {
-        let bit = p * row;
-        let (word, shift) = (bit / 64, (bit % 64) as u32);
-        let low = flat[word] >> shift;
-        // A row starting on a word boundary takes no high part (a shift by 64 would overflow).
-        let high = flat[word + 1].checked_shl(64 - shift).unwrap_or(0);
-        (low | high) & row_bits
+    flat[masked::<FLAT_WORDS>(words + 1)] = 0;
+    let row_bits = (1u64 << P) - 1;
+    out.extend((0..P * P).map(|row| {
+        let bit = P * row;
+        let (word, shift) = (bit / 64, bit % 64);
+        // The row's two words as one 128-bit value: one double shift (`shrd`) cuts it out.
+        let pair = u128::from(flat[masked::<FLAT_WORDS>(word)])
+            | u128::from(flat[masked::<FLAT_WORDS>(word + 1)]) << 64;
+        (pair >> shift) as u64 & row_bits
     }));
 }
 
@@ -87,7 +105,7 @@ mod tests {
                     _ => (next() % 65_535) as u16 + 1,
                 })
                 .collect();
-            let (mut out, mut flat) = (vec![7], vec![9]);
+            let (mut out, mut flat) = (vec![7], alloc::boxed::Box::new([9; FLAT_WORDS]));
             build_columns(p, &voxels, &mut out, &mut flat);
             assert_eq!(out.len(), p * p, "edge {p}");
             for (row, ids) in voxels.chunks_exact(p).enumerate() {
