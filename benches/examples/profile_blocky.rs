@@ -17,7 +17,7 @@
 use std::hint::black_box;
 
 use benches::cpu_time::thread_cpu_now;
-use benches::mesh_inputs::{MeshInput, all_inputs, as_u16};
+use benches::mesh_inputs::{MeshInput, as_u16, find_input};
 use mesher::blocky::{BlockyMesh, GreedyMesher};
 use mesher::{BlockClasses, InstructionSet};
 use voxel_core::{BlockId, ChunkSize, PaddedChunk};
@@ -35,8 +35,7 @@ fn main() {
             std::process::exit(2);
         }
     };
-    let (inputs, _) = all_inputs(size);
-    let Some(input) = inputs.into_iter().find(|i| i.name.starts_with(want)) else {
+    let Some(input) = find_input(want, size) else {
         eprintln!("no input named {want:?} at {edge}^3");
         std::process::exit(2);
     };

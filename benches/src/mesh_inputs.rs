@@ -201,6 +201,19 @@ pub fn all_inputs(size: ChunkSize) -> (Vec<MeshInput>, Option<PathBuf>) {
     (inputs, dir)
 }
 
+/// The input at `size` whose name starts with `name`, building only its family (the sample
+/// models for `vox/...`, the scenes for `menger ...` and `foliage`, else the synthetic ones).
+pub fn find_input(name: &str, size: ChunkSize) -> Option<MeshInput> {
+    let family = if name.starts_with("vox/") {
+        vox_inputs(&vox_dir()?, size)
+    } else if name.starts_with("menger") || name.starts_with("foliage") {
+        scene_inputs(size)
+    } else {
+        synthetic_inputs(size)
+    };
+    family.into_iter().find(|i| i.name.starts_with(name))
+}
+
 /// The folder of the MagicaVoxel samples (`../shared/data/vox` beside the checkout), if present.
 pub fn vox_dir() -> Option<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/vox");
