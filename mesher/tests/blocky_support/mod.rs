@@ -47,23 +47,8 @@ pub fn palette(with_transparent: bool) -> MaterialPalette {
     p
 }
 
-/// Tiny deterministic generator for chunk contents.
-pub struct Rng(u64);
-
-impl Rng {
-    pub fn new(seed: u64) -> Rng {
-        Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
-    }
-    pub fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    pub fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
-}
+/// The deterministic generator of the chunks' contents.
+pub use voxel_scene::rng::Rng;
 
 /// How a random chunk is filled.
 #[derive(Clone, Copy, Debug)]
@@ -143,7 +128,7 @@ pub fn random_chunk(
         }
         Fill::Foliage => {
             let dims = [48 + rng.below(48) as usize, 40, 48 + rng.below(48) as usize];
-            let forest = voxel_scene::detailed::foliage(dims, rng.next());
+            let forest = voxel_scene::detailed::foliage(dims, rng.next_u64());
             window(size, &forest, &mut rng, |id| {
                 ids[usize::from(id) % ids.len()]
             })
