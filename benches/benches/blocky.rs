@@ -400,6 +400,8 @@ fn ours<'a>(
 fn bgm_timed<'a, const CS: usize>(prep: &'a Prepared<'a>) -> [Timed<'a>; 2] {
     let mut end_to_end = binary_greedy_meshing::Mesher::<CS>::new();
     let mut alone = binary_greedy_meshing::Mesher::<CS>::new();
+    // The reset the timed loops use gives what a full `Mesher::clear` gives.
+    bgm_quads(prep, &mut end_to_end);
     let masks = bgm_masks::<CS>(prep);
     [
         Timed {
