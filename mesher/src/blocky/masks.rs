@@ -111,8 +111,13 @@ fn occupied_slices(a: &[Slice]) -> [u64; 3] {
 }
 
 /// Resizes `v` to `n` slices. Callers overwrite lines `0..n` of every slice; lines `n..64` are
-/// zeroed here (nothing to do for 62^3 chunks, where `n` is 64).
+/// zeroed here when the size changes (nothing to do for 62^3 chunks, where `n` is 64). At an
+/// unchanged size they are still zero: the call that sized `v` zeroed them, and every chunk
+/// since wrote lines `0..n` only.
 fn slices(v: &mut Vec<Slice>, n: usize) {
+    if v.len() == n {
+        return;
+    }
     v.resize(n, [0; 64]);
     if n < 64 {
         for s in v.iter_mut() {
