@@ -90,19 +90,13 @@ mod tests {
     /// Every supported edge, random ids with runs of air: each row's mask is its own ids'.
     #[test]
     fn columns_match_each_row_s_ids() {
-        let mut state = 0x2545_F491_4F6C_DD1Du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = voxel_scene::rng::Rng::new(7);
         for p in [10, 18, 34, 64] {
             let voxels: Vec<u16> = (0..p * p * p)
-                .map(|_| match next() % 4 {
+                .map(|_| match rng.below(4) {
                     0 | 1 => 0,
                     2 => 1,
-                    _ => (next() % 65_535) as u16 + 1,
+                    _ => rng.below(65_535) as u16 + 1,
                 })
                 .collect();
             let (mut out, mut flat) = (vec![7], alloc::boxed::Box::new([9; FLAT_WORDS]));
