@@ -45,6 +45,8 @@ fn check_all(size: voxel_core::ChunkSize, seed: u64, fill: Fill, transparent: bo
         let mut other = BlockyMesh::new();
         pinned.mesh(&padded, &classes, &mut other).unwrap();
         assert_eq!(other, mesh, "greedy on {set:?}");
+        pinned.mesh_u16(voxels, &classes, &mut other).unwrap();
+        assert_eq!(other, mesh, "greedy from a u16 array on {set:?}");
         pinned.visible_faces(&padded, &classes, &mut other).unwrap();
         let mut visible = BlockyMesh::new();
         mesher

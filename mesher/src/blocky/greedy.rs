@@ -13,6 +13,8 @@ use super::input::Input;
 use super::keys::Keys;
 use super::lone_x::lone_x;
 use super::masks::{Content, Masks};
+#[cfg(target_arch = "x86_64")]
+use super::plain::build_columns_x86_v3;
 use super::plain::{FLAT_WORDS, FlatColumns, build_columns, padded_edge_of};
 use super::slices::mesh_direction;
 use crate::{BlockClasses, InstructionSet, MeshError};
@@ -227,7 +229,7 @@ impl GreedyMesher {
         out.clear();
         let scratch = &mut self.scratch;
         let result = match self.instruction_set {
-            InstructionSet::Baseline => mesh_chunk(scratch, job, out),
+            InstructionSet::Baseline => mesh_chunk_portable(scratch, job, out),
             #[cfg(target_arch = "x86_64")]
             InstructionSet::X86V3 => {
                 #[expect(
@@ -242,7 +244,7 @@ impl GreedyMesher {
                 }
             }
             #[cfg(not(target_arch = "x86_64"))]
-            InstructionSet::X86V3 => mesh_chunk(scratch, job, out),
+            InstructionSet::X86V3 => mesh_chunk_portable(scratch, job, out),
         };
         if result.is_err() {
             out.clear();
@@ -251,9 +253,22 @@ impl GreedyMesher {
     }
 }
 
-/// [`mesh_chunk`] compiled for x86-64 with AVX2, BMI1, BMI2, LZCNT and POPCNT: everything it
-/// calls is `#[inline(always)]` (and no closure runs a hot loop), so the whole mesher is
-/// compiled a second time for these features.
+/// [`mesh_chunk`] on the portable code path, after building the job's occupancy columns if
+/// it has none.
+fn mesh_chunk_portable(
+    scratch: &mut Scratch,
+    job: &Job<'_>,
+    out: &mut BlockyMesh,
+) -> Result<(), MeshError> {
+    with_columns(scratch, job, out, |p, voxels, columns, flat| {
+        build_columns(p, voxels, columns, flat);
+    })
+}
+
+/// [`mesh_chunk_portable`] compiled for x86-64 with AVX2, BMI1, BMI2, LZCNT and POPCNT:
+/// everything it calls is `#[inline(always)]` (and no closure runs a hot loop), so the whole
+/// mesher is compiled a second time for these features; the columns of a plain array come
+/// from [`build_columns_x86_v3`], which has AVX2 kernels of its own.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
 fn mesh_chunk_x86_v3(
@@ -261,30 +276,53 @@ fn mesh_chunk_x86_v3(
     job: &Job<'_>,
     out: &mut BlockyMesh,
 ) -> Result<(), MeshError> {
-    mesh_chunk(scratch, job, out)
+    with_columns(scratch, job, out, |p, voxels, columns, flat| {
+        build_columns_x86_v3(p, voxels, columns, flat);
+    })
 }
 
-/// Meshes one padded chunk into `out` (empty on entry; partly written on an error).
+/// Meshes `job` with [`mesh_chunk`], its columns those of the job or, for a plain array, built
+/// by `build` (edge, ids, columns out, scratch) into the scratch's column buffer first.
+#[inline(always)]
+fn with_columns(
+    scratch: &mut Scratch,
+    job: &Job<'_>,
+    out: &mut BlockyMesh,
+    build: impl FnOnce(usize, &[u16], &mut Vec<u64>, &mut FlatColumns),
+) -> Result<(), MeshError> {
+    // The buffer leaves the scratch while the mesher borrows the rest of it.
+    let mut built = None;
+    let columns = match job.columns {
+        Some(columns) => columns,
+        None => {
+            let mut columns = core::mem::take(&mut scratch.columns);
+            build(job.p, job.voxels, &mut columns, &mut scratch.flat_columns);
+            built.insert(columns).as_slice()
+        }
+    };
+    let result = mesh_chunk(scratch, job, columns, out);
+    if let Some(columns) = built {
+        scratch.columns = columns;
+    }
+    result
+}
+
+/// Meshes one padded chunk with occupancy columns `columns` into `out` (empty on entry;
+/// partly written on an error).
 ///
 /// Everything below is inlined into the entry that calls it, one per [`InstructionSet`]; a
 /// direction is a plain call rather than a closure, since a closure would be compiled once,
 /// outside any entry's instruction set.
 #[inline(always)]
-fn mesh_chunk(scratch: &mut Scratch, job: &Job<'_>, out: &mut BlockyMesh) -> Result<(), MeshError> {
+fn mesh_chunk(
+    scratch: &mut Scratch,
+    job: &Job<'_>,
+    columns: &[u64],
+    out: &mut BlockyMesh,
+) -> Result<(), MeshError> {
     let Scratch {
-        masks,
-        keys,
-        quads,
-        columns: built,
-        flat_columns,
+        masks, keys, quads, ..
     } = scratch;
-    let columns = match job.columns {
-        Some(columns) => columns,
-        None => {
-            build_columns(job.p, job.voxels, built, flat_columns);
-            built.as_slice()
-        }
-    };
     let classes = job.classes;
     if masks.build(job.p, job.voxels, columns, classes) != Content::Surface {
         return Ok(());

@@ -5,6 +5,8 @@ use alloc::vec::Vec;
 
 use voxel_core::ChunkSize;
 
+#[cfg(target_arch = "x86_64")]
+use super::bits::rows_non_air_x86_v3;
 use super::bits::{masked, row_non_air};
 use crate::MeshError;
 
@@ -27,58 +29,137 @@ pub(crate) type FlatColumns = [u64; FLAT_WORDS];
 /// Words of [`FlatColumns`]: a power of two, so an index is kept in range by a mask.
 pub(crate) const FLAT_WORDS: usize = 1024;
 
+/// `[f(0), f(1), ..., f(31)]`, written out: the compiler does not unroll a loop of 32 rows
+/// (`core::array::from_fn` or a `for`), and unrolled every row's word and shift is a constant
+/// (callgrind: 12 instructions a row as a loop).
+macro_rules! each_of_32 {
+    (|$r:ident| $e:expr) => {{
+        let f = |$r: usize| $e;
+        [
+            f(0), f(1), f(2), f(3), f(4), f(5), f(6), f(7), f(8), f(9), f(10), f(11), f(12),
+            f(13), f(14), f(15), f(16), f(17), f(18), f(19), f(20), f(21), f(22), f(23), f(24),
+            f(25), f(26), f(27), f(28), f(29), f(30), f(31),
+        ]
+    }};
+}
+
 /// Occupancy columns of a padded array of edge `p`: `out[y + p * z]` has bit `x` set iff the id
-/// at `(x, y, z)` is not air. `flat` is scratch.
+/// at `(x, y, z)` is not air. `flat` is scratch. The portable copy; [`build_columns_x86_v3`]
+/// gives the same columns with AVX2.
 ///
 /// Rows of 64 ids (62^3 chunks) are one SIMD compare each. Shorter rows (edges 34, 18, 10)
 /// would take the scalar path of [`row_non_air`] row by row, which cost 6 instructions a voxel
 /// at 34 against 0.6 at 64; so the whole array is masked 64 ids at a time into `flat` (bit `i`
 /// of the array at bit `i % 64` of word `i / 64`), and each row's `p` bits, which start at bit
-/// `p * row`, are cut out of one or two of its words.
+/// `p * row`, are cut out of one or two of its words (see [`cut_rows`]).
 #[inline(always)]
 pub(crate) fn build_columns(p: usize, voxels: &[u16], out: &mut Vec<u64>, flat: &mut FlatColumns) {
-    out.clear();
     match p {
         64 => {
-            #[expect(
-                clippy::redundant_closure,
-                reason = "the closure is inlined into the loop; `row_non_air` passed as a \
-                          function went through an outlined call per row (6 instructions, \
-                          callgrind)"
-            )]
-            out.extend(voxels.chunks_exact(64).map(|row| row_non_air(row)));
+            let rows = voxels.as_chunks::<64>().0;
+            for (column, row) in sized(out, rows.len()).iter_mut().zip(rows) {
+                *column = row_non_air(row);
+            }
         }
-        34 => build_short_columns::<34>(voxels, out, flat),
-        18 => build_short_columns::<18>(voxels, out, flat),
-        _ => build_short_columns::<10>(voxels, out, flat),
+        34 => short_columns_portable::<34>(voxels, out, flat),
+        18 => short_columns_portable::<18>(voxels, out, flat),
+        _ => short_columns_portable::<10>(voxels, out, flat),
     }
 }
 
-/// [`build_columns`] for rows of `P` ids, `P` below 64: a call of its own, since inlined into
-/// the mesher it made the 62^3 path 0.9 % slower (the mesher's other loops compiled
-/// differently). `P` is a constant so that a row's word and shift are a multiply and shifts.
+/// [`build_columns`] compiled for x86-64-v3, with the AVX2 row kernel
+/// ([`rows_non_air_x86_v3`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline]
+pub(crate) fn build_columns_x86_v3(
+    p: usize,
+    voxels: &[u16],
+    out: &mut Vec<u64>,
+    flat: &mut FlatColumns,
+) {
+    match p {
+        64 => {
+            let rows = voxels.as_chunks::<64>().0;
+            rows_non_air_x86_v3(rows, sized(out, rows.len()));
+        }
+        34 => short_columns_x86_v3::<34>(voxels, out, flat),
+        18 => short_columns_x86_v3::<18>(voxels, out, flat),
+        _ => short_columns_x86_v3::<10>(voxels, out, flat),
+    }
+}
+
+/// `out` as `n` columns to overwrite: resized (and zeroed) only when the chunk size changes.
+#[inline(always)]
+fn sized(out: &mut Vec<u64>, n: usize) -> &mut [u64] {
+    if out.len() != n {
+        out.clear();
+        out.resize(n, 0);
+    }
+    out
+}
+
+/// The columns of an array of edge `P` below 64 on the portable code path: a call of its own,
+/// since inlined into the mesher it made the 62^3 path 0.9 % slower (the mesher's other loops
+/// compiled differently).
 #[inline(never)]
-fn build_short_columns<const P: usize>(voxels: &[u16], out: &mut Vec<u64>, flat: &mut FlatColumns) {
-    debug_assert_eq!(voxels.len(), P * P * P);
-    debug_assert!((P * P * P).div_ceil(64) < FLAT_WORDS);
-    let whole = voxels.chunks_exact(64);
-    let tail = whole.remainder();
-    let words = whole.len();
+fn short_columns_portable<const P: usize>(
+    voxels: &[u16],
+    out: &mut Vec<u64>,
+    flat: &mut FlatColumns,
+) {
+    let (whole, tail) = voxels.as_chunks::<64>();
     for (word, ids) in flat.iter_mut().zip(whole) {
         *word = row_non_air(ids);
     }
+    cut_rows::<P>(whole.len(), tail, flat, sized(out, P * P));
+}
+
+/// [`short_columns_portable`] for x86-64-v3.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline(never)]
+fn short_columns_x86_v3<const P: usize>(
+    voxels: &[u16],
+    out: &mut Vec<u64>,
+    flat: &mut FlatColumns,
+) {
+    let (whole, tail) = voxels.as_chunks::<64>();
+    rows_non_air_x86_v3(whole, flat);
+    cut_rows::<P>(whole.len(), tail, flat, sized(out, P * P));
+}
+
+/// The `P * P` columns of an array of edge `P` below 64 into `out`, from `flat`, whose first
+/// `words` words hold the occupancy of its ids 64 a word; `tail` is the ids after those.
+///
+/// `P` is a constant and even, so 32 rows take exactly `P / 2` words: each group of 32 rows is
+/// cut out of one slice of `P / 2 + 1` words (one bounds check), unrolled, with every row's
+/// word and shift a constant, and a row costs about two loads, a double shift (`shrd`), a mask
+/// and a store. The last `P * P % 32` rows are cut the same way one by one.
+#[inline(always)]
+fn cut_rows<const P: usize>(words: usize, tail: &[u16], flat: &mut FlatColumns, out: &mut [u64]) {
+    debug_assert!(P.is_multiple_of(2) && words + 2 <= FLAT_WORDS);
+    debug_assert_eq!(words * 64 + tail.len(), P * P * P);
+    debug_assert_eq!(out.len(), P * P);
     flat[masked::<FLAT_WORDS>(words)] = row_non_air(tail);
     // A row's bits may end in the last word: the word after it reads as empty.
     flat[masked::<FLAT_WORDS>(words + 1)] = 0;
+
     let row_bits = (1u64 << P) - 1;
-    out.extend((0..P * P).map(|row| {
-        let bit = P * row;
-        let (word, shift) = (bit / 64, bit % 64);
-        // The row's two words as one 128-bit value: one double shift (`shrd`) cuts it out.
-        let pair = u128::from(flat[masked::<FLAT_WORDS>(word)])
-            | u128::from(flat[masked::<FLAT_WORDS>(word + 1)]) << 64;
-        (pair >> shift) as u64 & row_bits
-    }));
+    // The `P` bits from bit `bit` of `words`.
+    let cut = |words: &[u64], bit: usize| {
+        let pair = u128::from(words[bit / 64]) | u128::from(words[bit / 64 + 1]) << 64;
+        (pair >> (bit % 64)) as u64 & row_bits
+    };
+    let (groups, rest) = out.as_chunks_mut::<32>();
+    for (g, rows) in groups.iter_mut().enumerate() {
+        let words = &flat[g * (P / 2)..][..P / 2 + 1];
+        *rows = each_of_32!(|r| cut(words, P * r));
+    }
+    let first = P * P - rest.len();
+    for (r, row) in rest.iter_mut().enumerate() {
+        *row = cut(&flat[..], P * (first + r));
+    }
 }
 
 #[cfg(test)]
@@ -87,11 +168,16 @@ mod tests {
 
     use super::*;
 
-    /// Every supported edge, random ids with runs of air: each row's mask is its own ids'.
+    /// Every supported edge, random ids with runs of air and ids across the 16-bit range: each
+    /// row's mask is its own ids', from the portable builder and (on a CPU with AVX2) the
+    /// x86-64-v3 one. The buffers are reused, as a mesher does: across sizes and at one size
+    /// twice in a row (then they are overwritten, not resized).
     #[test]
     fn columns_match_each_row_s_ids() {
         let mut rng = voxel_scene::rng::Rng::new(7);
-        for p in [10, 18, 34, 64] {
+        let mut portable = (vec![7], alloc::boxed::Box::new([9; FLAT_WORDS]));
+        let mut x86_v3 = portable.clone();
+        for p in [10, 18, 34, 34, 64, 64, 10] {
             let voxels: Vec<u16> = (0..p * p * p)
                 .map(|_| match rng.below(4) {
                     0 | 1 => 0,
@@ -99,15 +185,30 @@ mod tests {
                     _ => rng.below(65_535) as u16 + 1,
                 })
                 .collect();
-            let (mut out, mut flat) = (vec![7], alloc::boxed::Box::new([9; FLAT_WORDS]));
-            build_columns(p, &voxels, &mut out, &mut flat);
-            assert_eq!(out.len(), p * p, "edge {p}");
-            for (row, ids) in voxels.chunks_exact(p).enumerate() {
-                let want = ids
-                    .iter()
-                    .enumerate()
-                    .fold(0u64, |m, (x, &id)| m | u64::from(id != 0) << x);
-                assert_eq!(out[row], want, "edge {p}, row {row}");
+            let want: Vec<u64> = voxels
+                .chunks_exact(p)
+                .map(|ids| {
+                    ids.iter()
+                        .enumerate()
+                        .fold(0u64, |m, (x, &id)| m | u64::from(id != 0) << x)
+                })
+                .collect();
+            build_columns(p, &voxels, &mut portable.0, &mut portable.1);
+            assert_eq!(portable.0, want, "edge {p}");
+            #[cfg(target_arch = "x86_64")]
+            if crate::InstructionSet::X86V3.is_supported() {
+                let (out, flat) = &mut x86_v3;
+                #[expect(
+                    unsafe_code,
+                    reason = "calls the x86-64-v3 copy on a CPU checked to run it"
+                )]
+                // SAFETY: `X86V3.is_supported()` found every feature the copy is compiled for.
+                unsafe {
+                    build_columns_x86_v3(p, &voxels, out, flat);
+                }
+                assert_eq!(*out, want, "edge {p}, x86-64-v3");
+            } else {
+                std::eprintln!("no AVX2 on this CPU: build_columns_x86_v3 is never run here");
             }
         }
     }
