@@ -68,6 +68,32 @@ impl LineIds<'_> {
 /// length and capacity bookkeeping.
 pub(crate) type SliceQuads = [PackedQuad; 4096];
 
+/// Where the 1 x 1 quads of one line of faces go: word 0 of the quad at bit 1 of the line
+/// (slice, line, sizes 1 x 1) and the shift of the line's bit axis in it.
+///
+/// Every 1 x 1 quad of the mesher is encoded by [`quad`](Self::quad) (or, in bulk, by
+/// [`Quads::push_bits`], which adds to the same word); the writers differ only in where a
+/// face's key comes from: the table of stored keys (`merge`), the ids and AO of the line
+/// (`line_units`), or one key shared by a whole line (`push_bits`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct UnitLine {
+    /// Word 0 of the quad at bit 1.
+    pub first: u32,
+    /// The bit axis' shift in word 0.
+    pub shift: u32,
+}
+
+impl UnitLine {
+    /// The 1 x 1 quad at bit `b` (at least 1) with word 1 `key` (id, AO and face bits).
+    #[inline(always)]
+    pub(crate) fn quad(self, b: usize, key: u32) -> PackedQuad {
+        PackedQuad {
+            position_size: self.first | ((b as u32).wrapping_sub(1) << self.shift),
+            face_ao_block: key,
+        }
+    }
+}
+
 /// Where the quads being meshed go: a buffer of one slice's quads and how many it holds,
 /// appended to the output layer by [`flush`](Quads::flush), and the output layer itself, which
 /// the bulk path [`push_bits`](Quads::push_bits) writes to directly.
@@ -94,21 +120,17 @@ impl<'a> Quads<'a> {
         self.len += 1;
     }
 
-    /// Appends a 1 x 1 quad for every set bit `b` (at least 1) of `bits`, all with word 1
-    /// `key` and word 0 `first + ((b - 1) << shift)`: the bulk path of lines whose faces share
-    /// a key. It writes to the output directly, not through the buffer: on a checkerboard
-    /// (715 k quads) the buffer's copy cost 19 % more time. One capacity check for the line,
-    /// then per quad a bit scan, one add on both words at once and one 8-byte store. In
-    /// `key << 32 | first`, subtracting `1 << shift` and adding `b << shift` leaves `key` in
-    /// the high half: word 0 of every face fits in its 32 bits, so the sum carries back
-    /// whatever the subtraction borrowed.
+    /// Appends the 1 x 1 quad of `line` with word 1 `key` for every set bit `b` (at least 1)
+    /// of `bits`: the bulk path of lines whose faces share a key. It writes to the output
+    /// directly, not through the buffer: on a checkerboard (715 k quads) the buffer's copy
+    /// cost 19 % more time. One capacity check for the line, then per quad a bit scan, one
+    /// add on both words at once and one 8-byte store. In `key << 32 | first`, subtracting
+    /// `1 << shift` and adding `b << shift` leaves `key` in the high half: word 0 of every
+    /// face fits in its 32 bits, so the sum carries back whatever the subtraction borrowed.
     #[inline(always)]
-    pub(crate) fn push_bits(&mut self, mut bits: u64, first: u32, shift: u32, key: u32) {
-        let quad = PackedQuad {
-            position_size: first,
-            face_ao_block: key,
-        };
-        let base = quad.to_u64().wrapping_sub(1 << shift);
+    pub(crate) fn push_bits(&mut self, mut bits: u64, line: UnitLine, key: u32) {
+        let shift = line.shift;
+        let base = line.quad(1, key).to_u64().wrapping_sub(1 << shift);
         let count = bits.count_ones() as usize;
         self.out.reserve(count);
         // Written in place rather than through `Vec::extend`, whose loop the compiler inlines
@@ -253,6 +275,15 @@ impl<const D: usize> SliceFaces<'_, D> {
             .wrapping_add((bits as u32) << Direction::<D>::SIZE_SHIFT_B)
     }
 
+    /// Where the 1 x 1 quads of line `l` go.
+    #[inline(always)]
+    pub(crate) fn unit_line(&self, l: usize) -> UnitLine {
+        UnitLine {
+            first: self.position_size(l, 1, 1, 1),
+            shift: Direction::<D>::SHIFT_B,
+        }
+    }
+
     /// Fails if the id of `key` is unknown (not below [`known_below`](Self::known_below)),
     /// naming it and the face's position.
     #[inline(always)]
@@ -294,7 +325,7 @@ mod tests {
 
     use super::*;
 
-    /// The one-add trick at its edges: word 0 of bit 1 is 0 (the subtraction borrows from the
+    /// The one-add trick at its edges, against the one encoder of 1 x 1 quads: word 0 of bit 1 is 0 (the subtraction borrows from the
     /// key), the highest key and word bits, and both bit shifts the bulk paths use.
     #[test]
     fn push_bits_keeps_key_and_word_apart() {
@@ -318,13 +349,10 @@ mod tests {
             let mut buf = [PackedQuad::default(); 4096];
             let mut out = vec![PackedQuad::default()];
             let mut quads = Quads::new(&mut buf, &mut out);
-            quads.push_bits(bits, first, shift, key);
+            quads.push_bits(bits, UnitLine { first, shift }, key);
             let want: Vec<PackedQuad> = (1..64u32)
                 .filter(|b| bits >> b & 1 == 1)
-                .map(|b| PackedQuad {
-                    position_size: first.wrapping_add((b - 1) << shift),
-                    face_ao_block: key,
-                })
+                .map(|b| UnitLine { first, shift }.quad(b as usize, key))
                 .collect();
             assert_eq!(out[1..], want[..], "first {first:#x} shift {shift}");
         }

@@ -20,7 +20,7 @@ use voxel_core::formats::PackedQuad;
 
 use super::bits::{faces_of_id, masked, ones};
 use super::direction::Direction;
-use super::faces::{LineIds, Quads, SliceFaces};
+use super::faces::{LineIds, Quads, SliceFaces, UnitLine};
 use super::masks::Front;
 use super::memo::NeighbourhoodMemo;
 use crate::MeshError;
@@ -64,14 +64,14 @@ impl<const D: usize> SliceFaces<'_, D> {
         }
         let ids = self.line_ids(l);
         let front = self.front_lines(l);
-        let word = self.position_size(l, 1, 1, 1);
+        let line = self.unit_line(l);
         // The end in a local: the buffer's end is stored once, not once per quad (on an error
         // the whole output is dropped).
         let mut n = out.len;
         // The largest id: checked once, after the line, instead of once per face.
         let mut seen = 0u32;
         for b in ones(bits) {
-            let (quad, id) = self.unit_quad::<AO>(ids, front, word, b);
+            let (quad, id) = self.unit_quad::<AO>(ids, front, line, b);
             seen = seen.max(id);
             out.buf[masked::<4096>(n)] = quad;
             n += 1;
@@ -84,23 +84,20 @@ impl<const D: usize> SliceFaces<'_, D> {
     }
 
     /// The 1 x 1 quad of the face at bit `b` (at least 1) of a line with ids `ids`, front
-    /// lines `front` and word 0 `word` at bit 1, and the face's id.
+    /// lines `front` and quads `line`, and the face's id.
     #[inline(always)]
     fn unit_quad<const AO: bool>(
         &self,
         ids: LineIds<'_>,
         front: Front,
-        word: u32,
+        line: UnitLine,
         b: usize,
     ) -> (PackedQuad, u32) {
         let id = ids.id(b);
-        let quad = PackedQuad {
-            position_size: word | ((b as u32).wrapping_sub(1) << Direction::<D>::SHIFT_B),
-            face_ao_block: id << PackedQuad::BLOCK_SHIFT
-                | self.ao::<AO>(front, b) << PackedQuad::AO_SHIFT
-                | Direction::<D>::FACE,
-        };
-        (quad, id)
+        let key = id << PackedQuad::BLOCK_SHIFT
+            | self.ao::<AO>(front, b) << PackedQuad::AO_SHIFT
+            | Direction::<D>::FACE;
+        (line.quad(b, key), id)
     }
 
     /// [`units`](Self::units) straight into the output.
@@ -113,7 +110,7 @@ impl<const D: usize> SliceFaces<'_, D> {
     ) -> Result<(), MeshError> {
         let ids = self.line_ids(l);
         let front = self.front_lines(l);
-        let word = self.position_size(l, 1, 1, 1);
+        let line = self.unit_line(l);
         let mut seen = 0u32;
         let mut m = bits;
         // One capacity check for the line (as `push_bits`): `extend` from a range knows its
@@ -122,7 +119,7 @@ impl<const D: usize> SliceFaces<'_, D> {
         out.out.extend((0..bits.count_ones()).map(|_| {
             let b = m.trailing_zeros() as usize;
             m &= m.wrapping_sub(1);
-            let (quad, id) = self.unit_quad::<AO>(ids, front, word, b);
+            let (quad, id) = self.unit_quad::<AO>(ids, front, line, b);
             seen = seen.max(id);
             quad
         }));
@@ -184,9 +181,8 @@ impl<const D: usize> SliceFaces<'_, D> {
             }
         };
         self.check(key0, l, b0)?;
-        let first = self.position_size(l, 1, 1, 1);
         let key = key0 | Direction::<D>::FACE;
-        out.push_bits(same_key, first, Direction::<D>::SHIFT_B, key);
+        out.push_bits(same_key, self.unit_line(l), key);
         let rest = bits & !same_key;
         if rest == 0 {
             return Ok(());

@@ -23,7 +23,7 @@ use voxel_core::formats::PackedQuad;
 
 use super::bits::{faces_of_id, many, masked, ones};
 use super::direction::Direction;
-use super::faces::Quads;
+use super::faces::{Quads, UnitLine};
 use super::input::Input;
 use super::masks::Slice;
 use super::memo::NeighbourhoodMemo;
@@ -189,8 +189,11 @@ fn emit_row<const D: usize>(
             position: [x as u32, y as u32, z as u32],
         })
     };
-    // Word 0 of the face at x: chunk-local x, y, z; width and height 1.
-    let word = ((y - 1) << PackedQuad::Y_SHIFT | (z - 1) << PackedQuad::Z_SHIFT) as u32;
+    // The faces' quads: chunk-local x, y, z; width and height 1; bits along x.
+    let line = UnitLine {
+        first: ((y - 1) << PackedQuad::Y_SHIFT | (z - 1) << PackedQuad::Z_SHIFT) as u32,
+        shift: PackedQuad::X_SHIFT,
+    };
     let mut rest = bits;
     {
         // Faces with the first face's front neighbourhood and id share its key. One pass over
@@ -218,16 +221,13 @@ fn emit_row<const D: usize>(
             | Direction::<D>::FACE;
         same = faces_of_id(ids, id0, same);
         check(key0, x0)?;
-        out.push_bits(same, word, PackedQuad::X_SHIFT, key0);
+        out.push_bits(same, line, key0);
         rest &= !same;
     }
     for x in ones(rest) {
         let k = key(x);
         check(k, x)?;
-        out.push(PackedQuad {
-            position_size: word | (x as u32 - 1) << PackedQuad::X_SHIFT,
-            face_ao_block: k,
-        });
+        out.push(line.quad(x, k));
     }
     Ok(())
 }

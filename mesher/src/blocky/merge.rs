@@ -245,13 +245,10 @@ fn emit_alone<const D: usize, const AO: bool>(
 ) {
     let mut n = out.len;
     for l in ones(rows) {
-        let word = s.position_size(l, 1, 1, 1);
+        let line = s.unit_line(l);
         let row = &keys.keys[l];
         for b in ones(keys.alone[l]) {
-            out.buf[masked::<4096>(n)] = PackedQuad {
-                position_size: word | ((b as u32 - 1) << Direction::<D>::SHIFT_B),
-                face_ao_block: row[b] | key_bits::<D, AO>(),
-            };
+            out.buf[masked::<4096>(n)] = line.quad(b, row[b] | key_bits::<D, AO>());
             n += 1;
         }
     }

@@ -47,14 +47,14 @@
 //! | 5 | `slices` | per direction and slice: the face lines (`cur & !front`), opaque then transparent, handed to `merge` |
 //! | 6 | `merge` | per slice: keys (id + AO) of the faces, equal-key masks, the faces that merge with nothing written as 1 x 1 quads |
 //! | 7 | `grow` | greedy quads grown from the equal-key masks, in `block-mesh`'s order |
-//! | 7 | `line_units` | lines of faces that become 1 x 1 quads: per face, or in bulk for faces that share a key |
+//! | 7 | `line_units` | lines of faces that become 1 x 1 quads, keyed face by face, or in bulk for faces that share a key |
 //! | out | `mesh` | [`BlockyMesh`]: the quads, opaque and transparent, per face direction |
 //!
 //! The leaves those steps share:
 //!
 //! | module | holds |
 //! | ------ | ----- |
-//! | `faces` | `SliceFaces`, one slice as the passes read it (ids, AO, quad words, id checks), and `Quads`, where its quads go |
+//! | `faces` | `SliceFaces`, one slice as the passes read it (ids, AO, quad words, id checks); `UnitLine`, the one encoder of 1 x 1 quads; and `Quads`, where its quads go |
 //! | `direction` | `Direction<D>`: a face direction's slice, line and bit axes and its `PackedQuad` shifts, as constants |
 //! | `keys` | `Keys`, the greedy pass's scratch (keys and equal-key masks of one slice) |
 //! | `memo` | `NeighbourhoodMemo`: the AO split of recent lines, for periodic slices |
