@@ -10,7 +10,8 @@
 //! other sample models when `../shared/data/vox` is there), a mode (`greedy`,
 //! `visible`, `u16`, `baseline` for greedy on `InstructionSet::Baseline`, any of these with
 //! `-noao` for AO off, or `stats` for faces per line and direction), a number of meshes and a chunk edge (32 or 62, the default). `MESHER_ISA=baseline|x86-v3` pins
-//! the instruction set (default: the detected one). The time is the thread's CPU time, taken
+//! the instruction set (default: the detected one); `PROFILE_EVICT_KIB=N` writes over N KiB
+//! before every mesh, outside the timed span, to time meshes that start with cold caches. The time is the thread's CPU time, taken
 //! over 20 batches: the minimum and the median per mesh, since on a shared machine the minimum
 //! is the steadier figure.
 
@@ -79,14 +80,33 @@ fn time_meshes(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: us
             black_box(&*out);
         }
     };
+    // With `PROFILE_EVICT_KIB`, a buffer of that size is written over before every mesh,
+    // outside the timed span, so that each mesh starts with cold caches as in the bench's
+    // interleaved timing.
+    let evict_kib: usize = std::env::var("PROFILE_EVICT_KIB")
+        .ok()
+        .and_then(|k| k.parse().ok())
+        .unwrap_or(0);
+    let mut evict = vec![0u8; evict_kib * 1024];
     let batch = (meshes / 20).max(1);
     let mut per: Vec<f64> = (0..20)
-        .map(|_| {
-            let start = thread_cpu_now();
-            for _ in 0..batch {
-                run(&mut out);
+        .map(|round| {
+            if evict.is_empty() {
+                let start = thread_cpu_now();
+                for _ in 0..batch {
+                    run(&mut out);
+                }
+                return (thread_cpu_now() - start).as_secs_f64() * 1e6 / batch as f64;
             }
-            (thread_cpu_now() - start).as_secs_f64() * 1e6 / batch as f64
+            let mut total = 0.0;
+            for i in 0..batch {
+                evict.fill((round + i) as u8);
+                black_box(&evict);
+                let start = thread_cpu_now();
+                run(&mut out);
+                total += (thread_cpu_now() - start).as_secs_f64();
+            }
+            total * 1e6 / batch as f64
         })
         .collect();
     per.sort_by(f64::total_cmp);
