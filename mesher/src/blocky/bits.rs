@@ -130,7 +130,7 @@ pub(crate) fn row_non_air(row: &[u16]) -> u64 {
 ///
 /// The loop is in here, not in the callers: the compiler did not inline a one-row function
 /// with these features into them, and the call cost a fifth of the time.
-#[cfg(target_arch = "x86_64")]
+#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
 #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
 #[inline]
 pub(crate) fn rows_non_air_x86_v3(rows: &[[u16; 64]], out: &mut [u64]) {
@@ -152,6 +152,17 @@ pub(crate) fn rows_non_air_x86_v3(rows: &[[u16; 64]], out: &mut [u64]) {
             _mm256_movemask_epi8(_mm256_cmpeq_epi8(ordered, _mm256_setzero_si256())) as u32
         };
         *mask = !(u64::from(air(0)) | u64::from(air(2)) << 32);
+    }
+}
+
+/// [`rows_non_air_x86_v3`] on an x86-64 target without SSE (soft float, as
+/// `x86_64-unknown-none`), which cannot hold AVX2 vectors: the portable row mask, row by row.
+#[cfg(all(target_arch = "x86_64", not(target_feature = "sse2")))]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline]
+pub(crate) fn rows_non_air_x86_v3(rows: &[[u16; 64]], out: &mut [u64]) {
+    for (mask, row) in out.iter_mut().zip(rows) {
+        *mask = row_non_air(row);
     }
 }
 
