@@ -261,7 +261,7 @@ fn mesh_chunk_portable(
     out: &mut BlockyMesh,
 ) -> Result<(), MeshError> {
     with_columns(scratch, job, out, |p, voxels, columns, flat| {
-        build_columns(p, voxels, columns, flat);
+        build_columns(p, voxels, columns, flat)
     })
 }
 
@@ -277,18 +277,19 @@ fn mesh_chunk_x86_v3(
     out: &mut BlockyMesh,
 ) -> Result<(), MeshError> {
     with_columns(scratch, job, out, |p, voxels, columns, flat| {
-        build_columns_x86_v3(p, voxels, columns, flat);
+        build_columns_x86_v3(p, voxels, columns, flat)
     })
 }
 
 /// Meshes `job` with [`mesh_chunk`], its columns those of the job or, for a plain array, built
-/// by `build` (edge, ids, columns out, scratch) into the scratch's column buffer first.
+/// by `build` (edge, ids, columns out, scratch; false for an all-air array, see
+/// [`build_columns`]) into the scratch's column buffer first.
 #[inline(always)]
 fn with_columns(
     scratch: &mut Scratch,
     job: &Job<'_>,
     out: &mut BlockyMesh,
-    build: impl FnOnce(usize, &[u16], &mut Vec<u64>, &mut FlatColumns),
+    build: impl FnOnce(usize, &[u16], &mut Vec<u64>, &mut FlatColumns) -> bool,
 ) -> Result<(), MeshError> {
     // The buffer leaves the scratch while the mesher borrows the rest of it.
     let mut built = None;
@@ -296,7 +297,12 @@ fn with_columns(
         Some(columns) => columns,
         None => {
             let mut columns = core::mem::take(&mut scratch.columns);
-            build(job.p, job.voxels, &mut columns, &mut scratch.flat_columns);
+            let any_solid = build(job.p, job.voxels, &mut columns, &mut scratch.flat_columns);
+            if !any_solid {
+                // All air: no faces (as `Masks::build` finds for an empty chunk).
+                scratch.columns = columns;
+                return Ok(());
+            }
             built.insert(columns).as_slice()
         }
     };

@@ -52,14 +52,24 @@ macro_rules! each_of_32 {
 /// at 34 against 0.6 at 64; so the whole array is masked 64 ids at a time into `flat` (bit `i`
 /// of the array at bit `i % 64` of word `i / 64`), and each row's `p` bits, which start at bit
 /// `p * row`, are cut out of one or two of its words (see [`cut_rows`]).
+///
+/// Returns false, with `out` not written, when every id of a short array is air: that is
+/// known from the flat mask before any row is cut, and empty chunks are the most common ones.
+/// Otherwise true (the mesher's own check over the columns finds an empty 62^3 chunk).
 #[inline(always)]
-pub(crate) fn build_columns(p: usize, voxels: &[u16], out: &mut Vec<u64>, flat: &mut FlatColumns) {
+pub(crate) fn build_columns(
+    p: usize,
+    voxels: &[u16],
+    out: &mut Vec<u64>,
+    flat: &mut FlatColumns,
+) -> bool {
     match p {
         64 => {
             let rows = voxels.as_chunks::<64>().0;
             for (column, row) in sized(out, rows.len()).iter_mut().zip(rows) {
                 *column = row_non_air(row);
             }
+            true
         }
         34 => short_columns_portable::<34>(voxels, out, flat),
         18 => short_columns_portable::<18>(voxels, out, flat),
@@ -77,11 +87,12 @@ pub(crate) fn build_columns_x86_v3(
     voxels: &[u16],
     out: &mut Vec<u64>,
     flat: &mut FlatColumns,
-) {
+) -> bool {
     match p {
         64 => {
             let rows = voxels.as_chunks::<64>().0;
             rows_non_air_x86_v3(rows, sized(out, rows.len()));
+            true
         }
         34 => short_columns_x86_v3::<34>(voxels, out, flat),
         18 => short_columns_x86_v3::<18>(voxels, out, flat),
@@ -107,12 +118,12 @@ fn short_columns_portable<const P: usize>(
     voxels: &[u16],
     out: &mut Vec<u64>,
     flat: &mut FlatColumns,
-) {
+) -> bool {
     let (whole, tail) = voxels.as_chunks::<64>();
     for (word, ids) in flat.iter_mut().zip(whole) {
         *word = row_non_air(ids);
     }
-    cut_rows::<P>(whole.len(), tail, flat, sized(out, P * P));
+    cut_rows::<P>(whole.len(), tail, flat, out)
 }
 
 /// [`short_columns_portable`] for x86-64-v3.
@@ -123,27 +134,36 @@ fn short_columns_x86_v3<const P: usize>(
     voxels: &[u16],
     out: &mut Vec<u64>,
     flat: &mut FlatColumns,
-) {
+) -> bool {
     let (whole, tail) = voxels.as_chunks::<64>();
     rows_non_air_x86_v3(whole, flat);
-    cut_rows::<P>(whole.len(), tail, flat, sized(out, P * P));
+    cut_rows::<P>(whole.len(), tail, flat, out)
 }
 
 /// The `P * P` columns of an array of edge `P` below 64 into `out`, from `flat`, whose first
 /// `words` words hold the occupancy of its ids 64 a word; `tail` is the ids after those.
+/// False, with nothing cut, when every id is air (one OR over the words).
 ///
 /// `P` is a constant and even, so 32 rows take exactly `P / 2` words: each group of 32 rows is
 /// cut out of one slice of `P / 2 + 1` words (one bounds check), unrolled, with every row's
 /// word and shift a constant, and a row costs about two loads, a double shift (`shrd`), a mask
 /// and a store. The last `P * P % 32` rows are cut the same way one by one.
 #[inline(always)]
-fn cut_rows<const P: usize>(words: usize, tail: &[u16], flat: &mut FlatColumns, out: &mut [u64]) {
+fn cut_rows<const P: usize>(
+    words: usize,
+    tail: &[u16],
+    flat: &mut FlatColumns,
+    out: &mut Vec<u64>,
+) -> bool {
     debug_assert!(P.is_multiple_of(2) && words + 2 <= FLAT_WORDS);
     debug_assert_eq!(words * 64 + tail.len(), P * P * P);
-    debug_assert_eq!(out.len(), P * P);
     flat[masked::<FLAT_WORDS>(words)] = row_non_air(tail);
     // A row's bits may end in the last word: the word after it reads as empty.
     flat[masked::<FLAT_WORDS>(words + 1)] = 0;
+    if flat[..=words].iter().fold(0, |any, &w| any | w) == 0 {
+        return false;
+    }
+    let out = sized(out, P * P);
 
     let row_bits = (1u64 << P) - 1;
     // The `P` bits from bit `bit` of `words`.
@@ -160,6 +180,7 @@ fn cut_rows<const P: usize>(words: usize, tail: &[u16], flat: &mut FlatColumns, 
     for (r, row) in rest.iter_mut().enumerate() {
         *row = cut(&flat[..], P * (first + r));
     }
+    true
 }
 
 #[cfg(test)]
@@ -193,7 +214,7 @@ mod tests {
                         .fold(0u64, |m, (x, &id)| m | u64::from(id != 0) << x)
                 })
                 .collect();
-            build_columns(p, &voxels, &mut portable.0, &mut portable.1);
+            assert!(build_columns(p, &voxels, &mut portable.0, &mut portable.1));
             assert_eq!(portable.0, want, "edge {p}");
             #[cfg(target_arch = "x86_64")]
             if crate::InstructionSet::X86V3.is_supported() {
@@ -203,13 +224,31 @@ mod tests {
                     reason = "calls the x86-64-v3 copy on a CPU checked to run it"
                 )]
                 // SAFETY: `X86V3.is_supported()` found every feature the copy is compiled for.
-                unsafe {
-                    build_columns_x86_v3(p, &voxels, out, flat);
-                }
+                let any_solid = unsafe { build_columns_x86_v3(p, &voxels, out, flat) };
+                assert!(any_solid, "edge {p}, x86-64-v3");
                 assert_eq!(*out, want, "edge {p}, x86-64-v3");
             } else {
                 std::eprintln!("no AVX2 on this CPU: build_columns_x86_v3 is never run here");
             }
+        }
+    }
+
+    /// An all-air array below 64 is found from the flat mask: false, and the columns are not
+    /// cut. One solid id anywhere, the last one included (it lies in the flat mask's tail
+    /// word at every short edge), gives true and its column.
+    #[test]
+    fn an_all_air_array_is_found_before_its_rows_are_cut() {
+        for p in [10, 18, 34] {
+            let mut air = vec![0u16; p * p * p];
+            let (mut out, mut flat) = (vec![7; 3], alloc::boxed::Box::new([9; FLAT_WORDS]));
+            assert!(!build_columns(p, &air, &mut out, &mut flat), "edge {p}");
+            assert_eq!(out, [7; 3], "edge {p}: nothing cut");
+            let last = air.len() - 1;
+            air[last] = 3;
+            assert!(build_columns(p, &air, &mut out, &mut flat), "edge {p}");
+            assert_eq!(out.len(), p * p);
+            assert_eq!(out[p * p - 1], 1 << (p - 1), "edge {p}");
+            assert!(out[..p * p - 1].iter().all(|&c| c == 0), "edge {p}");
         }
     }
 }
