@@ -325,8 +325,9 @@ mod tests {
 
     use super::*;
 
-    /// The one-add trick at its edges, against the one encoder of 1 x 1 quads: word 0 of bit 1 is 0 (the subtraction borrows from the
-    /// key), the highest key and word bits, and both bit shifts the bulk paths use.
+    /// The one-add trick at its edges, against the one encoder of 1 x 1 quads: word 0 of
+    /// bit 1 is 0 (the subtraction borrows from the key), the highest key and word bits, and
+    /// both bit shifts the bulk paths use.
     #[test]
     fn push_bits_keeps_key_and_word_apart() {
         let word0_bits = (1 << (PackedQuad::HEIGHT_SHIFT + PackedQuad::FIELD_BITS)) - 1;
