@@ -1158,6 +1158,8 @@ pub fn blocky_input(data: &[u8]) -> Option<BlockyInput> {
 /// - otherwise each fails with `UnknownBlock` naming an unknown id at a voxel that has a
 ///   visible face, and leaves the mesh empty;
 /// - a mesher reused after both runs gives the same greedy mesh again;
+/// - from the chunk's ids as a plain `u16` array (`mesh_u16`, which builds its own occupancy
+///   columns), the greedy mesh or error is the same;
 /// - NoCubes on the same chunk: fails exactly when the padded chunk holds an unknown id (the
 ///   first in storage order, as documented) and leaves both outputs empty, else makes one
 ///   smooth quad per owned face between a smoothable and a non-opaque voxel, with every index
@@ -1232,6 +1234,12 @@ pub fn blocky_mesh(data: &[u8]) {
                 None => first_greedy = Some(mesh.clone()),
                 Some(first) => assert_eq!(first, &mesh, "a reused mesher differs"),
             }
+            // The plain-array entry builds its own occupancy columns: same result, same error.
+            let mut plain = BlockyMesh::new();
+            let plain_result =
+                mesher.mesh_u16(bytemuck::cast_slice(padded.voxels()), classes, &mut plain);
+            assert_eq!(plain_result, result, "run {run}: mesh_u16 answers as mesh");
+            assert_eq!(plain, mesh, "run {run}: mesh_u16 meshes as mesh");
         }
     }
     nocubes_check(padded, classes);
