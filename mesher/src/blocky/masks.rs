@@ -21,11 +21,13 @@
 //! opaque mask in layout `A` is the [`PaddedChunk`](voxel_core::PaddedChunk)'s occupancy columns
 //! themselves: nothing is scanned.
 //!
-//! When it has some, the transparent mask is derived row by row, only for rows whose occupancy
-//! is not zero: with at most [`FEW_TRANSPARENT`] transparent ids, a row of ids is first tested
-//! for containing any of them at all (a SIMD compare-and-OR over the row, no bit packing), and
-//! only rows that do are turned into a bit mask; with more transparent ids, the class table is
-//! read for the occupied voxels only. The opaque mask is then `occupancy & !transparent`. The
+//! When it has some, the transparent mask is derived from the ids. With at most
+//! [`FEW_TRANSPARENT`] transparent ids, a run of ids is first tested for containing any of them
+//! at all (a SIMD compare-and-OR, no bit packing), and only runs that do are turned into bit
+//! masks: each row of 64 ids whose occupancy is not zero in a 62^3 chunk, each slab of `p * p`
+//! ids (contiguous) in a smaller one, whose rows are then cut out of the slab's mask (see
+//! [`short_transparent`]). With more transparent ids, the class table is read for the occupied
+//! voxels only. The opaque mask is then `occupancy & !transparent`. The
 //! derivation also records whether two *different* transparent ids occur, since only then can
 //! two transparent voxels show faces to each other.
 
@@ -126,6 +128,53 @@ fn slices(v: &mut Vec<Slice>, n: usize) {
     }
 }
 
+/// Words of a slab's flat id-match mask in [`short_transparent`]: a 34^3 chunk's slab of
+/// 34 x 34 ids takes 18 whole words and a tail word, and the last row's bits may end in the
+/// tail word, so the word after it (never written) reads as zero.
+const SLAB_WORDS: usize = 20;
+
+/// Layout A of the transparent mask of a chunk of padded edge `P` below 64 (at most
+/// [`FEW_TRANSPARENT`] transparent `ids`) into `trans_a`'s lines `0..P`; returns which of the
+/// ids occur (bit `k` for `ids[k]`).
+///
+/// Slab by slab, since a slab's `P * P` ids are contiguous: a slab that holds none of an id
+/// costs one compare-and-OR over it ([`row_contains`]). Otherwise its ids are matched 64 at a
+/// time into a flat mask (bit `i` of word `i / 64` for id `i` of the slab) and each row's `P`
+/// bits, which start at bit `P * y`, are cut out of it. Row by row, a 34-id row cost two
+/// scans of an odd length each (about 50 instructions per row and id on terrain; this is
+/// about 15).
+#[inline(always)]
+fn short_transparent<const P: usize>(
+    voxels: &[u16],
+    ids: &[BlockId],
+    trans_a: &mut [Slice],
+) -> u32 {
+    debug_assert!(P < 64 && P * P <= 64 * (SLAB_WORDS - 1));
+    let row_bits = (1u64 << P) - 1;
+    let mut flat = [0u64; SLAB_WORDS];
+    let mut seen = 0u32;
+    for (slab, lines) in voxels.chunks_exact(P * P).zip(trans_a.iter_mut()) {
+        lines[..P].fill(0);
+        for (k, id) in ids.iter().enumerate() {
+            if !row_contains(slab, id.0) {
+                continue;
+            }
+            seen |= 1 << k;
+            let (whole, tail) = slab.as_chunks::<64>();
+            for (word, ids) in flat.iter_mut().zip(whole) {
+                *word = row_equal(ids, id.0);
+            }
+            flat[whole.len()] = row_equal(tail, id.0);
+            for (y, line) in lines[..P].iter_mut().enumerate() {
+                let bit = P * y;
+                let pair = u128::from(flat[bit / 64]) | u128::from(flat[bit / 64 + 1]) << 64;
+                *line |= (pair >> (bit % 64)) as u64 & row_bits;
+            }
+        }
+    }
+    seen
+}
+
 impl Masks {
     /// Builds the masks of a padded chunk of edge `p` from its ids (x fastest) and occupancy
     /// columns (index `y + p * z`). Returns [`Content::Empty`] or [`Content::Buried`] without
@@ -205,6 +254,16 @@ impl Masks {
     ) {
         let ids = classes.transparent_ids();
         slices(&mut self.trans_a, p);
+        if p < 64 && ids.len() <= FEW_TRANSPARENT {
+            let seen = match p {
+                34 => short_transparent::<34>(voxels, ids, &mut self.trans_a),
+                18 => short_transparent::<18>(voxels, ids, &mut self.trans_a),
+                _ => short_transparent::<10>(voxels, ids, &mut self.trans_a),
+            };
+            self.has_transparent = seen != 0;
+            self.mixed_transparent = seen.count_ones() > 1;
+            return;
+        }
         // Which of the transparent ids occur, one bit each (first FEW_TRANSPARENT ids), and for
         // many ids the first one seen.
         let mut seen = 0u32;
@@ -308,5 +367,100 @@ fn bit_transpose(p: usize, b: &[Slice], out: &mut Vec<Slice>, lines: &mut u64) {
         for (x, slot) in out.iter_mut().enumerate() {
             slot[masked::<64>(y)] = m[masked::<64>(x)];
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use alloc::vec;
+
+    use voxel_core::{Material, MaterialClass, MaterialPalette};
+
+    use super::*;
+
+    /// A palette of 2 opaque ids (1, 2) and `transparent` transparent ones (3, 4, ...).
+    fn classes(transparent: usize) -> BlockClasses {
+        let mut palette = MaterialPalette::new();
+        for _ in 0..2 {
+            palette.push(Material::opaque(90, 90, 90)).unwrap();
+        }
+        for _ in 0..transparent {
+            let glass = Material::opaque(200, 220, 230).with_class(MaterialClass::Transparent);
+            palette.push(glass).unwrap();
+        }
+        BlockClasses::from_palette(&palette)
+    }
+
+    /// Layout A of the transparent and opaque masks and the two flags, against each voxel's
+    /// class, at every edge, for palettes of 1 to [`FEW_TRANSPARENT`] transparent ids (the
+    /// slab-wise path below 64, the row-wise one at 64) and one more (the class-table path).
+    /// Transparent ids sit at the ends of slabs and of the flat masks' words; one chunk holds
+    /// only the last transparent id, one holds two different ones.
+    #[test]
+    fn transparent_and_opaque_masks_follow_each_voxel_s_class() {
+        let mut rng = voxel_scene::rng::Rng::new(11);
+        let mut masks = Masks::default();
+        for p in [10, 18, 34, 64, 34] {
+            for transparent in [1, 2, FEW_TRANSPARENT, FEW_TRANSPARENT + 1] {
+                let classes = classes(transparent);
+                let last = 2 + transparent as u16;
+                for case in 0..3 {
+                    let mut voxels: Vec<u16> = (0..p * p * p)
+                        .map(|_| match (rng.below(3), case) {
+                            (0, _) => 0,
+                            (1, _) => 1 + rng.below(2) as u16,
+                            (_, 0) => 3 + rng.below(transparent as u64) as u16,
+                            (_, _) => 2,
+                        })
+                        .collect();
+                    if case >= 1 {
+                        // Only the last transparent id, at the first and last voxel of each
+                        // slab and at a word boundary of the first slab.
+                        for z in 0..p {
+                            voxels[z * p * p] = last;
+                            voxels[(z + 1) * p * p - 1] = last;
+                        }
+                        voxels[64] = last;
+                    }
+                    if case == 2 {
+                        voxels[p * p * p / 2] = 3;
+                    }
+                    check(&mut masks, p, &voxels, &classes);
+                    let want_mixed = match case {
+                        0 => transparent > 1,
+                        1 => false,
+                        _ => last != 3,
+                    };
+                    assert_eq!(masks.mixed_transparent, want_mixed, "edge {p}, case {case}");
+                }
+            }
+        }
+    }
+
+    /// Builds `masks` for `voxels` and checks layout A and `has_transparent` voxel by voxel.
+    fn check(masks: &mut Masks, p: usize, voxels: &[u16], classes: &BlockClasses) {
+        let columns: Vec<u64> = voxels
+            .chunks_exact(p)
+            .map(|row| (0..p).fold(0u64, |m, x| m | u64::from(row[x] != 0) << x))
+            .collect();
+        assert_eq!(masks.build(p, voxels, &columns, classes), Content::Surface);
+        let opaque = masks.opaque(&columns).by[0];
+        let empty = vec![[0u64; 64]; p];
+        let transparent = masks.transparent().map_or(&empty[..], |t| t.by[0]);
+        let mut any = false;
+        for z in 0..p {
+            for y in 0..p {
+                for x in 0..p {
+                    let id = BlockId(voxels[x + p * (y + p * z)]);
+                    let is_t = classes.is_transparent(id);
+                    any |= is_t;
+                    let at = |slices: &[Slice]| (slices[z][y] >> x) & 1 == 1;
+                    assert_eq!(at(transparent), is_t, "edge {p}, ({x}, {y}, {z}) id {id:?}");
+                    assert_eq!(at(opaque), id.0 != 0 && !is_t, "edge {p}, ({x}, {y}, {z})");
+                }
+            }
+            assert!(transparent[z][p..].iter().all(|&line| line == 0));
+        }
+        assert_eq!(masks.has_transparent, any, "edge {p}");
     }
 }
