@@ -47,16 +47,34 @@ pub(crate) fn greedy_bits_first<const D: usize, const AO: bool>(
         return;
     }
     for l in ones(left) {
-        while faces[l] != 0 {
-            let b = faces[l].trailing_zeros() as usize;
-            grow_bits_first::<D, AO>(s, faces, (l, b), keys, out);
+        // Origins line by line: no quad from an earlier origin holds a face below this line
+        // within this quad's bits (it would hold the face above it too), so the lines below
+        // are read from the equal-key masks alone, and this line's faces stay in a register.
+        let mut here = faces[l];
+        while here != 0 {
+            let b = here.trailing_zeros() as usize;
+            let chain = (keys.along[l] & here & (here >> 1)) >> b;
+            let (bits, mask) = run_of(chain, b);
+            here &= !mask;
+            let mut lines = 1;
+            while keys.across[masked::<64>(l + lines - 1)] & mask == mask {
+                faces[masked::<64>(l + lines)] &= !mask;
+                lines += 1;
+            }
+            s.push(
+                out,
+                (l, b, lines, bits),
+                keys.key(l, b) | key_bits::<D, AO>(),
+            );
         }
+        faces[l] = 0;
     }
 }
 
 /// Grows one quad from the face at line `l`, bit `b`: along bits while the next face is
 /// present with an equal key, then along lines while the whole next row is; takes its faces
-/// out of `faces` and writes it.
+/// out of `faces` and writes it. For the bit-major directions, whose quads from earlier bits
+/// may have taken faces in the lines below.
 #[inline(always)]
 fn grow_bits_first<const D: usize, const AO: bool>(
     s: &SliceFaces<'_, D>,
@@ -101,11 +119,12 @@ pub(crate) fn greedy_lines_first<const D: usize, const AO: bool>(
             let mut lines = 1;
             // Bit j: faces b + j and b + j + 1 present with equal keys in every line so far.
             let mut chain = (along & here & (here >> 1)) >> b;
-            while faces[masked::<64>(l + lines)] & bit != 0
-                && keys.across[masked::<64>(l + lines - 1)] & bit != 0
-            {
-                let f = faces[masked::<64>(l + lines)];
-                chain &= (keys.along[masked::<64>(l + lines)] & f & (f >> 1)) >> b;
+            // The lines below are read from the equal-key masks alone: they only hold faces
+            // present with equal keys (see `merge::greedy`), and no quad from an earlier
+            // origin holds one of this column's faces below this line, or one of the row's
+            // faces up to where the row ends (it would hold the face above it too).
+            while keys.across[masked::<64>(l + lines - 1)] & bit != 0 {
+                chain &= keys.along[masked::<64>(l + lines)] >> b;
                 lines += 1;
             }
             let (bits, mask) = run_of(chain, b);
