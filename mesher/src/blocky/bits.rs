@@ -13,16 +13,17 @@ fn gather8(bytes: [u8; 8]) -> u64 {
     (u64::from_le_bytes(bytes).wrapping_mul(0x0102_0408_1020_4080)) >> 56
 }
 
-/// Bit `i` set iff `row[i] == id`, for a full row of 64 ids, with SSE2: compares of 8 ids at a
-/// time, packed to bytes, 16 mask bits per `pmovmskb` (31 instructions). Compilers do not
-/// find `pmovmskb` in portable code, and the portable [`row_mask`] compiles badly for AVX2
-/// (its byte gathers become emulated 64-bit vector multiplies).
+/// Bit `i` set iff `row[i] == id`, for a row of `N` ids (48 or 64), with SSE2: compares of 8
+/// ids at a time, packed to bytes, 16 mask bits per `pmovmskb` (31 instructions for 64 ids).
+/// Compilers do not find `pmovmskb` in portable code, and the portable [`row_mask`] compiles
+/// badly for AVX2 (its byte gathers become emulated 64-bit vector multiplies).
 #[cfg(target_feature = "sse2")]
 #[inline(always)]
-fn row_equal_64(row: &[u16; 64], id: u16) -> u64 {
+fn row_equal_64<const N: usize>(row: &[u16; N], id: u16) -> u64 {
     use safe_arch::{
         cmp_eq_mask_i16_m128i, m128i, move_mask_i8_m128i, pack_i16_to_i8_m128i, set_splat_i16_m128i,
     };
+    debug_assert!(N <= 64 && N.is_multiple_of(16));
     let want = set_splat_i16_m128i(id as i16);
     let mut mask = 0u64;
     for (k, sixteen) in row.chunks_exact(16).enumerate() {
@@ -180,6 +181,9 @@ pub(crate) fn row_equal(row: &[u16], id: u16) -> u64 {
 /// of `id`: usually every face of a line has one id, so a test that the row holds no other
 /// solid id (a compare-and-OR, like [`row_contains`]) answers without the bit packing of
 /// [`row_equal`].
+///
+/// Rows of 64 and 48 ids (three 16-id registers, enough for a 32^3 chunk's rows of 34) are
+/// compared as arrays; other lengths take a loop.
 #[inline(always)]
 pub(crate) fn faces_of_id(row: &[u16], id: u16, faces: u64) -> u64 {
     let other_id = |row: &[u16]| {
@@ -187,15 +191,33 @@ pub(crate) fn faces_of_id(row: &[u16], id: u16, faces: u64) -> u64 {
             .fold(0u16, |acc, &v| acc | u16::from(v != 0 && v != id))
             != 0
     };
-    // A full row as an array: the fold is unrolled, with no loop over a run-time length.
-    let other = match <&[u16; 64]>::try_from(row) {
-        Ok(full) => other_id(full),
-        Err(_) => other_id(row),
-    };
-    if !other {
+    // A row as an array: the fold is unrolled, with no loop over a run-time length.
+    if let Ok(full) = <&[u16; 64]>::try_from(row) {
+        return faces_of_id_in(full, id, faces);
+    }
+    if let Ok(short) = <&[u16; 48]>::try_from(row) {
+        return faces_of_id_in(short, id, faces);
+    }
+    if !other_id(row) {
         return faces;
     }
     faces & row_equal(row, id)
+}
+
+/// [`faces_of_id`] on a row of `N` ids (48 or 64).
+#[inline(always)]
+fn faces_of_id_in<const N: usize>(row: &[u16; N], id: u16, faces: u64) -> u64 {
+    let other = row
+        .iter()
+        .fold(0u16, |acc, &v| acc | u16::from(v != 0 && v != id));
+    if other == 0 {
+        return faces;
+    }
+    #[cfg(target_feature = "sse2")]
+    let equal = row_equal_64(row, id);
+    #[cfg(not(target_feature = "sse2"))]
+    let equal = row_mask(row, |v| v == id);
+    faces & equal
 }
 
 /// True if `row` holds `id` anywhere: a compare-and-OR over the row that vectorises without
@@ -335,7 +357,8 @@ mod tests {
     /// whole), and rows with a second id anywhere, at a face or not (only the faces of the id).
     #[test]
     fn faces_of_id_keeps_exactly_the_faces_of_the_id() {
-        for len in [34usize, 64] {
+        // Rows of 48 and 64 are compared as arrays, others (34) in a loop.
+        for len in [34usize, 48, 64] {
             let faces = 0x5555_5555_5555_5555u64 >> (64 - len) & !1;
             let one_id: [u16; 64] = core::array::from_fn(|i| if i % 2 == 0 { 9 } else { 0 });
             assert_eq!(faces_of_id(&one_id[..len], 9, faces), faces);

@@ -106,6 +106,10 @@ pub(crate) fn lone_x<const D: usize>(
     slab_faces::<D>(slab(1), inner, e, true, &mut here);
     let known_below = classes.known_below();
     let mut memo = NeighbourhoodMemo::new();
+    // The ids read for a row: its own, and for a 32^3 chunk the next ones up to 48 where the
+    // array has them (the faces lie in bits 1..=32 only, and 48 ids fill three SIMD
+    // registers, see `faces_of_id`).
+    let row_len = if p <= 48 { 48 } else { p };
     for z in 1..=e {
         slab_faces::<D>(slab(z + 1), inner, e, z < e, &mut above);
         for y in 1..=e {
@@ -125,7 +129,8 @@ pub(crate) fn lone_x<const D: usize>(
                 }
             });
             let start = (y + p * z) * p;
-            let ids = input.voxels.get(start..start + p).unwrap_or(&[]);
+            let end = (start + row_len).min(input.voxels.len());
+            let ids = input.voxels.get(start..end).unwrap_or(&[]);
             emit_row::<D>(
                 input.ao,
                 [y, z],
