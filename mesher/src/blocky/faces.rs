@@ -28,6 +28,8 @@ pub(crate) struct SliceFaces<'a, const D: usize> {
     /// Ids below this are known (see [`check`](Self::check)): the classes' bound for the
     /// opaque layer, `u32::MAX` for the transparent one (its ids have a class).
     pub known_below: u32,
+    /// The chunk is 32^3 or smaller: a line's faces lie in its first 48 bits.
+    pub short: bool,
 }
 
 /// Where the ids of one line of faces are: a contiguous row (bits along x, the ±Y and ±Z faces)

@@ -169,7 +169,11 @@ impl<const D: usize> SliceFaces<'_, D> {
         };
         let ids = self.line_ids(l);
         let same_key = match ids {
-            LineIds::Row(row) => faces_of_id(row, row[b0], same_ao),
+            // A 32^3 chunk's faces lie in the first 48 ids (three whole SIMD registers).
+            LineIds::Row(row) => match row.first_chunk::<48>() {
+                Some(short) if self.short => faces_of_id(short, row[b0], same_ao),
+                _ => faces_of_id(row, row[b0], same_ao),
+            },
             // ±X faces: the ids are strided, read one by one but compared without a branch.
             LineIds::Strided { .. } => {
                 let id0 = key0 >> PackedQuad::BLOCK_SHIFT;

@@ -99,6 +99,7 @@ pub(crate) fn mesh_direction<const D: usize>(
             front,
             n,
             known_below: classes.known_below(),
+            short: p <= 48,
         };
         if any != 0 {
             emit(input, &slice_faces, &mut faces, keys, buf, opaque)?;
