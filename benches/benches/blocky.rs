@@ -30,8 +30,8 @@
 //! Before the criterion group of each input, the meshers the bars compare (ours visible, ours
 //! greedy from a `PaddedChunk` and from a `u16` array with AO on and off, `block-mesh` visible
 //! and greedy, `block-mesh-bgm`, and `binary-greedy-meshing` end to end and on prebuilt masks)
-//! are also timed interleaved (`blocky_support/interleaved.rs`: each in turn, thread CPU
-//! time), which a shared, noisy machine disturbs far less than the sequential criterion
+//! are also timed interleaved (`blocky_support/interleaved.rs`: each in turn, in an order
+//! shuffled each round, thread CPU time), which a shared, noisy machine disturbs far less than the sequential criterion
 //! measurements. Each input's report lines give their minima and medians and the bars'
 //! ratios; a table of every input's ratios comes last.
 //!
