@@ -74,7 +74,8 @@ pub struct Ratios {
 /// meshers' work (a peer's buffers, caches and branch history) were timed cold and those that
 /// ran after a sibling on the same input (`fast_mesh` on prebuilt masks after `fast_mesh` with
 /// masks, our `u16` entries after our `PaddedChunk` ones) warm: on terrain 32^3 our first two
-/// entries in a round took 1.25x as long as in the third and later places, whichever they were.
+/// entries in a round took about 1.2x as long as in the third and later places, whichever they
+/// were.
 /// (Only moving the start of the same cycle left that as it was.)
 pub fn report(input: &str, mut timed: Vec<Timed<'_>>, rounds: usize, budget: Duration) -> Ratios {
     let n = timed.len();
