@@ -128,6 +128,31 @@ fn slices(v: &mut Vec<Slice>, n: usize) {
     }
 }
 
+/// Layout A of the transparent mask of a 62^3 chunk (padded edge 64, at most
+/// [`FEW_TRANSPARENT`] transparent `ids`) into `trans_a`, row by row: a row whose occupancy is
+/// not zero is tested for each id with a compare-and-OR ([`row_contains`]), and only the ids
+/// it holds are turned into bits. Returns which of the ids occur (bit `k` for `ids[k]`).
+#[inline(always)]
+fn row_transparent(voxels: &[u16], columns: &[u64], ids: &[BlockId], trans_a: &mut [Slice]) -> u32 {
+    let mut seen = 0u32;
+    let slabs = voxels.as_chunks::<64>().0.chunks_exact(64);
+    for ((rows, cols), lines) in slabs.zip(columns.chunks_exact(64)).zip(trans_a) {
+        for ((row, &occ), line) in rows.iter().zip(cols).zip(lines) {
+            let mut t = 0;
+            if occ != 0 {
+                for (k, id) in ids.iter().enumerate() {
+                    if row_contains(row, id.0) {
+                        seen |= 1 << k;
+                        t |= row_equal(row, id.0);
+                    }
+                }
+            }
+            *line = t;
+        }
+    }
+    seen
+}
+
 /// Words of a slab's flat id-match mask in [`short_transparent`]: a 34^3 chunk's slab of
 /// 34 x 34 ids takes 18 whole words and a tail word, and the last row's bits may end in the
 /// tail word, so the word after it (never written) reads as zero.
@@ -254,8 +279,9 @@ impl Masks {
     ) {
         let ids = classes.transparent_ids();
         slices(&mut self.trans_a, p);
-        if p < 64 && ids.len() <= FEW_TRANSPARENT {
+        if ids.len() <= FEW_TRANSPARENT {
             let seen = match p {
+                64 => row_transparent(voxels, columns, ids, &mut self.trans_a),
                 34 => short_transparent::<34>(voxels, ids, &mut self.trans_a),
                 18 => short_transparent::<18>(voxels, ids, &mut self.trans_a),
                 _ => short_transparent::<10>(voxels, ids, &mut self.trans_a),
@@ -264,41 +290,28 @@ impl Masks {
             self.mixed_transparent = seen.count_ones() > 1;
             return;
         }
-        // Which of the transparent ids occur, one bit each (first FEW_TRANSPARENT ids), and for
-        // many ids the first one seen.
-        let mut seen = 0u32;
+        // Many transparent ids: the class table, for the occupied voxels. The first
+        // transparent id seen, to tell whether two different ones occur.
         let mut first: Option<u16> = None;
         let slabs = voxels.chunks_exact(p * p).zip(columns.chunks_exact(p));
         for ((slab, cols), out) in slabs.zip(self.trans_a.iter_mut()) {
             for ((row, &occ), t_out) in slab.chunks_exact(p).zip(cols).zip(out.iter_mut()) {
                 let mut t = 0;
-                if occ == 0 {
-                    // Nothing to classify.
-                } else if ids.len() <= FEW_TRANSPARENT {
-                    for (k, id) in ids.iter().enumerate() {
-                        if row_contains(row, id.0) {
-                            seen |= 1 << k;
-                            t |= row_equal(row, id.0);
-                        }
-                    }
-                } else {
-                    for x in ones(occ) {
-                        let id = row.get(x).copied().unwrap_or(0);
-                        if classes.is_transparent(BlockId(id)) {
-                            t |= 1 << x;
-                            match first {
-                                None => first = Some(id),
-                                Some(f) if f != id => self.mixed_transparent = true,
-                                Some(_) => {}
-                            }
+                for x in ones(occ) {
+                    let id = row.get(x).copied().unwrap_or(0);
+                    if classes.is_transparent(BlockId(id)) {
+                        t |= 1 << x;
+                        match first {
+                            None => first = Some(id),
+                            Some(f) if f != id => self.mixed_transparent = true,
+                            Some(_) => {}
                         }
                     }
                 }
                 *t_out = t;
             }
         }
-        self.has_transparent = seen != 0 || first.is_some();
-        self.mixed_transparent |= seen.count_ones() > 1;
+        self.has_transparent = first.is_some();
     }
 
     /// The opaque mask in all three layouts; `columns` are the input columns (layout A when the
