@@ -186,11 +186,6 @@ pub(crate) fn row_equal(row: &[u16], id: u16) -> u64 {
 /// compared as arrays; other lengths take a loop.
 #[inline(always)]
 pub(crate) fn faces_of_id(row: &[u16], id: u16, faces: u64) -> u64 {
-    let other_id = |row: &[u16]| {
-        row.iter()
-            .fold(0u16, |acc, &v| acc | u16::from(v != 0 && v != id))
-            != 0
-    };
     // A row as an array: the fold is unrolled, with no loop over a run-time length.
     if let Ok(full) = <&[u16; 64]>::try_from(row) {
         return faces_of_id_in(full, id, faces);
@@ -198,19 +193,24 @@ pub(crate) fn faces_of_id(row: &[u16], id: u16, faces: u64) -> u64 {
     if let Ok(short) = <&[u16; 48]>::try_from(row) {
         return faces_of_id_in(short, id, faces);
     }
-    if !other_id(row) {
+    if !holds_other_solid(row, id) {
         return faces;
     }
     faces & row_equal(row, id)
 }
 
+/// True if `row` holds a solid id other than `id`: a compare-and-OR, like [`row_contains`].
+#[inline(always)]
+fn holds_other_solid(row: &[u16], id: u16) -> bool {
+    row.iter()
+        .fold(0u16, |acc, &v| acc | u16::from(v != 0 && v != id))
+        != 0
+}
+
 /// [`faces_of_id`] on a row of `N` ids (48 or 64).
 #[inline(always)]
 fn faces_of_id_in<const N: usize>(row: &[u16; N], id: u16, faces: u64) -> u64 {
-    let other = row
-        .iter()
-        .fold(0u16, |acc, &v| acc | u16::from(v != 0 && v != id));
-    if other == 0 {
+    if !holds_other_solid(row, id) {
         return faces;
     }
     #[cfg(target_feature = "sse2")]
