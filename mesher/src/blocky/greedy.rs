@@ -13,6 +13,7 @@ use super::input::Input;
 use super::keys::Keys;
 use super::lone_x::lone_x;
 use super::masks::{Content, Masks};
+use super::one_id::one_id;
 #[cfg(target_arch = "x86_64")]
 use super::plain::build_columns_x86_v3;
 use super::plain::{FLAT_WORDS, FlatColumns, build_columns, padded_edge_of};
@@ -44,6 +45,10 @@ use crate::{BlockClasses, InstructionSet, MeshError};
 ///    checkerboard, take a bulk path: the faces that share the first face's key are found
 ///    with whole-line bit operations and a SIMD compare of the ids, and cost an add and a
 ///    store each.
+/// 5. With AO off, a chunk whose solid voxels all have one id (an occupancy grid, a sculpt
+///    in one material) gives every face one key: a scan of its ids finds this (it stops at
+///    the first other id), and then no face is keyed and no id is read; neighbouring faces
+///    merge.
 ///
 /// All of it is compiled twice: for the compilation target and, on x86-64, for the AVX2 and
 /// BMI2 level most CPUs have ([`InstructionSet`]). A new mesher runs the best set the CPU
@@ -333,6 +338,18 @@ fn mesh_chunk(
     if masks.build(job.p, job.voxels, columns, classes) != Content::Surface {
         return Ok(());
     }
+    // With AO off a one-id chunk keys nothing; an id the classes do not know takes the
+    // keyed path, which names it.
+    let one = if job.ao || masks.has_transparent {
+        None
+    } else {
+        solid_ends(columns, job.p)
+            .and_then(|(first, last)| one_id(job.voxels, first, last))
+            .filter(|&id| u32::from(id) < classes.known_below())
+    };
+    if let Some(id) = one {
+        keys.one = u32::from(id) << PackedQuad::BLOCK_SHIFT;
+    }
     let mut input = Input {
         voxels: job.voxels,
         p: job.p,
@@ -340,6 +357,7 @@ fn mesh_chunk(
         transparent: masks.transparent(),
         mixed_transparent: masks.mixed_transparent,
         ao: job.ao,
+        one_id: one,
         merge: job.merge,
         handled: [[0; 64]; 2],
         lone_x_rows: false,
@@ -358,6 +376,18 @@ fn mesh_chunk(
     mesh_direction::<3>(&input, classes, keys, quads, o3, t3)?;
     mesh_direction::<4>(&input, classes, keys, quads, o4, t4)?;
     mesh_direction::<5>(&input, classes, keys, quads, o5, t5)
+}
+
+/// The indexes of the first and the last solid voxel, from the occupancy `columns` (bit `x`
+/// of column `y + p * z`: voxel `x + p * (y + p * z)`), or `None` if all are air.
+#[inline(always)]
+fn solid_ends(columns: &[u64], p: usize) -> Option<(usize, usize)> {
+    let first = columns.iter().position(|&c| c != 0)?;
+    let last = columns.iter().rposition(|&c| c != 0)?;
+    Some((
+        first * p + columns[first].trailing_zeros() as usize,
+        last * p + 63 - columns[last].leading_zeros() as usize,
+    ))
 }
 
 #[cfg(test)]
@@ -381,6 +411,73 @@ mod tests {
                 Err(e) => {
                     assert!(!set.is_supported());
                     assert_eq!(e, MeshError::UnsupportedInstructionSet(set));
+                }
+            }
+        }
+    }
+
+    /// One-id chunks meshed with AO off (the passes that key nothing) give the quads of the
+    /// keyed passes. Those run on a twin with another id in a padding corner, which touches
+    /// no face and, with AO off, changes no quad.
+    #[test]
+    fn one_id_chunks_mesh_as_the_keyed_passes_do() {
+        let mut palette = MaterialPalette::new();
+        let stone = palette.push(Material::opaque(128, 128, 128)).unwrap();
+        let ore = palette.push(Material::opaque(200, 50, 50)).unwrap();
+        let classes = BlockClasses::from_palette(&palette);
+        let sponge = voxel_scene::detailed::menger(3);
+        for size in ChunkSize::ALL {
+            let e = size.edge();
+            let shapes: [&dyn Fn(u32, u32, u32) -> bool; 4] = [
+                &|x, y, z| sponge.get([x, y, z].map(|a| i64::from(a) + 1)) != 0,
+                &|x, y, z| {
+                    let d = [x, y, z].map(|a| 2 * i64::from(a) - i64::from(e) - 1);
+                    d.iter().map(|d| d * d).sum::<i64>() <= i64::from(e * e)
+                },
+                &|x, y, z| (x + y + z) % 2 == 0 && (x * 7 + y * 3 + z) % 11 != 0,
+                &|x, y, z| (x / 3 + y / 2 + z) % 3 == 0,
+            ];
+            for (k, solid) in shapes.iter().enumerate() {
+                let one =
+                    PaddedChunk::from_fn(
+                        size,
+                        |x, y, z| {
+                            if solid(x, y, z) { stone } else { BlockId::AIR }
+                        },
+                    );
+                let mut keyed = one.clone();
+                keyed.set(0, 0, 0, ore).unwrap();
+                let p = one.padded_edge();
+                let one_of = |c: &PaddedChunk| {
+                    let (first, last) = solid_ends(c.columns(), p)?;
+                    one_id(bytemuck::cast_slice(c.voxels()), first, last)
+                };
+                assert_eq!(one_of(&one), Some(stone.0), "{size:?} shape {k}");
+                assert_eq!(one_of(&keyed), None, "{size:?} shape {k}");
+                let mut mesher = GreedyMesher::new().with_ambient_occlusion(false);
+                // Greedy from the chunk, from a plain array, and one quad per face.
+                let mut quads = |c: &PaddedChunk, entry: usize| {
+                    let mut mesh = BlockyMesh::new();
+                    match entry {
+                        0 => mesher.mesh(c, &classes, &mut mesh),
+                        1 => {
+                            let ids = bytemuck::cast_slice(c.voxels());
+                            mesher.mesh_u16(ids, &classes, &mut mesh)
+                        }
+                        _ => mesher.visible_faces(c, &classes, &mut mesh),
+                    }
+                    .unwrap();
+                    assert!(mesh.transparent.is_empty());
+                    mesh.opaque.faces.map(|mut face| {
+                        face.sort_by_key(|q| q.to_u64());
+                        face
+                    })
+                };
+                for entry in 0..3 {
+                    let got = quads(&one, entry);
+                    let what = alloc::format!("{size:?} shape {k} entry {entry}");
+                    assert!(got.iter().any(|face| !face.is_empty()), "{what}");
+                    assert_eq!(got, quads(&keyed, entry), "{what}");
                 }
             }
         }

@@ -16,6 +16,8 @@ pub(crate) struct Input<'a> {
     pub mixed_transparent: bool,
     /// Compute AO (else every corner is 3 and merging ignores AO).
     pub ao: bool,
+    /// With AO off: the one id of every solid voxel, if they share one (see `one_id`).
+    pub one_id: Option<u16>,
     /// Merge faces into greedy quads (else one quad per face).
     pub merge: bool,
     /// Per ±X direction, the rows whose lone faces `lone_x` emitted (bit z of line y).

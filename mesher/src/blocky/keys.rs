@@ -24,6 +24,9 @@ pub(crate) struct Keys {
     /// The AO splits of the last lines of many lone faces (reset per direction: its entries
     /// hold AO looked up in the direction's table).
     pub(crate) memo: NeighbourhoodMemo<Front>,
+    /// The key of every face of a chunk whose solid voxels all have one id, meshed with AO
+    /// off (the passes that take `ONE`): no face is keyed, this is read instead.
+    pub(crate) one: u32,
 }
 
 impl Keys {
@@ -35,6 +38,7 @@ impl Keys {
             across: [0; 64],
             alone: [0; 64],
             memo: NeighbourhoodMemo::new(),
+            one: 0,
         }
     }
 
@@ -42,6 +46,13 @@ impl Keys {
     #[inline(always)]
     pub(crate) fn key(&self, l: usize, b: usize) -> u32 {
         self.keys[l][b]
+    }
+
+    /// The key of the face at line `l`, bit `b`: [`one`](Self::one) for a one-id chunk
+    /// (`ONE`), else the stored key.
+    #[inline(always)]
+    pub(crate) fn key_of<const ONE: bool>(&self, l: usize, b: usize) -> u32 {
+        if ONE { self.one } else { self.key(l, b) }
     }
 }
 

@@ -132,7 +132,7 @@ pub(crate) fn lone_x<const D: usize>(
             let end = (start + row_len).min(input.voxels.len());
             let ids = input.voxels.get(start..end).unwrap_or(&[]);
             emit_row::<D>(
-                input.ao,
+                (input.ao, input.one_id),
                 [y, z],
                 lone,
                 &planes,
@@ -150,14 +150,14 @@ pub(crate) fn lone_x<const D: usize>(
 }
 
 /// Emits the faces `bits` of row `(y, z)`, whose ids are `ids` (x-indexed) and whose front
-/// neighbourhoods are `planes`.
+/// neighbourhoods are `planes`, with AO or not and, for a one-id chunk (AO off), that id.
 #[expect(
     clippy::too_many_arguments,
     reason = "the row's parts, computed once by the caller"
 )]
 #[inline(always)]
 fn emit_row<const D: usize>(
-    ao: bool,
+    (ao, one_id): (bool, Option<u16>),
     [y, z]: [usize; 2],
     bits: u64,
     planes: &[u64; 9],
@@ -199,6 +199,12 @@ fn emit_row<const D: usize>(
         first: ((y - 1) << PackedQuad::Y_SHIFT | (z - 1) << PackedQuad::Z_SHIFT) as u32,
         shift: PackedQuad::X_SHIFT,
     };
+    if let Some(id) = one_id {
+        // Every face has the one id's key (checked when the chunk was found to have one id).
+        let key = key_of(id, 0);
+        out.push_bits(bits, line, key);
+        return Ok(());
+    }
     let mut rest = bits;
     {
         // Faces with the first face's front neighbourhood and id share its key. One pass over

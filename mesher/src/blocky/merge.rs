@@ -23,6 +23,9 @@
 //! too: it won 6 % on random fills and lost 7 % on terrain once the keying loop was compiled
 //! for BMI2.)
 //!
+//! In a one-id chunk with AO off (`ONE`) every face has the key `Keys::one`: step 1 is
+//! skipped, and the equal-key masks are the masks of neighbouring faces.
+//!
 //! Unknown ids of the opaque layer are caught with one compare per line or slice: a palette's
 //! ids run from 0 without a gap, so the passes that write 1 x 1 quads keep the largest id they
 //! wrote and compare it with the classes' bound (`known_below`) once; only a larger id sends
@@ -48,13 +51,21 @@ pub(crate) fn rows_of(faces: &Slice) -> u64 {
 
 /// One quad per face of the lines of `rows`; leaves `faces` empty.
 #[inline(always)]
-pub(crate) fn unit_quads<const D: usize, const AO: bool>(
+pub(crate) fn unit_quads<const D: usize, const AO: bool, const ONE: bool>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
     rows: u64,
     keys: &mut Keys,
     out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
+    if ONE {
+        // Every face has the one key: each line's quads in bulk.
+        for l in ones(rows) {
+            out.push_bits(faces[l], s.unit_line(l), keys.one | key_bits::<D, AO>());
+        }
+        *faces = [0; 64];
+        return Ok(());
+    }
     let mut lines = ones(rows);
     while let Some(l) = lines.next() {
         if let Some(next) = lines.peek() {
@@ -84,13 +95,61 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool>(
 /// 4. The other faces grow quads with bit operations on the masks: a run of equal keys is a
 ///    run of ones.
 #[inline(always)]
-pub(crate) fn greedy<const D: usize, const AO: bool>(
+pub(crate) fn greedy<const D: usize, const AO: bool, const ONE: bool>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
     rows: u64,
     keys: &mut Keys,
     out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
+    // A one-id chunk's faces all have one key: nothing to key or check.
+    let rows = if ONE {
+        rows
+    } else {
+        key_slice::<D, AO>(s, faces, rows, keys, out)?
+    };
+    let mut left = 0u64;
+    for l in ones(rows) {
+        let here = faces[l];
+        // Bit b of the stored mask: face b has the key of the face before it in the line.
+        let along_keys = if ONE { u64::MAX } else { keys.along[l] };
+        let along = (along_keys >> 1) & here & (here >> 1);
+        let across_keys = if ONE { u64::MAX } else { keys.across[l] };
+        let across = across_keys & here & faces[masked::<64>(l + 1)];
+        // Line l - 1 already went through this loop (or has no face): its entry is final.
+        let below_keys = if ONE {
+            u64::MAX
+        } else {
+            keys.across[masked::<64>(l - 1)]
+        };
+        let below = below_keys & faces[masked::<64>(l - 1)] & here;
+        keys.along[l] = along;
+        keys.across[l] = across;
+        let alone = here & !along & !(along << 1) & !across & !below;
+        keys.alone[l] = alone;
+        faces[l] = here & !alone;
+        left |= u64::from(here != alone) << l;
+    }
+    emit_alone::<D, AO, ONE>(s, rows, keys, out);
+    if Direction::<D>::LINES_FIRST {
+        greedy_lines_first::<D, AO, ONE>(s, faces, left, keys, out);
+    } else {
+        greedy_bits_first::<D, AO, ONE>(s, faces, left, keys, out);
+    }
+    Ok(())
+}
+
+/// Step 1 of [`greedy`]: keys every face of the lines `rows` (or emits lines of many lone
+/// faces through the bulk path, taking them out of `faces`) and checks the ids; returns the
+/// lines left with keyed faces.
+#[inline(always)]
+fn key_slice<const D: usize, const AO: bool>(
+    s: &SliceFaces<'_, D>,
+    faces: &mut Slice,
+    rows: u64,
+    keys: &mut Keys,
+    out: &mut Quads<'_>,
+) -> Result<u64, MeshError> {
     let mut lone_lines = 0u64;
     // The largest id keyed.
     let mut seen = 0u32;
@@ -112,28 +171,7 @@ pub(crate) fn greedy<const D: usize, const AO: bool>(
     if seen >= s.known_below {
         check_faces(s, faces, rows, keys)?;
     }
-    let mut left = 0u64;
-    for l in ones(rows) {
-        let here = faces[l];
-        // Bit b of the stored mask: face b has the key of the face before it in the line.
-        let along = (keys.along[l] >> 1) & here & (here >> 1);
-        let across = keys.across[l] & here & faces[masked::<64>(l + 1)];
-        // Line l - 1 already went through this loop (or has no face): its entry is final.
-        let below = keys.across[masked::<64>(l - 1)] & faces[masked::<64>(l - 1)] & here;
-        keys.along[l] = along;
-        keys.across[l] = across;
-        let alone = here & !along & !(along << 1) & !across & !below;
-        keys.alone[l] = alone;
-        faces[l] = here & !alone;
-        left |= u64::from(here != alone) << l;
-    }
-    emit_alone::<D, AO>(s, rows, keys, out);
-    if Direction::<D>::LINES_FIRST {
-        greedy_lines_first::<D, AO>(s, faces, left, keys, out);
-    } else {
-        greedy_bits_first::<D, AO>(s, faces, left, keys, out);
-    }
-    Ok(())
+    Ok(rows)
 }
 
 /// The keys of the faces `f` of line `l` into the table, each compared with the face before it
@@ -237,7 +275,7 @@ fn check_faces<const D: usize>(
 
 /// The 1 x 1 quads of the alone faces of the lines `rows` (keys in the table).
 #[inline(always)]
-fn emit_alone<const D: usize, const AO: bool>(
+fn emit_alone<const D: usize, const AO: bool, const ONE: bool>(
     s: &SliceFaces<'_, D>,
     rows: u64,
     keys: &Keys,
@@ -246,9 +284,9 @@ fn emit_alone<const D: usize, const AO: bool>(
     let mut n = out.len;
     for l in ones(rows) {
         let line = s.unit_line(l);
-        let row = &keys.keys[l];
         for b in ones(keys.alone[l]) {
-            out.buf[masked::<4096>(n)] = line.quad(b, row[b] | key_bits::<D, AO>());
+            out.buf[masked::<4096>(n)] =
+                line.quad(b, keys.key_of::<ONE>(l, b) | key_bits::<D, AO>());
             n += 1;
         }
     }

@@ -58,6 +58,7 @@
 //! | `direction` | `Direction<D>`: a face direction's slice, line and bit axes and its `PackedQuad` shifts, as constants |
 //! | `keys` | `Keys`, the greedy pass's scratch (keys and equal-key masks of one slice) |
 //! | `memo` | `NeighbourhoodMemo`: the AO split of recent lines, for periodic slices |
+//! | `one_id` | whether a chunk's solid voxels share one id: then, with AO off, every face has one key and nothing is keyed |
 //! | `ao` | the AO rule, the per-direction AO tables, AO of a whole line as bit planes, the diagonal flip |
 //! | `bits` | bit tools: row masks, the 64 x 64 transpose, `ones` (set bits), `masked` (indexes kept in range) |
 //!
@@ -77,6 +78,7 @@ mod masks;
 mod memo;
 mod merge;
 mod mesh;
+mod one_id;
 mod plain;
 mod slices;
 mod visible;

@@ -102,7 +102,8 @@ pub(crate) fn mesh_direction<const D: usize>(
             short: p <= 48,
         };
         if any != 0 {
-            emit(input, &slice_faces, &mut faces, keys, buf, opaque)?;
+            let one = input.one_id.is_some();
+            emit(input, one, &slice_faces, &mut faces, keys, buf, opaque)?;
         }
 
         let Some(t_layout) = t_layout else { continue };
@@ -135,7 +136,15 @@ pub(crate) fn mesh_direction<const D: usize>(
             }
         }
         slice_faces.known_below = u32::MAX;
-        emit(input, &slice_faces, &mut faces, keys, buf, transparent)?;
+        emit(
+            input,
+            false,
+            &slice_faces,
+            &mut faces,
+            keys,
+            buf,
+            transparent,
+        )?;
     }
     Ok(())
 }
@@ -158,10 +167,12 @@ fn differing_ids(voxels: &[u16], at: [usize; 3], strides: [usize; 3], both: u64)
     out
 }
 
-/// Turns the face lines of one slice into quads, leaving `faces` all zero.
+/// Turns the face lines of one slice into quads, leaving `faces` all zero. With `one` (the
+/// opaque layer of a one-id chunk, AO off) every face has the key `keys.one`.
 #[inline(always)]
 fn emit<const D: usize>(
     input: &Input<'_>,
+    one: bool,
     slice: &SliceFaces<'_, D>,
     faces: &mut Slice,
     keys: &mut Keys,
@@ -172,11 +183,15 @@ fn emit<const D: usize>(
     let rows = rows_of(faces);
     // Faces none of which touches another are their own greedy quads: no merging to do.
     let merge = input.merge && !isolated_faces(faces, rows);
-    match (merge, input.ao) {
-        (false, true) => unit_quads::<D, true>(slice, faces, rows, keys, &mut quads)?,
-        (false, false) => unit_quads::<D, false>(slice, faces, rows, keys, &mut quads)?,
-        (true, true) => greedy::<D, true>(slice, faces, rows, keys, &mut quads)?,
-        (true, false) => greedy::<D, false>(slice, faces, rows, keys, &mut quads)?,
+    match (merge, input.ao, one) {
+        (false, true, _) => unit_quads::<D, true, false>(slice, faces, rows, keys, &mut quads)?,
+        (false, false, false) => {
+            unit_quads::<D, false, false>(slice, faces, rows, keys, &mut quads)?;
+        }
+        (false, false, true) => unit_quads::<D, false, true>(slice, faces, rows, keys, &mut quads)?,
+        (true, true, _) => greedy::<D, true, false>(slice, faces, rows, keys, &mut quads)?,
+        (true, false, false) => greedy::<D, false, false>(slice, faces, rows, keys, &mut quads)?,
+        (true, false, true) => greedy::<D, false, true>(slice, faces, rows, keys, &mut quads)?,
     }
     quads.flush();
     Ok(())
