@@ -14,6 +14,7 @@
 //! | `full` | every padded voxel stone: buried, no face |
 //! | `empty` | all air |
 //! | `menger L<level>` | a Menger sponge of level 3, 4 or 5 (edge 27, 81, 243) in stone at the origin, every chunk it touches ([`voxel_scene::detailed::menger`]) |
+//! | `menger shaded L4` | the level-4 sponge in three shades of stone, one per 9^3 block ([`voxel_scene::detailed::menger_shaded`]): the same holes, with id edges every 9 voxels |
 //! | `foliage` | a forest floor of 124 x 62 x 124 voxels: trees, leaves with holes in three shades, grass blades, flowers, vines ([`voxel_scene::detailed::foliage`]), every chunk it touches |
 //! | `vox/<model>` | a MagicaVoxel sample model from `../shared/data/vox/`, every chunk it touches |
 //!
@@ -26,7 +27,7 @@ use voxel_core::{
     BlockId, ChunkSize, Material, MaterialPalette, PaddedChunk, gather_neighbourhood,
 };
 use voxel_scene::TerrainBlocks;
-use voxel_scene::detailed::{VoxelBox, foliage, menger};
+use voxel_scene::detailed::{VoxelBox, foliage, menger, menger_shaded};
 use voxel_scene::vox::load_vox_file;
 
 use crate::inputs::chunks::{TERRAIN_CENTRE, terrain_world_dense};
@@ -179,11 +180,13 @@ fn scene_input(name: &str, scene: &VoxelBox, size: ChunkSize) -> MeshInput {
     }
 }
 
-/// The Menger sponges of levels 3 to 5 and the foliage scene, cut into chunks of `size`.
+/// The Menger sponges of levels 3 to 5, the shaded level-4 one and the foliage scene, cut into
+/// chunks of `size`.
 pub fn scene_inputs(size: ChunkSize) -> Vec<MeshInput> {
     let mut out: Vec<MeshInput> = (3..=5)
         .map(|level| scene_input(&format!("menger L{level}"), &menger(level), size))
         .collect();
+    out.push(scene_input("menger shaded L4", &menger_shaded(4), size));
     let forest = foliage([FOLIAGE_EDGE, 62, FOLIAGE_EDGE], FOLIAGE_SEED);
     out.push(scene_input("foliage", &forest, size));
     out

@@ -118,18 +118,45 @@ pub fn in_menger_sponge(level: u32, [mut x, mut y, mut z]: [u64; 3]) -> bool {
 /// The Menger sponge of `level` (edge `3^level`: 27, 81, 243 for levels 3, 4, 5) in stone, at
 /// the origin.
 pub fn menger(level: u32) -> VoxelBox {
+    menger_with(level, &[Material::opaque(150, 150, 160)])
+}
+
+/// Edge of the blocks of [`menger_shaded`] that share a shade.
+pub const SHADE_BLOCK: u64 = 9;
+
+/// The Menger sponge of `level` (the holes of [`menger`]) in three shades of stone, one per
+/// block of [`SHADE_BLOCK`]^3 voxels (the sum of the block's coordinates mod 3): the ids change
+/// every 9 voxels along each axis, so faces of one surface stop merging at the shades' edges,
+/// as on a model painted in regions.
+pub fn menger_shaded(level: u32) -> VoxelBox {
+    menger_with(
+        level,
+        &[
+            Material::opaque(150, 150, 160),
+            Material::opaque(120, 120, 130),
+            Material::opaque(180, 175, 165),
+        ],
+    )
+}
+
+/// The Menger sponge of `level` in `shades`: one shade for all of it, or one per block of
+/// [`SHADE_BLOCK`]^3 voxels.
+fn menger_with(level: u32, shades: &[Material]) -> VoxelBox {
     let edge = 3usize.pow(level);
     let mut palette = MaterialPalette::new();
-    let stone = palette
-        .push(Material::opaque(150, 150, 160))
-        .expect("a fresh palette has room");
+    let ids: Vec<u16> = shades
+        .iter()
+        .map(|&m| palette.push(m).expect("a fresh palette has room").0)
+        .collect();
     let mut scene = VoxelBox::new([edge; 3], palette);
     let mut i = 0;
     for z in 0..edge as u64 {
         for y in 0..edge as u64 {
             for x in 0..edge as u64 {
                 if in_menger_sponge(level, [x, y, z]) {
-                    scene.ids[i] = stone.0;
+                    let shade = ((x / SHADE_BLOCK + y / SHADE_BLOCK + z / SHADE_BLOCK)
+                        % ids.len() as u64) as usize;
+                    scene.ids[i] = ids[shade];
                 }
                 i += 1;
             }
@@ -300,6 +327,24 @@ pub fn foliage(dims: [usize; 3], seed: u64) -> VoxelBox {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_shaded_sponge_has_the_sponge_s_holes_and_a_shade_per_block() {
+        let plain = menger(3);
+        let shaded = menger_shaded(3);
+        assert_eq!(shaded.palette.len(), 4, "air and three shades");
+        let mut seen = std::collections::BTreeSet::new();
+        for (i, (&a, &b)) in plain.ids.iter().zip(&shaded.ids).enumerate() {
+            assert_eq!(a != 0, b != 0, "voxel {i}");
+            if b == 0 {
+                continue;
+            }
+            seen.insert(b);
+            let [x, y, z] = [i % 27, i / 27 % 27, i / 729].map(|a| a as u64 / SHADE_BLOCK);
+            assert_eq!(u64::from(b - 1), (x + y + z) % 3, "voxel {i}");
+        }
+        assert_eq!(seen.len(), 3);
+    }
 
     #[test]
     fn menger_sponge_has_20_cubes_per_level() {

@@ -65,7 +65,7 @@ pub enum Fill {
     /// the same faces get different front neighbourhoods, so AO varies from line to line.
     Checkerboard { holes_percent: u64 },
     /// A window of a Menger sponge of `level` (a fractal of holes of every size down to one
-    /// voxel) at a random offset, in one of `ids`.
+    /// voxel) at a random offset, in one of `ids` or in three of them by 9^3 block.
     Menger { level: u32 },
     /// A window of a random foliage scene (`voxel_scene::detailed::foliage`: trees, leaves
     /// with holes, grass blades, vines), its 12 ids mapped onto `ids`.
@@ -122,9 +122,19 @@ pub fn random_chunk(
             })
         }
         Fill::Menger { level } => {
-            let sponge = voxel_scene::detailed::menger(level);
-            let id = ids[rng.below(ids.len() as u64) as usize];
-            window(size, &sponge, &mut rng, |_| id)
+            // One id (the one-id passes, with AO off), or the shaded sponge's three mapped
+            // onto `ids` (the keyed passes).
+            if rng.below(2) == 0 {
+                let sponge = voxel_scene::detailed::menger(level);
+                let id = ids[rng.below(ids.len() as u64) as usize];
+                window(size, &sponge, &mut rng, |_| id)
+            } else {
+                let sponge = voxel_scene::detailed::menger_shaded(level);
+                let shift = rng.below(ids.len() as u64) as usize;
+                window(size, &sponge, &mut rng, |id| {
+                    ids[(usize::from(id) + shift) % ids.len()]
+                })
+            }
         }
         Fill::Foliage => {
             let dims = [48 + rng.below(48) as usize, 40, 48 + rng.below(48) as usize];
