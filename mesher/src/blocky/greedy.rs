@@ -343,8 +343,8 @@ fn mesh_chunk(
     let one = if job.ao || masks.has_transparent {
         None
     } else {
-        solid_ends(columns, job.p)
-            .and_then(|(first, last)| one_id(job.voxels, first, last))
+        let slabs = masks.opaque(columns).occupied[0];
+        one_id(job.voxels, columns, job.p, slabs)
             .filter(|&id| u32::from(id) < classes.known_below())
     };
     if let Some(id) = one {
@@ -376,18 +376,6 @@ fn mesh_chunk(
     mesh_direction::<3>(&input, classes, keys, quads, o3, t3)?;
     mesh_direction::<4>(&input, classes, keys, quads, o4, t4)?;
     mesh_direction::<5>(&input, classes, keys, quads, o5, t5)
-}
-
-/// The indexes of the first and the last solid voxel, from the occupancy `columns` (bit `x`
-/// of column `y + p * z`: voxel `x + p * (y + p * z)`), or `None` if all are air.
-#[inline(always)]
-fn solid_ends(columns: &[u64], p: usize) -> Option<(usize, usize)> {
-    let first = columns.iter().position(|&c| c != 0)?;
-    let last = columns.iter().rposition(|&c| c != 0)?;
-    Some((
-        first * p + columns[first].trailing_zeros() as usize,
-        last * p + 63 - columns[last].leading_zeros() as usize,
-    ))
 }
 
 #[cfg(test)]
@@ -449,8 +437,10 @@ mod tests {
                 keyed.set(0, 0, 0, ore).unwrap();
                 let p = one.padded_edge();
                 let one_of = |c: &PaddedChunk| {
-                    let (first, last) = solid_ends(c.columns(), p)?;
-                    one_id(bytemuck::cast_slice(c.voxels()), first, last)
+                    let mut masks = Masks::default();
+                    masks.build(p, bytemuck::cast_slice(c.voxels()), c.columns(), &classes);
+                    let slabs = masks.opaque(c.columns()).occupied[0];
+                    one_id(bytemuck::cast_slice(c.voxels()), c.columns(), p, slabs)
                 };
                 assert_eq!(one_of(&one), Some(stone.0), "{size:?} shape {k}");
                 assert_eq!(one_of(&keyed), None, "{size:?} shape {k}");

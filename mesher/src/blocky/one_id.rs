@@ -2,32 +2,53 @@
 //! grid, a sculpt, a stone cave). With AO off every face then has one key, so the greedy pass
 //! keys nothing and reads no id: the faces that merge are the neighbouring ones.
 
-/// Ids compared before the scan may stop: a vectorised fold over a block, then one branch.
-const BLOCK: usize = 256;
+use super::bits::ones;
 
-/// The id of every solid (non-air) voxel of `voxels` if they all have the one of the voxel at
-/// `first`, else `None` (also if `first` is out of range or air). `voxels[..first]` is air;
-/// `last` is the last solid voxel, compared first: on a chunk of layered materials (terrain)
-/// the lowest and the highest differ, and nothing is scanned.
+/// Rows whose first and last solid voxels are compared with the chunk's first before any
+/// slab is scanned: on a chunk of several ids one of them nearly always differs, and the scan
+/// (a read of every id) is skipped. They are spread one row (y) up per step, two per slab at
+/// 62^3 (every row of a slab's bottom would be padding, mostly air).
+const SAMPLES: usize = 128;
+
+/// The id of every solid (non-air) voxel of the padded chunk `voxels` (edge `p`, occupancy
+/// `columns`: bit `x` of column `y + p * z` is voxel `x + p * (y + p * z)`; bit `z` of `slabs`
+/// set iff slab `z` has a solid voxel) if they all have one, else `None` (also if every voxel
+/// is air, or the inputs do not fit together).
+///
+/// First the first and last solid voxel of the chunk and of [`SAMPLES`] rows spread over it
+/// are compared (a chunk of layered or painted materials stops here); then the ids of every
+/// slab with a solid voxel are scanned, a slab at a time.
 #[inline(always)]
-pub(crate) fn one_id(voxels: &[u16], first: usize, last: usize) -> Option<u16> {
-    let rest = voxels.get(first..)?;
-    let id = *rest.first().filter(|&&id| id != 0)?;
-    if voxels.get(last) != Some(&id) {
+pub(crate) fn one_id(voxels: &[u16], columns: &[u64], p: usize, slabs: u64) -> Option<u16> {
+    if p == 0 || p > 64 || voxels.len() != p * p * p || columns.len() != p * p || slabs == 0 {
         return None;
     }
-    // A voxel is neither air nor `id` iff neither it nor its XOR with `id` is zero: iff
-    // their minimum is not. Per block, those minima ORed together, which vectorises to
-    // three operations per register of ids and one test.
-    let only_id = |block: &[u16]| block.iter().fold(0u16, |acc, &v| acc | v.min(v ^ id)) == 0;
-    let (blocks, tail) = rest.as_chunks::<BLOCK>();
-    for block in blocks {
-        if !only_id(block) {
+    let solid_ends = |c: usize| {
+        let row = columns.get(c).copied().unwrap_or(0);
+        let at = |x: u32| voxels.get(c * p + x as usize).copied();
+        (at(row.trailing_zeros()), at(63 - row.leading_zeros()))
+    };
+    // The first and last row with a solid voxel, in the first and last slab with one.
+    let slab_rows = |z: u32| columns.chunks_exact(p).nth(z as usize).unwrap_or(&[]);
+    let (first_slab, last_slab) = (slabs.trailing_zeros(), 63 - slabs.leading_zeros());
+    let first_row = first_slab as usize * p + slab_rows(first_slab).iter().position(|&c| c != 0)?;
+    let last_row = last_slab as usize * p + slab_rows(last_slab).iter().rposition(|&c| c != 0)?;
+    let id = solid_ends(first_row).0?;
+    let stride = columns.len() / SAMPLES + 1;
+    let rows = (0..columns.len()).step_by(stride).chain([last_row]);
+    for c in rows.filter(|&c| columns[c] != 0) {
+        if solid_ends(c) != (Some(id), Some(id)) {
             return None;
         }
     }
-    if !only_id(tail) {
-        return None;
+    // A voxel is neither air nor `id` iff neither it nor its XOR with `id` is zero: iff
+    // their minimum is not. Per slab, those minima ORed together, which vectorises to three
+    // operations per register of ids and one test.
+    for z in ones(slabs) {
+        let slab = voxels.chunks_exact(p * p).nth(z).unwrap_or(&[]);
+        if slab.iter().fold(0u16, |acc, &v| acc | v.min(v ^ id)) != 0 {
+            return None;
+        }
     }
     Some(id)
 }
@@ -35,6 +56,7 @@ pub(crate) fn one_id(voxels: &[u16], first: usize, last: usize) -> Option<u16> {
 #[cfg(test)]
 mod tests {
     use alloc::vec;
+    use alloc::vec::Vec;
 
     use super::*;
 
@@ -42,29 +64,66 @@ mod tests {
     /// ids that differ from another in one bit only.
     const IDS: [u16; 7] = [1, 2, 3, 0x7FFF, 0x8000, 0xFFFE, 0xFFFF];
 
+    /// Occupancy columns of padded ids of edge `p`.
+    fn columns_of(voxels: &[u16], p: usize) -> Vec<u64> {
+        voxels
+            .chunks_exact(p)
+            .map(|row| {
+                row.iter()
+                    .enumerate()
+                    .fold(0, |m, (x, &v)| m | u64::from(v != 0) << x)
+            })
+            .collect()
+    }
+
+    /// [`one_id`] with the slabs found from the columns.
+    fn one_id_of(voxels: &[u16], columns: &[u64], p: usize) -> Option<u16> {
+        let slabs = columns.chunks(p).enumerate().fold(0, |m, (z, rows)| {
+            m | u64::from(rows.iter().any(|&r| r != 0)) << z
+        });
+        one_id(voxels, columns, p, slabs)
+    }
+
+    /// One id of every solid voxel, read one by one.
+    fn reference(voxels: &[u16]) -> Option<u16> {
+        let mut solid = voxels.iter().copied().filter(|&v| v != 0);
+        let first = solid.next()?;
+        solid.all(|v| v == first).then_some(first)
+    }
+
     #[test]
     fn one_id_is_found_only_when_every_solid_voxel_has_it() {
-        // Lengths of the arrays the mesher takes (10^3 to 64^3 ids), and one that ends inside
-        // a block; the first solid voxel at the start, inside, and at a block's edge.
-        for len in [1000, 5832, 39_304, 262_144, 1000 + BLOCK / 2] {
-            for first in [0, 7, BLOCK - 1, BLOCK] {
+        for p in [10, 18, 34, 64] {
+            let len = p * p * p;
+            // Solid voxels from the start, or from inside the second slab, or a lone voxel.
+            for (from, step) in [(0, 3), (p * p + 7, 5), (len / 2 + 1, len)] {
                 for id in IDS {
                     let mut voxels = vec![0u16; len];
-                    for v in voxels[first..].iter_mut().step_by(3) {
+                    for v in voxels[from..].iter_mut().step_by(step) {
                         *v = id;
                     }
-                    let last = voxels.iter().rposition(|&v| v != 0).unwrap();
-                    assert_eq!(one_id(&voxels, first, last), Some(id), "{len} {first} {id}");
-                    // Another id anywhere after the first: at block edges, in the tail, last.
-                    for at in [first + 1, BLOCK, 2 * BLOCK - 1, len - 2, len - 1] {
+                    let columns = columns_of(&voxels, p);
+                    assert_eq!(one_id_of(&voxels, &columns, p), Some(id), "{p} {from} {id}");
+                    assert_eq!(reference(&voxels), Some(id));
+                    // Another id anywhere: the first solid voxel, a sampled row's ends, a
+                    // row no sample reads, inside a slab, the last voxel.
+                    let solid: Vec<usize> = (0..len).filter(|&i| voxels[i] != 0).collect();
+                    let unsampled = p * (len / p / SAMPLES / 2) + 3;
+                    for at in [
+                        solid[0],
+                        solid[solid.len() / 2],
+                        unsampled,
+                        len / 3,
+                        len - 1,
+                    ] {
                         for other in IDS.iter().copied().filter(|&o| o != id) {
                             let mut with_other = voxels.clone();
                             with_other[at] = other;
-                            let last = with_other.iter().rposition(|&v| v != 0).unwrap();
+                            let columns = columns_of(&with_other, p);
                             assert_eq!(
-                                one_id(&with_other, first, last),
-                                None,
-                                "{len} {first} {id} {other} at {at}"
+                                one_id_of(&with_other, &columns, p),
+                                reference(&with_other),
+                                "{p} {from} {id} {other} at {at}"
                             );
                         }
                     }
@@ -74,16 +133,16 @@ mod tests {
     }
 
     #[test]
-    fn air_or_an_out_of_range_first_voxel_has_no_one_id() {
-        let voxels = vec![0u16, 0, 5, 5];
-        assert_eq!(one_id(&voxels, 2, 3), Some(5));
-        assert_eq!(one_id(&voxels, 0, 3), None, "the first voxel is air");
-        assert_eq!(one_id(&voxels, 4, 3), None, "past the end");
-        assert_eq!(one_id(&voxels, 2, 1), None, "the last voxel is air");
-        assert_eq!(
-            one_id(&voxels, 2, 9),
-            None,
-            "the last voxel is past the end"
-        );
+    fn air_or_mismatched_inputs_have_no_one_id() {
+        let p = 10;
+        let air = vec![0u16; p * p * p];
+        assert_eq!(one_id_of(&air, &columns_of(&air, p), p), None, "all air");
+        let mut one = air.clone();
+        one[555] = 4;
+        let columns = columns_of(&one, p);
+        assert_eq!(one_id_of(&one, &columns, p), Some(4));
+        assert_eq!(one_id_of(&one[1..], &columns, p), None, "ids too short");
+        assert_eq!(one_id_of(&one, &columns[1..], p), None, "columns too short");
+        assert_eq!(one_id_of(&one, &columns, p + 1), None, "another edge");
     }
 }
