@@ -46,9 +46,9 @@ use crate::{BlockClasses, InstructionSet, MeshError};
 ///    with whole-line bit operations and a SIMD compare of the ids, and cost an add and a
 ///    store each.
 /// 5. With AO off, a chunk whose solid voxels all have one id (an occupancy grid, a sculpt
-///    in one material) gives every face one key: a scan of its ids finds this (it stops at
-///    the first other id), and then no face is keyed and no id is read; neighbouring faces
-///    merge.
+///    in one material) gives every face one key: sampled rows, then a scan of the ids, find
+///    this (both stop at the first other id), and then no face is keyed and no id is read;
+///    neighbouring faces merge.
 ///
 /// All of it is compiled twice: for the compilation target and, on x86-64, for the AVX2 and
 /// BMI2 level most CPUs have ([`InstructionSet`]). A new mesher runs the best set the CPU

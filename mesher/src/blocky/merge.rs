@@ -112,6 +112,7 @@ pub(crate) fn greedy<const D: usize, const AO: bool, const ONE: bool>(
     for l in ones(rows) {
         let here = faces[l];
         // Bit b of the stored mask: face b has the key of the face before it in the line.
+        // With `ONE` every pair of faces has equal keys: the stored masks are all ones.
         let along_keys = if ONE { u64::MAX } else { keys.along[l] };
         let along = (along_keys >> 1) & here & (here >> 1);
         let across_keys = if ONE { u64::MAX } else { keys.across[l] };
