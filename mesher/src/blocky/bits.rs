@@ -101,15 +101,15 @@ fn row_mask(row: &[u16], pred: impl Fn(u16) -> bool) -> u64 {
 
 /// Bit `l` set iff `lines[l]` is not zero: the lines of a slice that hold a face.
 ///
-/// Like [`row_mask`]: one vectorised compare into 64 bytes of `0` / `1`, then 8 gathers, about
-/// 6x fewer instructions than shifting one flag per line into place.
+/// Written as one flag per line shifted into place: the compiler turns the whole loop into
+/// 16 vector compares with zero, each ANDed with the constant bits `1 << l` of its 4 lines,
+/// and an OR of them (55 instructions with AVX2, against 177 for 64 bytes of `0` / `1` and 8
+/// byte gathers).
 #[inline(always)]
 pub(crate) fn nonzero_lines(lines: &[u64; 64]) -> u64 {
-    let bytes: [u8; 64] = core::array::from_fn(|l| u8::from(lines[l] != 0));
     let mut mask = 0u64;
-    for (i, group) in bytes.chunks_exact(8).enumerate() {
-        let group: [u8; 8] = core::array::from_fn(|j| group[j]);
-        mask |= gather8(group) << ((8 * i) & 63);
+    for (l, &line) in lines.iter().enumerate() {
+        mask |= u64::from(line != 0) << l;
     }
     mask
 }
