@@ -6,8 +6,9 @@ use super::bits::ones;
 
 /// Rows whose first and last solid voxels are compared with the chunk's first before any
 /// slab is scanned: on a chunk of several ids one of them nearly always differs, and the scan
-/// (a read of every id) is skipped. They are spread one row (y) up per step, two per slab at
-/// 62^3 (every row of a slab's bottom would be padding, mostly air).
+/// (a read of every id) is skipped. They are taken every `p * p / SAMPLES + 1` rows (about two
+/// per slab at 62^3), a step that is not a multiple of `p`, so that they fall on different
+/// rows (y) of their slabs rather than all on the bottom padding row, which is mostly air.
 const SAMPLES: usize = 128;
 
 /// The id of every solid (non-air) voxel of the padded chunk `voxels` (edge `p`, occupancy
