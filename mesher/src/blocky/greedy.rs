@@ -338,13 +338,13 @@ fn mesh_chunk(
     if masks.build(job.p, job.voxels, columns, classes) != Content::Surface {
         return Ok(());
     }
+    let opaque = masks.opaque(columns);
     // With AO off a one-id chunk keys nothing; an id the classes do not know takes the
     // keyed path, which names it.
     let one = if job.ao || masks.has_transparent {
         None
     } else {
-        let slabs = masks.opaque(columns).occupied[0];
-        one_id(job.voxels, columns, job.p, slabs)
+        one_id(job.voxels, columns, job.p, opaque.occupied[0])
             .filter(|&id| u32::from(id) < classes.known_below())
     };
     if let Some(id) = one {
@@ -353,7 +353,7 @@ fn mesh_chunk(
     let mut input = Input {
         voxels: job.voxels,
         p: job.p,
-        opaque: masks.opaque(columns),
+        opaque,
         transparent: masks.transparent(),
         mixed_transparent: masks.mixed_transparent,
         ao: job.ao,
@@ -404,15 +404,20 @@ mod tests {
         }
     }
 
+    /// The classes of a palette of two opaque ids, stone and ore, and the two ids.
+    fn stone_and_ore() -> (BlockClasses, BlockId, BlockId) {
+        let mut palette = MaterialPalette::new();
+        let stone = palette.push(Material::opaque(128, 128, 128)).unwrap();
+        let ore = palette.push(Material::opaque(200, 50, 50)).unwrap();
+        (BlockClasses::from_palette(&palette), stone, ore)
+    }
+
     /// One-id chunks meshed with AO off (the passes that key nothing) give the quads of the
     /// keyed passes. Those run on a twin with another id in a padding corner, which touches
     /// no face and, with AO off, changes no quad.
     #[test]
     fn one_id_chunks_mesh_as_the_keyed_passes_do() {
-        let mut palette = MaterialPalette::new();
-        let stone = palette.push(Material::opaque(128, 128, 128)).unwrap();
-        let ore = palette.push(Material::opaque(200, 50, 50)).unwrap();
-        let classes = BlockClasses::from_palette(&palette);
+        let (classes, stone, ore) = stone_and_ore();
         let sponge = voxel_scene::detailed::menger(3);
         for size in ChunkSize::ALL {
             let e = size.edge();
@@ -478,10 +483,7 @@ mod tests {
     /// that grow quads from the equal-key masks).
     #[test]
     fn faces_without_an_equal_neighbour_stay_single() {
-        let mut palette = MaterialPalette::new();
-        let stone = palette.push(Material::opaque(128, 128, 128)).unwrap();
-        let ore = palette.push(Material::opaque(200, 50, 50)).unwrap();
-        let classes = BlockClasses::from_palette(&palette);
+        let (classes, stone, ore) = stone_and_ore();
         // Padded coordinates: the floor is the first interior layer, the border is air.
         let inside = |v: u32| (1..=16).contains(&v);
         let padded = PaddedChunk::from_fn(ChunkSize::S16, |x, y, z| {
