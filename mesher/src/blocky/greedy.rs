@@ -338,14 +338,19 @@ fn mesh_chunk(
     if masks.build(job.p, job.voxels, columns, classes) != Content::Surface {
         return Ok(());
     }
-    let opaque = masks.opaque(columns);
     // With AO off a one-id chunk keys nothing; an id the classes do not know takes the
-    // keyed path, which names it.
+    // keyed path, which names it. (The opaque layouts, a few words, are taken twice: held
+    // across the scan they cost terrain 32^3 0.4 % more instructions, through code layout.)
     let one = if job.ao || masks.has_transparent {
         None
     } else {
-        one_id(job.voxels, columns, job.p, opaque.occupied[0])
-            .filter(|&id| u32::from(id) < classes.known_below())
+        one_id(
+            job.voxels,
+            columns,
+            job.p,
+            masks.opaque(columns).occupied[0],
+        )
+        .filter(|&id| u32::from(id) < classes.known_below())
     };
     if let Some(id) = one {
         keys.one = u32::from(id) << PackedQuad::BLOCK_SHIFT;
@@ -353,7 +358,7 @@ fn mesh_chunk(
     let mut input = Input {
         voxels: job.voxels,
         p: job.p,
-        opaque,
+        opaque: masks.opaque(columns),
         transparent: masks.transparent(),
         mixed_transparent: masks.mixed_transparent,
         ao: job.ao,
