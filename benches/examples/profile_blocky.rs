@@ -9,12 +9,16 @@
 //! Arguments: the start of an input's name (see `benches::mesh_inputs`; `vox/maze` and the
 //! other sample models when `../shared/data/vox` is there), a mode (`greedy`,
 //! `visible`, `u16`, `baseline` for greedy on `InstructionSet::Baseline`, any of these with
-//! `-noao` for AO off, or `stats` for faces per line and direction), a number of meshes and a chunk edge (32 or 62, the default). `MESHER_ISA=baseline|x86-v3` pins
+//! `-noao` for AO off, `stats` for faces per line and direction, `ao-pair` for greedy with AO
+//! on and off alternated, or `vs-bgm` for greedy with AO off alternated with
+//! `binary-greedy-meshing`'s `fast_mesh` on masks built beforehand, bar 2's pair), a number of
+//! meshes and a chunk edge (32 or 62, the default). `MESHER_ISA=baseline|x86-v3` pins
 //! the instruction set (default: the detected one); `PROFILE_EVICT_KIB=N` writes over N KiB
 //! before every mesh, outside the timed span, to time meshes that start with cold caches. The time is the thread's CPU time, taken
 //! over 20 batches: the minimum and the median per mesh, since on a shared machine the minimum
 //! is the steadier figure.
 
+use std::collections::BTreeSet;
 use std::hint::black_box;
 
 use benches::cpu_time::thread_cpu_now;
@@ -45,6 +49,10 @@ fn main() {
         for chunk in &input.chunks {
             face_stats(chunk, &classes);
         }
+        return;
+    }
+    if mode == "ao-pair" || mode == "vs-bgm" {
+        alternate(&input, &classes, mode, meshes);
         return;
     }
     time_meshes(&input, &classes, mode, meshes);
@@ -183,4 +191,102 @@ fn face_stats(chunk: &PaddedChunk, classes: &BlockClasses) {
              {lines} lines; faces per line, log2 histogram {histogram:?}"
         );
     }
+}
+
+/// Two meshers of one input alternated, a whole input's mesh at a time, in 20 rounds of
+/// `meshes / 20` pairs each (which one goes first alternating too), on the thread's CPU time:
+/// prints each one's minimum and median per mesh and their ratio from the minima, as the
+/// bench reports the AO rows and bar 2. `ao-pair`: greedy with AO on and off (AO on / AO
+/// off); `vs-bgm`: greedy with AO off and `fast_mesh` on prebuilt masks (32^3 and 62^3 only,
+/// its const generic; `fast_mesh` / ours). Alternating in one process puts both under the
+/// same load.
+fn alternate(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usize) {
+    let transparents: BTreeSet<u16> = classes.transparent_ids().iter().map(|id| id.0).collect();
+    let ids: Vec<&[u16]> = input.chunks.iter().map(as_u16).collect();
+    let mut ao_on = GreedyMesher::new();
+    let mut ao_off = GreedyMesher::new().with_ambient_occlusion(false);
+    let mut out = BlockyMesh::new();
+    let mut ours = |mesher: &mut GreedyMesher| {
+        for c in &input.chunks {
+            mesher
+                .mesh(black_box(c), classes, &mut out)
+                .expect("bench inputs mesh");
+            black_box(&out);
+        }
+    };
+    let mut peer: Box<dyn FnMut()> = match input.chunks.first().map(PaddedChunk::padded_edge) {
+        Some(34) => bgm_runner::<32>(&ids, &transparents),
+        Some(64) => bgm_runner::<62>(&ids, &transparents),
+        _ if mode == "ao-pair" => Box::new(|| {}),
+        _ => {
+            eprintln!("vs-bgm: binary-greedy-meshing is built for 32^3 and 62^3 chunks only");
+            std::process::exit(2);
+        }
+    };
+    let names = if mode == "ao-pair" {
+        ["AO on", "AO off"]
+    } else {
+        ["ours AO off", "fast_mesh prebuilt"]
+    };
+    let batch = (meshes / 20).max(1);
+    let mut times = [Vec::new(), Vec::new()];
+    for round in 0..=20 {
+        for i in 0..batch {
+            for k in 0..2 {
+                let which = (k + i + round) % 2;
+                let start = thread_cpu_now();
+                match (mode, which) {
+                    ("ao-pair", 0) => ours(&mut ao_on),
+                    (_, 0) | ("ao-pair", _) => ours(&mut ao_off),
+                    _ => peer(),
+                }
+                // Round 0 warms both up.
+                if round > 0 {
+                    times[which].push((thread_cpu_now() - start).as_secs_f64() * 1e6);
+                }
+            }
+        }
+    }
+    let [a, b] = times.map(|mut t| {
+        t.sort_by(f64::total_cmp);
+        (t[0], t[t.len() / 2])
+    });
+    // Above 1.0: AO off faster than AO on, or ours faster than `fast_mesh`.
+    let (ratio, over) = if mode == "ao-pair" {
+        (a.0 / b.0, "AO on / AO off")
+    } else {
+        (b.0 / a.0, "fast_mesh prebuilt / ours AO off")
+    };
+    println!(
+        "{} {mode}: {} min {:.1} us, median {:.1} us; {} min {:.1} us, median {:.1} us; \
+         {over}: {ratio:.2}x (minima)",
+        input.name, names[0], a.0, a.1, names[1], b.0, b.1
+    );
+}
+
+/// `binary-greedy-meshing`'s opaque and transparent masks of one chunk.
+type BgmMasks = (Box<[u64]>, Box<[u64]>);
+
+/// `fast_mesh` on every chunk of `ids`, its two masks built here, once.
+fn bgm_runner<'a, const CS: usize>(
+    ids: &'a [&'a [u16]],
+    transparents: &BTreeSet<u16>,
+) -> Box<dyn FnMut() + 'a> {
+    let masks: Vec<BgmMasks> = ids
+        .iter()
+        .map(|c| {
+            (
+                binary_greedy_meshing::compute_opaque_mask::<CS>(c, transparents),
+                binary_greedy_meshing::compute_transparent_mask::<CS>(c, transparents),
+            )
+        })
+        .collect();
+    let mut mesher = binary_greedy_meshing::Mesher::<CS>::new();
+    Box::new(move || {
+        for (c, (opaque, transparent)) in ids.iter().zip(&masks) {
+            mesher.quads.iter_mut().for_each(Vec::clear);
+            mesher.fast_mesh(black_box(c), opaque, transparent);
+            black_box(&mesher.quads);
+        }
+    })
 }
