@@ -214,10 +214,12 @@ fn alternate(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usiz
             black_box(&out);
         }
     };
-    let mut peer: Box<dyn FnMut()> = match input.chunks.first().map(PaddedChunk::padded_edge) {
+    // The peer's masks are built only when it runs.
+    let edge = input.chunks.first().map(PaddedChunk::padded_edge);
+    let mut peer: Box<dyn FnMut()> = match edge {
+        _ if mode == "ao-pair" => Box::new(|| {}),
         Some(34) => bgm_runner::<32>(&ids, &transparents),
         Some(64) => bgm_runner::<62>(&ids, &transparents),
-        _ if mode == "ao-pair" => Box::new(|| {}),
         _ => {
             eprintln!("vs-bgm: binary-greedy-meshing is built for 32^3 and 62^3 chunks only");
             std::process::exit(2);
