@@ -67,6 +67,60 @@ pub(crate) fn rows_equal(a: &[u16; 64], b: &[u16; 64]) -> u64 {
     (0..64).fold(0u64, |mask, i| mask | u64::from(a[i] == b[i]) << i)
 }
 
+/// Bit `i` (`i < N`) set iff `a[i] == b[i]`: two runs of `N` ids compared (`N` a multiple of
+/// 16, at most 64); with SSE2 two compares of 8 ids packed to bytes, one `pmovmskb` per 16.
+#[inline(always)]
+pub(crate) fn runs_equal<const N: usize>(a: &[u16; N], b: &[u16; N]) -> u64 {
+    #[cfg(target_feature = "sse2")]
+    {
+        use safe_arch::{
+            cmp_eq_mask_i16_m128i, load_unaligned_m128i, move_mask_i8_m128i, pack_i16_to_i8_m128i,
+        };
+        debug_assert!(N <= 64 && N.is_multiple_of(16));
+        let a: &[[u8; 16]] = bytemuck::cast_slice(a);
+        let b: &[[u8; 16]] = bytemuck::cast_slice(b);
+        let mut mask = 0u64;
+        for k in 0..N / 16 {
+            let eq = |j: usize| {
+                cmp_eq_mask_i16_m128i(load_unaligned_m128i(&a[j]), load_unaligned_m128i(&b[j]))
+            };
+            let bytes = pack_i16_to_i8_m128i(eq(2 * k), eq(2 * k + 1));
+            mask |= u64::from(move_mask_i8_m128i(bytes) as u16) << ((16 * k) & 63);
+        }
+        mask
+    }
+    #[cfg(not(target_feature = "sse2"))]
+    (0..N).fold(0u64, |mask, i| mask | u64::from(a[i] == b[i]) << i)
+}
+
+/// Bit `i` (`i < N`) set iff `run[i] > last`; with SSE2 one saturating subtraction per 8 ids
+/// (not zero iff the id is above `last`).
+#[inline(always)]
+pub(crate) fn runs_reach<const N: usize>(run: &[u16; N], last: u16) -> u64 {
+    #[cfg(target_feature = "sse2")]
+    {
+        use safe_arch::{
+            cmp_eq_mask_i16_m128i, load_unaligned_m128i, m128i, move_mask_i8_m128i,
+            pack_i16_to_i8_m128i, set_splat_i16_m128i, sub_saturating_u16_m128i,
+        };
+        let run: &[[u8; 16]] = bytemuck::cast_slice(run);
+        let last = set_splat_i16_m128i(last as i16);
+        let zero = m128i::default();
+        let mut within = 0u64;
+        for k in 0..N / 16 {
+            let under = |j: usize| {
+                let excess = sub_saturating_u16_m128i(load_unaligned_m128i(&run[j]), last);
+                cmp_eq_mask_i16_m128i(excess, zero)
+            };
+            let bytes = pack_i16_to_i8_m128i(under(2 * k), under(2 * k + 1));
+            within |= u64::from(move_mask_i8_m128i(bytes) as u16) << ((16 * k) & 63);
+        }
+        !within & (u64::MAX >> (64 - N))
+    }
+    #[cfg(not(target_feature = "sse2"))]
+    (0..N).fold(0u64, |mask, i| mask | u64::from(run[i] > last) << i)
+}
+
 /// Bit `i` set iff `pred(row[i])`, for rows of at most 64 ids.
 ///
 /// A full row of 64 is turned into 64 bytes of `0` / `1` first (one vectorised compare over the

@@ -8,6 +8,8 @@ use voxel_core::formats::PackedQuad;
 
 use super::bits::masked;
 use super::direction::Direction;
+use super::equal::EqualIds;
+use super::keys::{FROM_IDS, FROM_ONE, Keys};
 use super::masks::{Front, Slice};
 use crate::MeshError;
 
@@ -30,6 +32,9 @@ pub(crate) struct SliceFaces<'a, const D: usize> {
     pub known_below: u32,
     /// The chunk is 32^3 or smaller: a line's faces lie in its first 48 bits.
     pub short: bool,
+    /// The chunk's equal-id masks, when faces are merged by them (AO off; see
+    /// [`FROM_IDS`]).
+    pub equal: Option<&'a EqualIds>,
 }
 
 /// Where the ids of one line of faces are: a contiguous row (bits along x, the ±Y and ±Z faces)
@@ -243,6 +248,34 @@ impl<const D: usize> SliceFaces<'_, D> {
     pub(crate) fn key<const AO: bool>(&self, l: usize, b: usize) -> u32 {
         self.id(l, b) << PackedQuad::BLOCK_SHIFT
             | self.ao::<AO>(self.front_lines(l), b) << PackedQuad::AO_SHIFT
+    }
+
+    /// The key of the face at line `l`, bit `b`, from where `K` says (see
+    /// [`FROM_TABLE`](super::keys::FROM_TABLE)): the stored key, the one key of a one-id
+    /// chunk, or the face's id (AO off).
+    #[inline(always)]
+    pub(crate) fn key_of<const K: u8>(&self, keys: &Keys, l: usize, b: usize) -> u32 {
+        match K {
+            FROM_ONE => keys.one,
+            FROM_IDS => self.id(l, b) << PackedQuad::BLOCK_SHIFT,
+            _ => keys.key(l, b),
+        }
+    }
+
+    /// Line `l` of the slice's equal-id `along` mask (see [`EqualIds::along`]); 0 without
+    /// masks.
+    #[inline(always)]
+    pub(crate) fn equal_along(&self, l: usize) -> u64 {
+        self.equal
+            .map_or(0, |e| e.along(Direction::<D>::LAYOUT, self.n, l))
+    }
+
+    /// Line `l` of the slice's equal-id `across` mask (see [`EqualIds::across`]); 0 without
+    /// masks.
+    #[inline(always)]
+    pub(crate) fn equal_across(&self, l: usize) -> u64 {
+        self.equal
+            .map_or(0, |e| e.across(Direction::<D>::LAYOUT, self.n, l))
     }
 
     /// The packed AO byte of the face at bit `b` of a line with front lines `front` (all 3s

@@ -8,6 +8,7 @@ use voxel_core::PaddedChunk;
 use voxel_core::formats::PackedQuad;
 
 use super::BlockyMesh;
+use super::equal::{ChunkIds, EqualIds};
 use super::faces::{Quads, SliceQuads};
 use super::input::Input;
 use super::keys::Keys;
@@ -24,8 +25,9 @@ use crate::{BlockClasses, InstructionSet, MeshError};
 /// occlusion, written as [`PackedQuad`](voxel_core::formats::PackedQuad)s into a [`BlockyMesh`].
 ///
 /// It holds its scratch (the masks in three layouts, 6 x 32 KiB at most, plus 18 KiB of keys
-/// and equal-key masks, and a 32 KiB quad buffer for one slice), so meshing many
-/// chunks with one mesher allocates nothing after the first chunk of the largest size.
+/// and equal-key masks, the equal-id masks of step 6 below, 5 x 32 KiB at most, and a 32 KiB
+/// quad buffer for one slice), so meshing many chunks with one mesher allocates nothing after
+/// the first chunk of the largest size.
 ///
 /// # How
 ///
@@ -49,6 +51,11 @@ use crate::{BlockClasses, InstructionSet, MeshError};
 ///    in one material) gives every face one key: sampled rows, then a scan of the ids, find
 ///    this (both stop at the first other id), and then no face is keyed and no id is read;
 ///    neighbouring faces merge.
+/// 6. With AO off, a chunk of several ids whose exposed rows are dense (random fills,
+///    foliage, detailed models, hilly 62^3 terrain) is not keyed face by face either: each
+///    exposed row of ids is compared with the next ones along x, y and z (SIMD, 16 ids a
+///    register with AVX2), and those bits, transposed for the ±X faces where they have
+///    enough faces, are the equal-key masks; a quad's id is read when it is written.
 ///
 /// All of it is compiled twice: for the compilation target and, on x86-64, for the AVX2 and
 /// BMI2 level most CPUs have ([`InstructionSet`]). A new mesher runs the best set the CPU
@@ -92,6 +99,8 @@ struct Scratch {
     columns: Vec<u64>,
     /// The occupancy of the whole array, 64 ids a word, for building columns shorter than 64.
     flat_columns: Box<FlatColumns>,
+    /// The equal-id masks of the chunk being meshed with AO off.
+    equal: EqualIds,
 }
 
 /// One chunk to mesh, and how.
@@ -125,6 +134,7 @@ impl GreedyMesher {
                 quads: Box::new([PackedQuad::default(); 4096]),
                 columns: Vec::new(),
                 flat_columns: Box::new([0; FLAT_WORDS]),
+                equal: EqualIds::default(),
             },
             ambient_occlusion: true,
             instruction_set: InstructionSet::detect(),
@@ -265,8 +275,8 @@ fn mesh_chunk_portable(
     job: &Job<'_>,
     out: &mut BlockyMesh,
 ) -> Result<(), MeshError> {
-    with_columns(scratch, job, out, |p, voxels, columns, flat| {
-        build_columns(p, voxels, columns, flat)
+    with_columns(scratch, job, out, build_columns, |equal, chunk| {
+        equal.build(chunk)
     })
 }
 
@@ -281,20 +291,26 @@ fn mesh_chunk_x86_v3(
     job: &Job<'_>,
     out: &mut BlockyMesh,
 ) -> Result<(), MeshError> {
-    with_columns(scratch, job, out, |p, voxels, columns, flat| {
-        build_columns_x86_v3(p, voxels, columns, flat)
-    })
+    with_columns(
+        scratch,
+        job,
+        out,
+        |p, voxels, columns, flat| build_columns_x86_v3(p, voxels, columns, flat),
+        |equal, chunk| equal.build_x86_v3(chunk),
+    )
 }
 
 /// Meshes `job` with [`mesh_chunk`], its columns those of the job or, for a plain array, built
 /// by `build` (edge, ids, columns out, scratch; false for an all-air array, see
-/// [`build_columns`]) into the scratch's column buffer first.
+/// [`build_columns`]) into the scratch's column buffer first; `equal` builds the equal-id
+/// masks ([`EqualIds::build`] or its copy for the entry's instruction set).
 #[inline(always)]
 fn with_columns(
     scratch: &mut Scratch,
     job: &Job<'_>,
     out: &mut BlockyMesh,
     build: impl FnOnce(usize, &[u16], &mut Vec<u64>, &mut FlatColumns) -> bool,
+    equal: impl FnOnce(&mut EqualIds, &ChunkIds<'_>) -> bool,
 ) -> Result<(), MeshError> {
     // The buffer leaves the scratch while the mesher borrows the rest of it.
     let mut built = None;
@@ -311,7 +327,7 @@ fn with_columns(
             built.insert(columns).as_slice()
         }
     };
-    let result = mesh_chunk(scratch, job, columns, out);
+    let result = mesh_chunk(scratch, job, columns, equal, out);
     if let Some(columns) = built {
         scratch.columns = columns;
     }
@@ -329,10 +345,15 @@ fn mesh_chunk(
     scratch: &mut Scratch,
     job: &Job<'_>,
     columns: &[u64],
+    build_equal: impl FnOnce(&mut EqualIds, &ChunkIds<'_>) -> bool,
     out: &mut BlockyMesh,
 ) -> Result<(), MeshError> {
     let Scratch {
-        masks, keys, quads, ..
+        masks,
+        keys,
+        quads,
+        equal,
+        ..
     } = scratch;
     let classes = job.classes;
     if masks.build(job.p, job.voxels, columns, classes) != Content::Surface {
@@ -355,37 +376,72 @@ fn mesh_chunk(
     if let Some(id) = one {
         keys.one = u32::from(id) << PackedQuad::BLOCK_SHIFT;
     }
+    // With AO off, faces merge by the chunk's equal-id masks; an id the classes do not know
+    // (or a one-id chunk, which keys nothing) takes the keyed passes.
+    let opaque = masks.opaque(columns);
+    // (An `if`, not a closure: a closure would be compiled once, outside the instruction
+    // set of the entry that calls it.)
+    let equal = if !job.ao && job.merge && one.is_none() {
+        let transparent = masks.transparent().map_or(0, |t| t.occupied[0]);
+        let chunk = ChunkIds {
+            p: job.p,
+            voxels: job.voxels,
+            columns,
+            slabs: opaque.occupied[0] | transparent,
+            opaque: opaque.by[0],
+            known_below: classes.known_below(),
+        };
+        build_equal(equal, &chunk).then_some(&*equal)
+    } else {
+        None
+    };
     let mut input = Input {
         voxels: job.voxels,
         p: job.p,
-        opaque: masks.opaque(columns),
+        opaque,
         transparent: masks.transparent(),
         mixed_transparent: masks.mixed_transparent,
         ao: job.ao,
         one_id: one,
+        equal,
         merge: job.merge,
         handled: [[0; 64]; 2],
         lone_x_rows: false,
     };
+    mesh_passes(&mut input, classes, keys, quads, out)
+}
+
+/// The passes of [`mesh_chunk`] after the masks: the lone ±X rows, then every direction.
+#[inline(always)]
+fn mesh_passes(
+    input: &mut Input<'_>,
+    classes: &BlockClasses,
+    keys: &mut Keys,
+    quads: &mut SliceQuads,
+    out: &mut BlockyMesh,
+) -> Result<(), MeshError> {
     let [o0, o1, ..] = &mut out.opaque.faces;
     let mut handled = [[0; 64]; 2];
-    lone_x::<0>(&input, classes, &mut Quads::new(quads, o0), &mut handled[0])?;
-    lone_x::<1>(&input, classes, &mut Quads::new(quads, o1), &mut handled[1])?;
+    lone_x::<0>(input, classes, &mut Quads::new(quads, o0), &mut handled[0])?;
+    lone_x::<1>(input, classes, &mut Quads::new(quads, o1), &mut handled[1])?;
     input.lone_x_rows = handled.iter().flatten().any(|&rows| rows != 0);
     input.handled = handled;
+    let input = &*input;
     let [o0, o1, o2, o3, o4, o5] = &mut out.opaque.faces;
     let [t0, t1, t2, t3, t4, t5] = &mut out.transparent.faces;
-    mesh_direction::<0>(&input, classes, keys, quads, o0, t0)?;
-    mesh_direction::<1>(&input, classes, keys, quads, o1, t1)?;
-    mesh_direction::<2>(&input, classes, keys, quads, o2, t2)?;
-    mesh_direction::<3>(&input, classes, keys, quads, o3, t3)?;
-    mesh_direction::<4>(&input, classes, keys, quads, o4, t4)?;
-    mesh_direction::<5>(&input, classes, keys, quads, o5, t5)
+    mesh_direction::<0>(input, classes, keys, quads, o0, t0)?;
+    mesh_direction::<1>(input, classes, keys, quads, o1, t1)?;
+    mesh_direction::<2>(input, classes, keys, quads, o2, t2)?;
+    mesh_direction::<3>(input, classes, keys, quads, o3, t3)?;
+    mesh_direction::<4>(input, classes, keys, quads, o4, t4)?;
+    mesh_direction::<5>(input, classes, keys, quads, o5, t5)
 }
 
 #[cfg(test)]
 mod tests {
-    use voxel_core::{BlockId, ChunkSize, FaceDirection, Material, MaterialPalette, PaddedChunk};
+    use voxel_core::{
+        BlockId, ChunkSize, FaceDirection, Material, MaterialClass, MaterialPalette, PaddedChunk,
+    };
 
     use super::*;
 
@@ -481,6 +537,153 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// How [`equal_masks_mesh_as_keying_does`] meshes a chunk with AO off.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    enum Merging {
+        /// Every face keyed one by one (the masks declined).
+        Keyed,
+        /// From the equal-id masks, as `mesh` decides.
+        Masks,
+        /// From the equal-id masks, the ±X faces keyed (layout C dropped).
+        MasksButX,
+    }
+
+    /// Quads per layer (opaque, transparent) and direction, each direction's sorted.
+    type SortedQuads = [Vec<Vec<u64>>; 2];
+
+    /// Meshes `padded` with AO off the way `merging` says, through `mesh_chunk` with the
+    /// portable passes; returns the quads and whether the masks were built.
+    fn mesh_with(
+        padded: &PaddedChunk,
+        classes: &BlockClasses,
+        merging: Merging,
+    ) -> (Result<SortedQuads, MeshError>, bool) {
+        let mut mesher = GreedyMesher::new().with_ambient_occlusion(false);
+        let job = Job {
+            p: padded.padded_edge(),
+            voxels: bytemuck::cast_slice(padded.voxels()),
+            columns: Some(padded.columns()),
+            classes,
+            ao: false,
+            merge: true,
+        };
+        let mut built = false;
+        let mut out = BlockyMesh::new();
+        let result = mesh_chunk(
+            &mut mesher.scratch,
+            &job,
+            padded.columns(),
+            |equal, chunk| {
+                built = merging != Merging::Keyed && equal.build(chunk);
+                if merging == Merging::MasksButX {
+                    equal.drop_layout_c();
+                }
+                built
+            },
+            &mut out,
+        );
+        let sorted = |layer: &crate::QuadLayer| -> Vec<Vec<u64>> {
+            layer
+                .faces
+                .iter()
+                .map(|face| {
+                    let mut quads: Vec<u64> = face.iter().map(|q| q.to_u64()).collect();
+                    quads.sort_unstable();
+                    quads
+                })
+                .collect()
+        };
+        (
+            result.map(|()| [sorted(&out.opaque), sorted(&out.transparent)]),
+            built,
+        )
+    }
+
+    /// With AO off, a chunk meshed from its equal-id masks (with layout C and with the ±X
+    /// faces keyed) gives the quads keying every face gives, as sets: dense random fills of
+    /// opaque ids, of opaque and transparent ids (two transparent ids, so transparent faces
+    /// between them too), the shaded Menger sponge and the foliage scene, at every size. An
+    /// unknown id declines the masks and fails as keying does.
+    #[test]
+    fn equal_masks_mesh_as_keying_does() {
+        let mut palette = MaterialPalette::new();
+        for shade in 0..3u8 {
+            palette.push(Material::opaque(40 * shade, 90, 90)).unwrap();
+        }
+        for _ in 0..2 {
+            let glass = Material::opaque(200, 220, 230).with_class(MaterialClass::Transparent);
+            palette.push(glass).unwrap();
+        }
+        let classes = BlockClasses::from_palette(&palette);
+        let (sponge, forest) = (
+            voxel_scene::detailed::menger_shaded(3),
+            voxel_scene::detailed::foliage([48, 40, 48], 11),
+        );
+        let forest_classes = BlockClasses::from_palette(&forest.palette);
+        let mut rng = voxel_scene::rng::Rng::new(17);
+        let mut built_for = alloc::collections::BTreeSet::new();
+        for size in ChunkSize::ALL {
+            let random = |rng: &mut voxel_scene::rng::Rng, ids: u64| {
+                let cells: Vec<u16> = (0..size.padded_edge().pow(3))
+                    .map(|_| match rng.below(8) {
+                        0 | 1 => 0,
+                        _ => 1 + rng.below(ids) as u16,
+                    })
+                    .collect();
+                let p = size.padded_edge() as u32;
+                PaddedChunk::from_fn(size, |x, y, z| {
+                    BlockId(cells[(x + p * (y + p * z)) as usize])
+                })
+            };
+            let mut chunks = alloc::vec![
+                ("opaque", random(&mut rng, 3), &classes),
+                ("transparent", random(&mut rng, 5), &classes),
+            ];
+            chunks.extend(
+                sponge
+                    .padded_chunks(size)
+                    .into_iter()
+                    .map(|c| ("sponge", c, &classes)),
+            );
+            let forest_chunks = forest.padded_chunks(size);
+            chunks.extend(
+                forest_chunks
+                    .into_iter()
+                    .map(|c| ("foliage", c, &forest_classes)),
+            );
+            for (name, chunk, classes) in &chunks {
+                let what = alloc::format!("{size:?} {name}");
+                let (keyed, _) = mesh_with(chunk, classes, Merging::Keyed);
+                let keyed = keyed.unwrap();
+                for merging in [Merging::Masks, Merging::MasksButX] {
+                    let (got, built) = mesh_with(chunk, classes, merging);
+                    // The random fills are dense: built at every size; the scenes where their
+                    // rows are dense enough (at least once, checked below).
+                    let dense = matches!(*name, "opaque" | "transparent");
+                    assert!(built || !dense, "{what}: a dense fill builds its masks");
+                    if built {
+                        built_for.insert(*name);
+                    }
+                    assert_eq!(got.unwrap(), keyed, "{what} {merging:?}");
+                }
+            }
+            // An unknown id on the surface: declined, and the error keying gives.
+            let mut unknown = chunks[0].1.clone();
+            let e = size.edge();
+            unknown.set(e / 2, e / 2, 1, BlockId(9)).unwrap();
+            unknown.set(e / 2, e / 2, 0, BlockId::AIR).unwrap();
+            let (keyed, _) = mesh_with(&unknown, &classes, Merging::Keyed);
+            let (got, built) = mesh_with(&unknown, &classes, Merging::Masks);
+            assert!(!built && keyed.is_err(), "{size:?}");
+            assert_eq!(got, keyed, "{size:?}");
+        }
+        assert_eq!(
+            built_for.len(),
+            4,
+            "every input from its masks at some size: {built_for:?}"
+        );
     }
 
     /// A floor whose diagonal is another id: its top faces have no neighbour with an equal key

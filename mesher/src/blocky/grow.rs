@@ -15,7 +15,7 @@ use super::masks::Slice;
 /// the lines of `left`; leaves `faces` empty. Quads start at the lowest line, then the lowest
 /// bit, or, for [`Direction::BIT_MAJOR`] directions, at the lowest bit, then the lowest line.
 #[inline(always)]
-pub(crate) fn greedy_bits_first<const D: usize, const AO: bool, const ONE: bool>(
+pub(crate) fn greedy_bits_first<const D: usize, const AO: bool, const K: u8>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
     left: u64,
@@ -40,7 +40,7 @@ pub(crate) fn greedy_bits_first<const D: usize, const AO: bool, const ONE: bool>
         for b in ones(any) {
             for l in ones(columns[b]) {
                 if (faces[l] >> b) & 1 != 0 {
-                    grow_bits_first::<D, AO, ONE>(s, faces, (l, b), keys, out);
+                    grow_bits_first::<D, AO, K>(s, faces, (l, b), keys, out);
                 }
             }
         }
@@ -64,7 +64,7 @@ pub(crate) fn greedy_bits_first<const D: usize, const AO: bool, const ONE: bool>
             s.push(
                 out,
                 (l, b, lines, bits),
-                keys.key_of::<ONE>(l, b) | key_bits::<D, AO>(),
+                s.key_of::<K>(keys, l, b) | key_bits::<D, AO>(),
             );
         }
         faces[l] = 0;
@@ -76,14 +76,14 @@ pub(crate) fn greedy_bits_first<const D: usize, const AO: bool, const ONE: bool>
 /// out of `faces` and writes it. For the bit-major directions, whose quads from earlier bits
 /// may have taken faces in the lines below.
 #[inline(always)]
-fn grow_bits_first<const D: usize, const AO: bool, const ONE: bool>(
+fn grow_bits_first<const D: usize, const AO: bool, const K: u8>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
     (l, b): (usize, usize),
     keys: &Keys,
     out: &mut Quads<'_>,
 ) {
-    let key = keys.key_of::<ONE>(l, b);
+    let key = s.key_of::<K>(keys, l, b);
     let here = faces[l];
     // Faces still present from b on with the same key.
     let chain = (keys.along[l] & here & (here >> 1)) >> b;
@@ -102,7 +102,7 @@ fn grow_bits_first<const D: usize, const AO: bool, const ONE: bool>(
 /// Greedy quads growing along lines first, then bits (the ±Y faces), starting from the lines
 /// of `left`; leaves `faces` empty.
 #[inline(always)]
-pub(crate) fn greedy_lines_first<const D: usize, const AO: bool, const ONE: bool>(
+pub(crate) fn greedy_lines_first<const D: usize, const AO: bool, const K: u8>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
     left: u64,
@@ -114,7 +114,7 @@ pub(crate) fn greedy_lines_first<const D: usize, const AO: bool, const ONE: bool
         let along = keys.along[l];
         while here != 0 {
             let b = here.trailing_zeros() as usize;
-            let key = keys.key_of::<ONE>(l, b);
+            let key = s.key_of::<K>(keys, l, b);
             let bit = 1u64 << b;
             let mut lines = 1;
             // Bit j: faces b + j and b + j + 1 present with equal keys in every line so far.

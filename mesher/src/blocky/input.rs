@@ -1,5 +1,6 @@
 //! [`Input`]: everything the walk over a chunk's slices reads, built once per chunk.
 
+use super::equal::EqualIds;
 use super::masks::{Layouts, Slice};
 
 /// Everything the walk reads.
@@ -18,6 +19,9 @@ pub(crate) struct Input<'a> {
     pub ao: bool,
     /// With AO off: the one id of every solid voxel, if they share one (see `one_id`).
     pub one_id: Option<u16>,
+    /// With AO off, the chunk's equal-id masks: faces are merged by them instead of keyed
+    /// one by one (see `FROM_IDS`).
+    pub equal: Option<&'a EqualIds>,
     /// Merge faces into greedy quads (else one quad per face).
     pub merge: bool,
     /// Per ±X direction, the rows whose lone faces `lone_x` emitted (bit z of line y).

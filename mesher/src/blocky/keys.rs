@@ -47,14 +47,17 @@ impl Keys {
     pub(crate) fn key(&self, l: usize, b: usize) -> u32 {
         self.keys[l][b]
     }
-
-    /// The key of the face at line `l`, bit `b`: [`one`](Self::one) for a one-id chunk
-    /// (`ONE`), else the stored key.
-    #[inline(always)]
-    pub(crate) fn key_of<const ONE: bool>(&self, l: usize, b: usize) -> u32 {
-        if ONE { self.one } else { self.key(l, b) }
-    }
 }
+
+/// The greedy pass's keys from the table, written face by face while keying. This and the
+/// next two are the values of the const parameter `K` of its passes: where each face's key
+/// comes from.
+pub(crate) const FROM_TABLE: u8 = 0;
+/// [`Keys::one`] for every face: a one-id chunk meshed with AO off, nothing keyed.
+pub(crate) const FROM_ONE: u8 = 1;
+/// The face's id, read from the voxels when a quad is written: AO off, the equal-key masks
+/// taken from the chunk's equal-id masks ([`super::equal`]), nothing keyed or stored.
+pub(crate) const FROM_IDS: u8 = 2;
 
 /// The bits of `PackedQuad` word 1 that a quad of the greedy pass has besides its key: the
 /// face direction and, with AO off, the 4 unoccluded corners (all 3), which the keys then

@@ -116,7 +116,7 @@ fn occupied_slices(a: &[Slice]) -> [u64; 3] {
 /// zeroed here when the size changes (nothing to do for 62^3 chunks, where `n` is 64). At an
 /// unchanged size they are still zero: the call that sized `v` zeroed them, and every chunk
 /// since wrote lines `0..n` only.
-fn slices(v: &mut Vec<Slice>, n: usize) {
+pub(crate) fn resize_slices(v: &mut Vec<Slice>, n: usize) {
     if v.len() == n {
         return;
     }
@@ -233,7 +233,7 @@ impl Masks {
         // Layout A of the opaque mask: the columns themselves when possible.
         self.opaque_is_columns = p == 64 && !self.has_transparent;
         if !self.opaque_is_columns {
-            slices(&mut self.opaque_a, p);
+            resize_slices(&mut self.opaque_a, p);
             let slabs = columns.chunks_exact(p).zip(self.opaque_a.iter_mut());
             if self.has_transparent {
                 for ((slab, out), t) in slabs.zip(&self.trans_a) {
@@ -278,7 +278,7 @@ impl Masks {
         classes: &BlockClasses,
     ) {
         let ids = classes.transparent_ids();
-        slices(&mut self.trans_a, p);
+        resize_slices(&mut self.trans_a, p);
         if ids.len() <= FEW_TRANSPARENT {
             let seen = match p {
                 64 => row_transparent(voxels, columns, ids, &mut self.trans_a),
@@ -340,7 +340,7 @@ impl Masks {
 /// Layout B from layout A: `out[y][z] = a[z][y]`.
 #[inline(always)]
 fn word_transpose(p: usize, a: &[Slice], out: &mut Vec<Slice>) {
-    slices(out, p);
+    resize_slices(out, p);
     // Slice by slice of the output: 64 strided reads, one contiguous 512-byte write.
     for (y, slot) in out.iter_mut().enumerate() {
         for (word, slab) in slot.iter_mut().zip(a) {
@@ -363,7 +363,7 @@ fn bit_transpose(p: usize, b: &[Slice], out: &mut Vec<Slice>, lines: &mut u64) {
         // Resized: lines of slices kept from another size are not tracked.
         *lines = u64::MAX;
     }
-    slices(out, p);
+    resize_slices(out, p);
     for (y, slice) in b.iter().enumerate() {
         let bit = 1u64 << (y & 63);
         let empty = slice.iter().all(|&line| line == 0);

@@ -23,8 +23,14 @@
 //! too: it won 6 % on random fills and lost 7 % on terrain once the keying loop was compiled
 //! for BMI2.)
 //!
-//! In a one-id chunk with AO off (`ONE`) every face has the key `Keys::one`: step 1 is
-//! skipped, and the equal-key masks are the masks of neighbouring faces.
+//! Where the keys come from is the const parameter `K` of the passes (see `keys::FROM_TABLE`):
+//!
+//! - keyed face by face into the table (AO on, and AO off where the next two do not apply);
+//! - in a one-id chunk with AO off every face has the key `Keys::one`: step 1 is skipped, and
+//!   the equal-key masks are the masks of neighbouring faces;
+//! - with AO off in a chunk with dense exposed rows, the equal-key masks are the chunk's
+//!   equal-id masks (`super::equal`), built by SIMD row compares before any slice: step 1 is
+//!   skipped, and a quad's key is its origin's id, read from the voxels when it is written.
 //!
 //! Unknown ids of the opaque layer are caught with one compare per line or slice: a palette's
 //! ids run from 0 without a gap, so the passes that write 1 x 1 quads keep the largest id they
@@ -39,7 +45,7 @@ use super::bits::{many, masked, nonzero_lines, ones, rows_equal};
 use super::direction::Direction;
 use super::faces::{Quads, SliceFaces};
 use super::grow::{greedy_bits_first, greedy_lines_first};
-use super::keys::{Keys, key_bits};
+use super::keys::{FROM_IDS, FROM_ONE, Keys, key_bits};
 use super::masks::Slice;
 use crate::MeshError;
 
@@ -95,30 +101,39 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool, const ONE: bool>(
 /// 4. The other faces grow quads with bit operations on the masks: a run of equal keys is a
 ///    run of ones.
 #[inline(always)]
-pub(crate) fn greedy<const D: usize, const AO: bool, const ONE: bool>(
+pub(crate) fn greedy<const D: usize, const AO: bool, const K: u8>(
     s: &SliceFaces<'_, D>,
     faces: &mut Slice,
     rows: u64,
     keys: &mut Keys,
     out: &mut Quads<'_>,
 ) -> Result<(), MeshError> {
-    // A one-id chunk's faces all have one key: nothing to key or check.
-    let rows = if ONE {
-        rows
-    } else {
-        key_slice::<D, AO>(s, faces, rows, keys, out)?
+    const { assert!(K != FROM_IDS || !AO) };
+    // A one-id chunk's faces, and faces merged by the chunk's equal-id masks, need no keying.
+    let rows = match K {
+        FROM_ONE | FROM_IDS => rows,
+        _ => key_slice::<D, AO>(s, faces, rows, keys, out)?,
     };
+    let one = K == FROM_ONE;
     let mut left = 0u64;
     for l in ones(rows) {
         let here = faces[l];
-        // Bit b of the stored mask: face b has the key of the face before it in the line.
-        // With `ONE` every pair of faces has equal keys: the stored masks are all ones.
-        let along_keys = if ONE { u64::MAX } else { keys.along[l] };
-        let along = (along_keys >> 1) & here & (here >> 1);
-        let across_keys = if ONE { u64::MAX } else { keys.across[l] };
+        // Bit b: face b has the key of the face after it in the line (the keyed masks say
+        // "of the one before"). With `FROM_ONE` every pair of faces has equal keys.
+        let along_next = match K {
+            FROM_ONE => u64::MAX,
+            FROM_IDS => s.equal_along(l),
+            _ => keys.along[l] >> 1,
+        };
+        let along = along_next & here & (here >> 1);
+        let across_keys = match K {
+            FROM_ONE => u64::MAX,
+            FROM_IDS => s.equal_across(l),
+            _ => keys.across[l],
+        };
         let across = across_keys & here & faces[masked::<64>(l + 1)];
         // Line l - 1 already went through this loop (or has no face): its entry is final.
-        let below_keys = if ONE {
+        let below_keys = if one {
             u64::MAX
         } else {
             keys.across[masked::<64>(l - 1)]
@@ -131,11 +146,11 @@ pub(crate) fn greedy<const D: usize, const AO: bool, const ONE: bool>(
         faces[l] = here & !alone;
         left |= u64::from(here != alone) << l;
     }
-    emit_alone::<D, AO, ONE>(s, rows, keys, out);
+    emit_alone::<D, AO, K>(s, rows, keys, out);
     if Direction::<D>::LINES_FIRST {
-        greedy_lines_first::<D, AO, ONE>(s, faces, left, keys, out);
+        greedy_lines_first::<D, AO, K>(s, faces, left, keys, out);
     } else {
-        greedy_bits_first::<D, AO, ONE>(s, faces, left, keys, out);
+        greedy_bits_first::<D, AO, K>(s, faces, left, keys, out);
     }
     Ok(())
 }
@@ -274,9 +289,9 @@ fn check_faces<const D: usize>(
     result
 }
 
-/// The 1 x 1 quads of the alone faces of the lines `rows` (keys in the table).
+/// The 1 x 1 quads of the alone faces of the lines `rows` (keys from where `K` says).
 #[inline(always)]
-fn emit_alone<const D: usize, const AO: bool, const ONE: bool>(
+fn emit_alone<const D: usize, const AO: bool, const K: u8>(
     s: &SliceFaces<'_, D>,
     rows: u64,
     keys: &Keys,
@@ -287,7 +302,7 @@ fn emit_alone<const D: usize, const AO: bool, const ONE: bool>(
         let line = s.unit_line(l);
         for b in ones(keys.alone[l]) {
             out.buf[masked::<4096>(n)] =
-                line.quad(b, keys.key_of::<ONE>(l, b) | key_bits::<D, AO>());
+                line.quad(b, s.key_of::<K>(keys, l, b) | key_bits::<D, AO>());
             n += 1;
         }
     }

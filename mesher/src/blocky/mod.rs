@@ -59,6 +59,7 @@
 //! | `keys` | `Keys`, the greedy pass's scratch (keys and equal-key masks of one slice) |
 //! | `memo` | `NeighbourhoodMemo`: the AO split of recent lines, for periodic slices |
 //! | `one_id` | whether a chunk's solid voxels share one id: then, with AO off, every face has one key and nothing is keyed |
+//! | `equal` | `EqualIds`: with AO off, in chunks whose exposed rows are dense, every exposed voxel's id compared with its next neighbours' along x, y and z by SIMD row compares (built by the entry after step 2), as the equal-key masks of every slice: then nothing is keyed |
 //! | `ao` | the AO rule, the per-direction AO tables, AO of a whole line as bit planes, the diagonal flip |
 //! | `bits` | bit tools: row masks, the 64 x 64 transpose, `ones` (set bits), `masked` (indexes kept in range) |
 //!
@@ -67,6 +68,7 @@
 pub mod ao;
 mod bits;
 mod direction;
+mod equal;
 mod faces;
 mod greedy;
 mod grow;

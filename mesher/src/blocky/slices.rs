@@ -27,7 +27,7 @@ use super::bits::{many, masked, ones};
 use super::direction::Direction;
 use super::faces::{Quads, SliceFaces, SliceQuads};
 use super::input::Input;
-use super::keys::Keys;
+use super::keys::{FROM_IDS, FROM_ONE, FROM_TABLE, Keys};
 use super::lone_x::drop_handled;
 use super::masks::Slice;
 use super::memo::NeighbourhoodMemo;
@@ -100,6 +100,7 @@ pub(crate) fn mesh_direction<const D: usize>(
             n,
             known_below: classes.known_below(),
             short: p <= 48,
+            equal: input.equal,
         };
         if any != 0 {
             let one = input.one_id.is_some();
@@ -189,9 +190,18 @@ fn emit<const D: usize>(
             unit_quads::<D, false, false>(slice, faces, rows, keys, &mut quads)?;
         }
         (false, false, true) => unit_quads::<D, false, true>(slice, faces, rows, keys, &mut quads)?,
-        (true, true, _) => greedy::<D, true, false>(slice, faces, rows, keys, &mut quads)?,
-        (true, false, false) => greedy::<D, false, false>(slice, faces, rows, keys, &mut quads)?,
-        (true, false, true) => greedy::<D, false, true>(slice, faces, rows, keys, &mut quads)?,
+        (true, true, _) => greedy::<D, true, FROM_TABLE>(slice, faces, rows, keys, &mut quads)?,
+        (true, false, false)
+            if input
+                .equal
+                .is_some_and(|e| Direction::<D>::LAYOUT != 2 || e.has_layout_c()) =>
+        {
+            greedy::<D, false, FROM_IDS>(slice, faces, rows, keys, &mut quads)?;
+        }
+        (true, false, false) => {
+            greedy::<D, false, FROM_TABLE>(slice, faces, rows, keys, &mut quads)?;
+        }
+        (true, false, true) => greedy::<D, false, FROM_ONE>(slice, faces, rows, keys, &mut quads)?,
     }
     quads.flush();
     Ok(())

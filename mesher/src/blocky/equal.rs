@@ -1,0 +1,757 @@
+//! [`EqualIds`]: for every voxel that can show a face, whether its id equals the next voxel's
+//! along x, y and z, in the slice layouts the face directions read: the equal-key masks of
+//! the greedy pass with AO off, built for a whole chunk at once instead of face by face.
+//!
+//! With AO off a face's key is its id, so two neighbouring faces of a slice merge iff their
+//! voxels' ids are equal. For a face direction whose slices are layout `L` (see
+//! [`super::masks`]), the greedy pass needs per line `l` of slice `n`:
+//!
+//! - `along[l]` bit `b`: the voxel at bit `b` has the id of the voxel at bit `b + 1`;
+//! - `across[l]` bit `b`: the voxel at line `l` has the id of the voxel at line `l + 1`.
+//!
+//! | faces | layout | along (bits) | across (lines) | stored as |
+//! | ----- | ------ | ------------ | -------------- | --------- |
+//! | ±Z    | A      | next x       | next y         | layout A |
+//! | ±Y    | B      | next x       | next z         | layout A, read with slice and line swapped |
+//! | ±X    | C      | next z       | next y         | layout C, bit transposed from A |
+//!
+//! A padded x-row of ids is contiguous, so each of a row's three comparisons is a SIMD
+//! compare of the row with the ids one voxel further along x, y or z: 16 ids a register with
+//! AVX2 ([`row_x86_v3`]), 8 with SSE2 ([`row_portable`]).
+//!
+//! Only *exposed* rows are compared: interior rows with a solid voxel that has a neighbour
+//! which is not opaque. Faces lie on exposed voxels only, and every reader ANDs these masks
+//! with the faces of the same voxel, so the entries of other rows are never read: they keep
+//! whatever an earlier chunk left there. Layout C is transposed only for the B slices (`y`)
+//! that hold an exposed row, for the same reason.
+//!
+//! # When the masks are built
+//!
+//! A row's compares cost about as much as keying a handful of faces one by one, so the masks
+//! pay only where the exposed rows are dense: [`EqualIds::build`] first counts the exposed
+//! voxels of a quarter of the rows and declines (the caller then keys the faces) below
+//! [`min_exposed_per_row`] a row. Layout C's transposes are skipped in the same way when the
+//! chunk has few ±X faces ([`TRANSPOSE_IN_FACES`]); those faces are then keyed. An exposed row
+//! with an id the classes do not know also declines: keying names the id.
+
+use alloc::vec::Vec;
+
+use super::bits::{masked, ones, runs_equal, runs_reach, transpose64};
+use super::masks::{Slice, resize_slices};
+
+/// The exposed voxels per exposed row from which the masks of a chunk of padded edge `p` are
+/// built: below it, keying the faces one by one costs less than comparing the rows, whose
+/// cost grows with their length (`p` ids, in 1 to 4 registers of 16).
+///
+/// Measured on this project's inputs (x86-64-v3, a chunk's masks built or not, the same
+/// binary): at 32^3 and 62^3, terrain 32^3 (4.9 exposed voxels a row) and the sample models
+/// `monu1` and `monu10` (1.2 to 6.2 a chunk) mesh as fast or up to 9 % faster keyed; foliage
+/// (7.8 to 9.9), terrain 62^3 (7.6), random fills (16 to 31) and the shaded Menger sponge (12
+/// to 18) 10 % to 45 % faster from the masks. Shorter rows: [`MIN_EXPOSED_16`],
+/// [`MIN_EXPOSED_8`].
+#[inline(always)]
+pub(crate) const fn min_exposed_per_row(p: usize) -> u32 {
+    match p {
+        34.. => 7,
+        18.. => MIN_EXPOSED_16,
+        _ => MIN_EXPOSED_8,
+    }
+}
+
+/// [`min_exposed_per_row`] for 16^3 chunks: foliage (4.4 exposed voxels a row on average)
+/// meshed 10 % faster from the masks, but `monu1` (4.4) and `monu10` (5.4) 4 % to 6 %
+/// slower: the sample models stay keyed.
+const MIN_EXPOSED_16: u32 = 5;
+
+/// [`min_exposed_per_row`] for 8^3 chunks: foliage (3.0) meshed 7 % faster from the masks,
+/// `monu1` and `monu10` (3.8, 3.9) 4 % slower, `T-Rex` (2.6) 6 % slower.
+const MIN_EXPOSED_8: u32 = 4;
+
+/// What the transposes of one B slice into layout C cost, in ±X faces keyed one by one
+/// (callgrind, x86-64-v3: two 64 x 64 bit transposes with their gathers, about 1,500
+/// instructions, against 25 to 50 a keyed ±X face with its line).
+pub(crate) const TRANSPOSE_IN_FACES: u32 = 40;
+
+/// The equal-id masks of one chunk (see the [module docs](self)). Scratch that keeps its
+/// capacity between chunks.
+#[derive(Clone, Debug)]
+pub(crate) struct EqualIds {
+    /// Layout A (slice z, line y, bit x): the next voxel along x has the same id.
+    next_x_a: Vec<Slice>,
+    /// Layout A: the next voxel along y has the same id.
+    next_y_a: Vec<Slice>,
+    /// Layout A: the next voxel along z has the same id.
+    next_z_a: Vec<Slice>,
+    /// Layout C (slice x, line y, bit z): the next voxel along z has the same id.
+    next_z_c: Vec<Slice>,
+    /// Layout C: the next voxel along y has the same id.
+    next_y_c: Vec<Slice>,
+    /// Layout C was built: the ±X faces are merged by these masks (else they are keyed).
+    has_c: bool,
+    /// Per slab `z`, bit `y` set iff row `(y, z)` is exposed.
+    exposed: Slice,
+}
+
+impl Default for EqualIds {
+    fn default() -> Self {
+        EqualIds {
+            next_x_a: Vec::new(),
+            next_y_a: Vec::new(),
+            next_z_a: Vec::new(),
+            next_z_c: Vec::new(),
+            next_y_c: Vec::new(),
+            has_c: false,
+            exposed: [0; 64],
+        }
+    }
+}
+
+/// What [`EqualIds::build`] reads of a padded chunk of edge `p`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ChunkIds<'a> {
+    /// Padded edge.
+    pub p: usize,
+    /// The `p^3` ids, x fastest.
+    pub voxels: &'a [u16],
+    /// Occupancy columns (bit `x` of `columns[y + p * z]`: the voxel is not air).
+    pub columns: &'a [u64],
+    /// Bit `z`: slab `z` has a solid voxel.
+    pub slabs: u64,
+    /// The opaque mask in layout A.
+    pub opaque: &'a [Slice],
+    /// Ids below this are known.
+    pub known_below: u32,
+}
+
+impl EqualIds {
+    /// Builds the masks of `chunk` with the portable row kernel ([`row_portable`];
+    /// [`build_x86_v3`](Self::build_x86_v3) gives the same masks with AVX2).
+    ///
+    /// Returns false, with the masks unusable, when keying the faces one by one is the better
+    /// way: the sampled exposed rows hold fewer than [`min_exposed_per_row`] exposed voxels a
+    /// row (or there are none), an exposed row holds an id that is not below the classes'
+    /// bound (keying names it), or the inputs do not fit together.
+    #[inline(always)]
+    pub fn build(&mut self, chunk: &ChunkIds<'_>) -> bool {
+        let Some(last) = self.prepare(chunk) else {
+            return false;
+        };
+        let mut unknown = false;
+        let u = &mut unknown;
+        // Direct calls, not function pointers, so that each is inlined.
+        let ys = match chunk.p {
+            64 => compare_rows::<64>(self, chunk, |r| row_portable(r, last, u)),
+            34 => compare_rows::<48>(self, chunk, |r| row_portable(r, last, u)),
+            18 => compare_rows::<32>(self, chunk, |r| row_portable(r, last, u)),
+            _ => compare_rows::<16>(self, chunk, |r| row_portable(r, last, u)),
+        };
+        !unknown && self.finish(chunk.p, ys)
+    }
+
+    /// [`build`](Self::build) with the AVX2 row kernel ([`row_x86_v3`]): the same masks and
+    /// answer. (On an x86-64 target without SSE, such as `x86_64-unknown-none`, which cannot
+    /// hold AVX2 vectors, the portable kernel.)
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+    pub fn build_x86_v3(&mut self, chunk: &ChunkIds<'_>) -> bool {
+        #[cfg(target_feature = "sse2")]
+        {
+            use core::arch::x86_64::{_mm256_set1_epi16, _mm256_setzero_si256, _mm256_testz_si256};
+            let Some(last) = self.prepare(chunk) else {
+                return false;
+            };
+            let last = _mm256_set1_epi16(last as i16);
+            // The OR of every row's saturating differences with the last known id: not zero
+            // iff some id is above it.
+            let mut excess = _mm256_setzero_si256();
+            let e = &mut excess;
+            let ys = match chunk.p {
+                64 => compare_rows::<64>(self, chunk, |r| row_x86_v3(r, last, e)),
+                34 => compare_rows::<48>(self, chunk, |r| row_x86_v3(r, last, e)),
+                18 => compare_rows::<32>(self, chunk, |r| row_x86_v3(r, last, e)),
+                _ => compare_rows::<16>(self, chunk, |r| row_x86_v3(r, last, e)),
+            };
+            _mm256_testz_si256(excess, excess) == 1 && self.finish(chunk.p, ys)
+        }
+        #[cfg(not(target_feature = "sse2"))]
+        self.build(chunk)
+    }
+
+    /// Decides from a quarter of the rows whether the masks pay; if they do, finds the exposed
+    /// rows of every slab (into `self.exposed`), decides whether layout C pays, sizes the
+    /// scratch and returns the largest known id. `None`: keyed instead.
+    #[inline(always)]
+    fn prepare(&mut self, chunk: &ChunkIds<'_>) -> Option<u16> {
+        let p = chunk.p;
+        if !(3..=64).contains(&p) || chunk.voxels.len() != p * p * p || chunk.columns.len() != p * p
+        {
+            return None;
+        }
+        let sample = exposed_rows::<true>(chunk, &mut self.exposed)?;
+        if sample.rows == 0 || sample.voxels < min_exposed_per_row(p) * sample.rows {
+            return None;
+        }
+        let all = exposed_rows::<false>(chunk, &mut self.exposed)?;
+        let ys = self.exposed.iter().fold(0, |ys, &rows| ys | rows);
+        self.has_c = all.x_faces > TRANSPOSE_IN_FACES * ys.count_ones();
+        for v in [&mut self.next_x_a, &mut self.next_y_a, &mut self.next_z_a] {
+            resize_slices(v, p);
+        }
+        if self.has_c {
+            resize_slices(&mut self.next_z_c, p);
+            resize_slices(&mut self.next_y_c, p);
+        }
+        // Every id is below a bound past the 16-bit range.
+        let last = chunk.known_below.checked_sub(1)?;
+        Some(u16::try_from(last).unwrap_or(u16::MAX))
+    }
+
+    /// Layout C from layout A, if it pays, for the B slices `ys` (those with an exposed row);
+    /// false if the row pass failed (`None`).
+    #[inline(always)]
+    fn finish(&mut self, p: usize, ys: Option<u64>) -> bool {
+        let Some(ys) = ys else { return false };
+        if self.has_c {
+            transpose_into(p, &self.next_z_a, ys, &mut self.next_z_c);
+            transpose_into(p, &self.next_y_a, ys, &mut self.next_y_c);
+        }
+        true
+    }
+
+    /// Drops layout C, so that the ±X faces are keyed (to test both ways on one chunk).
+    #[cfg(test)]
+    pub fn drop_layout_c(&mut self) {
+        self.has_c = false;
+    }
+
+    /// The ±X faces (layout C) are merged by these masks; otherwise they are keyed.
+    #[inline(always)]
+    pub fn has_layout_c(&self) -> bool {
+        self.has_c
+    }
+
+    /// Line `l` of slice `n` of the `along` masks of layout `layout` (0 = A, 1 = B, 2 = C, a
+    /// constant of the direction): bit `b` set iff the voxel at line `l`, bit `b` has the id
+    /// of the one at bit `b + 1`. Meaningful only where the voxel shows a face; 0 past the
+    /// chunk. Layout B's line `z` of slice `y` is layout A's line `y` of slice `z`.
+    #[inline(always)]
+    pub fn along(&self, layout: usize, n: usize, l: usize) -> u64 {
+        match layout {
+            0 => line(&self.next_x_a, n, l),
+            1 => line(&self.next_x_a, l, n),
+            _ => line(&self.next_z_c, n, l),
+        }
+    }
+
+    /// Line `l` of slice `n` of the `across` masks of layout `layout`: bit `b` set iff the
+    /// voxel at line `l`, bit `b` has the id of the one at line `l + 1` (as
+    /// [`along`](Self::along)).
+    #[inline(always)]
+    pub fn across(&self, layout: usize, n: usize, l: usize) -> u64 {
+        match layout {
+            0 => line(&self.next_y_a, n, l),
+            1 => line(&self.next_z_a, l, n),
+            _ => line(&self.next_y_c, n, l),
+        }
+    }
+}
+
+/// Line `l` of slice `n` of `masks`, or 0 past them.
+#[inline(always)]
+fn line(masks: &[Slice], n: usize, l: usize) -> u64 {
+    masks.get(n).map_or(0, |slice| slice[masked::<64>(l)])
+}
+
+/// What [`exposed_rows`] counts.
+#[derive(Clone, Copy, Debug)]
+struct Exposure {
+    /// Exposed rows.
+    rows: u32,
+    /// Exposed voxels.
+    voxels: u32,
+    /// Opaque ±X faces in the exposed rows.
+    x_faces: u32,
+}
+
+/// The exposed rows of `chunk` into `out` (bit `y` of `out[z]`): interior rows with a solid
+/// voxel that has a neighbour which is not opaque, since only such voxels show faces. With
+/// `SAMPLE`, only the rows with `(y + z) % 4 == 2` are looked at (a diagonal pattern, which
+/// layered or walled models do not line up with, as they do with every fourth slab). `None`
+/// if the inputs do not fit together.
+#[inline(always)]
+fn exposed_rows<const SAMPLE: bool>(chunk: &ChunkIds<'_>, out: &mut Slice) -> Option<Exposure> {
+    let p = chunk.p;
+    let inner = (u64::MAX >> (64 - (p - 2))) << 1;
+    *out = [0; 64];
+    let mut count = Exposure {
+        rows: 0,
+        voxels: 0,
+        x_faces: 0,
+    };
+    for z in ones(chunk.slabs & inner) {
+        let opaque = chunk.opaque;
+        let (slab, below, above) = (opaque.get(z)?, opaque.get(z - 1)?, opaque.get(z + 1)?);
+        let columns = chunk.columns.get(z * p..(z + 1) * p)?;
+        let mut exposed = 0u64;
+        // Rows 1..p - 1, or every fourth of them from the first with (y + z) % 4 == 2.
+        let (first, step) = if SAMPLE {
+            (1 + (5 - z % 4) % 4, 4)
+        } else {
+            (1, 1)
+        };
+        for y in (first..p - 1).step_by(step) {
+            let solid = columns[y] & inner;
+            // Voxels all of whose 6 neighbours are opaque show no face.
+            let o = slab[y];
+            let hidden = (o >> 1)
+                & (o << 1)
+                & slab[masked::<64>(y - 1)]
+                & slab[masked::<64>(y + 1)]
+                & below[y]
+                & above[y];
+            let shown = (solid & !hidden).count_ones();
+            count.voxels += shown;
+            exposed |= u64::from(shown != 0) << y;
+            let o = o & inner;
+            count.x_faces += (o & !(o >> 1)).count_ones() + (o & !(o << 1)).count_ones();
+        }
+        count.rows += exposed.count_ones();
+        out[z] = exposed;
+    }
+    Some(count)
+}
+
+/// The four runs of `N` ids one row's masks compare: the row, and the ids one voxel further
+/// along x, y and z. `N` is at least the padded edge; the ids past a row's end belong to the
+/// next rows and give bits no face reads.
+pub(crate) struct RowRuns<'a, const N: usize> {
+    /// The row's ids.
+    pub row: &'a [u16; N],
+    /// The ids from the row's second voxel on.
+    pub next_x: &'a [u16; N],
+    /// The row at `y + 1`.
+    pub next_y: &'a [u16; N],
+    /// The row at `z + 1`.
+    pub next_z: &'a [u16; N],
+}
+
+/// The row pass of [`EqualIds::build`] over the exposed rows of `chunk`, with the row kernel
+/// `kernel` (the three masks of a row: bit `x` set iff the voxel's id equals the next one's
+/// along x, y and z), comparing `N` ids a row (`N` at least `p`, a multiple of 16). Returns
+/// the B slices (bit `y`) that hold an exposed row, or `None` if a row's ids run past the
+/// array (never for a padded chunk's interior rows: see the bound below).
+#[inline(always)]
+fn compare_rows<const N: usize>(
+    eq: &mut EqualIds,
+    chunk: &ChunkIds<'_>,
+    mut kernel: impl FnMut(&RowRuns<'_, N>) -> [u64; 3],
+) -> Option<u64> {
+    let p = chunk.p;
+    debug_assert!(N >= p && N <= 64 && N.is_multiple_of(16));
+    // The furthest id read: the next-z run of the last interior row, `N` ids from its start.
+    debug_assert!((p - 1) * p * p + (p - 2) * p + N <= chunk.voxels.len());
+    let mut ys = 0u64;
+    for (z, &rows) in eq.exposed.iter().enumerate().take(p) {
+        if rows == 0 {
+            continue;
+        }
+        let (x_out, y_out, z_out) = (
+            eq.next_x_a.get_mut(z)?,
+            eq.next_y_a.get_mut(z)?,
+            eq.next_z_a.get_mut(z)?,
+        );
+        for y in ones(rows) {
+            let start = (y + p * z) * p;
+            // One bounds check for the four runs (the furthest starts `p * p` on; no sum
+            // here overflows: `start` is below `p^3`).
+            let span = chunk.voxels.get(start..start + p * p + N)?;
+            let run =
+                |from: usize| -> Option<&[u16; N]> { span.get(from..from + N)?.try_into().ok() };
+            let runs = RowRuns {
+                row: run(0)?,
+                next_x: run(1)?,
+                next_y: run(p)?,
+                next_z: run(p * p)?,
+            };
+            let [next_x, next_y, next_z] = kernel(&runs);
+            x_out[y] = next_x;
+            y_out[y] = next_y;
+            z_out[y] = next_z;
+        }
+        ys |= rows;
+    }
+    Some(ys)
+}
+
+/// The portable row kernel: [`runs_equal`] (SSE2 where the target has it); sets `unknown` if
+/// an id of the run is above `last`, the largest known id (as [`row_x86_v3`] tests, so that
+/// both decline the same chunks).
+#[inline(always)]
+fn row_portable<const N: usize>(r: &RowRuns<'_, N>, last: u16, unknown: &mut bool) -> [u64; 3] {
+    *unknown |= runs_reach(r.row, last) != 0;
+    [
+        runs_equal(r.row, r.next_x),
+        runs_equal(r.row, r.next_y),
+        runs_equal(r.row, r.next_z),
+    ]
+}
+
+/// The AVX2 row kernel: 16 ids a register, two registers' compares packed to 32 mask bits
+/// per `vpmovmskb`. ORs the saturating difference of every id of the run with `last` (the
+/// largest known id, in every lane) into `excess`, which stays zero iff no id is above it;
+/// the ids past the row's end (other rows') are tested too, which can only decline a chunk
+/// the portable kernel would build.
+#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline]
+fn row_x86_v3<const N: usize>(
+    r: &RowRuns<'_, N>,
+    last: core::arch::x86_64::__m256i,
+    excess: &mut core::arch::x86_64::__m256i,
+) -> [u64; 3] {
+    use core::arch::x86_64::{_mm256_cmpeq_epi16, _mm256_or_si256, _mm256_subs_epu16};
+    for k in 0..N / 16 {
+        *excess = _mm256_or_si256(*excess, _mm256_subs_epu16(lanes(r.row, k), last));
+    }
+    let equal =
+        |other: &[u16; N]| lane_bits::<N>(|k| _mm256_cmpeq_epi16(lanes(r.row, k), lanes(other, k)));
+    [equal(r.next_x), equal(r.next_y), equal(r.next_z)]
+}
+
+/// Register `k` of a run of `N` ids: its ids `16 k .. 16 k + 16`, one 32-byte load.
+#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline]
+fn lanes<const N: usize>(run: &[u16; N], k: usize) -> core::arch::x86_64::__m256i {
+    let registers: &[[u16; 16]] = bytemuck::cast_slice(run);
+    bytemuck::cast(registers[k % registers.len()])
+}
+
+/// One mask bit per id from registers of all-ones or all-zero lanes, `lane(k)` for the ids
+/// `16 k ..`: two registers at a time are packed to bytes (`packs` interleaves them by
+/// 128-bit lane, a.lo, b.lo, a.hi, b.hi, and a permute restores id order) and their 32 bits
+/// taken with one `vpmovmskb`.
+#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline]
+fn lane_bits<const N: usize>(lane: impl Fn(usize) -> core::arch::x86_64::__m256i) -> u64 {
+    use core::arch::x86_64::{
+        _mm256_movemask_epi8, _mm256_packs_epi16, _mm256_permute4x64_epi64, _mm256_setzero_si256,
+    };
+    // Pairs of registers, unrolled: `N / 16` is a constant.
+    let mut mask = 0u64;
+    for pair in 0..N.div_ceil(32) {
+        let k = 2 * pair;
+        let high = if k + 1 < N / 16 {
+            lane(k + 1)
+        } else {
+            _mm256_setzero_si256()
+        };
+        let packed = _mm256_permute4x64_epi64::<0b11_01_10_00>(_mm256_packs_epi16(lane(k), high));
+        mask |= u64::from(_mm256_movemask_epi8(packed) as u32) << ((16 * k) & 63);
+    }
+    mask
+}
+
+/// Layout C from layout A for the B slices `ys`: `out[x][y]` bit `z` is `a[z][y]` bit `x`
+/// (layout B's slice `y` gathered from A, then a 64 x 64 bit transpose). The other slices'
+/// lines of `out` are left as they are.
+#[inline(always)]
+fn transpose_into(p: usize, a: &[Slice], ys: u64, out: &mut [Slice]) {
+    for y in ones(ys) {
+        let mut m = [0u64; 64];
+        for (word, slab) in m.iter_mut().zip(a) {
+            *word = slab[y];
+        }
+        transpose64(&mut m);
+        for (x, line) in out.iter_mut().enumerate().take(p) {
+            line[y] = m[masked::<64>(x)];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use alloc::vec;
+    use alloc::vec::Vec;
+
+    use voxel_scene::rng::Rng;
+
+    use super::*;
+
+    /// A padded chunk of edge `p` for the tests: ids, occupancy columns, opaque mask in
+    /// layout A (ids at or above `transparent_from` are transparent), and occupied slabs.
+    struct TestChunk {
+        p: usize,
+        voxels: Vec<u16>,
+        columns: Vec<u64>,
+        opaque: Vec<Slice>,
+        slabs: u64,
+    }
+
+    impl TestChunk {
+        fn new(p: usize, voxels: Vec<u16>, transparent_from: u16) -> Self {
+            let mask = |keep: &dyn Fn(u16) -> bool| -> Vec<u64> {
+                voxels
+                    .chunks_exact(p)
+                    .map(|row| (0..p).fold(0, |m, x| m | u64::from(keep(row[x])) << x))
+                    .collect()
+            };
+            let columns = mask(&|id| id != 0);
+            let opaque_rows = mask(&|id| id != 0 && id < transparent_from);
+            let mut opaque = vec![[0u64; 64]; p];
+            for (z, slab) in opaque.iter_mut().enumerate() {
+                slab[..p].copy_from_slice(&opaque_rows[z * p..(z + 1) * p]);
+            }
+            let slabs = (0..p).fold(0, |s, z| {
+                s | u64::from(columns[z * p..(z + 1) * p].iter().any(|&c| c != 0)) << z
+            });
+            TestChunk {
+                p,
+                voxels,
+                columns,
+                opaque,
+                slabs,
+            }
+        }
+
+        fn ids(&self, known_below: u32) -> ChunkIds<'_> {
+            ChunkIds {
+                p: self.p,
+                voxels: &self.voxels,
+                columns: &self.columns,
+                slabs: self.slabs,
+                opaque: &self.opaque,
+                known_below,
+            }
+        }
+
+        fn id(&self, [x, y, z]: [usize; 3]) -> u16 {
+            self.voxels[x + self.p * (y + self.p * z)]
+        }
+
+        /// A solid interior voxel with a neighbour that is not opaque.
+        fn exposed(&self, at: [usize; 3], transparent_from: u16) -> bool {
+            let p = self.p;
+            let opaque = |v: [usize; 3]| {
+                let id = self.id(v);
+                id != 0 && id < transparent_from
+            };
+            if at.iter().any(|&a| a == 0 || a >= p - 1) || self.id(at) == 0 {
+                return false;
+            }
+            (0..3).any(|axis| {
+                [at[axis] - 1, at[axis] + 1].iter().any(|&c| {
+                    let mut n = at;
+                    n[axis] = c;
+                    !opaque(n)
+                })
+            })
+        }
+    }
+
+    /// Random ids: air with probability `air` in 8, else one of `ids` (1 ..= ids).
+    fn noise(p: usize, seed: u64, air: u64, ids: u16) -> Vec<u16> {
+        let mut rng = Rng::new(seed);
+        (0..p * p * p)
+            .map(|_| {
+                if rng.below(8) < air {
+                    0
+                } else {
+                    1 + rng.below(u64::from(ids)) as u16
+                }
+            })
+            .collect()
+    }
+
+    /// Both kernels (the AVX2 one where this CPU runs it) on `chunk`: the answer of each,
+    /// and the masks of the portable one.
+    fn build_both(chunk: &TestChunk, known_below: u32) -> (EqualIds, bool) {
+        let mut portable = EqualIds::default();
+        let built = portable.build(&chunk.ids(known_below));
+        #[cfg(target_arch = "x86_64")]
+        if crate::InstructionSet::X86V3.is_supported() {
+            let mut wide = EqualIds::default();
+            #[expect(
+                unsafe_code,
+                reason = "calls the AVX2 build on a CPU checked to have it"
+            )]
+            // SAFETY: `X86V3.is_supported()` found every feature `build_x86_v3` is compiled
+            // for.
+            let wide_built = unsafe { wide.build_x86_v3(&chunk.ids(known_below)) };
+            assert_eq!(wide_built, built, "both kernels give the same answer");
+            if built {
+                assert_eq!(wide.has_c, portable.has_c);
+                let p = chunk.p;
+                for layout in 0..3 {
+                    for n in 0..p {
+                        for l in 0..p {
+                            for (a, b) in [
+                                (wide.along(layout, n, l), portable.along(layout, n, l)),
+                                (wide.across(layout, n, l), portable.across(layout, n, l)),
+                            ] {
+                                // Entries are meaningful at exposed voxels only: compared
+                                // where the voxel of the layout's line and bit is exposed.
+                                let exposed = (0..p).fold(0u64, |m, b| {
+                                    let at = match layout {
+                                        0 => [b, l, n],
+                                        1 => [b, n, l],
+                                        _ => [n, l, b],
+                                    };
+                                    m | u64::from(chunk.exposed(at, u16::MAX)) << b
+                                });
+                                if layout < 2 || wide.has_c {
+                                    assert_eq!(a & exposed, b & exposed, "layout {layout}");
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        (portable, built)
+    }
+
+    /// Every mask bit of every exposed voxel, in all three layouts, against the ids, at every
+    /// padded edge; dense fills of few ids (the masks are built), with and without
+    /// transparent ids, and with ids at the ends of the 16-bit range.
+    #[test]
+    fn masks_match_the_ids_of_every_exposed_voxel() {
+        for p in [10, 18, 34, 64] {
+            for (case, (air, ids, transparent_from)) in [(2, 2, u16::MAX), (4, 3, 3), (2, 1, 2)]
+                .into_iter()
+                .enumerate()
+            {
+                let mut voxels = noise(p, (p * 10 + case) as u64, air, ids);
+                if case == 0 {
+                    // The largest ids: a signed compare or saturating pack would fail here.
+                    for (i, v) in voxels.iter_mut().enumerate().filter(|(i, _)| i % 7 == 0) {
+                        *v = [0x7FFF, 0x8000, 0xFFFF][i % 3];
+                    }
+                }
+                let chunk = TestChunk::new(p, voxels, transparent_from);
+                let (eq, built) = build_both(&chunk, u32::MAX);
+                assert!(built, "edge {p} case {case}: a dense fill builds its masks");
+                let what = alloc::format!("edge {p} case {case}");
+                for z in 1..p - 1 {
+                    for y in 1..p - 1 {
+                        for x in 1..p - 1 {
+                            if !chunk.exposed([x, y, z], transparent_from) {
+                                continue;
+                            }
+                            let id = chunk.id([x, y, z]);
+                            let same = |dx: usize, dy: usize, dz: usize| {
+                                u64::from(chunk.id([x + dx, y + dy, z + dz]) == id)
+                            };
+                            let bit = |line: u64, b: usize| (line >> b) & 1;
+                            // Layout A: slice z, line y, bit x.
+                            assert_eq!(bit(eq.along(0, z, y), x), same(1, 0, 0), "{what}");
+                            assert_eq!(bit(eq.across(0, z, y), x), same(0, 1, 0), "{what}");
+                            // Layout B: slice y, line z, bit x.
+                            assert_eq!(bit(eq.along(1, y, z), x), same(1, 0, 0), "{what}");
+                            assert_eq!(bit(eq.across(1, y, z), x), same(0, 0, 1), "{what}");
+                            // Layout C: slice x, line y, bit z.
+                            if eq.has_layout_c() {
+                                assert_eq!(bit(eq.along(2, x, y), z), same(0, 0, 1), "{what}");
+                                assert_eq!(bit(eq.across(2, x, y), z), same(0, 1, 0), "{what}");
+                            }
+                        }
+                    }
+                }
+                // A B slice's transposes cost the same at every edge: the larger chunks'
+                // slices hold enough ±X faces for them.
+                assert!(eq.has_layout_c() || p < 34, "{what}: layout C");
+            }
+        }
+    }
+
+    /// The exposed rows and their counts against each voxel's 6 neighbours, at every edge:
+    /// fills from nearly solid (voxels exposed by one air neighbour, along any axis) to
+    /// sparse, with transparent ids (exposed to them, and exposed themselves).
+    #[test]
+    fn exposed_rows_are_those_with_a_voxel_next_to_one_not_opaque() {
+        for p in [10, 18, 34, 64] {
+            for (case, air) in [0u64, 1, 4, 7].into_iter().enumerate() {
+                let transparent_from = 3;
+                let chunk = TestChunk::new(p, noise(p, 7 + case as u64, air, 3), transparent_from);
+                let mut rows = [0u64; 64];
+                let count = exposed_rows::<false>(&chunk.ids(u32::MAX), &mut rows).unwrap();
+                let (mut want_rows, mut want_voxels) = (0, 0);
+                for (z, &got) in rows.iter().enumerate().take(p) {
+                    let mut want = 0u64;
+                    for y in 0..p {
+                        let shown = (0..p)
+                            .filter(|&x| chunk.exposed([x, y, z], transparent_from))
+                            .count() as u32;
+                        want |= u64::from(shown != 0) << y;
+                        want_voxels += shown;
+                    }
+                    assert_eq!(got, want, "edge {p} air {air}/8 slab {z}");
+                    want_rows += want.count_ones();
+                }
+                assert_eq!(
+                    (count.rows, count.voxels),
+                    (want_rows, want_voxels),
+                    "edge {p}"
+                );
+                // The sample looks at a quarter of the rows: about a quarter of the counts.
+                let mut sampled = [0u64; 64];
+                let sample = exposed_rows::<true>(&chunk.ids(u32::MAX), &mut sampled).unwrap();
+                assert!(sample.rows <= count.rows / 4 + p as u32, "edge {p}");
+                assert!(
+                    sampled.iter().zip(&rows).all(|(s, r)| s & !r == 0),
+                    "edge {p}"
+                );
+            }
+        }
+    }
+
+    /// Few exposed voxels a row (isolated voxels and thin lines) decline; so does an unknown
+    /// id anywhere in an exposed row, the padding included (both kernels alike); a chunk with
+    /// few ±X faces builds without layout C.
+    #[test]
+    fn sparse_chunks_and_unknown_ids_decline() {
+        for p in [10, 18, 34, 64] {
+            // One voxel in every other row: one exposed voxel a row.
+            let mut sparse = vec![0u16; p * p * p];
+            for z in 1..p - 1 {
+                for y in (1..p - 1).step_by(2) {
+                    sparse[(y + z) % (p - 2) + 1 + p * (y + p * z)] = 1;
+                }
+            }
+            let (_, built) = build_both(&TestChunk::new(p, sparse, u16::MAX), u32::MAX);
+            assert!(!built, "edge {p}: sparse");
+
+            let dense = noise(p, p as u64, 2, 2);
+            let (_, built) = build_both(&TestChunk::new(p, dense.clone(), u16::MAX), 3);
+            assert!(built, "edge {p}: ids 1 and 2, both known");
+            for at in [
+                p * p + p + 1,
+                p * p * (p / 2) + p * (p / 2) + p / 2,
+                p * p + p,
+            ] {
+                let mut unknown = dense.clone();
+                unknown[at] = 3;
+                let chunk = TestChunk::new(p, unknown, u16::MAX);
+                let (_, built) = build_both(&chunk, 3);
+                assert!(!built, "edge {p}: unknown id at {at}");
+            }
+
+            // Two slabs of full rows along x, every third row left out: many exposed voxels,
+            // few ±X faces (two a row, four a B slice).
+            let mut layered = vec![0u16; p * p * p];
+            for z in 1..3 {
+                for y in 1..p - 1 {
+                    if y % 3 != 0 {
+                        for x in 1..p - 1 {
+                            layered[x + p * (y + p * z)] = 1 + (x % 2) as u16;
+                        }
+                    }
+                }
+            }
+            let (eq, built) = build_both(&TestChunk::new(p, layered, u16::MAX), u32::MAX);
+            assert!(built, "edge {p}: layered");
+            assert!(!eq.has_layout_c(), "edge {p}: two ±X faces a row");
+        }
+    }
+}
