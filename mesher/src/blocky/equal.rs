@@ -29,47 +29,50 @@
 //!
 //! A row's compares cost about as much as keying a handful of faces one by one, so the masks
 //! pay only where the exposed rows are dense: [`EqualIds::build`] first counts the exposed
-//! voxels of a quarter of the rows and declines (the caller then keys the faces) below
-//! [`min_exposed_per_row`] a row. Layout C's transposes are skipped in the same way when the
-//! chunk has few ±X faces ([`TRANSPOSE_IN_FACES`]); those faces are then keyed. An exposed row
-//! with an id the classes do not know also declines: keying names the id.
+//! voxels and opaque runs of an eighth of the rows and declines (the caller then keys the faces)
+//! where they are few ([`masks_pay`]). Layout C's transposes are skipped in the same way when
+//! the chunk has few ±X faces a B slice ([`TRANSPOSE_IN_FACES`]); those faces are then keyed.
+//! An exposed row with an id the classes do not know also declines: keying names the id.
 
 use alloc::vec::Vec;
 
 use super::bits::{masked, ones, runs_equal, runs_reach, transpose64};
 use super::masks::{Slice, resize_slices};
 
-/// The exposed voxels per exposed row from which the masks of a chunk of padded edge `p` are
-/// built: below it, keying the faces one by one costs less than comparing the rows, whose
-/// cost grows with their length (`p` ids, in 1 to 4 registers of 16).
+/// Whether a chunk of padded edge `p` whose sampled exposed rows (see [`exposed_rows`]) hold
+/// `sample` is meshed from the masks: its exposed rows must hold both many exposed voxels and
+/// many ends of opaque runs (±X faces, and runs cut by the chunk's border). Rows that are one
+/// solid run (two ends), as in the walls and floors of built models, are meshed faster keyed
+/// however many voxels they expose.
 ///
-/// Measured on this project's inputs (x86-64-v3, a chunk's masks built or not, the same
-/// binary): at 32^3 and 62^3, terrain 32^3 (4.9 exposed voxels a row) and the sample models
-/// `monu1` and `monu10` (1.2 to 6.2 a chunk) mesh as fast or up to 9 % faster keyed; foliage
-/// (7.8 to 9.9), terrain 62^3 (7.6), random fills (16 to 31) and the shaded Menger sponge (12
-/// to 18) 10 % to 45 % faster from the masks. Shorter rows: [`MIN_EXPOSED_16`],
-/// [`MIN_EXPOSED_8`].
+/// Measured chunk by chunk (x86-64-v3, every chunk of the bench inputs meshed both ways, the
+/// minimum of 29 rounds of 20 meshes each way): at 32^3 and 62^3, the sample models `monu1`
+/// and `monu10` (about 2 run ends a row) are up to 58 % slower from the masks even at 5 to 12
+/// exposed voxels a row, while foliage, terrain, random fills and the shaded Menger sponge
+/// (3.3 to 31 run ends a row, 4.5 exposed voxels or more) are up to 36 % faster. With this
+/// rule every input's total is within 1 % of taking the faster way for each chunk, but the
+/// one-chunk `T-Rex` (9 %, 1 µs), `chr_fox` (2 %) and `monu10` (0.9 %). At 16^3 and 8^3 the
+/// two ways are within a few percent of each other on every input; the rule for them is
+/// within 4 % of the faster way per chunk (`T-Rex`: 6.5 %).
 #[inline(always)]
-pub(crate) const fn min_exposed_per_row(p: usize) -> u32 {
-    match p {
-        34.. => 7,
-        18.. => MIN_EXPOSED_16,
-        _ => MIN_EXPOSED_8,
+const fn masks_pay(p: usize, sample: &Exposure) -> bool {
+    let (rows, voxels, ends) = (sample.rows, sample.voxels, sample.run_ends);
+    if rows == 0 {
+        return false;
+    }
+    if p >= 34 {
+        // At least 4.5 exposed voxels and 3.2 run ends a row.
+        2 * voxels >= 9 * rows && 5 * ends >= 16 * rows
+    } else {
+        // At least 2 exposed voxels and 2.5 run ends a row.
+        voxels >= 2 * rows && 2 * ends >= 5 * rows
     }
 }
 
-/// [`min_exposed_per_row`] for 16^3 chunks: foliage (4.4 exposed voxels a row on average)
-/// meshed 10 % faster from the masks, but `monu1` (4.4) and `monu10` (5.4) 4 % to 6 %
-/// slower: the sample models stay keyed.
-const MIN_EXPOSED_16: u32 = 5;
-
-/// [`min_exposed_per_row`] for 8^3 chunks: foliage (3.0) meshed 7 % faster from the masks,
-/// `monu1` and `monu10` (3.8, 3.9) 4 % slower, `T-Rex` (2.6) 6 % slower.
-const MIN_EXPOSED_8: u32 = 4;
-
 /// What the transposes of one B slice into layout C cost, in ±X faces keyed one by one
 /// (callgrind, x86-64-v3: two 64 x 64 bit transposes with their gathers, about 1,500
-/// instructions, against 25 to 50 a keyed ±X face with its line).
+/// instructions, against 25 to 50 a keyed ±X face with its line), compared with the run
+/// ends the exposure pass counts.
 pub(crate) const TRANSPOSE_IN_FACES: u32 = 40;
 
 /// The equal-id masks of one chunk (see the [module docs](self)). Scratch that keeps its
@@ -128,8 +131,7 @@ impl EqualIds {
     /// [`build_x86_v3`](Self::build_x86_v3) gives the same masks with AVX2).
     ///
     /// Returns false, with the masks unusable, when keying the faces one by one is the better
-    /// way: the sampled exposed rows hold fewer than [`min_exposed_per_row`] exposed voxels a
-    /// row (or there are none), an exposed row holds an id that is not below the classes'
+    /// way: the sampled exposed rows hold too few exposed voxels or ±X faces ([`masks_pay`]), an exposed row holds an id that is not below the classes'
     /// bound (keying names it), or the inputs do not fit together.
     #[inline(always)]
     pub fn build(&mut self, chunk: &ChunkIds<'_>) -> bool {
@@ -177,7 +179,7 @@ impl EqualIds {
         self.build(chunk)
     }
 
-    /// Decides from a quarter of the rows whether the masks pay; if they do, finds the exposed
+    /// Decides from an eighth of the rows whether the masks pay; if they do, finds the exposed
     /// rows of every slab (into `self.exposed`), decides whether layout C pays, sizes the
     /// scratch and returns the largest known id. `None`: keyed instead.
     #[inline(always)]
@@ -188,12 +190,12 @@ impl EqualIds {
             return None;
         }
         let sample = exposed_rows::<true>(chunk, &mut self.exposed)?;
-        if sample.rows == 0 || sample.voxels < min_exposed_per_row(p) * sample.rows {
+        if !masks_pay(p, &sample) {
             return None;
         }
         let all = exposed_rows::<false>(chunk, &mut self.exposed)?;
         let ys = self.exposed.iter().fold(0, |ys, &rows| ys | rows);
-        self.has_c = all.x_faces > TRANSPOSE_IN_FACES * ys.count_ones();
+        self.has_c = all.run_ends > TRANSPOSE_IN_FACES * ys.count_ones();
         for v in [&mut self.next_x_a, &mut self.next_y_a, &mut self.next_z_a] {
             resize_slices(v, p);
         }
@@ -269,14 +271,15 @@ struct Exposure {
     rows: u32,
     /// Exposed voxels.
     voxels: u32,
-    /// Opaque ±X faces in the exposed rows.
-    x_faces: u32,
+    /// The ends of the opaque runs of the rows looked at, within the chunk (two a run, cut at
+    /// its border): the ±X faces, and those the chunk's border cuts.
+    run_ends: u32,
 }
 
 /// The exposed rows of `chunk` into `out` (bit `y` of `out[z]`): interior rows with a solid
 /// voxel that has a neighbour which is not opaque, since only such voxels show faces. With
-/// `SAMPLE`, only the rows with `(y + z) % 4 == 2` are looked at (a diagonal pattern, which
-/// layered or walled models do not line up with, as they do with every fourth slab). `None`
+/// `SAMPLE`, only the rows with `(y + z) % 8 == 2` are looked at (a diagonal pattern, which
+/// layered or walled models do not line up with, as they do with every eighth slab). `None`
 /// if the inputs do not fit together.
 #[inline(always)]
 fn exposed_rows<const SAMPLE: bool>(chunk: &ChunkIds<'_>, out: &mut Slice) -> Option<Exposure> {
@@ -286,16 +289,16 @@ fn exposed_rows<const SAMPLE: bool>(chunk: &ChunkIds<'_>, out: &mut Slice) -> Op
     let mut count = Exposure {
         rows: 0,
         voxels: 0,
-        x_faces: 0,
+        run_ends: 0,
     };
     for z in ones(chunk.slabs & inner) {
         let opaque = chunk.opaque;
         let (slab, below, above) = (opaque.get(z)?, opaque.get(z - 1)?, opaque.get(z + 1)?);
         let columns = chunk.columns.get(z * p..(z + 1) * p)?;
         let mut exposed = 0u64;
-        // Rows 1..p - 1, or every fourth of them from the first with (y + z) % 4 == 2.
+        // Rows 1..p - 1, or every eighth of them from the first with (y + z) % 8 == 2.
         let (first, step) = if SAMPLE {
-            (1 + (5 - z % 4) % 4, 4)
+            (1 + (9 - z % 8) % 8, 8)
         } else {
             (1, 1)
         };
@@ -312,8 +315,10 @@ fn exposed_rows<const SAMPLE: bool>(chunk: &ChunkIds<'_>, out: &mut Slice) -> Op
             let shown = (solid & !hidden).count_ones();
             count.voxels += shown;
             exposed |= u64::from(shown != 0) << y;
+            // The ends of the row's opaque runs within the chunk, cut at its border: the
+            // bits where the row differs from itself shifted by one.
             let o = o & inner;
-            count.x_faces += (o & !(o >> 1)).count_ones() + (o & !(o << 1)).count_ones();
+            count.run_ends += (o ^ (o << 1)).count_ones();
         }
         count.rows += exposed.count_ones();
         out[z] = exposed;
@@ -676,7 +681,11 @@ mod tests {
                 let chunk = TestChunk::new(p, noise(p, 7 + case as u64, air, 3), transparent_from);
                 let mut rows = [0u64; 64];
                 let count = exposed_rows::<false>(&chunk.ids(u32::MAX), &mut rows).unwrap();
-                let (mut want_rows, mut want_voxels) = (0, 0);
+                let opaque = |x: usize, y: usize, z: usize| {
+                    let id = chunk.id([x, y, z]);
+                    id != 0 && id < transparent_from
+                };
+                let (mut want_rows, mut want_voxels, mut want_x) = (0, 0, 0);
                 for (z, &got) in rows.iter().enumerate().take(p) {
                     let mut want = 0u64;
                     for y in 0..p {
@@ -685,19 +694,27 @@ mod tests {
                             .count() as u32;
                         want |= u64::from(shown != 0) << y;
                         want_voxels += shown;
+                        // The ends of opaque runs within the chunk's interior (x in 1..p - 1).
+                        if (1..p - 1).contains(&y) && (1..p - 1).contains(&z) {
+                            let inside = |x: usize| (1..p - 1).contains(&x) && opaque(x, y, z);
+                            for x in (1..p - 1).filter(|&x| inside(x)) {
+                                want_x += u32::from(!inside(x + 1)) + u32::from(!inside(x - 1));
+                            }
+                        }
                     }
                     assert_eq!(got, want, "edge {p} air {air}/8 slab {z}");
                     want_rows += want.count_ones();
                 }
+                let got = (count.rows, count.voxels, count.run_ends);
                 assert_eq!(
-                    (count.rows, count.voxels),
-                    (want_rows, want_voxels),
-                    "edge {p}"
+                    got,
+                    (want_rows, want_voxels, want_x),
+                    "edge {p} air {air}/8"
                 );
-                // The sample looks at a quarter of the rows: about a quarter of the counts.
+                // The sample looks at an eighth of the rows: about an eighth of the counts.
                 let mut sampled = [0u64; 64];
                 let sample = exposed_rows::<true>(&chunk.ids(u32::MAX), &mut sampled).unwrap();
-                assert!(sample.rows <= count.rows / 4 + p as u32, "edge {p}");
+                assert!(sample.rows <= count.rows / 8 + p as u32, "edge {p}");
                 assert!(
                     sampled.iter().zip(&rows).all(|(s, r)| s & !r == 0),
                     "edge {p}"
@@ -737,21 +754,29 @@ mod tests {
                 assert!(!built, "edge {p}: unknown id at {at}");
             }
 
-            // Two slabs of full rows along x, every third row left out: many exposed voxels,
-            // few ±X faces (two a row, four a B slice).
+            // One slab of rows of runs of three voxels: many exposed voxels and ±X faces a
+            // row, but one row a B slice, so too few ±X faces a B slice for layout C.
             let mut layered = vec![0u16; p * p * p];
-            for z in 1..3 {
-                for y in 1..p - 1 {
-                    if y % 3 != 0 {
-                        for x in 1..p - 1 {
-                            layered[x + p * (y + p * z)] = 1 + (x % 2) as u16;
-                        }
-                    }
+            for y in 1..p - 1 {
+                for x in (1..p - 1).filter(|x| x % 5 < 3) {
+                    layered[x + p * (y + p)] = 1 + (x % 2) as u16;
                 }
             }
             let (eq, built) = build_both(&TestChunk::new(p, layered, u16::MAX), u32::MAX);
             assert!(built, "edge {p}: layered");
-            assert!(!eq.has_layout_c(), "edge {p}: two ±X faces a row");
+            assert!(!eq.has_layout_c(), "edge {p}: one row a B slice");
+
+            // Rows of solid runs (two ±X faces each) decline however many voxels they expose.
+            let mut walls = vec![0u16; p * p * p];
+            for z in (1..p - 1).step_by(2) {
+                for y in 1..p - 1 {
+                    for x in 1..p - 1 {
+                        walls[x + p * (y + p * z)] = 1 + ((y + z) % 3) as u16;
+                    }
+                }
+            }
+            let (_, built) = build_both(&TestChunk::new(p, walls, u16::MAX), u32::MAX);
+            assert!(!built, "edge {p}: walls");
         }
     }
 }

@@ -275,13 +275,74 @@ fn mesh_chunk_portable(
     job: &Job<'_>,
     out: &mut BlockyMesh,
 ) -> Result<(), MeshError> {
-    with_columns(scratch, job, out, build_columns, |equal, chunk| {
-        equal.build(chunk)
-    })
+    with_columns(
+        scratch,
+        job,
+        out,
+        build_columns,
+        |equal, chunk| equal.build(chunk),
+        &mut walk_portable,
+    )
+}
+
+/// Walks face direction `d` (0 to 5) on the portable code path.
+fn walk_portable(
+    d: usize,
+    input: &Input<'_>,
+    classes: &BlockClasses,
+    keys: &mut Keys,
+    quads: &mut SliceQuads,
+    opaque: &mut Vec<PackedQuad>,
+    transparent: &mut Vec<PackedQuad>,
+) -> Result<(), MeshError> {
+    let run = (input, classes, keys, quads, opaque, transparent);
+    match d {
+        0 => direction_portable::<0>(run),
+        1 => direction_portable::<1>(run),
+        2 => direction_portable::<2>(run),
+        3 => direction_portable::<3>(run),
+        4 => direction_portable::<4>(run),
+        _ => direction_portable::<5>(run),
+    }
+}
+
+/// What one face direction's walk takes: the input, the classes, the scratch of keys and of
+/// a slice's quads, and the opaque and transparent output of the direction.
+type WalkArgs<'r, 'a> = (
+    &'r Input<'a>,
+    &'r BlockClasses,
+    &'r mut Keys,
+    &'r mut SliceQuads,
+    &'r mut Vec<PackedQuad>,
+    &'r mut Vec<PackedQuad>,
+);
+
+/// [`mesh_direction`] for direction `D` on the portable code path, a function of its own (see
+/// [`direction_x86_v3`]).
+#[inline(never)]
+fn direction_portable<const D: usize>(
+    (input, classes, keys, quads, opaque, transparent): WalkArgs<'_, '_>,
+) -> Result<(), MeshError> {
+    mesh_direction::<D>(input, classes, keys, quads, opaque, transparent)
+}
+
+/// [`mesh_direction`] for direction `D` compiled for x86-64 with AVX2, BMI1, BMI2, LZCNT and
+/// POPCNT, a function of its own: inlined with the other five into one function, each
+/// direction's loops were register-allocated worse as the mesher grew (an unrelated change
+/// made the keyed pass of the sample models spill twice as much and run 18 % more
+/// instructions).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline(never)]
+fn direction_x86_v3<const D: usize>(
+    (input, classes, keys, quads, opaque, transparent): WalkArgs<'_, '_>,
+) -> Result<(), MeshError> {
+    mesh_direction::<D>(input, classes, keys, quads, opaque, transparent)
 }
 
 /// [`mesh_chunk_portable`] compiled for x86-64 with AVX2, BMI1, BMI2, LZCNT and POPCNT:
-/// everything it calls is `#[inline(always)]` (and no closure runs a hot loop), so the whole
+/// everything it calls is `#[inline(always)]` (and no closure runs a hot loop) but the
+/// directions' walks, which are copies of their own ([`direction_x86_v3`]), so the whole
 /// mesher is compiled a second time for these features; the columns of a plain array come
 /// from [`build_columns_x86_v3`], which has AVX2 kernels of its own.
 #[cfg(target_arch = "x86_64")]
@@ -297,13 +358,54 @@ fn mesh_chunk_x86_v3(
         out,
         |p, voxels, columns, flat| build_columns_x86_v3(p, voxels, columns, flat),
         |equal, chunk| equal.build_x86_v3(chunk),
+        // A closure defined here is compiled with this function's features, so it may call
+        // the walk compiled for them.
+        &mut |d, input, classes, keys, quads, opaque, transparent| {
+            walk_x86_v3(d, input, classes, keys, quads, opaque, transparent)
+        },
     )
 }
+
+/// Walks face direction `d` (0 to 5) on the x86-64-v3 code path.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+fn walk_x86_v3(
+    d: usize,
+    input: &Input<'_>,
+    classes: &BlockClasses,
+    keys: &mut Keys,
+    quads: &mut SliceQuads,
+    opaque: &mut Vec<PackedQuad>,
+    transparent: &mut Vec<PackedQuad>,
+) -> Result<(), MeshError> {
+    let run = (input, classes, keys, quads, opaque, transparent);
+    match d {
+        0 => direction_x86_v3::<0>(run),
+        1 => direction_x86_v3::<1>(run),
+        2 => direction_x86_v3::<2>(run),
+        3 => direction_x86_v3::<3>(run),
+        4 => direction_x86_v3::<4>(run),
+        _ => direction_x86_v3::<5>(run),
+    }
+}
+
+/// The walk of face direction `d` (0 to 5) over a chunk's slices, one copy per entry point.
+type Walk<'w> = dyn FnMut(
+        usize,
+        &Input<'_>,
+        &BlockClasses,
+        &mut Keys,
+        &mut SliceQuads,
+        &mut Vec<PackedQuad>,
+        &mut Vec<PackedQuad>,
+    ) -> Result<(), MeshError>
+    + 'w;
 
 /// Meshes `job` with [`mesh_chunk`], its columns those of the job or, for a plain array, built
 /// by `build` (edge, ids, columns out, scratch; false for an all-air array, see
 /// [`build_columns`]) into the scratch's column buffer first; `equal` builds the equal-id
-/// masks ([`EqualIds::build`] or its copy for the entry's instruction set).
+/// masks ([`EqualIds::build`] or its copy for the entry's instruction set) and `walk` walks a
+/// face direction.
 #[inline(always)]
 fn with_columns(
     scratch: &mut Scratch,
@@ -311,6 +413,7 @@ fn with_columns(
     out: &mut BlockyMesh,
     build: impl FnOnce(usize, &[u16], &mut Vec<u64>, &mut FlatColumns) -> bool,
     equal: impl FnOnce(&mut EqualIds, &ChunkIds<'_>) -> bool,
+    walk: &mut Walk<'_>,
 ) -> Result<(), MeshError> {
     // The buffer leaves the scratch while the mesher borrows the rest of it.
     let mut built = None;
@@ -327,7 +430,7 @@ fn with_columns(
             built.insert(columns).as_slice()
         }
     };
-    let result = mesh_chunk(scratch, job, columns, equal, out);
+    let result = mesh_chunk(scratch, job, columns, equal, walk, out);
     if let Some(columns) = built {
         scratch.columns = columns;
     }
@@ -346,6 +449,7 @@ fn mesh_chunk(
     job: &Job<'_>,
     columns: &[u64],
     build_equal: impl FnOnce(&mut EqualIds, &ChunkIds<'_>) -> bool,
+    walk: &mut Walk<'_>,
     out: &mut BlockyMesh,
 ) -> Result<(), MeshError> {
     let Scratch {
@@ -408,16 +512,18 @@ fn mesh_chunk(
         handled: [[0; 64]; 2],
         lone_x_rows: false,
     };
-    mesh_passes(&mut input, classes, keys, quads, out)
+    mesh_passes(&mut input, classes, keys, quads, walk, out)
 }
 
-/// The passes of [`mesh_chunk`] after the masks: the lone ±X rows, then every direction.
+/// The passes of [`mesh_chunk`] after the masks: the lone ±X rows, then every direction's
+/// walk.
 #[inline(always)]
 fn mesh_passes(
     input: &mut Input<'_>,
     classes: &BlockClasses,
     keys: &mut Keys,
     quads: &mut SliceQuads,
+    walk: &mut Walk<'_>,
     out: &mut BlockyMesh,
 ) -> Result<(), MeshError> {
     let [o0, o1, ..] = &mut out.opaque.faces;
@@ -427,14 +533,16 @@ fn mesh_passes(
     input.lone_x_rows = handled.iter().flatten().any(|&rows| rows != 0);
     input.handled = handled;
     let input = &*input;
-    let [o0, o1, o2, o3, o4, o5] = &mut out.opaque.faces;
-    let [t0, t1, t2, t3, t4, t5] = &mut out.transparent.faces;
-    mesh_direction::<0>(input, classes, keys, quads, o0, t0)?;
-    mesh_direction::<1>(input, classes, keys, quads, o1, t1)?;
-    mesh_direction::<2>(input, classes, keys, quads, o2, t2)?;
-    mesh_direction::<3>(input, classes, keys, quads, o3, t3)?;
-    mesh_direction::<4>(input, classes, keys, quads, o4, t4)?;
-    mesh_direction::<5>(input, classes, keys, quads, o5, t5)
+    for (d, (opaque, transparent)) in out
+        .opaque
+        .faces
+        .iter_mut()
+        .zip(&mut out.transparent.faces)
+        .enumerate()
+    {
+        walk(d, input, classes, keys, quads, opaque, transparent)?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -582,6 +690,7 @@ mod tests {
                 }
                 built
             },
+            &mut walk_portable,
             &mut out,
         );
         let sorted = |layer: &crate::QuadLayer| -> Vec<Vec<u64>> {
