@@ -131,23 +131,24 @@ impl EqualIds {
     /// [`build_x86_v3`](Self::build_x86_v3) gives the same masks with AVX2).
     ///
     /// Returns false, with the masks unusable, when keying the faces one by one is the better
-    /// way: the sampled exposed rows hold too few exposed voxels or ±X faces ([`masks_pay`]), an exposed row holds an id that is not below the classes'
-    /// bound (keying names it), or the inputs do not fit together.
+    /// way: the sampled exposed rows hold too few exposed voxels or opaque-run ends
+    /// ([`masks_pay`]), an exposed row holds an id that is not below the classes' bound
+    /// (keying names it), or the inputs do not fit together.
     #[inline(always)]
     pub fn build(&mut self, chunk: &ChunkIds<'_>) -> bool {
-        let Some(last) = self.prepare(chunk) else {
+        let Some((last, ys)) = self.prepare(chunk) else {
             return false;
         };
         let mut unknown = false;
         let u = &mut unknown;
         // Direct calls, not function pointers, so that each is inlined.
-        let ys = match chunk.p {
+        let pass = match chunk.p {
             64 => compare_rows::<64>(self, chunk, |r| row_portable(r, last, u)),
             34 => compare_rows::<48>(self, chunk, |r| row_portable(r, last, u)),
             18 => compare_rows::<32>(self, chunk, |r| row_portable(r, last, u)),
             _ => compare_rows::<16>(self, chunk, |r| row_portable(r, last, u)),
         };
-        !unknown && self.finish(chunk.p, ys)
+        !unknown && self.finish(chunk.p, ys, pass)
     }
 
     /// [`build`](Self::build) with the AVX2 row kernel ([`row_x86_v3`]): the same masks and
@@ -159,7 +160,7 @@ impl EqualIds {
         #[cfg(target_feature = "sse2")]
         {
             use core::arch::x86_64::{_mm256_set1_epi16, _mm256_setzero_si256, _mm256_testz_si256};
-            let Some(last) = self.prepare(chunk) else {
+            let Some((last, ys)) = self.prepare(chunk) else {
                 return false;
             };
             let last = _mm256_set1_epi16(last as i16);
@@ -167,13 +168,13 @@ impl EqualIds {
             // iff some id is above it.
             let mut excess = _mm256_setzero_si256();
             let e = &mut excess;
-            let ys = match chunk.p {
+            let pass = match chunk.p {
                 64 => compare_rows::<64>(self, chunk, |r| row_x86_v3(r, last, e)),
                 34 => compare_rows::<48>(self, chunk, |r| row_x86_v3(r, last, e)),
                 18 => compare_rows::<32>(self, chunk, |r| row_x86_v3(r, last, e)),
                 _ => compare_rows::<16>(self, chunk, |r| row_x86_v3(r, last, e)),
             };
-            _mm256_testz_si256(excess, excess) == 1 && self.finish(chunk.p, ys)
+            _mm256_testz_si256(excess, excess) == 1 && self.finish(chunk.p, ys, pass)
         }
         #[cfg(not(target_feature = "sse2"))]
         self.build(chunk)
@@ -181,9 +182,10 @@ impl EqualIds {
 
     /// Decides from an eighth of the rows whether the masks pay; if they do, finds the exposed
     /// rows of every slab (into `self.exposed`), decides whether layout C pays, sizes the
-    /// scratch and returns the largest known id. `None`: keyed instead.
+    /// scratch and returns the largest known id and the B slices (bit `y`) with an exposed
+    /// row. `None`: keyed instead.
     #[inline(always)]
-    fn prepare(&mut self, chunk: &ChunkIds<'_>) -> Option<u16> {
+    fn prepare(&mut self, chunk: &ChunkIds<'_>) -> Option<(u16, u64)> {
         let p = chunk.p;
         if !(3..=64).contains(&p) || chunk.voxels.len() != p * p * p || chunk.columns.len() != p * p
         {
@@ -194,8 +196,7 @@ impl EqualIds {
             return None;
         }
         let all = exposed_rows::<false>(chunk, &mut self.exposed)?;
-        let ys = self.exposed.iter().fold(0, |ys, &rows| ys | rows);
-        self.has_c = all.run_ends > TRANSPOSE_IN_FACES * ys.count_ones();
+        self.has_c = all.run_ends > TRANSPOSE_IN_FACES * all.ys.count_ones();
         for v in [&mut self.next_x_a, &mut self.next_y_a, &mut self.next_z_a] {
             resize_slices(v, p);
         }
@@ -205,14 +206,16 @@ impl EqualIds {
         }
         // Every id is below a bound past the 16-bit range.
         let last = chunk.known_below.checked_sub(1)?;
-        Some(u16::try_from(last).unwrap_or(u16::MAX))
+        Some((u16::try_from(last).unwrap_or(u16::MAX), all.ys))
     }
 
     /// Layout C from layout A, if it pays, for the B slices `ys` (those with an exposed row);
     /// false if the row pass failed (`None`).
     #[inline(always)]
-    fn finish(&mut self, p: usize, ys: Option<u64>) -> bool {
-        let Some(ys) = ys else { return false };
+    fn finish(&mut self, p: usize, ys: u64, pass: Option<()>) -> bool {
+        if pass.is_none() {
+            return false;
+        }
         if self.has_c {
             transpose_into(p, &self.next_z_a, ys, &mut self.next_z_c);
             transpose_into(p, &self.next_y_a, ys, &mut self.next_y_c);
@@ -274,6 +277,8 @@ struct Exposure {
     /// The ends of the opaque runs of the rows looked at, within the chunk (two a run, cut at
     /// its border): the ±X faces, and those the chunk's border cuts.
     run_ends: u32,
+    /// The B slices (bit `y`) with an exposed row.
+    ys: u64,
 }
 
 /// The exposed rows of `chunk` into `out` (bit `y` of `out[z]`): interior rows with a solid
@@ -290,6 +295,7 @@ fn exposed_rows<const SAMPLE: bool>(chunk: &ChunkIds<'_>, out: &mut Slice) -> Op
         rows: 0,
         voxels: 0,
         run_ends: 0,
+        ys: 0,
     };
     for z in ones(chunk.slabs & inner) {
         let opaque = chunk.opaque;
@@ -321,6 +327,7 @@ fn exposed_rows<const SAMPLE: bool>(chunk: &ChunkIds<'_>, out: &mut Slice) -> Op
             count.run_ends += (o ^ (o << 1)).count_ones();
         }
         count.rows += exposed.count_ones();
+        count.ys |= exposed;
         out[z] = exposed;
     }
     Some(count)
@@ -342,20 +349,19 @@ pub(crate) struct RowRuns<'a, const N: usize> {
 
 /// The row pass of [`EqualIds::build`] over the exposed rows of `chunk`, with the row kernel
 /// `kernel` (the three masks of a row: bit `x` set iff the voxel's id equals the next one's
-/// along x, y and z), comparing `N` ids a row (`N` at least `p`, a multiple of 16). Returns
-/// the B slices (bit `y`) that hold an exposed row, or `None` if a row's ids run past the
-/// array (never for a padded chunk's interior rows: see the bound below).
+/// along x, y and z), comparing `N` ids a row (`N` at least `p`, a multiple of 16). `None` if
+/// a row's ids run past the array (never for a padded chunk's interior rows: see the bound
+/// below).
 #[inline(always)]
 fn compare_rows<const N: usize>(
     eq: &mut EqualIds,
     chunk: &ChunkIds<'_>,
     mut kernel: impl FnMut(&RowRuns<'_, N>) -> [u64; 3],
-) -> Option<u64> {
+) -> Option<()> {
     let p = chunk.p;
     debug_assert!(N >= p && N <= 64 && N.is_multiple_of(16));
     // The furthest id read: the next-z run of the last interior row, `N` ids from its start.
     debug_assert!((p - 1) * p * p + (p - 2) * p + N <= chunk.voxels.len());
-    let mut ys = 0u64;
     for (z, &rows) in eq.exposed.iter().enumerate().take(p) {
         if rows == 0 {
             continue;
@@ -383,9 +389,8 @@ fn compare_rows<const N: usize>(
             y_out[y] = next_y;
             z_out[y] = next_z;
         }
-        ys |= rows;
     }
-    Some(ys)
+    Some(())
 }
 
 /// The portable row kernel: [`runs_equal`] (SSE2 where the target has it); sets `unknown` if

@@ -21,6 +21,20 @@ use super::plain::{FLAT_WORDS, FlatColumns, build_columns, padded_edge_of};
 use super::slices::mesh_direction;
 use crate::{BlockClasses, InstructionSet, MeshError};
 
+/// `$direction::<D>($run)` for the face direction `D` that `$d` (0 to 5) names.
+macro_rules! for_direction {
+    ($d:expr, $direction:ident, $run:expr) => {
+        match $d {
+            0 => $direction::<0>($run),
+            1 => $direction::<1>($run),
+            2 => $direction::<2>($run),
+            3 => $direction::<3>($run),
+            4 => $direction::<4>($run),
+            _ => $direction::<5>($run),
+        }
+    };
+}
+
 /// A reusable blocky mesher: greedy quads (or one quad per face) with per-vertex ambient
 /// occlusion, written as [`PackedQuad`](voxel_core::formats::PackedQuad)s into a [`BlockyMesh`].
 ///
@@ -286,24 +300,8 @@ fn mesh_chunk_portable(
 }
 
 /// Walks face direction `d` (0 to 5) on the portable code path.
-fn walk_portable(
-    d: usize,
-    input: &Input<'_>,
-    classes: &BlockClasses,
-    keys: &mut Keys,
-    quads: &mut SliceQuads,
-    opaque: &mut Vec<PackedQuad>,
-    transparent: &mut Vec<PackedQuad>,
-) -> Result<(), MeshError> {
-    let run = (input, classes, keys, quads, opaque, transparent);
-    match d {
-        0 => direction_portable::<0>(run),
-        1 => direction_portable::<1>(run),
-        2 => direction_portable::<2>(run),
-        3 => direction_portable::<3>(run),
-        4 => direction_portable::<4>(run),
-        _ => direction_portable::<5>(run),
-    }
+fn walk_portable(d: usize, run: WalkArgs<'_, '_>) -> Result<(), MeshError> {
+    for_direction!(d, direction_portable, run)
 }
 
 /// What one face direction's walk takes: the input, the classes, the scratch of keys and of
@@ -359,47 +357,13 @@ fn mesh_chunk_x86_v3(
         |p, voxels, columns, flat| build_columns_x86_v3(p, voxels, columns, flat),
         |equal, chunk| equal.build_x86_v3(chunk),
         // A closure defined here is compiled with this function's features, so it may call
-        // the walk compiled for them.
-        &mut |d, input, classes, keys, quads, opaque, transparent| {
-            walk_x86_v3(d, input, classes, keys, quads, opaque, transparent)
-        },
+        // the walks compiled for them.
+        &mut |d, run| for_direction!(d, direction_x86_v3, run),
     )
 }
 
-/// Walks face direction `d` (0 to 5) on the x86-64-v3 code path.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
-fn walk_x86_v3(
-    d: usize,
-    input: &Input<'_>,
-    classes: &BlockClasses,
-    keys: &mut Keys,
-    quads: &mut SliceQuads,
-    opaque: &mut Vec<PackedQuad>,
-    transparent: &mut Vec<PackedQuad>,
-) -> Result<(), MeshError> {
-    let run = (input, classes, keys, quads, opaque, transparent);
-    match d {
-        0 => direction_x86_v3::<0>(run),
-        1 => direction_x86_v3::<1>(run),
-        2 => direction_x86_v3::<2>(run),
-        3 => direction_x86_v3::<3>(run),
-        4 => direction_x86_v3::<4>(run),
-        _ => direction_x86_v3::<5>(run),
-    }
-}
-
 /// The walk of face direction `d` (0 to 5) over a chunk's slices, one copy per entry point.
-type Walk<'w> = dyn FnMut(
-        usize,
-        &Input<'_>,
-        &BlockClasses,
-        &mut Keys,
-        &mut SliceQuads,
-        &mut Vec<PackedQuad>,
-        &mut Vec<PackedQuad>,
-    ) -> Result<(), MeshError>
-    + 'w;
+type Walk<'w> = dyn FnMut(usize, WalkArgs<'_, '_>) -> Result<(), MeshError> + 'w;
 
 /// Meshes `job` with [`mesh_chunk`], its columns those of the job or, for a plain array, built
 /// by `build` (edge, ids, columns out, scratch; false for an all-air array, see
@@ -540,7 +504,7 @@ fn mesh_passes(
         .zip(&mut out.transparent.faces)
         .enumerate()
     {
-        walk(d, input, classes, keys, quads, opaque, transparent)?;
+        walk(d, (input, classes, keys, quads, opaque, transparent))?;
     }
     Ok(())
 }
