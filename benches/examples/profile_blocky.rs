@@ -11,7 +11,9 @@
 //! `visible`, `u16`, `baseline` for greedy on `InstructionSet::Baseline`, any of these with
 //! `-noao` for AO off, `stats` for faces per line and direction, `ao-pair` for greedy with AO
 //! on and off alternated, or `vs-bgm` for greedy with AO off alternated with
-//! `binary-greedy-meshing`'s `fast_mesh` on masks built beforehand, bar 2's pair), a number of
+//! `binary-greedy-meshing`'s `fast_mesh` on masks built beforehand, bar 2's pair, or `u16-pair`
+//! for greedy with AO off from the plain array alternated with the same from the
+//! `PaddedChunk`, which prints what the array's occupancy columns cost), a number of
 //! meshes and a chunk edge (32 or 62, the default). `MESHER_ISA=baseline|x86-v3` pins
 //! the instruction set (default: the detected one); `PROFILE_EVICT_KIB=N` writes over N KiB
 //! before every mesh, outside the timed span, to time meshes that start with cold caches. The time is the thread's CPU time, taken
@@ -51,7 +53,7 @@ fn main() {
         }
         return;
     }
-    if mode == "ao-pair" || mode == "vs-bgm" {
+    if ["ao-pair", "vs-bgm", "u16-pair"].contains(&mode) {
         alternate(&input, &classes, mode, meshes);
         return;
     }
@@ -198,37 +200,57 @@ fn face_stats(chunk: &PaddedChunk, classes: &BlockClasses) {
 /// prints each one's minimum and median per mesh and their ratio from the minima, as the
 /// bench reports the AO rows and bar 2. `ao-pair`: greedy with AO on and off (AO on / AO
 /// off); `vs-bgm`: greedy with AO off and `fast_mesh` on prebuilt masks (32^3 and 62^3 only,
-/// its const generic; `fast_mesh` / ours). Alternating in one process puts both under the
-/// same load.
+/// its const generic; `fast_mesh` / ours); `u16-pair`: greedy with AO off from the plain
+/// `u16` array and from the `PaddedChunk` (whose occupancy columns are built already), and
+/// what the array's columns cost: the difference of the minima, per padded voxel.
+/// Alternating in one process puts both under the same load.
 fn alternate(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usize) {
-    let transparents: BTreeSet<u16> = classes.transparent_ids().iter().map(|id| id.0).collect();
     let ids: Vec<&[u16]> = input.chunks.iter().map(as_u16).collect();
-    let mut ao_on = GreedyMesher::new();
-    let mut ao_off = GreedyMesher::new().with_ambient_occlusion(false);
-    let mut out = BlockyMesh::new();
-    let mut ours = |mesher: &mut GreedyMesher| {
-        for c in &input.chunks {
-            mesher
-                .mesh(black_box(c), classes, &mut out)
+    let greedy = |ao: bool, from_u16: bool| -> Box<dyn FnMut() + '_> {
+        let mut mesher = GreedyMesher::new().with_ambient_occlusion(ao);
+        let mut out = BlockyMesh::new();
+        let ids = &ids;
+        Box::new(move || {
+            for (chunk, ids) in input.chunks.iter().zip(ids) {
+                if from_u16 {
+                    mesher.mesh_u16(black_box(ids), classes, &mut out)
+                } else {
+                    mesher.mesh(black_box(chunk), classes, &mut out)
+                }
                 .expect("bench inputs mesh");
-            black_box(&out);
-        }
+                black_box(&out);
+            }
+        })
     };
-    // The peer's masks are built only when it runs.
     let edge = input.chunks.first().map(PaddedChunk::padded_edge);
-    let mut peer: Box<dyn FnMut()> = match edge {
-        _ if mode == "ao-pair" => Box::new(|| {}),
-        Some(34) => bgm_runner::<32>(&ids, &transparents),
-        Some(64) => bgm_runner::<62>(&ids, &transparents),
+    let (names, mut pair): ([&str; 2], [Box<dyn FnMut()>; 2]) = match mode {
+        "ao-pair" => (
+            ["AO on", "AO off"],
+            [greedy(true, false), greedy(false, false)],
+        ),
+        "u16-pair" => (
+            ["u16 AO off", "PaddedChunk AO off"],
+            [greedy(false, true), greedy(false, false)],
+        ),
         _ => {
-            eprintln!("vs-bgm: binary-greedy-meshing is built for 32^3 and 62^3 chunks only");
-            std::process::exit(2);
+            // The peer's masks are built only when it runs.
+            let transparents: BTreeSet<u16> =
+                classes.transparent_ids().iter().map(|id| id.0).collect();
+            let peer = match edge {
+                Some(34) => bgm_runner::<32>(&ids, &transparents),
+                Some(64) => bgm_runner::<62>(&ids, &transparents),
+                _ => {
+                    eprintln!(
+                        "vs-bgm: binary-greedy-meshing is built for 32^3 and 62^3 chunks only"
+                    );
+                    std::process::exit(2);
+                }
+            };
+            (
+                ["ours AO off", "fast_mesh prebuilt"],
+                [greedy(false, false), peer],
+            )
         }
-    };
-    let names = if mode == "ao-pair" {
-        ["AO on", "AO off"]
-    } else {
-        ["ours AO off", "fast_mesh prebuilt"]
     };
     let batch = (meshes / 20).max(1);
     let mut times = [Vec::new(), Vec::new()];
@@ -237,11 +259,7 @@ fn alternate(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usiz
             for k in 0..2 {
                 let which = (k + i + round) % 2;
                 let start = thread_cpu_now();
-                match (mode, which) {
-                    ("ao-pair", 0) => ours(&mut ao_on),
-                    (_, 0) | ("ao-pair", _) => ours(&mut ao_off),
-                    _ => peer(),
-                }
+                pair[which]();
                 // Round 0 warms both up.
                 if round > 0 {
                     times[which].push((thread_cpu_now() - start).as_secs_f64() * 1e6);
@@ -254,14 +272,24 @@ fn alternate(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usiz
         (t[0], t[t.len() / 2])
     });
     // Above 1.0: AO off faster than AO on, or ours faster than `fast_mesh`.
-    let (ratio, over) = if mode == "ao-pair" {
-        (a.0 / b.0, "AO on / AO off")
-    } else {
-        (b.0 / a.0, "fast_mesh prebuilt / ours AO off")
+    let summary = match mode {
+        "ao-pair" => format!("AO on / AO off: {:.2}x (minima)", a.0 / b.0),
+        "u16-pair" => {
+            let voxels = ids.iter().map(|c| c.len()).sum::<usize>() as f64;
+            format!(
+                "the u16 array's columns: {:.2} us, {:.4} ns a padded voxel (minima)",
+                a.0 - b.0,
+                (a.0 - b.0) * 1e3 / voxels
+            )
+        }
+        _ => format!(
+            "fast_mesh prebuilt / ours AO off: {:.2}x (minima)",
+            b.0 / a.0
+        ),
     };
     println!(
         "{} {mode}: {} min {:.1} us, median {:.1} us; {} min {:.1} us, median {:.1} us; \
-         {over}: {ratio:.2}x (minima)",
+         {summary}",
         input.name, names[0], a.0, a.1, names[1], b.0, b.1
     );
 }

@@ -7,14 +7,14 @@ use voxel_core::BlockId;
 use voxel_core::formats::PackedQuad;
 
 use super::bits::masked;
-use super::direction::Direction;
+use super::direction::{Axis, Facing};
 use super::equal::EqualIds;
 use super::keys::{FROM_IDS, FROM_ONE, Keys};
 use super::masks::{Front, Slice};
 use crate::MeshError;
 
-/// The faces of one slice of direction `D`, as the merge passes see them.
-pub(crate) struct SliceFaces<'a, const D: usize> {
+/// The faces of one slice along axis `A`, facing one way, as the merge passes see them.
+pub(crate) struct SliceFaces<'a, const A: usize> {
     /// Padded ids, x fastest.
     pub voxels: &'a [u16],
     /// Index of the slice's voxel at line 0, bit 0.
@@ -35,10 +35,12 @@ pub(crate) struct SliceFaces<'a, const D: usize> {
     /// The chunk's equal-id masks, when faces are merged by them (AO off; see
     /// [`FROM_IDS`]).
     pub equal: Option<&'a EqualIds>,
+    /// Which of the axis's two faces these are.
+    pub facing: Facing,
 }
 
 /// Where the ids of one line of faces are: a contiguous row (bits along x, the ±Y and ±Z faces)
-/// or one voxel every `stride` (the ±X faces). Which one is known from the direction at compile
+/// or one voxel every `stride` (the ±X faces). Which one is known from the axis at compile
 /// time, so the per-face loops carry no branch for it.
 #[derive(Clone, Copy)]
 pub(crate) enum LineIds<'a> {
@@ -169,7 +171,7 @@ impl<'a> Quads<'a> {
     }
 }
 
-impl<const D: usize> SliceFaces<'_, D> {
+impl<const A: usize> SliceFaces<'_, A> {
     /// The front lines around line `l`.
     #[inline(always)]
     pub(crate) fn front_lines(&self, l: usize) -> Front {
@@ -191,7 +193,7 @@ impl<const D: usize> SliceFaces<'_, D> {
     #[inline(always)]
     pub(crate) fn line_ids(&self, l: usize) -> LineIds<'_> {
         let start = self.base + l * self.stride_l;
-        if Direction::<D>::LAYOUT == 2 {
+        if Axis::<A>::LAYOUT == 2 {
             return LineIds::Strided {
                 voxels: self.voxels,
                 start,
@@ -214,7 +216,7 @@ impl<const D: usize> SliceFaces<'_, D> {
     /// would run past the ids.
     #[inline(always)]
     pub(crate) fn row_ids(&self, l: usize, offset: isize) -> Option<&[u16; 64]> {
-        if Direction::<D>::LAYOUT == 2 {
+        if Axis::<A>::LAYOUT == 2 {
             return None;
         }
         let start = (self.base + l * self.stride_l).checked_add_signed(offset)?;
@@ -227,7 +229,7 @@ impl<const D: usize> SliceFaces<'_, D> {
     /// them from the nearer caches. A no-op for the other directions and off x86-64.
     #[inline(always)]
     pub(crate) fn prefetch_line(&self, l: usize) {
-        if Direction::<D>::LAYOUT != 1 {
+        if Axis::<A>::LAYOUT != 1 {
             return;
         }
         #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
@@ -267,7 +269,7 @@ impl<const D: usize> SliceFaces<'_, D> {
     #[inline(always)]
     pub(crate) fn equal_along(&self, l: usize) -> u64 {
         self.equal
-            .map_or(0, |e| e.along(Direction::<D>::LAYOUT, self.n, l))
+            .map_or(0, |e| e.along(Axis::<A>::LAYOUT, self.n, l))
     }
 
     /// Line `l` of the slice's equal-id `across` mask (see [`EqualIds::across`]); 0 without
@@ -275,7 +277,7 @@ impl<const D: usize> SliceFaces<'_, D> {
     #[inline(always)]
     pub(crate) fn equal_across(&self, l: usize) -> u64 {
         self.equal
-            .map_or(0, |e| e.across(Direction::<D>::LAYOUT, self.n, l))
+            .map_or(0, |e| e.across(Axis::<A>::LAYOUT, self.n, l))
     }
 
     /// The packed AO byte of the face at bit `b` of a line with front lines `front` (all 3s
@@ -287,7 +289,7 @@ impl<const D: usize> SliceFaces<'_, D> {
         }
         let s = masked::<64>(b - 1);
         let code = ((f0 >> s) & 7) | ((f1 >> s) & 7) << 3 | ((f2 >> s) & 7) << 6;
-        u32::from(Direction::<D>::AO_TABLE[code as usize])
+        u32::from(self.facing.ao_table[code as usize])
     }
 
     /// Word 0 of a quad at line `l`, bit `b`, spanning `lines` lines and `bits` bits.
@@ -297,17 +299,17 @@ impl<const D: usize> SliceFaces<'_, D> {
     /// constant per slice, and each other field costs a shift and an add.
     #[inline(always)]
     pub(crate) fn position_size(&self, l: usize, b: usize, lines: usize, bits: usize) -> u32 {
-        let ones = (1 << Direction::<D>::SHIFT_L)
-            + (1 << Direction::<D>::SHIFT_B)
-            + (1 << Direction::<D>::SIZE_SHIFT_L)
-            + (1 << Direction::<D>::SIZE_SHIFT_B);
-        let slice = (self.n as u32).wrapping_sub(1) << Direction::<D>::SHIFT_N;
+        let ones = (1 << Axis::<A>::SHIFT_L)
+            + (1 << Axis::<A>::SHIFT_B)
+            + (1 << Axis::<A>::SIZE_SHIFT_L)
+            + (1 << Axis::<A>::SIZE_SHIFT_B);
+        let slice = (self.n as u32).wrapping_sub(1) << Axis::<A>::SHIFT_N;
         slice
             .wrapping_sub(ones)
-            .wrapping_add((l as u32) << Direction::<D>::SHIFT_L)
-            .wrapping_add((b as u32) << Direction::<D>::SHIFT_B)
-            .wrapping_add((lines as u32) << Direction::<D>::SIZE_SHIFT_L)
-            .wrapping_add((bits as u32) << Direction::<D>::SIZE_SHIFT_B)
+            .wrapping_add((l as u32) << Axis::<A>::SHIFT_L)
+            .wrapping_add((b as u32) << Axis::<A>::SHIFT_B)
+            .wrapping_add((lines as u32) << Axis::<A>::SIZE_SHIFT_L)
+            .wrapping_add((bits as u32) << Axis::<A>::SIZE_SHIFT_B)
     }
 
     /// Where the 1 x 1 quads of line `l` go.
@@ -315,7 +317,7 @@ impl<const D: usize> SliceFaces<'_, D> {
     pub(crate) fn unit_line(&self, l: usize) -> UnitLine {
         UnitLine {
             first: self.position_size(l, 1, 1, 1),
-            shift: Direction::<D>::SHIFT_B,
+            shift: Axis::<A>::SHIFT_B,
         }
     }
 
@@ -328,7 +330,7 @@ impl<const D: usize> SliceFaces<'_, D> {
             return Ok(());
         }
         let mut position = [0u32; 3];
-        let [axis_n, axis_l, axis_b] = Direction::<D>::AXES;
+        let [axis_n, axis_l, axis_b] = Axis::<A>::AXES;
         position[axis_n as usize] = self.n as u32;
         position[axis_l as usize] = l as u32;
         position[axis_b as usize] = b as u32;

@@ -8,6 +8,7 @@ use voxel_core::PaddedChunk;
 use voxel_core::formats::PackedQuad;
 
 use super::BlockyMesh;
+use super::direction::Facing;
 use super::equal::{ChunkIds, EqualIds};
 use super::faces::{Quads, SliceQuads};
 use super::input::Input;
@@ -21,18 +22,18 @@ use super::plain::{FLAT_WORDS, FlatColumns, build_columns, padded_edge_of};
 use super::slices::mesh_direction;
 use crate::{BlockClasses, InstructionSet, MeshError};
 
-/// `$direction::<D>($run)` for the face direction `D` that `$d` (0 to 5) names.
+/// `$walk::<A>(facing, $run)` for the face direction that `$d` (0 to 5) names: its axis `A`
+/// and its [`Facing`].
 macro_rules! for_direction {
-    ($d:expr, $direction:ident, $run:expr) => {
-        match $d {
-            0 => $direction::<0>($run),
-            1 => $direction::<1>($run),
-            2 => $direction::<2>($run),
-            3 => $direction::<3>($run),
-            4 => $direction::<4>($run),
-            _ => $direction::<5>($run),
+    ($d:expr, $walk:ident, $run:expr) => {{
+        let d: usize = $d;
+        let facing = Facing::of(d);
+        match d / 2 {
+            0 => $walk::<0>(facing, $run),
+            1 => $walk::<1>(facing, $run),
+            _ => $walk::<2>(facing, $run),
         }
-    };
+    }};
 }
 
 /// A reusable blocky mesher: greedy quads (or one quad per face) with per-vertex ambient
@@ -315,27 +316,31 @@ type WalkArgs<'r, 'a> = (
     &'r mut Vec<PackedQuad>,
 );
 
-/// [`mesh_direction`] for direction `D` on the portable code path, a function of its own (see
+/// [`mesh_direction`] for axis `A` on the portable code path, a function of its own (see
 /// [`direction_x86_v3`]).
 #[inline(never)]
-fn direction_portable<const D: usize>(
+fn direction_portable<const A: usize>(
+    facing: Facing,
     (input, classes, keys, quads, opaque, transparent): WalkArgs<'_, '_>,
 ) -> Result<(), MeshError> {
-    mesh_direction::<D>(input, classes, keys, quads, opaque, transparent)
+    mesh_direction::<A>(facing, input, classes, keys, quads, opaque, transparent)
 }
 
-/// [`mesh_direction`] for direction `D` compiled for x86-64 with AVX2, BMI1, BMI2, LZCNT and
-/// POPCNT, a function of its own: inlined with the other five into one function, each
+/// [`mesh_direction`] for axis `A` compiled for x86-64 with AVX2, BMI1, BMI2, LZCNT and
+/// POPCNT, a function of its own: inlined with the others into one function, each
 /// direction's loops were register-allocated worse as the mesher grew (an unrelated change
 /// made the keyed pass of the sample models spill twice as much and run 18 % more
-/// instructions).
+/// instructions). One per axis, not per face direction: the two faces of an axis differ
+/// only in what [`Facing`] holds, and sharing the walk halves its code, which the second
+/// face's walk then finds in the instruction cache.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
 #[inline(never)]
-fn direction_x86_v3<const D: usize>(
+fn direction_x86_v3<const A: usize>(
+    facing: Facing,
     (input, classes, keys, quads, opaque, transparent): WalkArgs<'_, '_>,
 ) -> Result<(), MeshError> {
-    mesh_direction::<D>(input, classes, keys, quads, opaque, transparent)
+    mesh_direction::<A>(facing, input, classes, keys, quads, opaque, transparent)
 }
 
 /// [`mesh_chunk_portable`] compiled for x86-64 with AVX2, BMI1, BMI2, LZCNT and POPCNT:

@@ -6,7 +6,7 @@
 //! lines past the chunk hold no face, so a quad stops growing there without a bound check.
 
 use super::bits::{masked, ones};
-use super::direction::Direction;
+use super::direction::Axis;
 use super::faces::{Quads, SliceFaces};
 use super::keys::{Keys, key_bits};
 use super::masks::Slice;
@@ -15,14 +15,14 @@ use super::masks::Slice;
 /// the lines of `left`; leaves `faces` empty. Quads start at the lowest line, then the lowest
 /// bit, or, for [`Direction::BIT_MAJOR`] directions, at the lowest bit, then the lowest line.
 #[inline(always)]
-pub(crate) fn greedy_bits_first<const D: usize, const AO: bool, const K: u8>(
-    s: &SliceFaces<'_, D>,
+pub(crate) fn greedy_bits_first<const A: usize, const AO: bool, const K: u8>(
+    s: &SliceFaces<'_, A>,
     faces: &mut Slice,
     left: u64,
     keys: &Keys,
     out: &mut Quads<'_>,
 ) {
-    if Direction::<D>::BIT_MAJOR {
+    if Axis::<A>::BIT_MAJOR {
         // The faces as columns (`columns[b]` bit `l`: a face at line `l`, bit `b`), so a bit's
         // origins are the set bits of one word: those whose face is still there (not taken by
         // a quad from an earlier bit or line). This costs a few operations per face; a pass
@@ -40,7 +40,7 @@ pub(crate) fn greedy_bits_first<const D: usize, const AO: bool, const K: u8>(
         for b in ones(any) {
             for l in ones(columns[b]) {
                 if (faces[l] >> b) & 1 != 0 {
-                    grow_bits_first::<D, AO, K>(s, faces, (l, b), keys, out);
+                    grow_bits_first::<A, AO, K>(s, faces, (l, b), keys, out);
                 }
             }
         }
@@ -64,7 +64,7 @@ pub(crate) fn greedy_bits_first<const D: usize, const AO: bool, const K: u8>(
             s.push(
                 out,
                 (l, b, lines, bits),
-                s.key_of::<K>(keys, l, b) | key_bits::<D, AO>(),
+                s.key_of::<K>(keys, l, b) | key_bits::<AO>(s.facing),
             );
         }
         faces[l] = 0;
@@ -76,8 +76,8 @@ pub(crate) fn greedy_bits_first<const D: usize, const AO: bool, const K: u8>(
 /// out of `faces` and writes it. For the bit-major directions, whose quads from earlier bits
 /// may have taken faces in the lines below.
 #[inline(always)]
-fn grow_bits_first<const D: usize, const AO: bool, const K: u8>(
-    s: &SliceFaces<'_, D>,
+fn grow_bits_first<const A: usize, const AO: bool, const K: u8>(
+    s: &SliceFaces<'_, A>,
     faces: &mut Slice,
     (l, b): (usize, usize),
     keys: &Keys,
@@ -96,14 +96,14 @@ fn grow_bits_first<const D: usize, const AO: bool, const K: u8>(
         faces[masked::<64>(l + lines)] &= !mask;
         lines += 1;
     }
-    s.push(out, (l, b, lines, bits), key | key_bits::<D, AO>());
+    s.push(out, (l, b, lines, bits), key | key_bits::<AO>(s.facing));
 }
 
 /// Greedy quads growing along lines first, then bits (the ±Y faces), starting from the lines
 /// of `left`; leaves `faces` empty.
 #[inline(always)]
-pub(crate) fn greedy_lines_first<const D: usize, const AO: bool, const K: u8>(
-    s: &SliceFaces<'_, D>,
+pub(crate) fn greedy_lines_first<const A: usize, const AO: bool, const K: u8>(
+    s: &SliceFaces<'_, A>,
     faces: &mut Slice,
     left: u64,
     keys: &Keys,
@@ -132,7 +132,7 @@ pub(crate) fn greedy_lines_first<const D: usize, const AO: bool, const K: u8>(
             for f in faces.iter_mut().take(l + lines).skip(l + 1) {
                 *f &= !mask;
             }
-            s.push(out, (l, b, lines, bits), key | key_bits::<D, AO>());
+            s.push(out, (l, b, lines, bits), key | key_bits::<AO>(s.facing));
         }
         faces[l] = 0;
     }

@@ -3,7 +3,7 @@
 
 use voxel_core::formats::PackedQuad;
 
-use super::direction::Direction;
+use super::direction::Facing;
 use super::masks::{Front, Slice};
 use super::memo::NeighbourhoodMemo;
 
@@ -63,11 +63,11 @@ pub(crate) const FROM_IDS: u8 = 2;
 /// face direction and, with AO off, the 4 unoccluded corners (all 3), which the keys then
 /// leave out (one operation less per face).
 #[inline(always)]
-pub(crate) const fn key_bits<const D: usize, const AO: bool>() -> u32 {
+pub(crate) const fn key_bits<const AO: bool>(facing: Facing) -> u32 {
     let ao = if AO {
         0
     } else {
         PackedQuad::AO_UNOCCLUDED << PackedQuad::AO_SHIFT
     };
-    Direction::<D>::FACE | ao
+    facing.face_bits | ao
 }

@@ -19,7 +19,6 @@
 use voxel_core::formats::PackedQuad;
 
 use super::bits::{faces_of_id, masked, ones};
-use super::direction::Direction;
 use super::faces::{LineIds, Quads, SliceFaces, UnitLine};
 use super::masks::Front;
 use super::memo::NeighbourhoodMemo;
@@ -29,7 +28,7 @@ use crate::MeshError;
 /// [`SliceFaces::units`]).
 const DIRECT_MIN: u32 = 12;
 
-impl<const D: usize> SliceFaces<'_, D> {
+impl<const A: usize> SliceFaces<'_, A> {
     /// The bits of a line with front lines `(f0, f1, f2)` whose front neighbourhood, the 9 bits
     /// [`key`](Self::key) reads, equals that of bit `b0`.
     #[inline(always)]
@@ -96,7 +95,7 @@ impl<const D: usize> SliceFaces<'_, D> {
         let id = ids.id(b);
         let key = id << PackedQuad::BLOCK_SHIFT
             | self.ao::<AO>(front, b) << PackedQuad::AO_SHIFT
-            | Direction::<D>::FACE;
+            | self.facing.face_bits;
         (line.quad(b, key), id)
     }
 
@@ -185,7 +184,7 @@ impl<const D: usize> SliceFaces<'_, D> {
             }
         };
         self.check(key0, l, b0)?;
-        let key = key0 | Direction::<D>::FACE;
+        let key = key0 | self.facing.face_bits;
         out.push_bits(same_key, self.unit_line(l), key);
         let rest = bits & !same_key;
         if rest == 0 {

@@ -22,7 +22,7 @@ use voxel_core::BlockId;
 use voxel_core::formats::PackedQuad;
 
 use super::bits::{faces_of_id, many, masked, ones};
-use super::direction::Direction;
+use super::direction::Facing;
 use super::faces::{Quads, UnitLine};
 use super::input::Input;
 use super::masks::Slice;
@@ -49,7 +49,7 @@ pub(crate) fn drop_handled(faces: &mut Slice, handled: &Slice) {
 fn slab_faces<const D: usize>(slab: &Slice, inner: u64, e: usize, inside: bool, out: &mut Slice) {
     let rows = u64::MAX >> (63 - e) & !1;
     for (y, (f, &row)) in out.iter_mut().zip(slab).enumerate() {
-        let front = if Direction::<D>::POSITIVE {
+        let front = if Facing::of(D).positive {
             row >> 1
         } else {
             row << 1
@@ -122,7 +122,7 @@ pub(crate) fn lone_x<const D: usize>(
             // (layout C's line and bit offsets, as the AO table reads them).
             let planes: [u64; 9] = core::array::from_fn(|k| {
                 let row = slab(z + k % 3 - 1)[masked::<64>(y + k / 3 - 1)];
-                if Direction::<D>::POSITIVE {
+                if Facing::of(D).positive {
                     row >> 1
                 } else {
                     row << 1
@@ -173,7 +173,7 @@ fn emit_row<const D: usize>(
     };
     let ao_of = |code: usize| {
         if ao {
-            u32::from(Direction::<D>::AO_TABLE[code])
+            u32::from(Facing::of(D).ao_table[code])
         } else {
             PackedQuad::AO_UNOCCLUDED
         }
@@ -181,7 +181,7 @@ fn emit_row<const D: usize>(
     let key_of = |id: u16, code: usize| {
         u32::from(id) << PackedQuad::BLOCK_SHIFT
             | ao_of(code) << PackedQuad::AO_SHIFT
-            | Direction::<D>::FACE
+            | Facing::of(D).face_bits
     };
     let key = |x: usize| key_of(ids.get(x).copied().unwrap_or(0), code(x));
     let check = |key: u32, x: usize| {
@@ -229,7 +229,7 @@ fn emit_row<const D: usize>(
         let id0 = ids.get(x0).copied().unwrap_or(0);
         let key0 = u32::from(id0) << PackedQuad::BLOCK_SHIFT
             | ao0 << PackedQuad::AO_SHIFT
-            | Direction::<D>::FACE;
+            | Facing::of(D).face_bits;
         same = faces_of_id(ids, id0, same);
         check(key0, x0)?;
         out.push_bits(same, line, key0);

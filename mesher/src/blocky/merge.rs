@@ -42,7 +42,7 @@
 use voxel_core::formats::PackedQuad;
 
 use super::bits::{many, masked, nonzero_lines, ones, rows_equal};
-use super::direction::Direction;
+use super::direction::Axis;
 use super::faces::{Quads, SliceFaces};
 use super::grow::{greedy_bits_first, greedy_lines_first};
 use super::keys::{FROM_IDS, FROM_ONE, Keys, key_bits};
@@ -57,8 +57,8 @@ pub(crate) fn rows_of(faces: &Slice) -> u64 {
 
 /// One quad per face of the lines of `rows`; leaves `faces` empty.
 #[inline(always)]
-pub(crate) fn unit_quads<const D: usize, const AO: bool, const ONE: bool>(
-    s: &SliceFaces<'_, D>,
+pub(crate) fn unit_quads<const A: usize, const AO: bool, const ONE: bool>(
+    s: &SliceFaces<'_, A>,
     faces: &mut Slice,
     rows: u64,
     keys: &mut Keys,
@@ -67,7 +67,11 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool, const ONE: bool>(
     if ONE {
         // Every face has the one key: each line's quads in bulk.
         for l in ones(rows) {
-            out.push_bits(faces[l], s.unit_line(l), keys.one | key_bits::<D, AO>());
+            out.push_bits(
+                faces[l],
+                s.unit_line(l),
+                keys.one | key_bits::<AO>(s.facing),
+            );
         }
         *faces = [0; 64];
         return Ok(());
@@ -101,8 +105,8 @@ pub(crate) fn unit_quads<const D: usize, const AO: bool, const ONE: bool>(
 /// 4. The other faces grow quads with bit operations on the masks: a run of equal keys is a
 ///    run of ones.
 #[inline(always)]
-pub(crate) fn greedy<const D: usize, const AO: bool, const K: u8>(
-    s: &SliceFaces<'_, D>,
+pub(crate) fn greedy<const A: usize, const AO: bool, const K: u8>(
+    s: &SliceFaces<'_, A>,
     faces: &mut Slice,
     rows: u64,
     keys: &mut Keys,
@@ -112,7 +116,7 @@ pub(crate) fn greedy<const D: usize, const AO: bool, const K: u8>(
     // A one-id chunk's faces, and faces merged by the chunk's equal-id masks, need no keying.
     let rows = match K {
         FROM_ONE | FROM_IDS => rows,
-        _ => key_slice::<D, AO>(s, faces, rows, keys, out)?,
+        _ => key_slice::<A, AO>(s, faces, rows, keys, out)?,
     };
     let one = K == FROM_ONE;
     let mut left = 0u64;
@@ -146,11 +150,11 @@ pub(crate) fn greedy<const D: usize, const AO: bool, const K: u8>(
         faces[l] = here & !alone;
         left |= u64::from(here != alone) << l;
     }
-    emit_alone::<D, AO, K>(s, rows, keys, out);
-    if Direction::<D>::LINES_FIRST {
-        greedy_lines_first::<D, AO, K>(s, faces, left, keys, out);
+    emit_alone::<A, AO, K>(s, rows, keys, out);
+    if Axis::<A>::LINES_FIRST {
+        greedy_lines_first::<A, AO, K>(s, faces, left, keys, out);
     } else {
-        greedy_bits_first::<D, AO, K>(s, faces, left, keys, out);
+        greedy_bits_first::<A, AO, K>(s, faces, left, keys, out);
     }
     Ok(())
 }
@@ -159,8 +163,8 @@ pub(crate) fn greedy<const D: usize, const AO: bool, const K: u8>(
 /// faces through the bulk path, taking them out of `faces`) and checks the ids; returns the
 /// lines left with keyed faces.
 #[inline(always)]
-fn key_slice<const D: usize, const AO: bool>(
-    s: &SliceFaces<'_, D>,
+fn key_slice<const A: usize, const AO: bool>(
+    s: &SliceFaces<'_, A>,
     faces: &mut Slice,
     rows: u64,
     keys: &mut Keys,
@@ -181,7 +185,7 @@ fn key_slice<const D: usize, const AO: bool>(
             lone_lines |= 1 << l;
             continue;
         }
-        keyed_line::<D, AO>(s, l, f, keys, &mut seen);
+        keyed_line::<A, AO>(s, l, f, keys, &mut seen);
     }
     let rows = rows & !lone_lines;
     if seen >= s.known_below {
@@ -199,8 +203,8 @@ fn key_slice<const D: usize, const AO: bool>(
 /// previous key in a register), so that the loop runs with few spills: it is most of the
 /// greedy mesher's time.
 #[inline(always)]
-fn keyed_line<const D: usize, const AO: bool>(
-    s: &SliceFaces<'_, D>,
+fn keyed_line<const A: usize, const AO: bool>(
+    s: &SliceFaces<'_, A>,
     l: usize,
     f: u64,
     keys: &mut Keys,
@@ -249,8 +253,8 @@ const ROW_KEYED_MIN: u32 = 8;
 /// exact per-face check. False (nothing done) for the ±X faces, whose ids are strided, and
 /// at the ids' far end, where a shifted row would run past them.
 #[inline(always)]
-fn keyed_row<const D: usize>(
-    s: &SliceFaces<'_, D>,
+fn keyed_row<const A: usize>(
+    s: &SliceFaces<'_, A>,
     l: usize,
     keys: &mut Keys,
     seen: &mut u32,
@@ -274,8 +278,8 @@ fn keyed_row<const D: usize>(
 /// Checks the id of every face of the lines `rows` (keys in the table): the slow path of a
 /// slice with an id the classes may not know.
 #[cold]
-fn check_faces<const D: usize>(
-    s: &SliceFaces<'_, D>,
+fn check_faces<const A: usize>(
+    s: &SliceFaces<'_, A>,
     faces: &Slice,
     rows: u64,
     keys: &Keys,
@@ -291,8 +295,8 @@ fn check_faces<const D: usize>(
 
 /// The 1 x 1 quads of the alone faces of the lines `rows` (keys from where `K` says).
 #[inline(always)]
-fn emit_alone<const D: usize, const AO: bool, const K: u8>(
-    s: &SliceFaces<'_, D>,
+fn emit_alone<const A: usize, const AO: bool, const K: u8>(
+    s: &SliceFaces<'_, A>,
     rows: u64,
     keys: &Keys,
     out: &mut Quads<'_>,
@@ -302,7 +306,7 @@ fn emit_alone<const D: usize, const AO: bool, const K: u8>(
         let line = s.unit_line(l);
         for b in ones(keys.alone[l]) {
             out.buf[masked::<4096>(n)] =
-                line.quad(b, s.key_of::<K>(keys, l, b) | key_bits::<D, AO>());
+                line.quad(b, s.key_of::<K>(keys, l, b) | key_bits::<AO>(s.facing));
             n += 1;
         }
     }

@@ -55,7 +55,7 @@
 //! | module | holds |
 //! | ------ | ----- |
 //! | `faces` | `SliceFaces`, one slice as the passes read it (ids, AO, quad words, id checks); `UnitLine`, the one encoder of 1 x 1 quads; and `Quads`, where its quads go |
-//! | `direction` | `Direction<D>`: a face direction's slice, line and bit axes and its `PackedQuad` shifts, as constants |
+//! | `direction` | `Axis<A>`: the slice, line and bit axes of an axis's faces and their `PackedQuad` shifts, as constants; `Facing`: which of the axis's two faces, read at run time (each axis's walk serves both) |
 //! | `keys` | `Keys`, the greedy pass's scratch (keys and equal-key masks of one slice) |
 //! | `memo` | `NeighbourhoodMemo`: the AO split of recent lines, for periodic slices |
 //! | `one_id` | whether a chunk's solid voxels share one id: then, with AO off, every face has one key and nothing is keyed |

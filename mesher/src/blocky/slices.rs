@@ -24,7 +24,7 @@ use alloc::vec::Vec;
 use voxel_core::formats::PackedQuad;
 
 use super::bits::{many, masked, ones};
-use super::direction::Direction;
+use super::direction::{Axis, Facing};
 use super::faces::{Quads, SliceFaces, SliceQuads};
 use super::input::Input;
 use super::keys::{FROM_IDS, FROM_ONE, FROM_TABLE, Keys};
@@ -42,10 +42,11 @@ fn slice(layout: &[Slice], n: usize) -> &Slice {
     layout.get(n).unwrap_or(&ZERO)
 }
 
-/// Meshes direction `D`: every slice, opaque faces into `opaque`, transparent ones into
-/// `transparent`.
+/// Meshes the faces along axis `A` that face as `facing` says: every slice, opaque faces into
+/// `opaque`, transparent ones into `transparent`.
 #[inline(always)]
-pub(crate) fn mesh_direction<const D: usize>(
+pub(crate) fn mesh_direction<const A: usize>(
+    facing: Facing,
     input: &Input<'_>,
     classes: &BlockClasses,
     keys: &mut Keys,
@@ -56,42 +57,41 @@ pub(crate) fn mesh_direction<const D: usize>(
     let p = input.p;
     let e = p - 2;
     let inner = (u64::MAX >> (64 - e)) << 1;
-    let layout = Direction::<D>::LAYOUT;
+    let layout = Axis::<A>::LAYOUT;
     let o_layout = input.opaque.by[layout];
     let o_occupied = input.opaque.occupied[layout];
     let t_layout = input.transparent.map(|t| t.by[layout]);
     let t_occupied = input.transparent.map_or(0, |t| t.occupied[layout]);
-    let [stride_n, stride_l, stride_b] = Direction::<D>::strides(p);
+    let [stride_n, stride_l, stride_b] = Axis::<A>::strides(p);
     keys.memo = NeighbourhoodMemo::new();
     // Lines 0 and p - 1 are the padding; lines past p are zero in every layout.
     let mut faces: Slice = [0; 64];
+    // The lines of a slice, padding included; those past them are zero in every layout, and
+    // never read (at 32^3, 34 of 64: 5 cache lines of a slice's 8).
+    let lines = p.min(64);
     #[expect(
         clippy::range_plus_one,
         reason = "`Range` iterates faster than `RangeInclusive`"
     )]
     for n in 1..e + 1 {
-        let front_n = if Direction::<D>::POSITIVE {
-            n + 1
-        } else {
-            n - 1
-        };
+        let front_n = facing.front(n);
         let cur = slice(o_layout, n);
         let front = slice(o_layout, front_n);
         let mut any = 0;
         if (o_occupied >> n) & 1 != 0 {
-            for ((f, &c), &fr) in faces.iter_mut().zip(cur).zip(front) {
+            for ((f, &c), &fr) in faces[..lines].iter_mut().zip(cur).zip(front) {
                 *f = c & !fr & inner;
                 any |= *f;
             }
         }
         faces[0] = 0;
         faces[masked::<64>(p - 1)] = 0;
-        if Direction::<D>::LAYOUT == 2 && any != 0 && input.lone_x_rows {
+        if Axis::<A>::LAYOUT == 2 && any != 0 && input.lone_x_rows {
             // Some lone ±X faces were emitted from the rows.
-            drop_handled(&mut faces, &input.handled[D & 1]);
+            drop_handled(&mut faces, &input.handled[facing.direction & 1]);
             any = faces.iter().fold(0, |any, &f| any | f);
         }
-        let mut slice_faces = SliceFaces::<D> {
+        let mut slice_faces = SliceFaces::<A> {
             voxels: input.voxels,
             base: n * stride_n,
             stride_l,
@@ -101,6 +101,7 @@ pub(crate) fn mesh_direction<const D: usize>(
             known_below: classes.known_below(),
             short: p <= 48,
             equal: input.equal,
+            facing,
         };
         if any != 0 {
             let one = input.one_id.is_some();
@@ -114,7 +115,8 @@ pub(crate) fn mesh_direction<const D: usize>(
         let t_cur = slice(t_layout, n);
         let t_front = slice(t_layout, front_n);
         let mut any = 0;
-        for (((f, &c), &fr), &tf) in faces.iter_mut().zip(t_cur).zip(front).zip(t_front) {
+        let t_lines = faces[..lines].iter_mut().zip(t_cur).zip(front).zip(t_front);
+        for (((f, &c), &fr), &tf) in t_lines {
             *f = c & !(fr | tf) & inner;
             any |= c;
         }
@@ -171,10 +173,10 @@ fn differing_ids(voxels: &[u16], at: [usize; 3], strides: [usize; 3], both: u64)
 /// Turns the face lines of one slice into quads, leaving `faces` all zero. With `one` (the
 /// opaque layer of a one-id chunk, AO off) every face has the key `keys.one`.
 #[inline(always)]
-fn emit<const D: usize>(
+fn emit<const A: usize>(
     input: &Input<'_>,
     one: bool,
-    slice: &SliceFaces<'_, D>,
+    slice: &SliceFaces<'_, A>,
     faces: &mut Slice,
     keys: &mut Keys,
     buf: &mut SliceQuads,
@@ -185,23 +187,23 @@ fn emit<const D: usize>(
     // Faces none of which touches another are their own greedy quads: no merging to do.
     let merge = input.merge && !isolated_faces(faces, rows);
     match (merge, input.ao, one) {
-        (false, true, _) => unit_quads::<D, true, false>(slice, faces, rows, keys, &mut quads)?,
+        (false, true, _) => unit_quads::<A, true, false>(slice, faces, rows, keys, &mut quads)?,
         (false, false, false) => {
-            unit_quads::<D, false, false>(slice, faces, rows, keys, &mut quads)?;
+            unit_quads::<A, false, false>(slice, faces, rows, keys, &mut quads)?;
         }
-        (false, false, true) => unit_quads::<D, false, true>(slice, faces, rows, keys, &mut quads)?,
-        (true, true, _) => greedy::<D, true, FROM_TABLE>(slice, faces, rows, keys, &mut quads)?,
+        (false, false, true) => unit_quads::<A, false, true>(slice, faces, rows, keys, &mut quads)?,
+        (true, true, _) => greedy::<A, true, FROM_TABLE>(slice, faces, rows, keys, &mut quads)?,
         (true, false, false)
             if input
                 .equal
-                .is_some_and(|e| Direction::<D>::LAYOUT != 2 || e.has_layout_c()) =>
+                .is_some_and(|e| Axis::<A>::LAYOUT != 2 || e.has_layout_c()) =>
         {
-            greedy::<D, false, FROM_IDS>(slice, faces, rows, keys, &mut quads)?;
+            greedy::<A, false, FROM_IDS>(slice, faces, rows, keys, &mut quads)?;
         }
         (true, false, false) => {
-            greedy::<D, false, FROM_TABLE>(slice, faces, rows, keys, &mut quads)?;
+            greedy::<A, false, FROM_TABLE>(slice, faces, rows, keys, &mut quads)?;
         }
-        (true, false, true) => greedy::<D, false, FROM_ONE>(slice, faces, rows, keys, &mut quads)?,
+        (true, false, true) => greedy::<A, false, FROM_ONE>(slice, faces, rows, keys, &mut quads)?,
     }
     quads.flush();
     Ok(())
