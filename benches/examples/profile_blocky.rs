@@ -206,7 +206,7 @@ fn face_stats(chunk: &PaddedChunk, classes: &BlockClasses) {
 /// Alternating in one process puts both under the same load.
 fn alternate(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usize) {
     let ids: Vec<&[u16]> = input.chunks.iter().map(as_u16).collect();
-    let greedy = |ao: bool, from_u16: bool| -> Box<dyn FnMut() + '_> {
+    let greedy = |ao: bool, from_u16: bool| -> Mesh<'_> {
         let mut mesher = GreedyMesher::new().with_ambient_occlusion(ao);
         let mut out = BlockyMesh::new();
         let ids = &ids;
@@ -223,7 +223,7 @@ fn alternate(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usiz
         })
     };
     let edge = input.chunks.first().map(PaddedChunk::padded_edge);
-    let (names, mut pair): ([&str; 2], [Box<dyn FnMut()>; 2]) = match mode {
+    let (names, mut pair): ([&str; 2], [Mesh<'_>; 2]) = match mode {
         "ao-pair" => (
             ["AO on", "AO off"],
             [greedy(true, false), greedy(false, false)],
@@ -293,6 +293,9 @@ fn alternate(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usiz
         input.name, names[0], a.0, a.1, names[1], b.0, b.1
     );
 }
+
+/// Meshes a whole input once.
+type Mesh<'a> = Box<dyn FnMut() + 'a>;
 
 /// `binary-greedy-meshing`'s opaque and transparent masks of one chunk.
 type BgmMasks = (Box<[u64]>, Box<[u64]>);
