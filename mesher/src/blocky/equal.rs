@@ -72,7 +72,9 @@ const fn masks_pay(p: usize, sample: &Exposure) -> bool {
 /// What the transposes of one B slice into layout C cost, in ±X faces keyed one by one
 /// (callgrind, x86-64-v3: two 64 x 64 bit transposes with their gathers, about 1,500
 /// instructions, against 25 to 50 a keyed ±X face with its line), compared with the run
-/// ends the exposure pass counts.
+/// ends the exposure pass counts. At 32^3 and below the two are one transpose
+/// ([`transpose_pair_into`]); halving the bound there changed no bench input by more than
+/// 0.1 % (callgrind), so it is kept.
 pub(crate) const TRANSPOSE_IN_FACES: u32 = 40;
 
 /// The equal-id masks of one chunk (see the [module docs](self)). Scratch that keeps its
@@ -216,7 +218,14 @@ impl EqualIds {
         if pass.is_none() {
             return false;
         }
-        if self.has_c {
+        if self.has_c && p <= 34 {
+            transpose_pair_into(
+                p,
+                [&self.next_z_a, &self.next_y_a],
+                ys,
+                [&mut self.next_z_c, &mut self.next_y_c],
+            );
+        } else if self.has_c {
             transpose_into(p, &self.next_z_a, ys, &mut self.next_z_c);
             transpose_into(p, &self.next_y_a, ys, &mut self.next_y_c);
         }
@@ -463,9 +472,45 @@ fn lane_bits<const N: usize>(lane: impl Fn(usize) -> core::arch::x86_64::__m256i
     mask
 }
 
+/// Layout C from layout A, as [`transpose_into`], of two masks at once, for a chunk of
+/// 32^3 or smaller: only the voxels inside the chunk show faces, and their bits of a B
+/// slice, at most 32 x 32, are read, so the bits of both masks fit one 64 x 64 transpose side
+/// by side
+/// (the first's in the low 32 bits of the rows, the second's in the high ones, which come
+/// out as rows 32 to 63). Lines of slices 0 and `p - 1`, and bits 0 and `p - 1`, are not
+/// written or are zero: no face lies there.
+#[inline(always)]
+fn transpose_pair_into(p: usize, a: [&[Slice]; 2], ys: u64, out: [&mut [Slice]; 2]) {
+    debug_assert!(p <= 34);
+    let [first, second] = a;
+    let [first_out, second_out] = out;
+    let interior = |line: u64| (line >> 1) & 0xFFFF_FFFF;
+    // Both are `p` slices long (`prepare` sized them); their interior ones are `1..p - 1`.
+    let (first, second) = (&first[1..p - 1], &second[1..p - 1]);
+    let (first_out, second_out) = (&mut first_out[1..p - 1], &mut second_out[1..p - 1]);
+    for y in ones(ys) {
+        // Row z - 1: the interior bits of line y of slice z, of the first masks in the low
+        // half and of the second in the high half.
+        let mut m = [0u64; 64];
+        for ((word, one), two) in m.iter_mut().zip(first).zip(second) {
+            *word = interior(one[y]) | interior(two[y]) << 32;
+        }
+        transpose64(&mut m);
+        // Row x - 1 of the low half now holds the first masks' bits z - 1, row x + 31 the
+        // second's.
+        let (low, high) = m.split_at(32);
+        let outs = first_out.iter_mut().zip(second_out.iter_mut());
+        for ((one, two), (&low, &high)) in outs.zip(low.iter().zip(high)) {
+            one[y] = low << 1;
+            two[y] = high << 1;
+        }
+    }
+}
+
 /// Layout C from layout A for the B slices `ys`: `out[x][y]` bit `z` is `a[z][y]` bit `x`
 /// (layout B's slice `y` gathered from A, then a 64 x 64 bit transpose). The other slices'
-/// lines of `out` are left as they are.
+/// lines of `out` are left as they are. For a chunk of 62^3 (at 32^3 and below,
+/// [`transpose_pair_into`]).
 #[inline(always)]
 fn transpose_into(p: usize, a: &[Slice], ys: u64, out: &mut [Slice]) {
     for y in ones(ys) {
