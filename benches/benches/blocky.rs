@@ -505,7 +505,13 @@ fn interleaved_timing<S: Shape<3, Coord = u32>>(
     // Here each side runs as often as the other. The mixed round's AO ratios stay in its log.
     let ao_round = vec![
         ours("ours greedy", Kind::OursGreedyAo, prep, true, greedy_run),
-        ours("ours greedy no-ao", Kind::OursGreedy, prep, false, greedy_run),
+        ours(
+            "ours greedy no-ao",
+            Kind::OursGreedy,
+            prep,
+            false,
+            greedy_run,
+        ),
         ours("ours greedy u16", Kind::OursU16Ao, prep, true, u16_run),
         ours("ours greedy u16 no-ao", Kind::OursU16, prep, false, u16_run),
     ];
