@@ -36,6 +36,8 @@
 
 use alloc::vec::Vec;
 
+#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+use super::bits::transpose_rows_x86_v3;
 use super::bits::{masked, ones, runs_equal, runs_reach, transpose64};
 use super::masks::{Slice, resize_slices};
 
@@ -150,7 +152,7 @@ impl EqualIds {
             18 => compare_rows::<32>(self, chunk, |r| row_portable(r, last, u)),
             _ => compare_rows::<16>(self, chunk, |r| row_portable(r, last, u)),
         };
-        !unknown && self.finish(chunk.p, ys, pass)
+        !unknown && self.finish(chunk.p, ys, pass, |m, _| transpose64(m))
     }
 
     /// [`build`](Self::build) with the AVX2 row kernel ([`row_x86_v3`]): the same masks and
@@ -176,7 +178,8 @@ impl EqualIds {
                 18 => compare_rows::<32>(self, chunk, |r| row_x86_v3(r, last, e)),
                 _ => compare_rows::<16>(self, chunk, |r| row_x86_v3(r, last, e)),
             };
-            _mm256_testz_si256(excess, excess) == 1 && self.finish(chunk.p, ys, pass)
+            _mm256_testz_si256(excess, excess) == 1
+                && self.finish(chunk.p, ys, pass, |m, rows| transpose_rows_x86_v3(m, rows))
         }
         #[cfg(not(target_feature = "sse2"))]
         self.build(chunk)
@@ -211,23 +214,29 @@ impl EqualIds {
         Some((u16::try_from(last).unwrap_or(u16::MAX), all.ys))
     }
 
-    /// Layout C from layout A, if it pays, for the B slices `ys` (those with an exposed row);
-    /// false if the row pass failed (`None`).
+    /// Layout C from layout A, if it pays, for the B slices `ys` (those with an exposed row),
+    /// with the bit transpose `transpose` (as [`Masks::build_with`](super::masks::Masks::build_with)
+    /// takes it); false if the row pass failed (`None`).
     #[inline(always)]
-    fn finish(&mut self, p: usize, ys: u64, pass: Option<()>) -> bool {
+    fn finish(
+        &mut self,
+        p: usize,
+        ys: u64,
+        pass: Option<()>,
+        transpose: impl Fn(&mut [u64; 64], usize) + Copy,
+    ) -> bool {
         if pass.is_none() {
             return false;
         }
         if self.has_c && p <= 34 {
-            transpose_pair_into(
-                p,
-                [&self.next_z_a, &self.next_y_a],
-                ys,
-                [&mut self.next_z_c, &mut self.next_y_c],
+            let (a, c) = (
+                [&self.next_z_a[..], &self.next_y_a[..]],
+                [&mut self.next_z_c[..], &mut self.next_y_c[..]],
             );
+            transpose_pair_into(p, a, ys, c, transpose);
         } else if self.has_c {
-            transpose_into(p, &self.next_z_a, ys, &mut self.next_z_c);
-            transpose_into(p, &self.next_y_a, ys, &mut self.next_y_c);
+            transpose_into(p, &self.next_z_a, ys, &mut self.next_z_c, transpose);
+            transpose_into(p, &self.next_y_a, ys, &mut self.next_y_c, transpose);
         }
         true
     }
@@ -480,7 +489,13 @@ fn lane_bits<const N: usize>(lane: impl Fn(usize) -> core::arch::x86_64::__m256i
 /// out as rows 32 to 63). Lines of slices 0 and `p - 1`, and bits 0 and `p - 1`, are not
 /// written or are zero: no face lies there.
 #[inline(always)]
-fn transpose_pair_into(p: usize, a: [&[Slice]; 2], ys: u64, out: [&mut [Slice]; 2]) {
+fn transpose_pair_into(
+    p: usize,
+    a: [&[Slice]; 2],
+    ys: u64,
+    out: [&mut [Slice]; 2],
+    transpose: impl Fn(&mut [u64; 64], usize),
+) {
     debug_assert!(p <= 34);
     let [first, second] = a;
     let [first_out, second_out] = out;
@@ -495,7 +510,7 @@ fn transpose_pair_into(p: usize, a: [&[Slice]; 2], ys: u64, out: [&mut [Slice]; 
         for ((word, one), two) in m.iter_mut().zip(first).zip(second) {
             *word = interior(one[y]) | interior(two[y]) << 32;
         }
-        transpose64(&mut m);
+        transpose(&mut m, 32);
         // Row x - 1 of the low half now holds the first masks' bits z - 1, row x + 31 the
         // second's.
         let (low, high) = m.split_at(32);
@@ -512,13 +527,19 @@ fn transpose_pair_into(p: usize, a: [&[Slice]; 2], ys: u64, out: [&mut [Slice]; 
 /// lines of `out` are left as they are. For a chunk of 62^3 (at 32^3 and below,
 /// [`transpose_pair_into`]).
 #[inline(always)]
-fn transpose_into(p: usize, a: &[Slice], ys: u64, out: &mut [Slice]) {
+fn transpose_into(
+    p: usize,
+    a: &[Slice],
+    ys: u64,
+    out: &mut [Slice],
+    transpose: impl Fn(&mut [u64; 64], usize),
+) {
     for y in ones(ys) {
         let mut m = [0u64; 64];
         for (word, slab) in m.iter_mut().zip(a) {
             *word = slab[y];
         }
-        transpose64(&mut m);
+        transpose(&mut m, p);
         for (x, line) in out.iter_mut().enumerate().take(p) {
             line[y] = m[masked::<64>(x)];
         }

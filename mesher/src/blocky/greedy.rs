@@ -8,6 +8,9 @@ use voxel_core::PaddedChunk;
 use voxel_core::formats::PackedQuad;
 
 use super::BlockyMesh;
+#[cfg(target_arch = "x86_64")]
+use super::bits::transpose_rows_x86_v3;
+use super::bits::transpose64;
 use super::direction::Facing;
 use super::equal::{ChunkIds, EqualIds};
 use super::faces::{Quads, SliceQuads};
@@ -296,6 +299,7 @@ fn mesh_chunk_portable(
         out,
         build_columns,
         |equal, chunk| equal.build(chunk),
+        |m, _| transpose64(m),
         &mut walk_portable,
     )
 }
@@ -361,6 +365,7 @@ fn mesh_chunk_x86_v3(
         out,
         |p, voxels, columns, flat| build_columns_x86_v3(p, voxels, columns, flat),
         |equal, chunk| equal.build_x86_v3(chunk),
+        |m, rows| transpose_rows_x86_v3(m, rows),
         // A closure defined here is compiled with this function's features, so it may call
         // the walks compiled for them.
         &mut |d, run| for_direction!(d, direction_x86_v3, run),
@@ -373,8 +378,8 @@ type Walk<'w> = dyn FnMut(usize, WalkArgs<'_, '_>) -> Result<(), MeshError> + 'w
 /// Meshes `job` with [`mesh_chunk`], its columns those of the job or, for a plain array, built
 /// by `build` (edge, ids, columns out, scratch; false for an all-air array, see
 /// [`build_columns`]) into the scratch's column buffer first; `equal` builds the equal-id
-/// masks ([`EqualIds::build`] or its copy for the entry's instruction set) and `walk` walks a
-/// face direction.
+/// masks ([`EqualIds::build`] or its copy for the entry's instruction set), `transpose` is
+/// the entry's bit transpose (see [`Masks::build_with`]) and `walk` walks a face direction.
 #[inline(always)]
 fn with_columns(
     scratch: &mut Scratch,
@@ -382,6 +387,7 @@ fn with_columns(
     out: &mut BlockyMesh,
     build: impl FnOnce(usize, &[u16], &mut Vec<u64>, &mut FlatColumns) -> bool,
     equal: impl FnOnce(&mut EqualIds, &ChunkIds<'_>) -> bool,
+    transpose: impl Fn(&mut [u64; 64], usize) + Copy,
     walk: &mut Walk<'_>,
 ) -> Result<(), MeshError> {
     // The buffer leaves the scratch while the mesher borrows the rest of it.
@@ -399,7 +405,7 @@ fn with_columns(
             built.insert(columns).as_slice()
         }
     };
-    let result = mesh_chunk(scratch, job, columns, equal, walk, out);
+    let result = mesh_chunk(scratch, job, columns, equal, transpose, walk, out);
     if let Some(columns) = built {
         scratch.columns = columns;
     }
@@ -418,6 +424,7 @@ fn mesh_chunk(
     job: &Job<'_>,
     columns: &[u64],
     build_equal: impl FnOnce(&mut EqualIds, &ChunkIds<'_>) -> bool,
+    transpose: impl Fn(&mut [u64; 64], usize) + Copy,
     walk: &mut Walk<'_>,
     out: &mut BlockyMesh,
 ) -> Result<(), MeshError> {
@@ -429,7 +436,7 @@ fn mesh_chunk(
         ..
     } = scratch;
     let classes = job.classes;
-    if masks.build(job.p, job.voxels, columns, classes) != Content::Surface {
+    if masks.build_with(job.p, job.voxels, columns, classes, transpose) != Content::Surface {
         return Ok(());
     }
     // With AO off a one-id chunk keys nothing; an id the classes do not know takes the
@@ -659,6 +666,7 @@ mod tests {
                 }
                 built
             },
+            |m, _| transpose64(m),
             &mut walk_portable,
             &mut out,
         );

@@ -13,7 +13,7 @@ use super::masks::Slice;
 
 /// Greedy quads growing along bits first, then lines (the ±X and ±Z faces), from the faces of
 /// the lines of `left`; leaves `faces` empty. Quads start at the lowest line, then the lowest
-/// bit, or, for [`Direction::BIT_MAJOR`] directions, at the lowest bit, then the lowest line.
+/// bit, or, for [`Axis::BIT_MAJOR`] directions, at the lowest bit, then the lowest line.
 #[inline(always)]
 pub(crate) fn greedy_bits_first<const A: usize, const AO: bool, const K: u8>(
     s: &SliceFaces<'_, A>,

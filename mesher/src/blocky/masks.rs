@@ -35,7 +35,7 @@ use alloc::vec::Vec;
 
 use voxel_core::BlockId;
 
-use super::bits::{masked, nonzero_lines, ones, row_contains, row_equal, transpose64};
+use super::bits::{masked, nonzero_lines, ones, row_contains, row_equal};
 use crate::BlockClasses;
 
 /// Up to this many transparent ids in the palette, rows are classified with SIMD compares.
@@ -201,16 +201,33 @@ fn short_transparent<const P: usize>(
 }
 
 impl Masks {
-    /// Builds the masks of a padded chunk of edge `p` from its ids (x fastest) and occupancy
-    /// columns (index `y + p * z`). Returns [`Content::Empty`] or [`Content::Buried`] without
-    /// building anything when the columns already say there is no face.
-    #[inline(always)]
+    /// [`build_with`](Self::build_with) the portable transpose, for the tests.
+    #[cfg(test)]
     pub fn build(
         &mut self,
         p: usize,
         voxels: &[u16],
         columns: &[u64],
         classes: &BlockClasses,
+    ) -> Content {
+        self.build_with(p, voxels, columns, classes, |m, _| {
+            super::bits::transpose64(m)
+        })
+    }
+
+    /// Builds the masks of a padded chunk of edge `p` from its ids (x fastest) and occupancy
+    /// columns (index `y + p * z`), with the bit transpose `transpose` (`transpose(m, rows)`:
+    /// the 64 x 64 transpose of `m`, whose words from `rows` on are zero), the entry's copy
+    /// for its instruction set. Returns [`Content::Empty`] or [`Content::Buried`] without
+    /// building anything when the columns already say there is no face.
+    #[inline(always)]
+    pub fn build_with(
+        &mut self,
+        p: usize,
+        voxels: &[u16],
+        columns: &[u64],
+        classes: &BlockClasses,
+        transpose: impl Fn(&mut [u64; 64], usize) + Copy,
     ) -> Content {
         self.p = p;
         let full_row = u64::MAX >> (64 - p);
@@ -258,11 +275,13 @@ impl Masks {
             &self.opaque_b,
             &mut self.opaque_c,
             &mut self.opaque_c_lines,
+            transpose,
         );
         self.occupied[0] = occupied_slices(opaque_a);
         if self.has_transparent {
             word_transpose(p, &self.trans_a, &mut self.trans_b);
-            bit_transpose(p, &self.trans_b, &mut self.trans_c, &mut self.trans_c_lines);
+            let (b, c, lines) = (&self.trans_b, &mut self.trans_c, &mut self.trans_c_lines);
+            bit_transpose(p, b, c, lines, transpose);
             self.occupied[1] = occupied_slices(&self.trans_a);
         }
         Content::Surface
@@ -358,7 +377,13 @@ fn word_transpose(p: usize, a: &[Slice], out: &mut Vec<Slice>) {
 /// So `lines` remembers which lines `y` may hold a set bit, and an empty slice `y` whose line
 /// is known clear costs nothing.
 #[inline(always)]
-fn bit_transpose(p: usize, b: &[Slice], out: &mut Vec<Slice>, lines: &mut u64) {
+fn bit_transpose(
+    p: usize,
+    b: &[Slice],
+    out: &mut Vec<Slice>,
+    lines: &mut u64,
+    transpose: impl Fn(&mut [u64; 64], usize),
+) {
     if out.len() != p {
         // Resized: lines of slices kept from another size are not tracked.
         *lines = u64::MAX;
@@ -374,7 +399,7 @@ fn bit_transpose(p: usize, b: &[Slice], out: &mut Vec<Slice>, lines: &mut u64) {
         if empty {
             *lines &= !bit;
         } else {
-            transpose64(&mut m);
+            transpose(&mut m, p);
             *lines |= bit;
         }
         for (x, slot) in out.iter_mut().enumerate() {
