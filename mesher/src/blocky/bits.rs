@@ -396,8 +396,8 @@ pub(crate) fn transpose_rows_x86_v3(m: &mut [u64; 64], _rows: usize) {
 /// 16, and no first round): that transposes their low 32 bits and their high 32 bits as two
 /// 32 x 32 matrices side by side, the first as words 0 to 31 of the result and the second,
 /// shifted down, as words 32 to 63. Words 32 and 33 then become bits 32 and 33 of every
-/// word: bit `x` of word 32 is bit 32 of word `x`. About 300 instructions against about 620
-/// for [`transpose64`] (callgrind, inlined in the mesher).
+/// word: bit `x` of word 32 is bit 32 of word `x`. 200 to 300 instructions a call against
+/// about 620 for [`transpose64`] inlined in the mesher (callgrind, terrain 32^3).
 #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
 #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
 #[inline]
@@ -427,48 +427,45 @@ fn transpose_34_rows_x86_v3(m: &mut [u64; 64]) {
     across!(16, 4, [0, 1, 2, 3], 0x0000_FFFF_0000_FFFF);
     across!(8, 2, [0, 1, 4, 5], 0x00FF_00FF_00FF_00FF);
     across!(4, 1, [0, 2, 4, 6], 0x0F0F_0F0F_0F0F_0F0F);
-    // Within registers, two at a time: the pairs gathered into `lo` and `hi` lane by lane
+    // Within registers, two at a time: the pairs gathered lane by lane into `lo` and `hi`
     // (words 0, 1 with 2, 3 for width 2; 0 with 1 and 2 with 3 for width 1), swapped, and put
     // back.
-    let swap = |lo: __m256i, hi: __m256i, mask: i64, width: u32| {
-        let mask = _mm256_set1_epi64x(mask);
-        let (lo, hi) = match width {
-            2 => {
-                let t = _mm256_and_si256(_mm256_xor_si256(_mm256_srli_epi64::<2>(lo), hi), mask);
-                (
-                    _mm256_xor_si256(lo, _mm256_slli_epi64::<2>(t)),
-                    _mm256_xor_si256(hi, t),
-                )
-            }
-            _ => {
-                let t = _mm256_and_si256(_mm256_xor_si256(_mm256_srli_epi64::<1>(lo), hi), mask);
-                (
-                    _mm256_xor_si256(lo, _mm256_slli_epi64::<1>(t)),
-                    _mm256_xor_si256(hi, t),
-                )
-            }
-        };
-        (lo, hi)
-    };
+    macro_rules! within {
+        ($lo:expr, $hi:expr, $w:literal, $mask:literal) => {{
+            let (lo, hi) = ($lo, $hi);
+            let mask = _mm256_set1_epi64x($mask);
+            let t = _mm256_and_si256(_mm256_xor_si256(_mm256_srli_epi64::<$w>(lo), hi), mask);
+            (
+                _mm256_xor_si256(lo, _mm256_slli_epi64::<$w>(t)),
+                _mm256_xor_si256(hi, t),
+            )
+        }};
+    }
     for k in [0, 2, 4, 6] {
         let (a, b) = (r[k], r[k + 1]);
-        let lo = _mm256_permute2x128_si256::<0x20>(a, b);
-        let hi = _mm256_permute2x128_si256::<0x31>(a, b);
-        let (lo, hi) = swap(lo, hi, 0x3333_3333_3333_3333, 2);
-        r[k] = _mm256_permute2x128_si256::<0x20>(lo, hi);
-        r[k + 1] = _mm256_permute2x128_si256::<0x31>(lo, hi);
-        let (a, b) = (r[k], r[k + 1]);
-        let lo = _mm256_unpacklo_epi64(a, b);
-        let hi = _mm256_unpackhi_epi64(a, b);
-        let (lo, hi) = swap(lo, hi, 0x5555_5555_5555_5555, 1);
+        let (lo, hi) = within!(
+            _mm256_permute2x128_si256::<0x20>(a, b),
+            _mm256_permute2x128_si256::<0x31>(a, b),
+            2,
+            0x3333_3333_3333_3333
+        );
+        let (a, b) = (
+            _mm256_permute2x128_si256::<0x20>(lo, hi),
+            _mm256_permute2x128_si256::<0x31>(lo, hi),
+        );
+        let (lo, hi) = within!(
+            _mm256_unpacklo_epi64(a, b),
+            _mm256_unpackhi_epi64(a, b),
+            1,
+            0x5555_5555_5555_5555
+        );
         r[k] = _mm256_unpacklo_epi64(lo, hi);
         r[k + 1] = _mm256_unpackhi_epi64(lo, hi);
     }
-    // Bit 32 of word x is bit x of word 32: word 32 moved up by 32 and down by x leaves it
-    // there (bit 33 from word 33 the same way, then up by one); for x >= 32, scalar below.
     let low = _mm256_set1_epi64x(0xFFFF_FFFF);
-    // Bits 32 and 33 of words x and x + 32, from the low and the high halves of words 32 and
-    // 33, in the lanes of a register's four words.
+    // Bit 32 of word x is bit x of word 32: word 32 moved up by 32 and down by x leaves it
+    // there; bit 33 comes from word 33 the same way, then up by one. `half` 32 takes the
+    // words' high halves, for words x + 32. Four words a register, `shift` their x.
     let bit32 = _mm256_set1_epi64x(1 << 32);
     let extra = |half: u32, shift: __m256i| {
         let from = |word: u64| _mm256_set1_epi64x(((word >> half) << 32) as i64);
