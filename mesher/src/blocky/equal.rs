@@ -215,8 +215,9 @@ impl EqualIds {
     }
 
     /// Layout C from layout A, if it pays, for the B slices `ys` (those with an exposed row),
-    /// with the bit transpose `transpose` (as [`Masks::build_with`](super::masks::Masks::build_with)
-    /// takes it); false if the row pass failed (`None`).
+    /// with the bit transpose `transpose` (as
+    /// [`Masks::build_with`](super::masks::Masks::build_with) takes it); false if the row pass
+    /// failed (`None`).
     #[inline(always)]
     fn finish(
         &mut self,
@@ -483,11 +484,10 @@ fn lane_bits<const N: usize>(lane: impl Fn(usize) -> core::arch::x86_64::__m256i
 
 /// Layout C from layout A, as [`transpose_into`], of two masks at once, for a chunk of
 /// 32^3 or smaller: only the voxels inside the chunk show faces, and their bits of a B
-/// slice, at most 32 x 32, are read, so the bits of both masks fit one 64 x 64 transpose side
-/// by side
-/// (the first's in the low 32 bits of the rows, the second's in the high ones, which come
-/// out as rows 32 to 63). Lines of slices 0 and `p - 1`, and bits 0 and `p - 1`, are not
-/// written or are zero: no face lies there.
+/// slice, at most 32 x 32, are read, so the bits of both masks fit one 64 x 64 transpose
+/// side by side (the first's in the low 32 bits of the rows, the second's in the high ones,
+/// which come out as rows 32 to 63). Lines of slices 0 and `p - 1`, and bits 0 and `p - 1`,
+/// are not written or are zero: no face lies there.
 #[inline(always)]
 fn transpose_pair_into(
     p: usize,
