@@ -397,6 +397,24 @@ fn ours<'a>(
     }
 }
 
+/// Our four greedy entries: from a `PaddedChunk` and from a `u16` array, AO on and off.
+fn ours_greedy<'a>(prep: &'a Prepared<'a>) -> [Timed<'a>; 4] {
+    let greedy_run: OursRun = |m, c, k, o| m.mesh(c, k, o).unwrap();
+    let u16_run: OursRun = |m, c, k, o| m.mesh_u16(as_u16(c), k, o).unwrap();
+    [
+        ours("ours greedy", Kind::OursGreedyAo, prep, true, greedy_run),
+        ours(
+            "ours greedy no-ao",
+            Kind::OursGreedy,
+            prep,
+            false,
+            greedy_run,
+        ),
+        ours("ours greedy u16", Kind::OursU16Ao, prep, true, u16_run),
+        ours("ours greedy u16 no-ao", Kind::OursU16, prep, false, u16_run),
+    ]
+}
+
 /// `binary-greedy-meshing`'s two entries (end to end, and on prebuilt masks) for chunks of
 /// edge `CS`.
 fn bgm_timed<'a, const CS: usize>(prep: &'a Prepared<'a>) -> [Timed<'a>; 2] {
@@ -444,21 +462,16 @@ fn interleaved_timing<S: Shape<3, Coord = u32>>(
     let mut unit = UnitQuadBuffer::new();
     let mut greedy = GreedyQuadsBuffer::new(prep.bm.first().map_or(0, Vec::len));
     let mut bmbgm = BinaryGreedyQuadsBuffer::new();
-    let greedy_run: OursRun = |m, c, k, o| m.mesh(c, k, o).unwrap();
-    let u16_run: OursRun = |m, c, k, o| m.mesh_u16(as_u16(c), k, o).unwrap();
     let visible_run: OursRun = |m, c, k, o| m.visible_faces(c, k, o).unwrap();
-    let mut timed = vec![
-        ours("ours visible", Kind::OursVisible, prep, true, visible_run),
-        ours("ours greedy", Kind::OursGreedyAo, prep, true, greedy_run),
-        ours(
-            "ours greedy no-ao",
-            Kind::OursGreedy,
-            prep,
-            false,
-            greedy_run,
-        ),
-        ours("ours greedy u16", Kind::OursU16Ao, prep, true, u16_run),
-        ours("ours greedy u16 no-ao", Kind::OursU16, prep, false, u16_run),
+    let mut timed = vec![ours(
+        "ours visible",
+        Kind::OursVisible,
+        prep,
+        true,
+        visible_run,
+    )];
+    timed.extend(ours_greedy(prep));
+    timed.extend([
         Timed {
             name: "block-mesh visible",
             kind: Kind::PeerVisible,
@@ -490,7 +503,7 @@ fn interleaved_timing<S: Shape<3, Coord = u32>>(
                 }
             }),
         },
-    ];
+    ]);
     match prep.size {
         ChunkSize::S62 => timed.extend(bgm_timed::<62>(prep)),
         ChunkSize::S32 => timed.extend(bgm_timed::<32>(prep)),
@@ -503,18 +516,7 @@ fn interleaved_timing<S: Shape<3, Coord = u32>>(
     // runs than the AO-off code is when an AO-off entry runs (with cold data and caches, AO
     // off meshes the inputs that showed it slower there as fast or faster: see BENCHMARKS.md).
     // Here each side runs as often as the other. The mixed round's AO ratios stay in its log.
-    let ao_round = vec![
-        ours("ours greedy", Kind::OursGreedyAo, prep, true, greedy_run),
-        ours(
-            "ours greedy no-ao",
-            Kind::OursGreedy,
-            prep,
-            false,
-            greedy_run,
-        ),
-        ours("ours greedy u16", Kind::OursU16Ao, prep, true, u16_run),
-        ours("ours greedy u16 no-ao", Kind::OursU16, prep, false, u16_run),
-    ];
+    let ao_round = ours_greedy(prep).into();
     let label = format!("{} (AO round)", prep.input.name);
     let ao = interleaved::report(&label, ao_round, rounds, seconds);
     Some(interleaved::Ratios {

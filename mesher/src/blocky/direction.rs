@@ -63,12 +63,11 @@ impl Facing {
     /// Face direction `direction` (0 to 5; see `FaceDirection::ALL`).
     #[inline(always)]
     pub const fn of(direction: usize) -> Facing {
-        debug_assert!(direction < 6);
         Facing {
             direction,
             positive: direction.is_multiple_of(2),
             face_bits: (direction as u32) << PackedQuad::FACE_SHIFT,
-            ao_table: &AO_TABLES[direction % 6],
+            ao_table: &AO_TABLES[direction],
         }
     }
 
