@@ -32,7 +32,8 @@
 //! voxels and opaque runs of an eighth of the rows and declines (the caller then keys the faces)
 //! where they are few ([`masks_pay`]). Layout C's transposes are skipped in the same way when
 //! the chunk has few ±X faces a B slice ([`TRANSPOSE_IN_FACES`]); those faces are then keyed.
-//! An exposed row with an id the classes do not know also declines: keying names the id.
+//! An exposed row with an id the classes do not know on a voxel that can show a face also
+//! declines: keying names the id.
 
 use alloc::vec::Vec;
 
@@ -147,10 +148,10 @@ impl EqualIds {
         let u = &mut unknown;
         // Direct calls, not function pointers, so that each is inlined.
         let pass = match chunk.p {
-            64 => compare_rows::<64>(self, chunk, |r| row_portable(r, last, u)),
-            34 => compare_rows::<48>(self, chunk, |r| row_portable(r, last, u)),
-            18 => compare_rows::<32>(self, chunk, |r| row_portable(r, last, u)),
-            _ => compare_rows::<16>(self, chunk, |r| row_portable(r, last, u)),
+            64 => compare_rows::<64, 0>(self, chunk, |r| row_portable(r, last, u)),
+            34 => compare_rows::<32, 1>(self, chunk, |r| row_portable(r, last, u)),
+            18 => compare_rows::<16, 1>(self, chunk, |r| row_portable(r, last, u)),
+            _ => compare_rows::<16, 0>(self, chunk, |r| row_portable(r, last, u)),
         };
         !unknown && self.finish(chunk.p, ys, pass, |m, _| transpose64(m))
     }
@@ -173,10 +174,10 @@ impl EqualIds {
             let mut excess = _mm256_setzero_si256();
             let e = &mut excess;
             let pass = match chunk.p {
-                64 => compare_rows::<64>(self, chunk, |r| row_x86_v3(r, last, e)),
-                34 => compare_rows::<48>(self, chunk, |r| row_x86_v3(r, last, e)),
-                18 => compare_rows::<32>(self, chunk, |r| row_x86_v3(r, last, e)),
-                _ => compare_rows::<16>(self, chunk, |r| row_x86_v3(r, last, e)),
+                64 => compare_rows::<64, 0>(self, chunk, |r| row_x86_v3(r, last, e)),
+                34 => compare_rows::<32, 1>(self, chunk, |r| row_x86_v3(r, last, e)),
+                18 => compare_rows::<16, 1>(self, chunk, |r| row_x86_v3(r, last, e)),
+                _ => compare_rows::<16, 0>(self, chunk, |r| row_x86_v3(r, last, e)),
             };
             _mm256_testz_si256(excess, excess) == 1
                 && self.finish(chunk.p, ys, pass, |m, rows| transpose_rows_x86_v3(m, rows))
@@ -352,9 +353,9 @@ fn exposed_rows<const SAMPLE: bool>(chunk: &ChunkIds<'_>, out: &mut Slice) -> Op
     Some(count)
 }
 
-/// The four runs of `N` ids one row's masks compare: the row, and the ids one voxel further
-/// along x, y and z. `N` is at least the padded edge; the ids past a row's end belong to the
-/// next rows and give bits no face reads.
+/// The four runs of `N` ids one row's masks compare: the row from some voxel on, and the ids
+/// one voxel further along x, y and z. The ids past a row's end belong to the next rows and
+/// give bits no face reads.
 pub(crate) struct RowRuns<'a, const N: usize> {
     /// The row's ids.
     pub row: &'a [u16; N],
@@ -367,20 +368,25 @@ pub(crate) struct RowRuns<'a, const N: usize> {
 }
 
 /// The row pass of [`EqualIds::build`] over the exposed rows of `chunk`, with the row kernel
-/// `kernel` (the three masks of a row: bit `x` set iff the voxel's id equals the next one's
-/// along x, y and z), comparing `N` ids a row (`N` at least `p`, a multiple of 16). `None` if
-/// a row's ids run past the array (never for a padded chunk's interior rows: see the bound
-/// below).
+/// `kernel` (the three masks of a run: bit `i` set iff the id of the run's voxel `i` equals
+/// the next one's along x, y and z), comparing the `N` ids of a row from voxel `FROM` on
+/// (`N` a multiple of 16 that reaches at least voxel `p - 2`, the last one that shows a
+/// face). `None` if a row's ids run past the array (never for a padded chunk's interior
+/// rows: see the bound below).
+///
+/// Faces lie on voxels `1..p - 1` only, so a 34-id row is compared from voxel 1 as 32 ids (2
+/// AVX2 registers a run, not 3) and an 18-id row as 16 (1, not 2); bit 0 and the bits past
+/// voxel `p - 2` of such masks are zero or other rows' (no face reads them).
 #[inline(always)]
-fn compare_rows<const N: usize>(
+fn compare_rows<const N: usize, const FROM: usize>(
     eq: &mut EqualIds,
     chunk: &ChunkIds<'_>,
     mut kernel: impl FnMut(&RowRuns<'_, N>) -> [u64; 3],
 ) -> Option<()> {
     let p = chunk.p;
-    debug_assert!(N >= p && N <= 64 && N.is_multiple_of(16));
+    debug_assert!(FROM <= 1 && FROM + N >= p - 1 && N <= 64 && N.is_multiple_of(16));
     // The furthest id read: the next-z run of the last interior row, `N` ids from its start.
-    debug_assert!((p - 1) * p * p + (p - 2) * p + N <= chunk.voxels.len());
+    debug_assert!((p - 1) * p * p + (p - 2) * p + FROM + N <= chunk.voxels.len());
     for (z, &rows) in eq.exposed.iter().enumerate().take(p) {
         if rows == 0 {
             continue;
@@ -391,7 +397,7 @@ fn compare_rows<const N: usize>(
             eq.next_z_a.get_mut(z)?,
         );
         for y in ones(rows) {
-            let start = (y + p * z) * p;
+            let start = (y + p * z) * p + FROM;
             // One bounds check for the four runs (the furthest starts `p * p` on; no sum
             // here overflows: `start` is below `p^3`).
             let span = chunk.voxels.get(start..start + p * p + N)?;
@@ -404,9 +410,9 @@ fn compare_rows<const N: usize>(
                 next_z: run(p * p)?,
             };
             let [next_x, next_y, next_z] = kernel(&runs);
-            x_out[y] = next_x;
-            y_out[y] = next_y;
-            z_out[y] = next_z;
+            x_out[y] = next_x << FROM;
+            y_out[y] = next_y << FROM;
+            z_out[y] = next_z << FROM;
         }
     }
     Some(())
@@ -503,21 +509,38 @@ fn transpose_pair_into(
     // Both are `p` slices long (`prepare` sized them); their interior ones are `1..p - 1`.
     let (first, second) = (&first[1..p - 1], &second[1..p - 1]);
     let (first_out, second_out) = (&mut first_out[1..p - 1], &mut second_out[1..p - 1]);
-    for y in ones(ys) {
-        // Row z - 1: the interior bits of line y of slice z, of the first masks in the low
-        // half and of the second in the high half.
-        let mut m = [0u64; 64];
-        for ((word, one), two) in m.iter_mut().zip(first).zip(second) {
-            *word = interior(one[y]) | interior(two[y]) << 32;
+    // Eight B slices at a time, the words of a slice's lines `8 k .. 8 k + 8`: the masks'
+    // slices lie 512 bytes apart, so line `y` of each of the four masks' 32 slices falls in
+    // 8 of the L1 cache's 64 sets, and taken one `y` at a time the 128 lines evict each
+    // other before the next `y` reads them again.
+    for block in 0..8 {
+        let block_ys = (ys >> (8 * block)) & 0xFF;
+        if block_ys == 0 {
+            continue;
         }
-        transpose(&mut m, 32);
+        let lines = 8 * block..8 * block + 8;
+        let mut ms = [[0u64; 64]; 8];
+        for (z, (one, two)) in first.iter().zip(second).enumerate() {
+            let (one, two) = (&one[lines.clone()], &two[lines.clone()]);
+            for ((m, &one), &two) in ms.iter_mut().zip(one).zip(two) {
+                // Row z - 1: the interior bits of line y of slice z, of the first masks in
+                // the low half and of the second in the high half.
+                m[masked::<64>(z)] = interior(one) | interior(two) << 32;
+            }
+        }
+        for k in ones(block_ys) {
+            transpose(&mut ms[masked::<8>(k)], 32);
+        }
         // Row x - 1 of the low half now holds the first masks' bits z - 1, row x + 31 the
-        // second's.
-        let (low, high) = m.split_at(32);
+        // second's. Lines of the block that are not in `ys` take what their rows gave:
+        // nothing reads them.
         let outs = first_out.iter_mut().zip(second_out.iter_mut());
-        for ((one, two), (&low, &high)) in outs.zip(low.iter().zip(high)) {
-            one[y] = low << 1;
-            two[y] = high << 1;
+        for (x, (one, two)) in outs.enumerate() {
+            let (one, two) = (&mut one[lines.clone()], &mut two[lines.clone()]);
+            for ((one, two), m) in one.iter_mut().zip(two).zip(&ms) {
+                *one = m[masked::<64>(x)] << 1;
+                *two = m[masked::<64>(x + 32)] << 1;
+            }
         }
     }
 }
@@ -795,7 +818,8 @@ mod tests {
     }
 
     /// Few exposed voxels a row (isolated voxels and thin lines) decline; so does an unknown
-    /// id anywhere in an exposed row, the padding included (both kernels alike); a chunk with
+    /// id on any voxel of an exposed row that can show a face, the first and last of the row
+    /// included (both kernels alike); a chunk with
     /// few ±X faces builds without layout C.
     #[test]
     fn sparse_chunks_and_unknown_ids_decline() {
@@ -816,7 +840,7 @@ mod tests {
             for at in [
                 p * p + p + 1,
                 p * p * (p / 2) + p * (p / 2) + p / 2,
-                p * p + p,
+                p * p + p + p - 2,
             ] {
                 let mut unknown = dense.clone();
                 unknown[at] = 3;
