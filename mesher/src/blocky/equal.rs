@@ -35,12 +35,10 @@
 //! An exposed row with an id the classes do not know on a voxel that can show a face also
 //! declines: keying names the id.
 
-use alloc::vec::Vec;
-
+use super::aligned::{Slice, Slices};
 #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
 use super::bits::transpose_rows_x86_v3;
 use super::bits::{masked, ones, runs_equal, runs_reach, transpose64};
-use super::masks::{Slice, resize_slices};
 
 /// Whether a chunk of padded edge `p` whose sampled exposed rows (see [`exposed_rows`]) hold
 /// `sample` is meshed from the masks: its exposed rows must hold both many exposed voxels and
@@ -85,15 +83,15 @@ pub(crate) const TRANSPOSE_IN_FACES: u32 = 40;
 #[derive(Clone, Debug)]
 pub(crate) struct EqualIds {
     /// Layout A (slice z, line y, bit x): the next voxel along x has the same id.
-    next_x_a: Vec<Slice>,
+    next_x_a: Slices,
     /// Layout A: the next voxel along y has the same id.
-    next_y_a: Vec<Slice>,
+    next_y_a: Slices,
     /// Layout A: the next voxel along z has the same id.
-    next_z_a: Vec<Slice>,
+    next_z_a: Slices,
     /// Layout C (slice x, line y, bit z): the next voxel along z has the same id.
-    next_z_c: Vec<Slice>,
+    next_z_c: Slices,
     /// Layout C: the next voxel along y has the same id.
-    next_y_c: Vec<Slice>,
+    next_y_c: Slices,
     /// Layout C was built: the ±X faces are merged by these masks (else they are keyed).
     has_c: bool,
     /// Per slab `z`, bit `y` set iff row `(y, z)` is exposed.
@@ -103,11 +101,11 @@ pub(crate) struct EqualIds {
 impl Default for EqualIds {
     fn default() -> Self {
         EqualIds {
-            next_x_a: Vec::new(),
-            next_y_a: Vec::new(),
-            next_z_a: Vec::new(),
-            next_z_c: Vec::new(),
-            next_y_c: Vec::new(),
+            next_x_a: Slices::default(),
+            next_y_a: Slices::default(),
+            next_z_a: Slices::default(),
+            next_z_c: Slices::default(),
+            next_y_c: Slices::default(),
             has_c: false,
             exposed: [0; 64],
         }
@@ -204,11 +202,11 @@ impl EqualIds {
         let all = exposed_rows::<false>(chunk, &mut self.exposed)?;
         self.has_c = all.run_ends > TRANSPOSE_IN_FACES * all.ys.count_ones();
         for v in [&mut self.next_x_a, &mut self.next_y_a, &mut self.next_z_a] {
-            resize_slices(v, p);
+            v.resize(p);
         }
         if self.has_c {
-            resize_slices(&mut self.next_z_c, p);
-            resize_slices(&mut self.next_y_c, p);
+            self.next_z_c.resize(p);
+            self.next_y_c.resize(p);
         }
         // Every id is below a bound past the 16-bit range.
         let last = chunk.known_below.checked_sub(1)?;

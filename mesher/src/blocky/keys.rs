@@ -11,7 +11,12 @@ use super::memo::NeighbourhoodMemo;
 /// line which neighbouring faces have equal keys. Only entries of faces (and of lines with
 /// faces) are meaningful; everything is rewritten before it is read, so nothing is cleared
 /// between slices.
+///
+/// On a cache line, as each of its masks is (`repr(C)` keeps them in this order: the keys
+/// take 16 KiB, each mask 512 bytes), for the same reason as the masks' slices (see
+/// [`Slices`](super::aligned::Slices)).
 #[derive(Clone, Debug)]
+#[repr(C, align(64))]
 pub(crate) struct Keys {
     /// Key by line and bit.
     pub(crate) keys: [[u32; 64]; 64],

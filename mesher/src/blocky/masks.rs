@@ -31,18 +31,16 @@
 //! derivation also records whether two *different* transparent ids occur, since only then can
 //! two transparent voxels show faces to each other.
 
-use alloc::vec::Vec;
-
 use voxel_core::BlockId;
 
+use super::aligned::Slices;
 use super::bits::{masked, nonzero_lines, ones, row_contains, row_equal};
 use crate::BlockClasses;
 
 /// Up to this many transparent ids in the palette, rows are classified with SIMD compares.
 pub(crate) const FEW_TRANSPARENT: usize = 4;
 
-/// 64 lines of one slice.
-pub(crate) type Slice = [u64; 64];
+pub(crate) use super::aligned::Slice;
 
 /// The opaque lines of the front slice around line `l`.
 pub(crate) type Front = (u64, u64, u64);
@@ -65,12 +63,12 @@ pub(crate) struct Masks {
     /// Padded edge of the chunk the masks were built for.
     pub p: usize,
     /// Opaque layout `A`; unused when the input columns are the opaque mask.
-    opaque_a: Vec<Slice>,
-    opaque_b: Vec<Slice>,
-    opaque_c: Vec<Slice>,
-    trans_a: Vec<Slice>,
-    trans_b: Vec<Slice>,
-    trans_c: Vec<Slice>,
+    opaque_a: Slices,
+    opaque_b: Slices,
+    opaque_c: Slices,
+    trans_a: Slices,
+    trans_b: Slices,
+    trans_c: Slices,
     /// Bit `y`: line `y` of some slice of `opaque_c` may be non-zero (see [`bit_transpose`]).
     opaque_c_lines: u64,
     /// The same for `trans_c`.
@@ -110,22 +108,6 @@ fn occupied_slices(a: &[Slice]) -> [u64; 3] {
     }
     let bits = any_line.iter().fold(0, |acc, &line| acc | line);
     [slabs, nonzero_lines(&any_line), bits]
-}
-
-/// Resizes `v` to `n` slices. Callers overwrite lines `0..n` of every slice; lines `n..64` are
-/// zeroed here when the size changes (nothing to do for 62^3 chunks, where `n` is 64). At an
-/// unchanged size they are still zero: the call that sized `v` zeroed them, and every chunk
-/// since wrote lines `0..n` only.
-pub(crate) fn resize_slices(v: &mut Vec<Slice>, n: usize) {
-    if v.len() == n {
-        return;
-    }
-    v.resize(n, [0; 64]);
-    if n < 64 {
-        for s in v.iter_mut() {
-            s[n..].fill(0);
-        }
-    }
 }
 
 /// Layout A of the transparent mask of a 62^3 chunk (padded edge 64, at most
@@ -250,10 +232,10 @@ impl Masks {
         // Layout A of the opaque mask: the columns themselves when possible.
         self.opaque_is_columns = p == 64 && !self.has_transparent;
         if !self.opaque_is_columns {
-            resize_slices(&mut self.opaque_a, p);
+            self.opaque_a.resize(p);
             let slabs = columns.chunks_exact(p).zip(self.opaque_a.iter_mut());
             if self.has_transparent {
-                for ((slab, out), t) in slabs.zip(&self.trans_a) {
+                for ((slab, out), t) in slabs.zip(self.trans_a.iter()) {
                     for ((o, &c), &t) in out.iter_mut().zip(slab).zip(t) {
                         *o = c & !t;
                     }
@@ -297,7 +279,7 @@ impl Masks {
         classes: &BlockClasses,
     ) {
         let ids = classes.transparent_ids();
-        resize_slices(&mut self.trans_a, p);
+        self.trans_a.resize(p);
         if ids.len() <= FEW_TRANSPARENT {
             let seen = match p {
                 64 => row_transparent(voxels, columns, ids, &mut self.trans_a),
@@ -358,8 +340,8 @@ impl Masks {
 
 /// Layout B from layout A: `out[y][z] = a[z][y]`.
 #[inline(always)]
-fn word_transpose(p: usize, a: &[Slice], out: &mut Vec<Slice>) {
-    resize_slices(out, p);
+fn word_transpose(p: usize, a: &[Slice], out: &mut Slices) {
+    out.resize(p);
     // Slice by slice of the output: 64 strided reads, one contiguous 512-byte write.
     for (y, slot) in out.iter_mut().enumerate() {
         for (word, slab) in slot.iter_mut().zip(a) {
@@ -380,7 +362,7 @@ fn word_transpose(p: usize, a: &[Slice], out: &mut Vec<Slice>) {
 fn bit_transpose(
     p: usize,
     b: &[Slice],
-    out: &mut Vec<Slice>,
+    out: &mut Slices,
     lines: &mut u64,
     transpose: impl Fn(&mut [u64; 64], usize),
 ) {
@@ -388,7 +370,7 @@ fn bit_transpose(
         // Resized: lines of slices kept from another size are not tracked.
         *lines = u64::MAX;
     }
-    resize_slices(out, p);
+    out.resize(p);
     for (y, slice) in b.iter().enumerate() {
         let bit = 1u64 << (y & 63);
         let empty = slice.iter().all(|&line| line == 0);
@@ -411,6 +393,7 @@ fn bit_transpose(
 #[cfg(test)]
 mod tests {
     use alloc::vec;
+    use alloc::vec::Vec;
 
     use voxel_core::{Material, MaterialClass, MaterialPalette};
 

@@ -61,10 +61,12 @@
 //! | `one_id` | whether a chunk's solid voxels share one id: then, with AO off, every face has one key and nothing is keyed |
 //! | `equal` | `EqualIds`: with AO off, in chunks whose exposed rows are dense, every exposed voxel's id compared with its next neighbours' along x, y and z by SIMD row compares (built by the entry after step 2), as the equal-key masks of every slice: then nothing is keyed |
 //! | `ao` | the AO rule, the per-direction AO tables, AO of a whole line as bit planes, the diagonal flip |
+//! | `aligned` | `Slice`, 64 lines of one slice, and `Slices`, the masks' scratch slices, each on a cache line |
 //! | `bits` | bit tools: row masks, the 64 x 64 transpose, `ones` (set bits), `masked` (indexes kept in range) |
 //!
 //! [`visible_faces`] (one quad per face) runs the same steps with merging off.
 
+mod aligned;
 pub mod ao;
 mod bits;
 mod direction;
