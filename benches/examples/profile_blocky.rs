@@ -16,12 +16,16 @@
 //! `PaddedChunk`, which prints what the array's occupancy columns cost), a number of
 //! meshes and a chunk edge (32 or 62, the default). `MESHER_ISA=baseline|x86-v3` pins
 //! the instruction set (default: the detected one); `PROFILE_EVICT_KIB=N` writes over N KiB
-//! before every mesh, outside the timed span, to time meshes that start with cold caches. The time is the thread's CPU time, taken
+//! before every mesh, outside the timed span, to time meshes that start with cold caches;
+//! `PROFILE_ALLOC_OFFSET=N` (0, 16, 32 or 48) places every allocation `N` bytes past a cache
+//! line (see `PlacedAllocator`). The time is the thread's CPU time, taken
 //! over 20 batches: the minimum and the median per mesh, since on a shared machine the minimum
 //! is the steadier figure.
 
+use std::alloc::{GlobalAlloc, Layout, System};
 use std::collections::BTreeSet;
 use std::hint::black_box;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use benches::cpu_time::thread_cpu_now;
 use benches::mesh_inputs::{MeshInput, as_u16, find_input};
@@ -30,6 +34,17 @@ use mesher::{BlockClasses, InstructionSet};
 use voxel_core::{BlockId, ChunkSize, PaddedChunk};
 
 fn main() {
+    if let Ok(offset) = std::env::var("PROFILE_ALLOC_OFFSET") {
+        match offset.parse::<usize>() {
+            Ok(offset @ (0 | 16 | 32 | 48)) => {
+                PLACEMENT.store(offset, Ordering::Relaxed);
+            }
+            _ => {
+                eprintln!("PROFILE_ALLOC_OFFSET: 0, 16, 32 or 48, not {offset:?}");
+                std::process::exit(2);
+            }
+        }
+    }
     let args: Vec<String> = std::env::args().collect();
     let want = args.get(1).map_or("terrain 62", String::as_str);
     let mode = args.get(2).map_or("greedy", String::as_str);
@@ -323,3 +338,69 @@ fn bgm_runner<'a, const CS: usize>(
         }
     })
 }
+
+/// The allocator of this example: the system's, every block moved 48 bytes (or its alignment)
+/// in to keep a header in front of it, so 16-byte aligned wherever it lands, as before; or, with `PROFILE_ALLOC_OFFSET=N` (0, 16, 32 or 48), every block of alignment 16 or less placed `N` bytes past a cache line, to time how
+/// the placement of the input and of the mesher's scratch moves a mesh.
+struct PlacedAllocator;
+
+/// `PROFILE_ALLOC_OFFSET`, or `usize::MAX` for no placement; set before the inputs are built.
+static PLACEMENT: AtomicUsize = AtomicUsize::new(usize::MAX);
+
+#[expect(unsafe_code, reason = "a global allocator for timing experiments")]
+// SAFETY: every block is carved from a system block `front` bytes in, where `front` is at
+// least 32 and a multiple of the block's alignment (48 with alignment 16 or less; 64 plus an
+// offset of 0, 16, 32 or 48 from a 64-byte aligned block for a placed block, whose alignment
+// is then 16 or less); the system block is large enough
+// for `front + size`. The 24 bytes before the block hold `front` and the system block's size
+// and alignment, which `dealloc` reads back to free exactly that system block.
+unsafe impl GlobalAlloc for PlacedAllocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let offset = PLACEMENT.load(Ordering::Relaxed);
+        let (front, align) = if layout.align() > 16 {
+            (layout.align(), layout.align())
+        } else if offset == usize::MAX {
+            // 16-byte aligned wherever the system puts it, as the system allocator's blocks.
+            (48, 16)
+        } else {
+            (64 + offset, 64)
+        };
+        let Some(total) = layout.size().checked_add(front + 64) else {
+            return std::ptr::null_mut();
+        };
+        let Ok(system) = Layout::from_size_align(total, align) else {
+            return std::ptr::null_mut();
+        };
+        // SAFETY: `system` has a non-zero size (at least `front + 64`).
+        let base = unsafe { System.alloc(system) };
+        if base.is_null() {
+            return base;
+        }
+        // SAFETY: `front` bytes in, `size` bytes remain; the header's 24 bytes lie in front.
+        unsafe {
+            let block = base.add(front);
+            let header = block.cast::<usize>();
+            header.sub(1).write_unaligned(front);
+            header.sub(2).write_unaligned(total);
+            header.sub(3).write_unaligned(align);
+            block
+        }
+    }
+
+    unsafe fn dealloc(&self, block: *mut u8, _layout: Layout) {
+        // SAFETY: `block` came from `alloc`, which wrote the header in front of it.
+        unsafe {
+            let header = block.cast::<usize>();
+            let front = header.sub(1).read_unaligned();
+            let total = header.sub(2).read_unaligned();
+            let align = header.sub(3).read_unaligned();
+            System.dealloc(
+                block.sub(front),
+                Layout::from_size_align_unchecked(total, align),
+            );
+        }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: PlacedAllocator = PlacedAllocator;
