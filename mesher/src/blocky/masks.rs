@@ -94,13 +94,18 @@ pub(crate) struct Layouts<'a> {
 
 /// Which slices of each layout have a set bit, from layout A alone: slab `z` of A (layout A's
 /// slice), line `y` of any slab (layout B's slice `y`), bit `x` of any line (layout C's slice).
+///
+/// Reads lines `0..p` of each slab only: the rest are zero, and in a short chunk nothing
+/// writes them, so reading them fetched cold cache lines (3 a slab at 32^3: on terrain 32^3
+/// with its caches evicted before each mesh, callgrind counts 15 % fewer last-level read
+/// misses without them, and 1.7 % fewer instructions).
 #[inline(always)]
-fn occupied_slices(a: &[Slice]) -> [u64; 3] {
+fn occupied_slices(a: &[Slice], p: usize) -> [u64; 3] {
     let mut any_line = [0u64; 64];
     let mut slabs = 0u64;
     for (z, slab) in a.iter().enumerate() {
         let mut any = 0u64;
-        for (acc, &line) in any_line.iter_mut().zip(slab) {
+        for (acc, &line) in any_line.iter_mut().zip(&slab[..p]) {
             *acc |= line;
             any |= line;
         }
@@ -259,12 +264,12 @@ impl Masks {
             &mut self.opaque_c_lines,
             transpose,
         );
-        self.occupied[0] = occupied_slices(opaque_a);
+        self.occupied[0] = occupied_slices(opaque_a, p);
         if self.has_transparent {
             word_transpose(p, &self.trans_a, &mut self.trans_b);
             let (b, c, lines) = (&self.trans_b, &mut self.trans_c, &mut self.trans_c_lines);
             bit_transpose(p, b, c, lines, transpose);
-            self.occupied[1] = occupied_slices(&self.trans_a);
+            self.occupied[1] = occupied_slices(&self.trans_a, p);
         }
         Content::Surface
     }
@@ -373,7 +378,8 @@ fn bit_transpose(
     out.resize(p);
     for (y, slice) in b.iter().enumerate() {
         let bit = 1u64 << (y & 63);
-        let empty = slice.iter().all(|&line| line == 0);
+        // Lines `0..p` only, as in `occupied_slices`.
+        let empty = slice[..p].iter().all(|&line| line == 0);
         if empty && *lines & bit == 0 {
             continue;
         }
