@@ -44,11 +44,13 @@ pub(crate) fn drop_handled(faces: &mut Slice, handled: &Slice) {
 }
 
 /// The ±X faces (direction `D`) of a z-slab of occupancy rows, row by row (none on the
-/// padding rows, or in a padding slab when `inside` is false).
+/// padding rows, or in a padding slab when `inside` is false), into lines `0..e + 2` of `out`
+/// (the slab's own lines: the rest of a short chunk's slab is zero, and reading it would
+/// fetch cold cache lines; `out`'s lines past them stay as they are).
 #[inline(always)]
 fn slab_faces<const D: usize>(slab: &Slice, inner: u64, e: usize, inside: bool, out: &mut Slice) {
     let rows = u64::MAX >> (63 - e) & !1;
-    for (y, (f, &row)) in out.iter_mut().zip(slab).enumerate() {
+    for (y, (f, &row)) in out.iter_mut().zip(&slab[..e + 2]).enumerate() {
         let front = if Facing::of(D).positive {
             row >> 1
         } else {
