@@ -73,6 +73,10 @@ pub(crate) struct Masks {
     opaque_c_lines: u64,
     /// The same for `trans_c`.
     trans_c_lines: u64,
+    /// Bit `y`: slice `y` of `opaque_b` may be non-zero (see [`word_transpose`]).
+    opaque_b_slices: u64,
+    /// The same for `trans_b`.
+    trans_b_slices: u64,
     /// The input columns, viewed as 64-line slices, are the opaque mask.
     opaque_is_columns: bool,
     /// Some voxel is transparent.
@@ -256,20 +260,36 @@ impl Masks {
         } else {
             &self.opaque_a
         };
-        word_transpose(p, opaque_a, &mut self.opaque_b);
+        self.occupied[0] = occupied_slices(opaque_a, p);
+        let b_slices = self.occupied[0][1];
+        word_transpose(
+            p,
+            opaque_a,
+            &mut self.opaque_b,
+            b_slices,
+            &mut self.opaque_b_slices,
+        );
+        let c_lines = &mut self.opaque_c_lines;
         bit_transpose(
             p,
             &self.opaque_b,
+            b_slices,
             &mut self.opaque_c,
-            &mut self.opaque_c_lines,
+            c_lines,
             transpose,
         );
-        self.occupied[0] = occupied_slices(opaque_a, p);
         if self.has_transparent {
-            word_transpose(p, &self.trans_a, &mut self.trans_b);
-            let (b, c, lines) = (&self.trans_b, &mut self.trans_c, &mut self.trans_c_lines);
-            bit_transpose(p, b, c, lines, transpose);
             self.occupied[1] = occupied_slices(&self.trans_a, p);
+            let b_slices = self.occupied[1][1];
+            word_transpose(
+                p,
+                &self.trans_a,
+                &mut self.trans_b,
+                b_slices,
+                &mut self.trans_b_slices,
+            );
+            let (b, c, lines) = (&self.trans_b, &mut self.trans_c, &mut self.trans_c_lines);
+            bit_transpose(p, b, b_slices, c, lines, transpose);
         }
         Content::Surface
     }
@@ -343,20 +363,38 @@ impl Masks {
     }
 }
 
-/// Layout B from layout A: `out[y][z] = a[z][y]`.
+/// Layout B from layout A: `out[y][z] = a[z][y]`, where `nonempty` (bit `y`: line `y` of
+/// some slab of `a` is not zero, see [`occupied_slices`]) says which slices of `out` have a
+/// set bit.
+///
+/// The empty ones are not gathered: they are zeroed, and not even that when `written` (bit
+/// `y`: slice `y` may hold a set bit, kept across chunks) says they are zero already, as the
+/// slices above a terrain's surface and most of a water mask's are from one chunk to the
+/// next. Left unread and unwritten, their cache lines stay out of the cache.
 #[inline(always)]
-fn word_transpose(p: usize, a: &[Slice], out: &mut Slices) {
+fn word_transpose(p: usize, a: &[Slice], out: &mut Slices, nonempty: u64, written: &mut u64) {
+    if out.len() != p {
+        // Resized: slices kept from another size are not tracked.
+        *written = u64::MAX;
+    }
     out.resize(p);
-    // Slice by slice of the output: 64 strided reads, one contiguous 512-byte write.
+    // Slice by slice of the output: `p` strided reads, one contiguous write.
     for (y, slot) in out.iter_mut().enumerate() {
-        for (word, slab) in slot.iter_mut().zip(a) {
-            *word = slab[masked::<64>(y)];
+        let bit = 1u64 << (y & 63);
+        if nonempty & bit != 0 {
+            for (word, slab) in slot.iter_mut().zip(a) {
+                *word = slab[masked::<64>(y)];
+            }
+        } else if *written & bit != 0 {
+            slot[..p].fill(0);
         }
     }
+    *written = nonempty;
 }
 
 /// Layout C from layout B: for each slice `y`, transpose the bit matrix (lines z, bits x) into
-/// lines x, bits z, stored at `out[x][y]`.
+/// lines x, bits z, stored at `out[x][y]`. `nonempty` (bit `y`: slice `y` of `b` has a set
+/// bit) is the one [`word_transpose`] took.
 ///
 /// Writing line `y` of all 64 slices of `out` is 64 stores a slice apart; for an empty slice
 /// of `b` they store zeros, which a scratch reused from the last chunk often holds already
@@ -367,6 +405,7 @@ fn word_transpose(p: usize, a: &[Slice], out: &mut Slices) {
 fn bit_transpose(
     p: usize,
     b: &[Slice],
+    nonempty: u64,
     out: &mut Slices,
     lines: &mut u64,
     transpose: impl Fn(&mut [u64; 64], usize),
@@ -378,12 +417,11 @@ fn bit_transpose(
     out.resize(p);
     for (y, slice) in b.iter().enumerate() {
         let bit = 1u64 << (y & 63);
-        // Lines `0..p` only, as in `occupied_slices`.
-        let empty = slice[..p].iter().all(|&line| line == 0);
+        let empty = nonempty & bit == 0;
         if empty && *lines & bit == 0 {
             continue;
         }
-        let mut m = *slice;
+        let mut m = if empty { [0; 64] } else { *slice };
         if empty {
             *lines &= !bit;
         } else {
