@@ -817,8 +817,7 @@ mod tests {
 
     /// Few exposed voxels a row (isolated voxels and thin lines) decline; so does an unknown
     /// id on any voxel of an exposed row that can show a face, the first and last of the row
-    /// included (both kernels alike); a chunk with
-    /// few ±X faces builds without layout C.
+    /// included (both kernels alike); a chunk with few ±X faces builds without layout C.
     #[test]
     fn sparse_chunks_and_unknown_ids_decline() {
         for p in [10, 18, 34, 64] {

@@ -269,13 +269,12 @@ impl Masks {
             b_slices,
             &mut self.opaque_b_slices,
         );
-        let c_lines = &mut self.opaque_c_lines;
         bit_transpose(
             p,
             &self.opaque_b,
             b_slices,
             &mut self.opaque_c,
-            c_lines,
+            &mut self.opaque_c_lines,
             transpose,
         );
         if self.has_transparent {
@@ -498,6 +497,73 @@ mod tests {
                     };
                     assert_eq!(masks.mixed_transparent, want_mixed, "edge {p}, case {case}");
                 }
+            }
+        }
+    }
+
+    /// Layouts B and C are layout A transposed, bit by bit, and the occupied slices are those
+    /// with a set bit, for a run of chunks built with one scratch: chunks with air above some
+    /// row `y` (empty B slices, skipped) follow fuller ones and the other way round, and the
+    /// size changes, so a slice skipped as empty must not keep an earlier chunk's bits.
+    #[test]
+    fn layouts_b_and_c_transpose_layout_a_across_chunks_on_one_scratch() {
+        let mut rng = voxel_scene::rng::Rng::new(5);
+        let mut masks = Masks::default();
+        let classes = classes(1);
+        let runs = [
+            (34, 34),
+            (34, 9),
+            (34, 30),
+            (34, 2),
+            (64, 20),
+            (64, 64),
+            (64, 3),
+        ];
+        for (p, top) in runs
+            .into_iter()
+            .chain([(18, 18), (18, 4), (34, 12), (34, 34)])
+        {
+            let voxels: Vec<u16> = (0..p * p * p)
+                .map(|i| {
+                    if (i / p) % p >= top {
+                        0
+                    } else {
+                        rng.below(4) as u16
+                    }
+                })
+                .collect();
+            let columns: Vec<u64> = voxels
+                .chunks_exact(p)
+                .map(|row| (0..p).fold(0u64, |m, x| m | u64::from(row[x] != 0) << x))
+                .collect();
+            assert_eq!(
+                masks.build(p, &voxels, &columns, &classes),
+                Content::Surface
+            );
+            let layouts = [Some(masks.opaque(&columns)), masks.transparent()];
+            for (kind, layouts) in layouts.into_iter().flatten().enumerate() {
+                let [a, b, c] = layouts.by;
+                let mut occupied = [0u64; 3];
+                for z in 0..p {
+                    for y in 0..p {
+                        for x in 0..p {
+                            let bit = a[z][y] >> x & 1;
+                            let at =
+                                alloc::format!("edge {p}, top {top}, mask {kind}, ({x}, {y}, {z})");
+                            assert_eq!(b[y][z] >> x & 1, bit, "B {at}");
+                            assert_eq!(c[x][y] >> z & 1, bit, "C {at}");
+                            if bit != 0 {
+                                occupied[0] |= 1 << z;
+                                occupied[1] |= 1 << y;
+                                occupied[2] |= 1 << x;
+                            }
+                        }
+                    }
+                }
+                assert_eq!(
+                    layouts.occupied, occupied,
+                    "edge {p}, top {top}, mask {kind}"
+                );
             }
         }
     }
