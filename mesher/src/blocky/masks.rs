@@ -544,14 +544,17 @@ mod tests {
             for (kind, layouts) in layouts.into_iter().flatten().enumerate() {
                 let [a, b, c] = layouts.by;
                 let mut occupied = [0u64; 3];
-                for z in 0..p {
-                    for y in 0..p {
-                        for x in 0..p {
-                            let bit = a[z][y] >> x & 1;
-                            let at =
-                                alloc::format!("edge {p}, top {top}, mask {kind}, ({x}, {y}, {z})");
-                            assert_eq!(b[y][z] >> x & 1, bit, "B {at}");
-                            assert_eq!(c[x][y] >> z & 1, bit, "C {at}");
+                for (z, slab) in a.iter().enumerate().take(p) {
+                    for (y, &line) in slab.iter().enumerate().take(p) {
+                        for (x, c_slice) in c.iter().enumerate().take(p) {
+                            let bit = line >> x & 1;
+                            let at = (p, top, kind, x, y, z);
+                            assert_eq!(b[y][z] >> x & 1, bit, "B: edge, top, mask, x, y, z {at:?}");
+                            assert_eq!(
+                                c_slice[y] >> z & 1,
+                                bit,
+                                "C: edge, top, mask, x, y, z {at:?}"
+                            );
                             if bit != 0 {
                                 occupied[0] |= 1 << z;
                                 occupied[1] |= 1 << y;
