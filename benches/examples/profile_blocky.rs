@@ -340,8 +340,10 @@ fn bgm_runner<'a, const CS: usize>(
 }
 
 /// The allocator of this example: the system's, every block moved 48 bytes (or its alignment)
-/// in to keep a header in front of it, so 16-byte aligned wherever it lands, as before; or, with `PROFILE_ALLOC_OFFSET=N` (0, 16, 32 or 48), every block of alignment 16 or less placed `N` bytes past a cache line, to time how
-/// the placement of the input and of the mesher's scratch moves a mesh.
+/// in to keep a header in front of it, so 16-byte aligned wherever it lands, as before; or,
+/// with `PROFILE_ALLOC_OFFSET=N` (0, 16, 32 or 48), every block of alignment 16 or less placed
+/// `N` bytes past a cache line, to time how the placement of the input and of the mesher's
+/// scratch moves a mesh.
 struct PlacedAllocator;
 
 /// `PROFILE_ALLOC_OFFSET`, or `usize::MAX` for no placement; set before the inputs are built.
@@ -351,9 +353,9 @@ static PLACEMENT: AtomicUsize = AtomicUsize::new(usize::MAX);
 // SAFETY: every block is carved from a system block `front` bytes in, where `front` is at
 // least 32 and a multiple of the block's alignment (48 with alignment 16 or less; 64 plus an
 // offset of 0, 16, 32 or 48 from a 64-byte aligned block for a placed block, whose alignment
-// is then 16 or less); the system block is large enough
-// for `front + size`. The 24 bytes before the block hold `front` and the system block's size
-// and alignment, which `dealloc` reads back to free exactly that system block.
+// is then 16 or less); the system block is large enough for `front + size`. The 24 bytes
+// before the block hold `front` and the system block's size and alignment, which `dealloc`
+// reads back to free exactly that system block.
 unsafe impl GlobalAlloc for PlacedAllocator {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         let offset = PLACEMENT.load(Ordering::Relaxed);

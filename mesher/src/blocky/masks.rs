@@ -420,13 +420,15 @@ fn bit_transpose(
         if empty && *lines & bit == 0 {
             continue;
         }
-        let mut m = if empty { [0; 64] } else { *slice };
-        if empty {
+        let m = if empty {
             *lines &= !bit;
+            [0; 64]
         } else {
+            let mut m = *slice;
             transpose(&mut m, p);
             *lines |= bit;
-        }
+            m
+        };
         for (x, slot) in out.iter_mut().enumerate() {
             slot[masked::<64>(y)] = m[masked::<64>(x)];
         }
