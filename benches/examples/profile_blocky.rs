@@ -138,7 +138,7 @@ fn time_meshes(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: us
     let opaque: Vec<usize> = out.opaque.faces.iter().map(Vec::len).collect();
     let transparent: Vec<usize> = out.transparent.faces.iter().map(Vec::len).collect();
     println!(
-        "{} {mode}: min {:.1} us, median {:.1} us per mesh; {} quads, per direction opaque \
+        "{} {mode}: min {:.2} us, median {:.2} us per mesh; {} quads, per direction opaque \
          {opaque:?}, transparent {transparent:?}",
         input.name,
         per[0],

@@ -178,49 +178,6 @@ pub(crate) fn row_non_air(row: &[u16]) -> u64 {
     row_mask(row, |v| v != 0)
 }
 
-/// [`row_non_air`] of every row of `rows` into `out`, with AVX2, for the x86-64-v3 copy of the
-/// column builder: 16 ids a register, two registers packed to 32 bytes with signed saturation
-/// (a non-zero `i16` stays non-zero), compared with zero, 32 mask bits per `vpmovmskb`. 14
-/// instructions a row against 35 for the SSE2 compares the portable copy runs.
-///
-/// The loop is in here, not in the callers: the compiler did not inline a one-row function
-/// with these features into them, and the call cost a fifth of the time.
-#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
-#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
-#[inline]
-pub(crate) fn rows_non_air_x86_v3(rows: &[[u16; 64]], out: &mut [u64]) {
-    use core::arch::x86_64::{
-        __m256i, _mm256_cmpeq_epi8, _mm256_movemask_epi8, _mm256_packs_epi16,
-        _mm256_permute4x64_epi64, _mm256_setzero_si256,
-    };
-    for (mask, row) in out.iter_mut().zip(rows) {
-        let sixteen = |k: usize| -> __m256i {
-            let ids: [u16; 16] = core::array::from_fn(|j| row[16 * k + j]);
-            bytemuck::cast(ids)
-        };
-        // The 32 ids of registers `k` and `k + 1`, as one 32-bit mask of the air ones.
-        let air = |k: usize| -> u32 {
-            // `packs` interleaves the two registers by 128-bit lane (a.lo, b.lo, a.hi, b.hi);
-            // the permute puts the four 8-byte quarters back in id order.
-            let packed = _mm256_packs_epi16(sixteen(k), sixteen(k + 1));
-            let ordered = _mm256_permute4x64_epi64::<0b11_01_10_00>(packed);
-            _mm256_movemask_epi8(_mm256_cmpeq_epi8(ordered, _mm256_setzero_si256())) as u32
-        };
-        *mask = !(u64::from(air(0)) | u64::from(air(2)) << 32);
-    }
-}
-
-/// [`rows_non_air_x86_v3`] on an x86-64 target without SSE (soft float, as
-/// `x86_64-unknown-none`), which cannot hold AVX2 vectors: the portable row mask, row by row.
-#[cfg(all(target_arch = "x86_64", not(target_feature = "sse2")))]
-#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
-#[inline]
-pub(crate) fn rows_non_air_x86_v3(rows: &[[u16; 64]], out: &mut [u64]) {
-    for (mask, row) in out.iter_mut().zip(rows) {
-        *mask = row_non_air(row);
-    }
-}
-
 /// Bit `i` set iff `row[i] == id`. `row.len() <= 64`.
 #[inline(always)]
 pub(crate) fn row_equal(row: &[u16], id: u16) -> u64 {
@@ -614,40 +571,6 @@ mod tests {
             }
             assert_eq!(row_non_air(row), non_air, "len {len}");
             assert_eq!(row_equal(row, 3), threes, "len {len}");
-        }
-    }
-
-    /// The x86-64-v3 occupancy kernel against the portable one, on rows of air and ids at the
-    /// ends of the 16-bit range, where a signed saturating pack could turn an id into air, in
-    /// every 16-id register position. Only a CPU with AVX2 runs that kernel, so only one can
-    /// check it; without AVX2 the test says so on stderr.
-    #[cfg(target_arch = "x86_64")]
-    #[test]
-    fn the_x86_v3_occupancy_kernel_matches_the_portable_one() {
-        if !crate::InstructionSet::X86V3.is_supported() {
-            std::eprintln!("no AVX2 on this CPU: rows_non_air_x86_v3 is never run here");
-            return;
-        }
-        let values = [
-            0u16, 1, 2, 0x7F, 0x80, 0xFF, 0x100, 0x7FFF, 0x8000, 0xFF00, 0xFFFF,
-        ];
-        let mut rng = voxel_scene::rng::Rng::new(11);
-        for round in 0..2000 {
-            let row: [u16; 64] = core::array::from_fn(|i| match round {
-                0 => 0,
-                1 => values[1 + i % (values.len() - 1)],
-                _ => values[rng.below(values.len() as u64) as usize],
-            });
-            let mut got = [0];
-            #[expect(
-                unsafe_code,
-                reason = "calls the AVX2 kernel on a CPU checked to have it"
-            )]
-            // SAFETY: `X86V3.is_supported()` found every feature the kernel is compiled for.
-            unsafe {
-                rows_non_air_x86_v3(&[row], &mut got);
-            }
-            assert_eq!(got[0], row_non_air(&row), "row {row:?}");
         }
     }
 

@@ -19,9 +19,9 @@ use super::keys::Keys;
 use super::lone_x::lone_x;
 use super::masks::{Content, Masks};
 use super::one_id::one_id;
-#[cfg(target_arch = "x86_64")]
-use super::plain::build_columns_x86_v3;
 use super::plain::{FLAT_WORDS, FlatColumns, build_columns, padded_edge_of};
+#[cfg(target_arch = "x86_64")]
+use super::plain_x86::build_columns_x86_v3;
 use super::slices::mesh_direction;
 use crate::{BlockClasses, InstructionSet, MeshError};
 

@@ -41,6 +41,7 @@
 //! | ---- | ------ | ------------ |
 //! | entry | `greedy` | [`GreedyMesher`]: the entry points, the per-instruction-set copies, and `mesh_chunk`, which runs the steps below for one chunk |
 //! | 1 | `plain` | a plain padded `u16` array's occupancy columns ([`GreedyMesher::mesh_u16`] only; a `PaddedChunk` has its own) |
+//! | 1 | `plain_x86` | the same columns with AVX2 kernels, for the x86-64-v3 copy of the mesher |
 //! | 2 | `masks` | opaque and transparent bit masks in the three slice layouts, and the early exit for empty and buried chunks |
 //! | 3 | `input` | `Input`: what the rest reads (ids, masks, options), built once per chunk |
 //! | 4 | `lone_x` | a pre-pass: ±X faces with no neighbouring face, in rows of many, written straight from the occupancy rows (checkerboards) |
@@ -84,6 +85,8 @@ mod merge;
 mod mesh;
 mod one_id;
 mod plain;
+#[cfg(target_arch = "x86_64")]
+mod plain_x86;
 mod slices;
 mod visible;
 

@@ -5,8 +5,6 @@ use alloc::vec::Vec;
 
 use voxel_core::ChunkSize;
 
-#[cfg(target_arch = "x86_64")]
-use super::bits::rows_non_air_x86_v3;
 use super::bits::{masked, row_non_air};
 use crate::MeshError;
 
@@ -44,8 +42,8 @@ macro_rules! each_of_32 {
 }
 
 /// Occupancy columns of a padded array of edge `p`: `out[y + p * z]` has bit `x` set iff the id
-/// at `(x, y, z)` is not air. `flat` is scratch. The portable copy; [`build_columns_x86_v3`]
-/// gives the same columns with AVX2.
+/// at `(x, y, z)` is not air. `flat` is scratch. The portable copy; `build_columns_x86_v3`
+/// (in `plain_x86`) gives the same columns with AVX2 kernels.
 ///
 /// Rows of 64 ids (62^3 chunks) are one SIMD compare each. Shorter rows (edges 34, 18, 10)
 /// would take the scalar path of [`row_non_air`] row by row, which cost 6 instructions a voxel
@@ -77,32 +75,9 @@ pub(crate) fn build_columns(
     }
 }
 
-/// [`build_columns`] compiled for x86-64-v3, with the AVX2 row kernel
-/// ([`rows_non_air_x86_v3`]).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
-#[inline]
-pub(crate) fn build_columns_x86_v3(
-    p: usize,
-    voxels: &[u16],
-    out: &mut Vec<u64>,
-    flat: &mut FlatColumns,
-) -> bool {
-    match p {
-        64 => {
-            let rows = voxels.as_chunks::<64>().0;
-            rows_non_air_x86_v3(rows, sized(out, rows.len()));
-            true
-        }
-        34 => short_columns_x86_v3::<34>(voxels, out, flat),
-        18 => short_columns_x86_v3::<18>(voxels, out, flat),
-        _ => short_columns_x86_v3::<10>(voxels, out, flat),
-    }
-}
-
 /// `out` as `n` columns to overwrite: resized (and zeroed) only when the chunk size changes.
 #[inline(always)]
-fn sized(out: &mut Vec<u64>, n: usize) -> &mut [u64] {
+pub(crate) fn sized(out: &mut Vec<u64>, n: usize) -> &mut [u64] {
     if out.len() != n {
         out.clear();
         out.resize(n, 0);
@@ -123,48 +98,37 @@ fn short_columns_portable<const P: usize>(
     for (word, ids) in flat.iter_mut().zip(whole) {
         *word = row_non_air(ids);
     }
-    cut_rows::<P>(whole.len(), tail, flat, out)
+    close_flat(whole.len(), tail, flat);
+    if flat[..=whole.len()].iter().fold(0, |any, &w| any | w) == 0 {
+        return false;
+    }
+    cut_rows::<P>(flat, sized(out, P * P));
+    true
 }
 
-/// [`short_columns_portable`] for x86-64-v3.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
-#[inline(never)]
-fn short_columns_x86_v3<const P: usize>(
-    voxels: &[u16],
-    out: &mut Vec<u64>,
-    flat: &mut FlatColumns,
-) -> bool {
-    let (whole, tail) = voxels.as_chunks::<64>();
-    rows_non_air_x86_v3(whole, flat);
-    cut_rows::<P>(whole.len(), tail, flat, out)
+/// Closes the flat mask of an array whose first `words` words are written: the word after
+/// them gets the occupancy of `tail`, the ids after those, and the word after that is empty (a
+/// row's bits may end in the last word, and a cut reads the word after it). Returns whether
+/// `tail` holds an id that is not air.
+#[inline(always)]
+pub(crate) fn close_flat(words: usize, tail: &[u16], flat: &mut FlatColumns) -> bool {
+    debug_assert!(words + 2 <= FLAT_WORDS);
+    let last = row_non_air(tail);
+    flat[masked::<FLAT_WORDS>(words)] = last;
+    flat[masked::<FLAT_WORDS>(words + 1)] = 0;
+    last != 0
 }
 
-/// The `P * P` columns of an array of edge `P` below 64 into `out`, from `flat`, whose first
-/// `words` words hold the occupancy of its ids 64 a word; `tail` is the ids after those.
-/// False, with nothing cut, when every id is air (one OR over the words).
+/// The `P * P` rows of an array of edge `P` below 64 into `out`, cut from `flat`, its
+/// occupancy 64 ids a word, closed by [`close_flat`].
 ///
 /// `P` is a constant and even, so 32 rows take exactly `P / 2` words: each group of 32 rows is
 /// cut out of one slice of `P / 2 + 1` words (one bounds check), unrolled, with every row's
 /// word and shift a constant, and a row costs about two loads, a double shift (`shrd`), a mask
 /// and a store. The last `P * P % 32` rows are cut the same way one by one.
 #[inline(always)]
-fn cut_rows<const P: usize>(
-    words: usize,
-    tail: &[u16],
-    flat: &mut FlatColumns,
-    out: &mut Vec<u64>,
-) -> bool {
-    debug_assert!(P.is_multiple_of(2) && words + 2 <= FLAT_WORDS);
-    debug_assert_eq!(words * 64 + tail.len(), P * P * P);
-    flat[masked::<FLAT_WORDS>(words)] = row_non_air(tail);
-    // A row's bits may end in the last word: the word after it reads as empty.
-    flat[masked::<FLAT_WORDS>(words + 1)] = 0;
-    if flat[..=words].iter().fold(0, |any, &w| any | w) == 0 {
-        return false;
-    }
-    let out = sized(out, P * P);
-
+pub(crate) fn cut_rows<const P: usize>(flat: &FlatColumns, out: &mut [u64]) {
+    debug_assert!(P.is_multiple_of(2) && out.len() == P * P);
     let row_bits = (1u64 << P) - 1;
     // The `P` bits from bit `bit` of `words`.
     let cut = |words: &[u64], bit: usize| {
@@ -180,7 +144,6 @@ fn cut_rows<const P: usize>(
     for (r, row) in rest.iter_mut().enumerate() {
         *row = cut(&flat[..], P * (first + r));
     }
-    true
 }
 
 #[cfg(test)]
@@ -190,65 +153,97 @@ mod tests {
     use super::*;
 
     /// Every supported edge, random ids with runs of air and ids across the 16-bit range: each
-    /// row's mask is its own ids', from the portable builder and (on a CPU with AVX2) the
-    /// x86-64-v3 one. The buffers are reused, as a mesher does: across sizes and at one size
-    /// twice in a row (then they are overwritten, not resized).
+    /// row's mask is its own ids', from every builder this CPU runs. The buffers are reused, as
+    /// a mesher does: across sizes and at one size twice in a row (then they are overwritten,
+    /// not resized).
     #[test]
     fn columns_match_each_row_s_ids() {
-        let mut rng = voxel_scene::rng::Rng::new(7);
-        let mut portable = (vec![7], alloc::boxed::Box::new([9; FLAT_WORDS]));
-        let mut x86_v3 = portable.clone();
-        for p in [10, 18, 34, 34, 64, 64, 10] {
-            let voxels: Vec<u16> = (0..p * p * p)
-                .map(|_| match rng.below(4) {
-                    0 | 1 => 0,
-                    2 => 1,
-                    _ => rng.below(65_535) as u16 + 1,
-                })
-                .collect();
-            let want: Vec<u64> = voxels
-                .chunks_exact(p)
-                .map(|ids| {
-                    ids.iter()
-                        .enumerate()
-                        .fold(0u64, |m, (x, &id)| m | u64::from(id != 0) << x)
-                })
-                .collect();
-            assert!(build_columns(p, &voxels, &mut portable.0, &mut portable.1));
-            assert_eq!(portable.0, want, "edge {p}");
-            #[cfg(target_arch = "x86_64")]
-            if crate::InstructionSet::X86V3.is_supported() {
-                let (out, flat) = &mut x86_v3;
-                #[expect(
-                    unsafe_code,
-                    reason = "calls the x86-64-v3 copy on a CPU checked to run it"
-                )]
-                // SAFETY: `X86V3.is_supported()` found every feature the copy is compiled for.
-                let any_solid = unsafe { build_columns_x86_v3(p, &voxels, out, flat) };
-                assert!(any_solid, "edge {p}, x86-64-v3");
-                assert_eq!(*out, want, "edge {p}, x86-64-v3");
-            } else {
-                std::eprintln!("no AVX2 on this CPU: build_columns_x86_v3 is never run here");
+        for (name, build) in builders() {
+            let mut rng = voxel_scene::rng::Rng::new(7);
+            let (mut out, mut flat) = (vec![7], alloc::boxed::Box::new([9; FLAT_WORDS]));
+            for p in [10, 18, 34, 34, 64, 64, 10] {
+                let voxels: Vec<u16> = (0..p * p * p)
+                    .map(|_| match rng.below(4) {
+                        0 | 1 => 0,
+                        2 => 1,
+                        _ => rng.below(65_535) as u16 + 1,
+                    })
+                    .collect();
+                let want: Vec<u64> = voxels
+                    .chunks_exact(p)
+                    .map(|ids| {
+                        ids.iter()
+                            .enumerate()
+                            .fold(0u64, |m, (x, &id)| m | u64::from(id != 0) << x)
+                    })
+                    .collect();
+                assert!(build(p, &voxels, &mut out, &mut flat), "{name}, edge {p}");
+                assert_eq!(out, want, "{name}, edge {p}");
             }
         }
     }
 
+    /// The column builders this CPU runs: the portable one, and the x86-64-v3 one where the CPU
+    /// has AVX2 (else the test says so on stderr).
+    fn builders() -> Vec<(&'static str, Builder)> {
+        let mut all: Vec<(&'static str, Builder)> = vec![("portable", build_columns)];
+        #[cfg(target_arch = "x86_64")]
+        if crate::InstructionSet::X86V3.is_supported() {
+            all.push(("x86-64-v3", build_columns_x86_v3_checked));
+        } else {
+            std::eprintln!("no AVX2 on this CPU: build_columns_x86_v3 is never run here");
+        }
+        all
+    }
+
+    /// A column builder's signature.
+    type Builder = fn(usize, &[u16], &mut Vec<u64>, &mut FlatColumns) -> bool;
+
+    /// `build_columns_x86_v3` as a safe function, for [`builders`], which lists it only on a
+    /// CPU with AVX2.
+    #[cfg(target_arch = "x86_64")]
+    fn build_columns_x86_v3_checked(
+        p: usize,
+        voxels: &[u16],
+        out: &mut Vec<u64>,
+        flat: &mut FlatColumns,
+    ) -> bool {
+        assert!(crate::InstructionSet::X86V3.is_supported());
+        #[expect(
+            unsafe_code,
+            reason = "calls the x86-64-v3 copy on a CPU checked to run it"
+        )]
+        // SAFETY: `X86V3.is_supported()` found every feature the copy is compiled for.
+        unsafe {
+            super::super::plain_x86::build_columns_x86_v3(p, voxels, out, flat)
+        }
+    }
+
     /// An all-air array below 64 is found from the flat mask: false, and the columns are not
-    /// cut. One solid id anywhere, the last one included (it lies in the flat mask's tail
-    /// word at every short edge), gives true and its column.
+    /// cut. One solid id anywhere gives true and its column: the first id, one in the middle,
+    /// and the last (in the flat mask's tail word at every short edge).
     #[test]
     fn an_all_air_array_is_found_before_its_rows_are_cut() {
-        for p in [10, 18, 34] {
-            let mut air = vec![0u16; p * p * p];
-            let (mut out, mut flat) = (vec![7; 3], alloc::boxed::Box::new([9; FLAT_WORDS]));
-            assert!(!build_columns(p, &air, &mut out, &mut flat), "edge {p}");
-            assert_eq!(out, [7; 3], "edge {p}: nothing cut");
-            let last = air.len() - 1;
-            air[last] = 3;
-            assert!(build_columns(p, &air, &mut out, &mut flat), "edge {p}");
-            assert_eq!(out.len(), p * p);
-            assert_eq!(out[p * p - 1], 1 << (p - 1), "edge {p}");
-            assert!(out[..p * p - 1].iter().all(|&c| c == 0), "edge {p}");
+        for (name, build) in builders() {
+            for p in [10, 18, 34] {
+                let mut air = vec![0u16; p * p * p];
+                let (mut out, mut flat) = (vec![7; 3], alloc::boxed::Box::new([9; FLAT_WORDS]));
+                assert!(!build(p, &air, &mut out, &mut flat), "{name}, edge {p}");
+                assert_eq!(out, [7; 3], "{name}, edge {p}: nothing cut");
+                for at in [0, air.len() / 2 + 1, air.len() - 1] {
+                    air.fill(0);
+                    air[at] = 3;
+                    assert!(
+                        build(p, &air, &mut out, &mut flat),
+                        "{name}, edge {p}, {at}"
+                    );
+                    assert_eq!(out.len(), p * p);
+                    for (row, &column) in out.iter().enumerate() {
+                        let want = if row == at / p { 1 << (at % p) } else { 0 };
+                        assert_eq!(column, want, "{name}, edge {p}, solid id {at}, row {row}");
+                    }
+                }
+            }
         }
     }
 }

@@ -1,0 +1,244 @@
+//! The plain-array input's occupancy columns compiled for x86-64-v3: the same columns as
+//! [`build_columns`](super::plain::build_columns), with AVX2 kernels.
+//!
+//! # Why the kernels look like this
+//!
+//! An AVX2 register holds 16 ids. Two are packed to 32 bytes with signed saturation (a
+//! non-zero `i16` stays non-zero), compared with zero and turned into 32 air bits by
+//! `vpmovmskb`. The pack works within each 128-bit half of the registers, so the 32 bits come
+//! out in *lane order*: ids 0-7, 16-23, 8-15, 24-31, one byte each. Putting them in id order
+//! with a cross-lane permute per pack was half the kernel's shuffle work, and Intel cores run
+//! both the packs and the permutes on one port: the kernel was bound by that port.
+//!
+//! So [`air_in_lane_order`] stores the bits as they come, two `u32`s per 64 ids, and one pass
+//! ([`to_id_order_non_air`]) swaps the middle two bytes of every `u32` with one in-lane byte
+//! shuffle per 32 bytes, and inverts air into occupancy.
+//!
+//! At padded edge 34 each row of 34 bits is then cut out of the flat mask four rows a step
+//! ([`cut_34_rows`]): four rows are 136 bits, 17 bytes, and row `k` of the four starts at
+//! byte `4 k`, bit `2 k`; so one 32-byte load, a dword permute (`0, 1, 1, 2, 2, 3, 3, 4`), a
+//! variable shift by `0, 2, 4, 6` and a mask give the four rows.
+
+#[cfg(target_feature = "sse2")]
+use core::arch::x86_64::{
+    __m256i, _mm256_and_si256, _mm256_cmpeq_epi8, _mm256_movemask_epi8, _mm256_or_si256,
+    _mm256_packs_epi16, _mm256_permutevar8x32_epi32, _mm256_set1_epi8, _mm256_set1_epi64x,
+    _mm256_setr_epi8, _mm256_setr_epi32, _mm256_setr_epi64x, _mm256_setzero_si256,
+    _mm256_shuffle_epi8, _mm256_srlv_epi64, _mm256_testz_si256, _mm256_xor_si256,
+};
+
+use alloc::vec::Vec;
+
+use super::plain::FlatColumns;
+#[cfg(not(target_feature = "sse2"))]
+use super::plain::build_columns;
+#[cfg(target_feature = "sse2")]
+use super::plain::{close_flat, cut_rows, sized};
+
+/// [`build_columns`](super::plain::build_columns) compiled for x86-64-v3, with the AVX2
+/// kernels of this module.
+#[cfg(target_feature = "sse2")]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline]
+pub(crate) fn build_columns_x86_v3(
+    p: usize,
+    voxels: &[u16],
+    out: &mut Vec<u64>,
+    flat: &mut FlatColumns,
+) -> bool {
+    match p {
+        64 => {
+            let rows = voxels.as_chunks::<64>().0;
+            let columns = sized(out, rows.len());
+            air_in_lane_order(rows, columns);
+            to_id_order_non_air(columns);
+            true
+        }
+        34 => short_columns::<34>(voxels, out, flat),
+        18 => short_columns::<18>(voxels, out, flat),
+        _ => short_columns::<10>(voxels, out, flat),
+    }
+}
+
+/// [`build_columns_x86_v3`] on an x86-64 target without SSE (soft float, as
+/// `x86_64-unknown-none`), which cannot hold AVX2 vectors: the portable builder.
+#[cfg(not(target_feature = "sse2"))]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline]
+pub(crate) fn build_columns_x86_v3(
+    p: usize,
+    voxels: &[u16],
+    out: &mut Vec<u64>,
+    flat: &mut FlatColumns,
+) -> bool {
+    build_columns(p, voxels, out, flat)
+}
+
+/// The columns of an array of edge `P` below 64: the flat mask 64 ids a word, put in id
+/// order, then the rows cut out of it. False, with nothing cut, when every id is air.
+#[cfg(target_feature = "sse2")]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline(never)]
+fn short_columns<const P: usize>(
+    voxels: &[u16],
+    out: &mut Vec<u64>,
+    flat: &mut FlatColumns,
+) -> bool {
+    let (whole, tail) = voxels.as_chunks::<64>();
+    let words = &mut flat[..whole.len()];
+    air_in_lane_order(whole, words);
+    let any = to_id_order_non_air(words);
+    if !close_flat(whole.len(), tail, flat) && !any {
+        return false;
+    }
+    let out = sized(out, P * P);
+    if P == 34 {
+        cut_34_rows(flat, out);
+    } else {
+        cut_rows::<P>(flat, out);
+    }
+    true
+}
+
+/// The air of every 64 ids of `rows` into the word of `out` at the same index, in lane order
+/// (see the [module docs](self)): the `u32` of ids 0-31 first, then that of ids 32-63, each
+/// with its middle two bytes swapped. `out` holds at least as many words as `rows` rows.
+#[cfg(target_feature = "sse2")]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline]
+fn air_in_lane_order(rows: &[[u16; 64]], out: &mut [u64]) {
+    let air = |row: &[u16; 64]| -> [u32; 2] {
+        let sixteen = |k: usize| -> __m256i {
+            let ids: [u16; 16] = core::array::from_fn(|j| row[16 * k + j]);
+            bytemuck::cast(ids)
+        };
+        let half = |k: usize| -> u32 {
+            let packed = _mm256_packs_epi16(sixteen(k), sixteen(k + 1));
+            _mm256_movemask_epi8(_mm256_cmpeq_epi8(packed, _mm256_setzero_si256())) as u32
+        };
+        [half(0), half(2)]
+    };
+    let out: &mut [[u32; 2]] = bytemuck::cast_slice_mut(&mut out[..rows.len()]);
+    // Four rows a step: the loop's own counting was a fifth of the kernel's instructions.
+    let (rows4, rows_rest) = rows.as_chunks::<4>();
+    let (out4, out_rest) = out.as_chunks_mut::<4>();
+    for (four, rows) in out4.iter_mut().zip(rows4) {
+        *four = [air(&rows[0]), air(&rows[1]), air(&rows[2]), air(&rows[3])];
+    }
+    for (word, row) in out_rest.iter_mut().zip(rows_rest) {
+        *word = air(row);
+    }
+}
+
+/// Turns words of air bits in lane order (from [`air_in_lane_order`]) into occupancy in id
+/// order, in place. Returns whether any bit is set (some id is not air).
+#[cfg(target_feature = "sse2")]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline]
+fn to_id_order_non_air(words: &mut [u64]) -> bool {
+    // Bytes 0, 2, 1, 3 of every `u32`: the swap is its own inverse.
+    let swap = _mm256_setr_epi8(
+        0, 2, 1, 3, 4, 6, 5, 7, 8, 10, 9, 11, 12, 14, 13, 15, 0, 2, 1, 3, 4, 6, 5, 7, 8, 10, 9, 11,
+        12, 14, 13, 15,
+    );
+    let ones = _mm256_set1_epi8(-1);
+    let mut any = _mm256_setzero_si256();
+    let (quads, rest) = words.as_chunks_mut::<4>();
+    for quad in quads {
+        let fixed = _mm256_xor_si256(_mm256_shuffle_epi8(bytemuck::cast(*quad), swap), ones);
+        any = _mm256_or_si256(any, fixed);
+        *quad = bytemuck::cast(fixed);
+    }
+    let mut any_rest = 0;
+    for word in rest {
+        let [b0, b1, b2, b3, b4, b5, b6, b7] = word.to_le_bytes();
+        *word = !u64::from_le_bytes([b0, b2, b1, b3, b4, b6, b5, b7]);
+        any_rest |= *word;
+    }
+    _mm256_testz_si256(any, any) == 0 || any_rest != 0
+}
+
+/// The 1,156 rows of 34 bits of an array of edge 34 into `out`, from `flat`, its occupancy
+/// in id order 64 ids a word (and an empty word after the last), four rows a step (see the
+/// [module docs](self)).
+#[cfg(target_feature = "sse2")]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline]
+fn cut_34_rows(flat: &FlatColumns, out: &mut [u64]) {
+    // Dwords 0, 1 for row 0, 1, 2 for row 1, 2, 3 for row 2 and 3, 4 for row 3.
+    let dwords = _mm256_setr_epi32(0, 1, 1, 2, 2, 3, 3, 4);
+    let shifts = _mm256_setr_epi64x(0, 2, 4, 6);
+    let row = _mm256_set1_epi64x((1 << 34) - 1);
+    let bytes: &[u8] = bytemuck::cast_slice(&flat[..]);
+    let four_rows = |window: &[u8]| -> [u64; 4] {
+        let window: [u8; 32] = core::array::from_fn(|i| window[i]);
+        let spread = _mm256_permutevar8x32_epi32(bytemuck::cast(window), dwords);
+        bytemuck::cast(_mm256_and_si256(_mm256_srlv_epi64(spread, shifts), row))
+    };
+    // 32 rows (136 bytes) a block, with one bounds check: its eighth window reads 32 bytes
+    // from byte 119.
+    let (blocks, rest) = out.as_chunks_mut::<32>();
+    for (b, block) in blocks.iter_mut().enumerate() {
+        let from = &bytes[136 * b..][..151];
+        for (g, four) in block.as_chunks_mut::<4>().0.iter_mut().enumerate() {
+            *four = four_rows(&from[17 * g..]);
+        }
+    }
+    let first = 136 * blocks.len();
+    for (g, four) in rest.as_chunks_mut::<4>().0.iter_mut().enumerate() {
+        *four = four_rows(&bytes[first + 17 * g..]);
+    }
+}
+
+#[cfg(all(test, target_feature = "sse2"))]
+mod tests {
+    use alloc::vec::Vec;
+
+    use super::*;
+    use crate::blocky::bits::row_non_air;
+
+    /// The kernel and the id-order pass against the portable row mask, on rows of air and ids
+    /// at the ends of the 16-bit range, where a signed saturating pack could turn an id into
+    /// air, in every position of the lanes. 1 to 9 rows a call, so both the four-row steps and
+    /// the rest run; one call in ten is all air, which the pass must report. Only a CPU with
+    /// AVX2 runs these kernels, so only one can check them; without AVX2 the test says so on
+    /// stderr.
+    #[test]
+    fn the_kernel_and_the_id_order_pass_give_each_row_s_occupancy() {
+        if !crate::InstructionSet::X86V3.is_supported() {
+            std::eprintln!("no AVX2 on this CPU: the x86-64-v3 column kernels are never run here");
+            return;
+        }
+        let values = [
+            0u16, 1, 2, 0x7F, 0x80, 0xFF, 0x100, 0x7FFF, 0x8000, 0xFF00, 0xFFFF,
+        ];
+        let mut rng = voxel_scene::rng::Rng::new(11);
+        for call in 0..600 {
+            let air = call % 10 == 0;
+            let rows: Vec<[u16; 64]> = (0..1 + call % 9)
+                .map(|r| {
+                    core::array::from_fn(|i| match (air, call, r) {
+                        (true, ..) => 0,
+                        (_, 1, 0) => values[1 + i % (values.len() - 1)],
+                        _ => values[rng.below(values.len() as u64) as usize],
+                    })
+                })
+                .collect();
+            let mut words = [!0; 10];
+            #[expect(
+                unsafe_code,
+                reason = "calls the AVX2 kernels on a CPU checked to have them"
+            )]
+            // SAFETY: `X86V3.is_supported()` found every feature the kernels are compiled for.
+            let any = unsafe {
+                air_in_lane_order(&rows, &mut words);
+                to_id_order_non_air(&mut words[..rows.len()])
+            };
+            for (r, row) in rows.iter().enumerate() {
+                assert_eq!(words[r], row_non_air(row), "call {call}, row {r}: {row:?}");
+            }
+            assert_eq!(words[rows.len()..], [!0; 10][rows.len()..], "call {call}");
+            assert_eq!(any, !air, "call {call}");
+        }
+    }
+}
