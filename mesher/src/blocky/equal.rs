@@ -511,13 +511,18 @@ fn transpose_pair_into(
     // slices lie 512 bytes apart, so line `y` of each of the four masks' 32 slices falls in
     // 8 of the L1 cache's 64 sets, and taken one `y` at a time the 128 lines evict each
     // other before the next `y` reads them again.
+    // Rows `p - 2..` of every matrix are zero when it is transposed: set once here, and
+    // again after each block (the transpose fills them). Rows below are written per block.
+    let mut ms = [[0u64; 64]; 8];
     for block in 0..8 {
         let block_ys = (ys >> (8 * block)) & 0xFF;
         if block_ys == 0 {
             continue;
         }
         let lines = 8 * block..8 * block + 8;
-        let mut ms = [[0u64; 64]; 8];
+        for m in &mut ms {
+            m[first.len()..].fill(0);
+        }
         for (z, (one, two)) in first.iter().zip(second).enumerate() {
             let (one, two) = (&one[lines.clone()], &two[lines.clone()]);
             for ((m, &one), &two) in ms.iter_mut().zip(one).zip(two) {
