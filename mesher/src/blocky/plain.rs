@@ -95,6 +95,7 @@ fn short_columns_portable<const P: usize>(
     flat: &mut FlatColumns,
 ) -> bool {
     let (whole, tail) = voxels.as_chunks::<64>();
+    debug_assert_eq!(whole.len() * 64 + tail.len(), P * P * P);
     for (word, ids) in flat.iter_mut().zip(whole) {
         *word = row_non_air(ids);
     }

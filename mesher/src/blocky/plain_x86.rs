@@ -85,6 +85,7 @@ fn short_columns<const P: usize>(
     flat: &mut FlatColumns,
 ) -> bool {
     let (whole, tail) = voxels.as_chunks::<64>();
+    debug_assert_eq!(whole.len() * 64 + tail.len(), P * P * P);
     let words = &mut flat[..whole.len()];
     air_in_lane_order(whole, words);
     let any = to_id_order_non_air(words);
@@ -169,6 +170,7 @@ fn cut_34_rows(flat: &FlatColumns, out: &mut [u64]) {
     let dwords = _mm256_setr_epi32(0, 1, 1, 2, 2, 3, 3, 4);
     let shifts = _mm256_setr_epi64x(0, 2, 4, 6);
     let row = _mm256_set1_epi64x((1 << 34) - 1);
+    debug_assert_eq!(out.len(), 34 * 34);
     let bytes: &[u8] = bytemuck::cast_slice(&flat[..]);
     let four_rows = |window: &[u8]| -> [u64; 4] {
         let window: [u8; 32] = core::array::from_fn(|i| window[i]);
