@@ -507,13 +507,13 @@ fn transpose_pair_into(
     // Both are `p` slices long (`prepare` sized them); their interior ones are `1..p - 1`.
     let (first, second) = (&first[1..p - 1], &second[1..p - 1]);
     let (first_out, second_out) = (&mut first_out[1..p - 1], &mut second_out[1..p - 1]);
+    // Rows `p - 2..` of every matrix are zero when it is transposed: set once here, and
+    // again after each block (the transpose fills them). Rows below are written per block.
+    let mut ms = [[0u64; 64]; 8];
     // Eight B slices at a time, the words of a slice's lines `8 k .. 8 k + 8`: the masks'
     // slices lie 512 bytes apart, so line `y` of each of the four masks' 32 slices falls in
     // 8 of the L1 cache's 64 sets, and taken one `y` at a time the 128 lines evict each
     // other before the next `y` reads them again.
-    // Rows `p - 2..` of every matrix are zero when it is transposed: set once here, and
-    // again after each block (the transpose fills them). Rows below are written per block.
-    let mut ms = [[0u64; 64]; 8];
     for block in 0..8 {
         let block_ys = (ys >> (8 * block)) & 0xFF;
         if block_ys == 0 {

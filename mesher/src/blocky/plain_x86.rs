@@ -36,8 +36,8 @@ use super::plain::build_columns;
 use super::plain::{close_flat, cut_rows, sized};
 
 /// [`build_columns`](super::plain::build_columns) compiled for x86-64-v3, with the AVX2
-/// kernels of this module.
-#[cfg(target_feature = "sse2")]
+/// kernels of this module. On an x86-64 target without SSE (soft float, as
+/// `x86_64-unknown-none`), which cannot hold AVX2 vectors, the portable builder.
 #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
 #[inline]
 pub(crate) fn build_columns_x86_v3(
@@ -46,6 +46,9 @@ pub(crate) fn build_columns_x86_v3(
     out: &mut Vec<u64>,
     flat: &mut FlatColumns,
 ) -> bool {
+    #[cfg(not(target_feature = "sse2"))]
+    return build_columns(p, voxels, out, flat);
+    #[cfg(target_feature = "sse2")]
     match p {
         64 => {
             let rows = voxels.as_chunks::<64>().0;
@@ -58,20 +61,6 @@ pub(crate) fn build_columns_x86_v3(
         18 => short_columns::<18>(voxels, out, flat),
         _ => short_columns::<10>(voxels, out, flat),
     }
-}
-
-/// [`build_columns_x86_v3`] on an x86-64 target without SSE (soft float, as
-/// `x86_64-unknown-none`), which cannot hold AVX2 vectors: the portable builder.
-#[cfg(not(target_feature = "sse2"))]
-#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
-#[inline]
-pub(crate) fn build_columns_x86_v3(
-    p: usize,
-    voxels: &[u16],
-    out: &mut Vec<u64>,
-    flat: &mut FlatColumns,
-) -> bool {
-    build_columns(p, voxels, out, flat)
 }
 
 /// The columns of an array of edge `P` below 64: the flat mask 64 ids a word, put in id
