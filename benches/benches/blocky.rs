@@ -43,6 +43,8 @@
 //! - `BLOCKY_INTERLEAVED_ROUNDS` (default 100; 0 skips the interleaved timing) and
 //!   `BLOCKY_INTERLEAVED_SECONDS` (default 10: an input stops after that much wall time, once
 //!   10 rounds are done).
+//! - `BLOCKY_VOX_DIR`: a folder of MagicaVoxel models to mesh instead of the samples in
+//!   `../shared/data/vox`.
 
 use std::collections::BTreeSet;
 use std::hint::black_box;

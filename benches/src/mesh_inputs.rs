@@ -16,7 +16,8 @@
 //! | `menger L<level>` | a Menger sponge of level 3, 4 or 5 (edge 27, 81, 243) in stone at the origin, every chunk it touches ([`voxel_scene::detailed::menger`]) |
 //! | `menger shaded L4` | the level-4 sponge in three shades of stone, one per 9^3 block ([`voxel_scene::detailed::menger_shaded`]): the same holes, with id edges every 9 voxels |
 //! | `foliage` | a forest floor of 124 x 62 x 124 voxels: trees, leaves with holes in three shades, grass blades, flowers, vines ([`voxel_scene::detailed::foliage`]), every chunk it touches |
-//! | `vox/<model>` | a MagicaVoxel sample model from `../shared/data/vox/`, every chunk it touches |
+//! | `flat maze` | a maze of 90 x 90 cells in stone, 181 x 3 x 181 voxels: a floor under walls two voxels high, one wide ([`voxel_scene::detailed::flat_maze`]), every chunk it touches |
+//! | `vox/<model>` | a MagicaVoxel model from `../shared/data/vox/` (or `BLOCKY_VOX_DIR`), every chunk it touches |
 //!
 //! Every input exists at any chunk size (the size is in its name); the benches use 32^3 and
 //! 62^3.
@@ -27,7 +28,7 @@ use voxel_core::{
     BlockId, ChunkSize, Material, MaterialPalette, PaddedChunk, gather_neighbourhood,
 };
 use voxel_scene::TerrainBlocks;
-use voxel_scene::detailed::{VoxelBox, foliage, menger, menger_shaded};
+use voxel_scene::detailed::{VoxelBox, flat_maze, foliage, menger, menger_shaded};
 use voxel_scene::vox::load_vox_file;
 
 use crate::inputs::chunks::{TERRAIN_CENTRE, terrain_world_dense};
@@ -180,8 +181,8 @@ fn scene_input(name: &str, scene: &VoxelBox, size: ChunkSize) -> MeshInput {
     }
 }
 
-/// The Menger sponges of levels 3 to 5, the shaded level-4 one and the foliage scene, cut into
-/// chunks of `size`.
+/// The Menger sponges of levels 3 to 5, the shaded level-4 one, the foliage scene and the
+/// flat maze, cut into chunks of `size`.
 pub fn scene_inputs(size: ChunkSize) -> Vec<MeshInput> {
     let mut out: Vec<MeshInput> = (3..=5)
         .map(|level| scene_input(&format!("menger L{level}"), &menger(level), size))
@@ -189,8 +190,16 @@ pub fn scene_inputs(size: ChunkSize) -> Vec<MeshInput> {
     out.push(scene_input("menger shaded L4", &menger_shaded(4), size));
     let forest = foliage([FOLIAGE_EDGE, 62, FOLIAGE_EDGE], FOLIAGE_SEED);
     out.push(scene_input("foliage", &forest, size));
+    let maze = flat_maze(FLAT_MAZE_CELLS, 2, FLAT_MAZE_SEED);
+    out.push(scene_input("flat maze", &maze, size));
     out
 }
+
+/// The cells along each side of the flat maze scene: 181 voxels, 3 x 3 chunks of 62^3.
+pub const FLAT_MAZE_CELLS: usize = 90;
+
+/// The seed of the flat maze scene.
+pub const FLAT_MAZE_SEED: u64 = 3;
 
 /// Every input at `size`: the synthetic ones, the scenes, then the sample models when
 /// `../shared/data/vox` is there (and `None` when it is not, so callers can say so).
@@ -209,7 +218,10 @@ pub fn all_inputs(size: ChunkSize) -> (Vec<MeshInput>, Option<PathBuf>) {
 pub fn find_input(name: &str, size: ChunkSize) -> Option<MeshInput> {
     let family = if name.starts_with("vox/") {
         vox_inputs(&vox_dir()?, size)
-    } else if name.starts_with("menger") || name.starts_with("foliage") {
+    } else if ["menger", "foliage", "flat maze"]
+        .iter()
+        .any(|scene| name.starts_with(scene))
+    {
         scene_inputs(size)
     } else {
         synthetic_inputs(size)
@@ -217,9 +229,13 @@ pub fn find_input(name: &str, size: ChunkSize) -> Option<MeshInput> {
     family.into_iter().find(|i| i.name.starts_with(name))
 }
 
-/// The folder of the MagicaVoxel samples (`../shared/data/vox` beside the checkout), if present.
+/// The folder of MagicaVoxel models to mesh: `BLOCKY_VOX_DIR` if set (to measure on models
+/// of one's own), else the samples in `../shared/data/vox` beside the checkout, if present.
 pub fn vox_dir() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/vox");
+    let dir = std::env::var_os("BLOCKY_VOX_DIR").map_or_else(
+        || Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/vox"),
+        PathBuf::from,
+    );
     dir.is_dir().then_some(dir)
 }
 

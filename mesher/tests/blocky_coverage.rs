@@ -96,6 +96,9 @@ fn every_size_and_fill_once() {
             Fill::Menger { level: 3 },
             Fill::Menger { level: 4 },
             Fill::Foliage,
+            Fill::FlatMaze { normal: 0 },
+            Fill::FlatMaze { normal: 1 },
+            Fill::FlatMaze { normal: 2 },
         ] {
             // Two seeds: the checkerboard is of one id for one of them, of mixed ids for the other.
             for seed in [7, 8] {

@@ -1,7 +1,8 @@
 //! Dense, detailed scenes for testing and benchmarking meshers, built voxel by voxel: a Menger
-//! sponge (a fractal of many small holes, [`menger`]) and a foliage scene (trees, leaves with
-//! holes, grass blades, flowers: many thin, separate features of mixed ids, [`foliage`]). Both
-//! are deterministic.
+//! sponge (a fractal of many small holes, [`menger`]), a foliage scene (trees, leaves with
+//! holes, grass blades, flowers: many thin, separate features of mixed ids, [`foliage`]) and a
+//! flat maze (a floor and low walls of one id, a few voxels high and wide across many chunks,
+//! [`flat_maze`]). All are deterministic.
 //!
 //! A [`VoxelBox`] is a box of ids with its palette; [`VoxelBox::padded_chunks`] cuts it into
 //! padded chunks of any size, each gathered with its real neighbours, the way a world is
@@ -324,6 +325,57 @@ pub fn foliage(dims: [usize; 3], seed: u64) -> VoxelBox {
     scene
 }
 
+/// A maze of `cells` x `cells` cells in one stone id, flat: a floor one voxel thick (y = 0)
+/// under walls `wall_height` voxels high, walls and paths one voxel wide (edge `2 cells + 1`
+/// along x and z, height `wall_height + 1`). Its passages are carved by a depth-first walk
+/// from cell (0, 0), so every cell is reachable. Seen edge on, most rows of ids hold a solid
+/// voxel while the chunks it crosses show few faces per solid voxel, as in a game level's
+/// floor plan. Deterministic for a `seed`.
+pub fn flat_maze(cells: usize, wall_height: usize, seed: u64) -> VoxelBox {
+    let edge = 2 * cells + 1;
+    let mut palette = MaterialPalette::new();
+    let stone = palette
+        .push(Material::opaque(150, 150, 160))
+        .expect("room")
+        .0;
+    let mut scene = VoxelBox::new([edge, wall_height + 1, edge], palette);
+    // Walls everywhere, then the cells and the passages between them carved out.
+    let mut open = vec![false; edge * edge];
+    let mut visited = vec![false; cells * cells];
+    let mut rng = Rng::new(seed);
+    let mut stack = vec![(0usize, 0usize)];
+    visited[0] = true;
+    open[edge + 1] = true;
+    while let Some(&(cx, cz)) = stack.last() {
+        let next: Vec<(usize, usize)> = [(0, 1), (2, 1), (1, 0), (1, 2)]
+            .into_iter()
+            .filter_map(|(dx, dz)| {
+                let (x, z) = ((cx + dx).checked_sub(1)?, (cz + dz).checked_sub(1)?);
+                (x < cells && z < cells && !visited[x + cells * z]).then_some((x, z))
+            })
+            .collect();
+        if next.is_empty() {
+            stack.pop();
+            continue;
+        }
+        let (nx, nz) = next[rng.below(next.len() as u64) as usize];
+        visited[nx + cells * nz] = true;
+        // The cell and the wall between it and the last one.
+        open[(2 * nx + 1) + edge * (2 * nz + 1)] = true;
+        open[(cx + nx + 1) + edge * (cz + nz + 1)] = true;
+        stack.push((nx, nz));
+    }
+    for z in 0..edge {
+        for x in 0..edge {
+            let height = if open[x + edge * z] { 0 } else { wall_height };
+            for y in 0..=height {
+                scene.set([x, y, z].map(|a| a as i64), stone);
+            }
+        }
+    }
+    scene
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -381,6 +433,44 @@ mod tests {
                 .sum();
             assert_eq!(interior, scene.solid_voxels(), "{size:?}");
         }
+    }
+
+    #[test]
+    fn flat_maze_reaches_every_cell_from_the_first() {
+        let (cells, height) = (20, 2);
+        let maze = flat_maze(cells, height, 7);
+        assert_eq!(maze.ids, flat_maze(cells, height, 7).ids);
+        let edge = 2 * cells + 1;
+        assert_eq!(maze.dims, [edge, height + 1, edge]);
+        // The floor is whole; above it, a column is wall (full height) or path (air).
+        for z in 0..edge as i64 {
+            for x in 0..edge as i64 {
+                assert_eq!(maze.get([x, 0, z]), 1);
+                let wall = maze.get([x, 1, z]) != 0;
+                assert!((1..=height as i64).all(|y| (maze.get([x, y, z]) != 0) == wall));
+            }
+        }
+        // A flood fill over the paths from cell (0, 0) reaches every cell, and a perfect maze
+        // (a tree) has exactly cells^2 - 1 passages between cells.
+        let path = |x: i64, z: i64| maze.get([x, 1, z]) == 0;
+        let mut seen = vec![false; edge * edge];
+        let mut todo = vec![(1i64, 1i64)];
+        seen[edge + 1] = true;
+        while let Some((x, z)) = todo.pop() {
+            for (nx, nz) in [(x - 1, z), (x + 1, z), (x, z - 1), (x, z + 1)] {
+                let i = (nx + edge as i64 * nz) as usize;
+                if path(nx, nz) && !seen[i] {
+                    seen[i] = true;
+                    todo.push((nx, nz));
+                }
+            }
+        }
+        let reached = (0..cells * cells)
+            .filter(|c| seen[(2 * (c % cells) + 1) + edge * (2 * (c / cells) + 1)])
+            .count();
+        assert_eq!(reached, cells * cells);
+        let paths = seen.iter().filter(|&&s| s).count();
+        assert_eq!(paths, cells * cells + (cells * cells - 1));
     }
 
     #[test]

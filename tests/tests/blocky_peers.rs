@@ -271,15 +271,16 @@ fn matches_block_mesh_on_the_sample_models() {
     }
 }
 
-/// The Menger sponges of levels 3 and 4 and a foliage scene, cut into chunks of 32^3 and
-/// 16^3 the way a world is meshed: every chunk against `block-mesh`.
+/// The Menger sponges of levels 3 and 4, a foliage scene and a flat maze, cut into chunks of
+/// 32^3 and 16^3 the way a world is meshed: every chunk against `block-mesh`.
 #[test]
 fn matches_block_mesh_on_the_detailed_scenes() {
-    use voxel_scene::detailed::{foliage, menger};
+    use voxel_scene::detailed::{flat_maze, foliage, menger};
     let scenes = [
         ("menger L3", menger(3)),
         ("menger L4", menger(4)),
         ("foliage", foliage([56, 40, 56], 5)),
+        ("flat maze", flat_maze(30, 2, 5)),
     ];
     for (name, scene) in &scenes {
         let classes = BlockClasses::from_palette(&scene.palette);

@@ -70,6 +70,10 @@ pub enum Fill {
     /// A window of a random foliage scene (`voxel_scene::detailed::foliage`: trees, leaves
     /// with holes, grass blades, vines), its 12 ids mapped onto `ids`.
     Foliage,
+    /// A window of a random flat maze (`voxel_scene::detailed::flat_maze`: a floor under low
+    /// walls, one id) in one of `ids`, its floor across axis `normal` (0 = x, 1 = y, 2 = z):
+    /// slabs and rows that are nearly all solid, with few faces.
+    FlatMaze { normal: usize },
 }
 
 /// A random padded chunk of `size`; `air_border` leaves the one-voxel border air.
@@ -127,11 +131,11 @@ pub fn random_chunk(
             if rng.below(2) == 0 {
                 let sponge = voxel_scene::detailed::menger(level);
                 let id = ids[rng.below(ids.len() as u64) as usize];
-                window(size, &sponge, &mut rng, |_| id)
+                window(size, &sponge, &mut rng, [0, 1, 2], |_| id)
             } else {
                 let sponge = voxel_scene::detailed::menger_shaded(level);
                 let shift = rng.below(ids.len() as u64) as usize;
-                window(size, &sponge, &mut rng, |id| {
+                window(size, &sponge, &mut rng, [0, 1, 2], |id| {
                     ids[(usize::from(id) + shift) % ids.len()]
                 })
             }
@@ -139,9 +143,19 @@ pub fn random_chunk(
         Fill::Foliage => {
             let dims = [48 + rng.below(48) as usize, 40, 48 + rng.below(48) as usize];
             let forest = voxel_scene::detailed::foliage(dims, rng.next_u64());
-            window(size, &forest, &mut rng, |id| {
+            window(size, &forest, &mut rng, [0, 1, 2], |id| {
                 ids[usize::from(id) % ids.len()]
             })
+        }
+        Fill::FlatMaze { normal } => {
+            let cells = 4 + rng.below(40) as usize;
+            let maze =
+                voxel_scene::detailed::flat_maze(cells, 1 + rng.below(3) as usize, rng.next_u64());
+            let id = ids[rng.below(ids.len() as u64) as usize];
+            // The maze's y (its height) along `normal`, and that axis along y.
+            let mut axes = [0, 1, 2];
+            axes.swap(1, normal);
+            window(size, &maze, &mut rng, axes, |_| id)
         }
         Fill::Terrain => {
             let heights: Vec<u32> = (0..p * p).map(|_| rng.below(u64::from(p)) as u32).collect();
@@ -176,17 +190,19 @@ pub fn random_chunk(
 }
 
 /// The padded chunk of `size` at a random offset into `scene` (which may run past its sides,
-/// where it is air), each id mapped by `map`.
+/// where it is air), each id mapped by `map`; the scene's axis `a` runs along the chunk's
+/// axis `axes[a]`.
 fn window(
     size: ChunkSize,
     scene: &voxel_scene::detailed::VoxelBox,
     rng: &mut Rng,
+    axes: [usize; 3],
     map: impl Fn(u16) -> u16,
 ) -> PaddedChunk {
     let origin: [i64; 3] = core::array::from_fn(|a| rng.below(scene.dims[a] as u64 + 4) as i64 - 4);
     PaddedChunk::from_fn(size, |x, y, z| {
         let at = [x, y, z].map(i64::from);
-        match scene.get(core::array::from_fn(|a| origin[a] + at[a])) {
+        match scene.get(core::array::from_fn(|a| origin[a] + at[axes[a]])) {
             0 => BlockId::AIR,
             id => BlockId(map(id)),
         }
@@ -340,5 +356,6 @@ pub fn fills() -> impl proptest::strategy::Strategy<Value = Fill> {
             .prop_map(|holes_percent| Fill::Checkerboard { holes_percent }),
         (2u32..=4).prop_map(|level| Fill::Menger { level }),
         Just(Fill::Foliage),
+        (0usize..3).prop_map(|normal| Fill::FlatMaze { normal }),
     ]
 }
