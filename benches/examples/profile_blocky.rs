@@ -16,7 +16,8 @@
 //! `PaddedChunk`, which prints what the array's occupancy columns cost), a number of
 //! meshes and a chunk edge (32 or 62, the default). `MESHER_ISA=baseline|x86-v3` pins
 //! the instruction set (default: the detected one); `PROFILE_EVICT_KIB=N` writes over N KiB
-//! before every mesh, outside the timed span, to time meshes that start with cold caches;
+//! before every mesh (in the pairs too), outside the timed span, to time meshes that start
+//! with cold caches;
 //! `PROFILE_ALLOC_OFFSET=N` (0, 16, 32 or 48) places every allocation `N` bytes past a cache
 //! line (see `PlacedAllocator`). The time is the thread's CPU time, taken
 //! over 20 batches: the minimum and the median per mesh, since on a shared machine the minimum
@@ -75,6 +76,14 @@ fn main() {
     time_meshes(&input, &classes, mode, meshes);
 }
 
+/// `PROFILE_EVICT_KIB`: the KiB written over before every timed mesh (0: none).
+fn evict_kib() -> usize {
+    std::env::var("PROFILE_EVICT_KIB")
+        .ok()
+        .and_then(|k| k.parse().ok())
+        .unwrap_or(0)
+}
+
 /// Meshes `input` `meshes` times in 20 batches and prints the minimum and median per mesh.
 fn time_meshes(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usize) {
     let (kind, ao) = match mode.strip_suffix("-noao") {
@@ -108,11 +117,7 @@ fn time_meshes(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: us
     // With `PROFILE_EVICT_KIB`, a buffer of that size is written over before every mesh,
     // outside the timed span, so that each mesh starts with cold caches as in the bench's
     // interleaved timing.
-    let evict_kib: usize = std::env::var("PROFILE_EVICT_KIB")
-        .ok()
-        .and_then(|k| k.parse().ok())
-        .unwrap_or(0);
-    let mut evict = vec![0u8; evict_kib * 1024];
+    let mut evict = vec![0u8; evict_kib() * 1024];
     let batch = (meshes / 20).max(1);
     let mut per: Vec<f64> = (0..20)
         .map(|round| {
@@ -267,12 +272,17 @@ fn alternate(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usiz
             )
         }
     };
+    let mut evict = vec![0u8; evict_kib() * 1024];
     let batch = (meshes / 20).max(1);
     let mut times = [Vec::new(), Vec::new()];
     for round in 0..=20 {
         for i in 0..batch {
             for k in 0..2 {
                 let which = (k + i + round) % 2;
+                if !evict.is_empty() {
+                    evict.fill((round + i + k) as u8);
+                    black_box(&evict);
+                }
                 let start = thread_cpu_now();
                 pair[which]();
                 // Round 0 warms both up.

@@ -18,7 +18,7 @@ const SAMPLES: usize = 128;
 ///
 /// First the first and last solid voxel of the chunk and of [`SAMPLES`] rows spread over it
 /// are compared (a chunk of layered or painted materials stops here); then the ids of every
-/// slab with a solid voxel are scanned, a slab at a time.
+/// slab with a solid voxel are scanned, a slab at a time, from its first solid row to its last.
 #[inline(always)]
 pub(crate) fn one_id(voxels: &[u16], columns: &[u64], p: usize, slabs: u64) -> Option<u16> {
     if p == 0 || p > 64 || voxels.len() != p * p * p || columns.len() != p * p || slabs == 0 {
@@ -45,9 +45,8 @@ pub(crate) fn one_id(voxels: &[u16], columns: &[u64], p: usize, slabs: u64) -> O
     // A voxel is neither air nor `id` iff neither it nor its XOR with `id` is zero: iff
     // their minimum is not. Per slab, those minima ORed together, which vectorises to three
     // operations per register of ids and one test. Only the rows from the slab's first solid
-    // row to its last are read: in a chunk with few solid rows a slab (a thin floor seen edge
-    // on, a flat maze) the ids of the others would be read for nothing, and reading every id
-    // of a chunk is what makes this scan cost more than keying the faces.
+    // row to its last are read: where a slab has few solid rows (a floor seen edge on, a flat
+    // maze), reading all its ids made this scan cost more than keying the faces with AO on.
     for z in ones(slabs) {
         let rows = columns.get(z * p..(z + 1) * p)?;
         let first = rows.iter().position(|&c| c != 0)?;
