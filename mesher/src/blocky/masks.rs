@@ -150,11 +150,12 @@ fn row_transparent(voxels: &[u16], columns: &[u64], ids: &[BlockId], trans_a: &m
 const SLAB_WORDS: usize = 20;
 
 /// Layout A of the transparent mask of a chunk of padded edge `P` below 64 (at most
-/// [`FEW_TRANSPARENT`] transparent `ids`) into `trans_a`'s lines `0..P`; returns which of the
-/// ids occur (bit `k` for `ids[k]`).
+/// [`FEW_TRANSPARENT`] transparent `ids`; `columns`, its occupancy) into `trans_a`'s lines
+/// `0..P`; returns which of the ids occur (bit `k` for `ids[k]`).
 ///
 /// Slab by slab, since a slab's `P * P` ids are contiguous: a slab that holds none of an id
-/// costs one compare-and-OR over it ([`row_contains`]). Otherwise its ids are matched 64 at a
+/// costs one compare-and-OR over its rows from the first non-air one to the last
+/// ([`row_contains`]). Otherwise its ids are matched 64 at a
 /// time into a flat mask (bit `i` of word `i / 64` for id `i` of the slab) and each row's `P`
 /// bits, which start at bit `P * y`, are cut out of it. Row by row, a 34-id row cost two
 /// scans of an odd length each (about 50 instructions per row and id on terrain; this is
@@ -162,6 +163,7 @@ const SLAB_WORDS: usize = 20;
 #[inline(always)]
 fn short_transparent<const P: usize>(
     voxels: &[u16],
+    columns: &[u64],
     ids: &[BlockId],
     trans_a: &mut [Slice],
 ) -> u32 {
@@ -169,10 +171,20 @@ fn short_transparent<const P: usize>(
     let row_bits = (1u64 << P) - 1;
     let mut flat = [0u64; SLAB_WORDS];
     let mut seen = 0u32;
-    for (slab, lines) in voxels.chunks_exact(P * P).zip(trans_a.iter_mut()) {
+    let slabs = voxels.chunks_exact(P * P).zip(columns.chunks_exact(P));
+    for ((slab, rows), lines) in slabs.zip(trans_a.iter_mut()) {
         lines[..P].fill(0);
+        // Only the rows from the slab's first non-air row to its last can hold the ids: the
+        // others are not read (the sky above a terrain, the air around a model).
+        let (Some(first), Some(last)) = (
+            rows.iter().position(|&c| c != 0),
+            rows.iter().rposition(|&c| c != 0),
+        ) else {
+            continue;
+        };
+        let solid = slab.get(first * P..(last + 1) * P).unwrap_or(slab);
         for (k, id) in ids.iter().enumerate() {
-            if !row_contains(slab, id.0) {
+            if !row_contains(solid, id.0) {
                 continue;
             }
             seen |= 1 << k;
@@ -307,9 +319,9 @@ impl Masks {
         if ids.len() <= FEW_TRANSPARENT {
             let seen = match p {
                 64 => row_transparent(voxels, columns, ids, &mut self.trans_a),
-                34 => short_transparent::<34>(voxels, ids, &mut self.trans_a),
-                18 => short_transparent::<18>(voxels, ids, &mut self.trans_a),
-                _ => short_transparent::<10>(voxels, ids, &mut self.trans_a),
+                34 => short_transparent::<34>(voxels, columns, ids, &mut self.trans_a),
+                18 => short_transparent::<18>(voxels, columns, ids, &mut self.trans_a),
+                _ => short_transparent::<10>(voxels, columns, ids, &mut self.trans_a),
             };
             self.has_transparent = seen != 0;
             self.mixed_transparent = seen.count_ones() > 1;
