@@ -231,6 +231,20 @@ fn faces_of_id_in<const N: usize>(row: &[u16; N], id: u16, faces: u64) -> u64 {
     faces & equal
 }
 
+/// The rows of a slab from its first row with a set bit to its last (indexes into `rows`, a
+/// slab's occupancy rows), or `None` if every row is empty: the only rows of the slab whose
+/// ids need reading when looking for ids that are not air.
+#[inline(always)]
+pub(crate) fn occupied_rows(rows: &[u64]) -> Option<core::ops::Range<usize>> {
+    match (
+        rows.iter().position(|&c| c != 0),
+        rows.iter().rposition(|&c| c != 0),
+    ) {
+        (Some(first), Some(last)) => Some(first..last + 1),
+        _ => None,
+    }
+}
+
 /// True if `row` holds `id` anywhere: a compare-and-OR over the row that vectorises without
 /// any bit packing, much cheaper than [`row_equal`] when (as usual) the answer is no.
 #[inline(always)]

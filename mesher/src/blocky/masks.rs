@@ -34,7 +34,7 @@
 use voxel_core::BlockId;
 
 use super::aligned::Slices;
-use super::bits::{masked, nonzero_lines, ones, row_contains, row_equal};
+use super::bits::{masked, nonzero_lines, occupied_rows, ones, row_contains, row_equal};
 use crate::BlockClasses;
 
 /// Up to this many transparent ids in the palette, rows are classified with SIMD compares.
@@ -155,11 +155,10 @@ const SLAB_WORDS: usize = 20;
 ///
 /// Slab by slab, since a slab's `P * P` ids are contiguous: a slab that holds none of an id
 /// costs one compare-and-OR over its rows from the first non-air one to the last
-/// ([`row_contains`]). Otherwise its ids are matched 64 at a
-/// time into a flat mask (bit `i` of word `i / 64` for id `i` of the slab) and each row's `P`
-/// bits, which start at bit `P * y`, are cut out of it. Row by row, a 34-id row cost two
-/// scans of an odd length each (about 50 instructions per row and id on terrain; this is
-/// about 15).
+/// ([`row_contains`]). Otherwise its ids are matched 64 at a time into a flat mask (bit `i`
+/// of word `i / 64` for id `i` of the slab) and each row's `P` bits, which start at bit
+/// `P * y`, are cut out of it. Row by row, a 34-id row cost two scans of an odd length each
+/// (about 50 instructions per row and id on terrain; this is about 15).
 #[inline(always)]
 fn short_transparent<const P: usize>(
     voxels: &[u16],
@@ -176,13 +175,10 @@ fn short_transparent<const P: usize>(
         lines[..P].fill(0);
         // Only the rows from the slab's first non-air row to its last can hold the ids: the
         // others are not read (the sky above a terrain, the air around a model).
-        let (Some(first), Some(last)) = (
-            rows.iter().position(|&c| c != 0),
-            rows.iter().rposition(|&c| c != 0),
-        ) else {
+        let Some(rows) = occupied_rows(rows) else {
             continue;
         };
-        let solid = slab.get(first * P..(last + 1) * P).unwrap_or(slab);
+        let solid = slab.get(rows.start * P..rows.end * P).unwrap_or(slab);
         for (k, id) in ids.iter().enumerate() {
             if !row_contains(solid, id.0) {
                 continue;

@@ -2,7 +2,7 @@
 //! grid, a sculpt, a stone cave). With AO off every face then has one key, so the greedy pass
 //! keys nothing and reads no id: the faces that merge are the neighbouring ones.
 
-use super::bits::ones;
+use super::bits::{occupied_rows, ones};
 
 /// Rows whose first and last solid voxels are compared with the chunk's first before any
 /// slab is scanned: on a chunk of several ids one of them nearly always differs, and the scan
@@ -59,10 +59,8 @@ pub(crate) fn one_id(voxels: &[u16], columns: &[u64], p: usize, slabs: u64) -> O
     // row to its last are read: where a slab has few solid rows (a floor seen edge on, a flat
     // maze), reading all its ids made this scan cost more than keying the faces with AO on.
     for z in ones(slabs) {
-        let rows = columns.get(z * p..(z + 1) * p)?;
-        let first = rows.iter().position(|&c| c != 0)?;
-        let last = rows.iter().rposition(|&c| c != 0)?;
-        let ids = voxels.get((z * p + first) * p..(z * p + last + 1) * p)?;
+        let rows = occupied_rows(columns.get(z * p..(z + 1) * p)?)?;
+        let ids = voxels.get((z * p + rows.start) * p..(z * p + rows.end) * p)?;
         if ids.iter().fold(0u16, |acc, &v| acc | v.min(v ^ id)) != 0 {
             return None;
         }
