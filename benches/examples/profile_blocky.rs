@@ -17,7 +17,9 @@
 //! meshes and a chunk edge (32 or 62, the default). `MESHER_ISA=baseline|x86-v3` pins
 //! the instruction set (default: the detected one); `PROFILE_EVICT_KIB=N` writes over N KiB
 //! before every mesh (in the pairs too), outside the timed span, to time meshes that start
-//! with cold caches;
+//! with cold caches; `PROFILE_WARM_CODE=1` then, in the pairs, meshes a copy of the input with
+//! a second pair of meshers (scratch of their own) before each timed mesh, to time it with its
+//! code warm and its data cold;
 //! `PROFILE_ALLOC_OFFSET=N` (0, 16, 32 or 48) places every allocation `N` bytes past a cache
 //! line (see `PlacedAllocator`). The time is the thread's CPU time, taken
 //! over 20 batches: the minimum and the median per mesh, since on a shared machine the minimum
@@ -226,52 +228,17 @@ fn face_stats(chunk: &PaddedChunk, classes: &BlockClasses) {
 /// Alternating in one process puts both under the same load.
 fn alternate(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usize) {
     let ids: Vec<&[u16]> = input.chunks.iter().map(as_u16).collect();
-    let greedy = |ao: bool, from_u16: bool| -> Mesh<'_> {
-        let mut mesher = GreedyMesher::new().with_ambient_occlusion(ao);
-        let mut out = BlockyMesh::new();
-        let ids = &ids;
-        Box::new(move || {
-            for (chunk, ids) in input.chunks.iter().zip(ids) {
-                if from_u16 {
-                    mesher.mesh_u16(black_box(ids), classes, &mut out)
-                } else {
-                    mesher.mesh(black_box(chunk), classes, &mut out)
-                }
-                .expect("bench inputs mesh");
-                black_box(&out);
-            }
-        })
+    let (names, mut pair) = pair_of(&input.chunks, &ids, classes, mode);
+    // With `PROFILE_WARM_CODE`, a copy of the input meshed by a second pair (scratch of its
+    // own) after the eviction and before each timed mesh: code warm, data cold.
+    let warm = std::env::var_os("PROFILE_WARM_CODE").is_some();
+    let copies: Vec<PaddedChunk> = if warm {
+        input.chunks.clone()
+    } else {
+        Vec::new()
     };
-    let edge = input.chunks.first().map(PaddedChunk::padded_edge);
-    let (names, mut pair): ([&str; 2], [Mesh<'_>; 2]) = match mode {
-        "ao-pair" => (
-            ["AO on", "AO off"],
-            [greedy(true, false), greedy(false, false)],
-        ),
-        "u16-pair" => (
-            ["u16 AO off", "PaddedChunk AO off"],
-            [greedy(false, true), greedy(false, false)],
-        ),
-        _ => {
-            // The peer's masks are built only when it runs.
-            let transparents: BTreeSet<u16> =
-                classes.transparent_ids().iter().map(|id| id.0).collect();
-            let peer = match edge {
-                Some(34) => bgm_runner::<32>(&ids, &transparents),
-                Some(64) => bgm_runner::<62>(&ids, &transparents),
-                _ => {
-                    eprintln!(
-                        "vs-bgm: binary-greedy-meshing is built for 32^3 and 62^3 chunks only"
-                    );
-                    std::process::exit(2);
-                }
-            };
-            (
-                ["ours AO off", "fast_mesh prebuilt"],
-                [greedy(false, false), peer],
-            )
-        }
-    };
+    let copy_ids: Vec<&[u16]> = copies.iter().map(as_u16).collect();
+    let mut warm_code = warm.then(|| pair_of(&copies, &copy_ids, classes, mode).1);
     let mut evict = vec![0u8; evict_kib() * 1024];
     let batch = (meshes / 20).max(1);
     let mut times = [Vec::new(), Vec::new()];
@@ -282,6 +249,9 @@ fn alternate(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usiz
                 if !evict.is_empty() {
                     evict.fill((round + i + k) as u8);
                     black_box(&evict);
+                }
+                if let Some(copy) = &mut warm_code {
+                    copy[which]();
                 }
                 let start = thread_cpu_now();
                 pair[which]();
@@ -317,6 +287,62 @@ fn alternate(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usiz
          {summary}",
         input.name, names[0], a.0, a.1, names[1], b.0, b.1
     );
+}
+
+/// The pair of meshers that mode `mode` alternates over `chunks` (whose ids are `ids`), and
+/// their names.
+fn pair_of<'a>(
+    chunks: &'a [PaddedChunk],
+    ids: &'a [&'a [u16]],
+    classes: &'a BlockClasses,
+    mode: &str,
+) -> ([&'static str; 2], [Mesh<'a>; 2]) {
+    let greedy = |ao: bool, from_u16: bool| -> Mesh<'_> {
+        let mut mesher = GreedyMesher::new().with_ambient_occlusion(ao);
+        let mut out = BlockyMesh::new();
+
+        Box::new(move || {
+            for (chunk, ids) in chunks.iter().zip(ids) {
+                if from_u16 {
+                    mesher.mesh_u16(black_box(ids), classes, &mut out)
+                } else {
+                    mesher.mesh(black_box(chunk), classes, &mut out)
+                }
+                .expect("bench inputs mesh");
+                black_box(&out);
+            }
+        })
+    };
+    let edge = chunks.first().map(PaddedChunk::padded_edge);
+    match mode {
+        "ao-pair" => (
+            ["AO on", "AO off"],
+            [greedy(true, false), greedy(false, false)],
+        ),
+        "u16-pair" => (
+            ["u16 AO off", "PaddedChunk AO off"],
+            [greedy(false, true), greedy(false, false)],
+        ),
+        _ => {
+            // The peer's masks are built only when it runs.
+            let transparents: BTreeSet<u16> =
+                classes.transparent_ids().iter().map(|id| id.0).collect();
+            let peer = match edge {
+                Some(34) => bgm_runner::<32>(ids, &transparents),
+                Some(64) => bgm_runner::<62>(ids, &transparents),
+                _ => {
+                    eprintln!(
+                        "vs-bgm: binary-greedy-meshing is built for 32^3 and 62^3 chunks only"
+                    );
+                    std::process::exit(2);
+                }
+            };
+            (
+                ["ours AO off", "fast_mesh prebuilt"],
+                [greedy(false, false), peer],
+            )
+        }
+    }
 }
 
 /// Meshes a whole input once.
