@@ -300,7 +300,6 @@ fn pair_of<'a>(
     let greedy = |ao: bool, from_u16: bool| -> Mesh<'_> {
         let mut mesher = GreedyMesher::new().with_ambient_occlusion(ao);
         let mut out = BlockyMesh::new();
-
         Box::new(move || {
             for (chunk, ids) in chunks.iter().zip(ids) {
                 if from_u16 {
