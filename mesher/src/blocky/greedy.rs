@@ -17,7 +17,7 @@ use super::faces::{Quads, SliceQuads};
 use super::input::Input;
 use super::keys::Keys;
 use super::lone_x::lone_x;
-use super::masks::{Content, Masks};
+use super::masks::{Content, Masks, Slice};
 use super::one_id::one_id;
 use super::plain::{FLAT_WORDS, FlatColumns, build_columns, padded_edge_of};
 #[cfg(target_arch = "x86_64")]
@@ -119,6 +119,8 @@ struct Scratch {
     flat_columns: Box<FlatColumns>,
     /// The equal-id masks of the chunk being meshed with AO off.
     equal: EqualIds,
+    /// The ±X rows `lone_x` emitted, per direction (see `Input::handled`).
+    lone_rows: Box<[Slice; 2]>,
 }
 
 /// One chunk to mesh, and how.
@@ -153,6 +155,7 @@ impl GreedyMesher {
                 columns: Vec::new(),
                 flat_columns: Box::new([0; FLAT_WORDS]),
                 equal: EqualIds::default(),
+                lone_rows: Box::new([[0; 64]; 2]),
             },
             ambient_occlusion: true,
             instruction_set: InstructionSet::detect(),
@@ -433,6 +436,7 @@ fn mesh_chunk(
         keys,
         quads,
         equal,
+        lone_rows,
         ..
     } = scratch;
     let classes = job.classes;
@@ -485,17 +489,18 @@ fn mesh_chunk(
         one_id: one,
         equal,
         merge: job.merge,
-        handled: [[0; 64]; 2],
-        lone_x_rows: false,
+        handled: &[[0; 64]; 2],
+        lone_x_rows: [false; 2],
     };
-    mesh_passes(&mut input, classes, keys, quads, walk, out)
+    mesh_passes(&mut input, lone_rows, classes, keys, quads, walk, out)
 }
 
 /// The passes of [`mesh_chunk`] after the masks: the lone ±X rows, then every direction's
 /// walk.
 #[inline(always)]
-fn mesh_passes(
-    input: &mut Input<'_>,
+fn mesh_passes<'a>(
+    input: &mut Input<'a>,
+    handled: &'a mut [Slice; 2],
     classes: &BlockClasses,
     keys: &mut Keys,
     quads: &mut SliceQuads,
@@ -503,10 +508,10 @@ fn mesh_passes(
     out: &mut BlockyMesh,
 ) -> Result<(), MeshError> {
     let [o0, o1, ..] = &mut out.opaque.faces;
-    let mut handled = [[0; 64]; 2];
-    lone_x::<0>(input, classes, &mut Quads::new(quads, o0), &mut handled[0])?;
-    lone_x::<1>(input, classes, &mut Quads::new(quads, o1), &mut handled[1])?;
-    input.lone_x_rows = handled.iter().flatten().any(|&rows| rows != 0);
+    let [h0, h1] = &mut *handled;
+    let marked_0 = lone_x::<0>(input, classes, &mut Quads::new(quads, o0), h0)?;
+    let marked_1 = lone_x::<1>(input, classes, &mut Quads::new(quads, o1), h1)?;
+    input.lone_x_rows = [marked_0, marked_1];
     input.handled = handled;
     let input = &*input;
     for (d, (opaque, transparent)) in out

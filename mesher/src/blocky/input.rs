@@ -24,8 +24,10 @@ pub(crate) struct Input<'a> {
     pub equal: Option<&'a EqualIds>,
     /// Merge faces into greedy quads (else one quad per face).
     pub merge: bool,
-    /// Per ±X direction, the rows whose lone faces `lone_x` emitted (bit z of line y).
-    pub handled: [Slice; 2],
-    /// Some row is marked in `handled`.
-    pub lone_x_rows: bool,
+    /// Per ±X direction, the rows whose lone faces `lone_x` emitted (bit z of line y); a
+    /// direction's entry is read only when its `lone_x_rows` is set (else it may hold an
+    /// earlier chunk's rows).
+    pub handled: &'a [Slice; 2],
+    /// Per ±X direction: some row is marked in `handled`.
+    pub lone_x_rows: [bool; 2],
 }

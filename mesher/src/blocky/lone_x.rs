@@ -65,14 +65,15 @@ fn slab_faces<const D: usize>(slab: &Slice, inner: u64, e: usize, inside: bool, 
 /// rows of [`many`] such faces, as 1 x 1 quads with AO, into `out` (flushed slab by slab: a
 /// slab has at most 62 x 31 such faces); marks those rows in
 /// `handled` (bit z of line y). Does nothing unless the middle slab has a row of many faces
-/// that are all lone.
+/// that are all lone. Returns whether it marked a row: `handled` is written, and read, only
+/// when the sample passes, so that most chunks neither clear nor scan it.
 #[inline(always)]
 pub(crate) fn lone_x<const D: usize>(
     input: &Input<'_>,
     classes: &BlockClasses,
     out: &mut Quads<'_>,
     handled: &mut Slice,
-) -> Result<(), MeshError> {
+) -> Result<bool, MeshError> {
     const ZERO: Slice = [0; 64];
     let p = input.p;
     let e = p - 2;
@@ -102,8 +103,11 @@ pub(crate) fn lone_x<const D: usize>(
         many(lone) && lone == here[masked::<64>(y)]
     };
     if !(1..=e).any(all_lone) {
-        return Ok(());
+        return Ok(false);
     }
+    // The rows are gathered here and stored at the end: `handled` is scratch the compiler
+    // cannot keep apart from `out`, so that marking it in the loop would reload both.
+    let mut rows: Slice = [0; 64];
     below = [0; 64];
     slab_faces::<D>(slab(1), inner, e, true, &mut here);
     let known_below = classes.known_below();
@@ -119,7 +123,7 @@ pub(crate) fn lone_x<const D: usize>(
             if !many(lone) {
                 continue;
             }
-            handled[masked::<64>(y)] |= 1 << z;
+            rows[masked::<64>(y)] |= 1 << z;
             // Plane 3r + c, bit x: the front voxel of the face at x, at y + r - 1, z + c - 1
             // (layout C's line and bit offsets, as the AO table reads them).
             let planes: [u64; 9] = core::array::from_fn(|k| {
@@ -148,7 +152,8 @@ pub(crate) fn lone_x<const D: usize>(
         below = here;
         here = above;
     }
-    Ok(())
+    *handled = rows;
+    Ok(rows.iter().any(|&r| r != 0))
 }
 
 /// Emits the faces `bits` of row `(y, z)`, whose ids are `ids` (x-indexed) and whose front

@@ -86,8 +86,8 @@ pub(crate) fn mesh_direction<const A: usize>(
         }
         faces[0] = 0;
         faces[masked::<64>(p - 1)] = 0;
-        if Axis::<A>::LAYOUT == 2 && any != 0 && input.lone_x_rows {
-            // Some lone ±X faces were emitted from the rows.
+        if Axis::<A>::LAYOUT == 2 && any != 0 && input.lone_x_rows[facing.direction & 1] {
+            // Some lone ±X faces of this direction were emitted from the rows.
             drop_handled(&mut faces, &input.handled[facing.direction & 1]);
             any = faces.iter().fold(0, |any, &f| any | f);
         }
