@@ -175,9 +175,10 @@ fn lone_x_rows_do_not_leak_between_chunks() {
             })
         };
         // Around the middle slab (which the sample reads), rows alternate in y and z between
-        // runs of two voxels and single voxels, three ids apart: the faces on one side of the
-        // runs are all lone, in rows of many, and those on the other side line up with the
-        // single voxels' (not lone). So lone ±X rows are emitted for one direction only.
+        // runs of two voxels and single voxels, both every third voxel along x: the faces on
+        // one side of the runs are all lone, in rows of many, and those on the other side line
+        // up with the single voxels' (not lone). So lone ±X rows are emitted for one direction
+        // only (removing the per-direction flags or the clearing of the rows fails here).
         // One isolated voxel far from the middle has a lone face on both sides, in a row of
         // one, which no direction emits from the rows.
         let one_way = PaddedChunk::from_fn(size, move |x, y, z| {
