@@ -21,7 +21,9 @@
 //! a second pair of meshers (scratch of their own) before each timed mesh, to time it with its
 //! code warm and its data cold;
 //! `PROFILE_ALLOC_OFFSET=N` (0, 16, 32 or 48) places every allocation `N` bytes past a cache
-//! line (see `PlacedAllocator`). The time is the thread's CPU time, taken
+//! line (see `PlacedAllocator`); `PROFILE_U16_SKEW=N` (0 to 31), in the pairs, copies every
+//! chunk's ids to a `u16` array that starts `N` ids past a cache line, to time the plain
+//! array's columns at a placement of its own while the mesher's scratch lies elsewhere. The time is the thread's CPU time, taken
 //! over 20 batches: the minimum and the median per mesh, since on a shared machine the minimum
 //! is the steadier figure.
 
@@ -227,7 +229,15 @@ fn face_stats(chunk: &PaddedChunk, classes: &BlockClasses) {
 /// what the array's columns cost: the difference of the minima, per padded voxel.
 /// Alternating in one process puts both under the same load.
 fn alternate(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usize) {
-    let ids: Vec<&[u16]> = input.chunks.iter().map(as_u16).collect();
+    let placed = placed_ids(input);
+    let ids: Vec<&[u16]> = match &placed {
+        Some(arrays) => arrays
+            .iter()
+            .zip(&input.chunks)
+            .map(|((array, at), chunk)| &array[*at..*at + as_u16(chunk).len()])
+            .collect(),
+        None => input.chunks.iter().map(as_u16).collect(),
+    };
     let (names, mut pair) = pair_of(&input.chunks, &ids, classes, mode);
     // With `PROFILE_WARM_CODE`, a copy of the input meshed by a second pair (scratch of its
     // own) after the eviction and before each timed mesh: code warm, data cold.
@@ -287,6 +297,29 @@ fn alternate(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usiz
          {summary}",
         input.name, names[0], a.0, a.1, names[1], b.0, b.1
     );
+}
+
+/// With `PROFILE_U16_SKEW=N`: a copy of every chunk's ids in an array of its own, with the
+/// index of its first id, `N` ids past a cache line.
+fn placed_ids(input: &MeshInput) -> Option<Vec<(Vec<u16>, usize)>> {
+    let skew = std::env::var("PROFILE_U16_SKEW").ok()?;
+    let Some(skew) = skew.parse::<usize>().ok().filter(|&s| s < 32) else {
+        eprintln!("PROFILE_U16_SKEW: 0 to 31, not {skew:?}");
+        std::process::exit(2);
+    };
+    let placed = input.chunks.iter().map(|chunk| {
+        let ids = as_u16(chunk);
+        // Room for 32 ids before the first and 32 after: a block aligned to 2 bytes at least
+        // has an id on a cache line among its first 32.
+        let mut array = vec![0; ids.len() + 64];
+        let line = (0..32)
+            .find(|&i| (array[i..].as_ptr() as usize).is_multiple_of(64))
+            .unwrap_or(0);
+        let at = line + skew;
+        array[at..at + ids.len()].copy_from_slice(ids);
+        (array, at)
+    });
+    Some(placed.collect())
 }
 
 /// The pair of meshers that mode `mode` alternates over `chunks` (whose ids are `ids`), and

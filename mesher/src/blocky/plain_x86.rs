@@ -14,6 +14,17 @@
 //! ([`to_id_order_non_air`]) swaps the middle two bytes of every `u32` with one in-lane byte
 //! shuffle per 32 bytes, and inverts air into occupancy.
 //!
+//! # Arrays 16 bytes past a 32-byte boundary
+//!
+//! The kernel loads 32 bytes at a time from the array's start. An array that starts 16 bytes
+//! past a 32-byte boundary, as `malloc` hands out many blocks (every block it maps from the
+//! system, such as a 62^3 chunk's 512 KiB), then splits every second load across two cache
+//! lines, and its columns took 1.4 to 1.5 times as long. Such an array is read from its ninth
+//! id on, every load aligned ([`non_air_words_from_ninth`]). Its words are then a byte
+//! ahead of the array's: the id-order pass reads each word from one byte before, and since
+//! that moves the swapped bytes too, it swaps bytes 2 and 3, and 6 and 7, of every word
+//! instead.
+//!
 //! At padded edge 34 each row of 34 bits is then cut out of the flat mask four rows a step
 //! ([`cut_34_rows`]): four rows are 136 bits, 17 bytes, and row `k` of the four starts at
 //! byte `4 k`, bit `2 k`; so one 32-byte load, a dword permute (`0, 1, 1, 2, 2, 3, 3, 4`), a
@@ -29,11 +40,13 @@ use core::arch::x86_64::{
 
 use alloc::vec::Vec;
 
+#[cfg(target_feature = "sse2")]
+use super::bits::{masked, row_non_air};
 use super::plain::FlatColumns;
 #[cfg(not(target_feature = "sse2"))]
 use super::plain::build_columns;
 #[cfg(target_feature = "sse2")]
-use super::plain::{close_flat, cut_rows, sized};
+use super::plain::{FLAT_WORDS, close_flat, cut_rows, sized};
 
 /// [`build_columns`](super::plain::build_columns) compiled for x86-64-v3, with the AVX2
 /// kernels of this module. On an x86-64 target without SSE (soft float, as
@@ -51,10 +64,14 @@ pub(crate) fn build_columns_x86_v3(
     #[cfg(target_feature = "sse2")]
     match p {
         64 => {
-            let rows = voxels.as_chunks::<64>().0;
-            let columns = sized(out, rows.len());
-            air_in_lane_order(rows, columns);
-            to_id_order_non_air(columns);
+            let columns = sized(out, 64 * 64);
+            if starts_at_16_of_32(voxels) {
+                non_air_words_from_ninth(voxels, columns);
+            } else {
+                let rows = voxels.as_chunks::<64>().0;
+                air_in_lane_order(rows, columns);
+                to_id_order_non_air(columns);
+            }
             true
         }
         34 => short_columns::<34>(voxels, out, flat),
@@ -73,13 +90,23 @@ fn short_columns<const P: usize>(
     out: &mut Vec<u64>,
     flat: &mut FlatColumns,
 ) -> bool {
-    let (whole, tail) = voxels.as_chunks::<64>();
-    debug_assert_eq!(whole.len() * 64 + tail.len(), P * P * P);
-    let words = &mut flat[..whole.len()];
-    air_in_lane_order(whole, words);
-    let any = to_id_order_non_air(words);
-    if !close_flat(whole.len(), tail, flat) && !any {
-        return false;
+    if starts_at_16_of_32(voxels) {
+        let words = (P * P * P).div_ceil(64);
+        let any = non_air_words_from_ninth(voxels, &mut flat[..words]);
+        // The empty word after the last, which the row cuts read.
+        flat[masked::<FLAT_WORDS>(words)] = 0;
+        if !any {
+            return false;
+        }
+    } else {
+        let (whole, tail) = voxels.as_chunks::<64>();
+        debug_assert_eq!(whole.len() * 64 + tail.len(), P * P * P);
+        let words = &mut flat[..whole.len()];
+        air_in_lane_order(whole, words);
+        let any = to_id_order_non_air(words);
+        if !close_flat(whole.len(), tail, flat) && !any {
+            return false;
+        }
     }
     let out = sized(out, P * P);
     if P == 34 {
@@ -88,6 +115,69 @@ fn short_columns<const P: usize>(
         cut_rows::<P>(flat, out);
     }
     true
+}
+
+/// Whether `voxels` starts 16 bytes past a 32-byte boundary (see the [module docs](self)).
+#[cfg(target_feature = "sse2")]
+#[inline(always)]
+fn starts_at_16_of_32(voxels: &[u16]) -> bool {
+    voxels.as_ptr() as usize % 32 == 16
+}
+
+/// The occupancy of `voxels` in id order, 64 ids a word, into `out` (exactly one word per 64
+/// ids or part of 64), read from the ninth id on so that every load of an array that starts
+/// 16 bytes past a 32-byte boundary is aligned (see the [module docs](self)). Returns whether
+/// any id is not air.
+///
+/// The kernel writes the air of ids `8 + 64 k ..` in lane order to `out[k + 1]`, and the air
+/// of ids `0..8` is the top byte of `out[0]`. Word `k` of the array is then the eight bytes
+/// from byte `8 k + 7` of `out`: the top byte of the word before, then seven of this one.
+#[cfg(target_feature = "sse2")]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[inline]
+fn non_air_words_from_ninth(voxels: &[u16], out: &mut [u64]) -> bool {
+    let (first, rest) = voxels.split_at(8.min(voxels.len()));
+    let (whole, tail) = rest.as_chunks::<64>();
+    let n = whole.len();
+    debug_assert_eq!(out.len(), n + 1, "one word per 64 ids or part of 64");
+    debug_assert!(tail.len() <= 56, "the last word holds the tail");
+    air_in_lane_order(whole, &mut out[1..=n]);
+    // The air of the first eight ids, as the top byte of a word before the first.
+    out[0] = !row_non_air(first) << 56;
+    // The last word first: the top byte of the last word the kernel wrote, then the tail,
+    // before the pass below overwrites anything it reads.
+    let top = !out[n] >> 56;
+    let last = row_non_air(tail);
+    // Bytes 0, 1, 3, 2 of every `u32`: the swap moved up by one byte, its own inverse.
+    let swap = _mm256_setr_epi8(
+        0, 1, 3, 2, 4, 5, 7, 6, 8, 9, 11, 10, 12, 13, 15, 14, 0, 1, 3, 2, 4, 5, 7, 6, 8, 9, 11, 10,
+        12, 13, 15, 14,
+    );
+    let ones = _mm256_set1_epi8(-1);
+    let mut any = _mm256_setzero_si256();
+    let bytes: &mut [u8] = bytemuck::cast_slice_mut(&mut out[..]);
+    // Words `4 q ..= 4 q + 3` read bytes `32 q + 7 .. 32 q + 39` and write `32 q .. 32 q + 32`:
+    // no step reads what an earlier one wrote.
+    let quads = n / 4;
+    for q in 0..quads {
+        let from = &bytes[32 * q + 7..][..32];
+        let window: [u8; 32] = core::array::from_fn(|i| from[i]);
+        let fixed = _mm256_xor_si256(_mm256_shuffle_epi8(bytemuck::cast(window), swap), ones);
+        any = _mm256_or_si256(any, fixed);
+        let fixed: [u8; 32] = bytemuck::cast(fixed);
+        bytes[32 * q..32 * q + 32].copy_from_slice(&fixed);
+    }
+    let mut any_rest = 0;
+    for k in 4 * quads..n {
+        let from = &bytes[8 * k + 7..][..8];
+        let window: [u8; 8] = core::array::from_fn(|i| from[i]);
+        let [b0, b1, b2, b3, b4, b5, b6, b7] = window;
+        let word = !u64::from_le_bytes([b0, b1, b3, b2, b4, b5, b7, b6]);
+        any_rest |= word;
+        bytes[8 * k..8 * k + 8].copy_from_slice(&word.to_le_bytes());
+    }
+    out[n] = top | (last << 8);
+    _mm256_testz_si256(any, any) == 0 || any_rest != 0 || out[n] != 0
 }
 
 /// The air of every 64 ids of `rows` into the word of `out` at the same index, in lane order
@@ -186,7 +276,7 @@ mod tests {
     use alloc::vec::Vec;
 
     use super::*;
-    use crate::blocky::bits::row_non_air;
+    use crate::blocky::plain::build_columns as build_columns_portable;
 
     /// The kernel and the id-order pass against the portable row mask, on rows of air and ids
     /// at the ends of the 16-bit range, where a signed saturating pack could turn an id into
@@ -230,6 +320,62 @@ mod tests {
             }
             assert_eq!(words[rows.len()..], [!0; 10][rows.len()..], "call {call}");
             assert_eq!(any, !air, "call {call}");
+        }
+    }
+
+    /// The columns of arrays at every placement an allocator gives (on a 32-byte boundary,
+    /// 16 bytes past one, which reads from the ninth id on, and the odd placements of a
+    /// sub-slice) equal the portable builder's, at every padded edge.
+    #[test]
+    fn columns_are_the_same_at_every_placement_of_the_array() {
+        if !crate::InstructionSet::X86V3.is_supported() {
+            std::eprintln!("no AVX2 on this CPU: the x86-64-v3 column kernels are never run here");
+            return;
+        }
+        let mut rng = voxel_scene::rng::Rng::new(23);
+        for p in [10, 18, 34, 64] {
+            let len = p * p * p;
+            let mut buffer: Vec<u16> = alloc::vec![0; len + 32];
+            // `buffer[base..]` starts on a 32-byte boundary.
+            let base = (0..16)
+                .find(|&o| (buffer[o..].as_ptr() as usize).is_multiple_of(32))
+                .expect("a u16 buffer has a 32-byte boundary in its first 16 ids");
+            for skew in [0, 8, 1, 4, 15] {
+                let at = base + skew;
+                // All air; a solid first id; solid ids at the end and at the eighth and
+                // ninth, where the skewed read starts; random ids.
+                for fill in 0..4 {
+                    for (i, v) in buffer[at..at + len].iter_mut().enumerate() {
+                        *v = match fill {
+                            0 => 0,
+                            1 => u16::from(i == 0),
+                            2 => u16::from(i == len - 1 || i == 7 || i == 8),
+                            _ => match rng.below(4) {
+                                0 | 1 => 0,
+                                2 => 0x8000,
+                                _ => rng.below(65_535) as u16 + 1,
+                            },
+                        };
+                    }
+                    let voxels = &buffer[at..at + len];
+                    assert_eq!(starts_at_16_of_32(voxels), skew == 8);
+                    let (mut want, mut want_flat) =
+                        (Vec::new(), alloc::boxed::Box::new([0; FLAT_WORDS]));
+                    let want_any = build_columns_portable(p, voxels, &mut want, &mut want_flat);
+                    let (mut got, mut flat) =
+                        (alloc::vec![5; 3], alloc::boxed::Box::new([!0; FLAT_WORDS]));
+                    #[expect(
+                        unsafe_code,
+                        reason = "calls the AVX2 builder on a CPU checked to have it"
+                    )]
+                    // SAFETY: `X86V3.is_supported()` found every feature it is compiled for.
+                    let any = unsafe { build_columns_x86_v3(p, voxels, &mut got, &mut flat) };
+                    assert_eq!(any, want_any, "edge {p}, skew {skew}, fill {fill}");
+                    if any {
+                        assert_eq!(got, want, "edge {p}, skew {skew}, fill {fill}");
+                    }
+                }
+            }
         }
     }
 }
