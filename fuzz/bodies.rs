@@ -1234,12 +1234,21 @@ pub fn blocky_mesh(data: &[u8]) {
                 None => first_greedy = Some(mesh.clone()),
                 Some(first) => assert_eq!(first, &mesh, "a reused mesher differs"),
             }
-            // The plain-array entry builds its own occupancy columns: same result, same error.
-            let mut plain = BlockyMesh::new();
-            let plain_result =
-                mesher.mesh_u16(bytemuck::cast_slice(padded.voxels()), classes, &mut plain);
-            assert_eq!(plain_result, result, "run {run}: mesh_u16 answers as mesh");
-            assert_eq!(plain, mesh, "run {run}: mesh_u16 meshes as mesh");
+            // The plain-array entry builds its own occupancy columns: same result, same error,
+            // with the array on a 32-byte boundary and 16 bytes past one (read another way).
+            let ids: &[u16] = bytemuck::cast_slice(padded.voxels());
+            let mut placed = vec![0u16; ids.len() + 24];
+            let boundary = (0..16)
+                .find(|&i| (placed[i..].as_ptr() as usize).is_multiple_of(32))
+                .expect("a u16 array has a 32-byte boundary in its first 16 ids");
+            for at in [boundary, boundary + 8] {
+                placed[at..at + ids.len()].copy_from_slice(ids);
+                let mut plain = BlockyMesh::new();
+                let array = &placed[at..at + ids.len()];
+                let plain_result = mesher.mesh_u16(array, classes, &mut plain);
+                assert_eq!(plain_result, result, "run {run}: mesh_u16 answers as mesh");
+                assert_eq!(plain, mesh, "run {run}: mesh_u16 meshes as mesh");
+            }
         }
     }
     nocubes_check(padded, classes);
