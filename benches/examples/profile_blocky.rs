@@ -23,9 +23,9 @@
 //! `PROFILE_ALLOC_OFFSET=N` (0, 16, 32 or 48) places every allocation `N` bytes past a cache
 //! line (see `PlacedAllocator`); `PROFILE_U16_SKEW=N` (0 to 31), in the pairs, copies every
 //! chunk's ids to a `u16` array that starts `N` ids past a cache line, to time the plain
-//! array's columns at a placement of its own while the mesher's scratch lies elsewhere. The time is the thread's CPU time, taken
-//! over 20 batches: the minimum and the median per mesh, since on a shared machine the minimum
-//! is the steadier figure.
+//! array's columns at a placement of its own while the mesher's scratch lies elsewhere. The
+//! time is the thread's CPU time, taken over 20 batches: the minimum and the median per mesh,
+//! since on a shared machine the minimum is the steadier figure.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::collections::BTreeSet;
