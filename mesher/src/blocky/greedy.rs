@@ -8,6 +8,7 @@ use voxel_core::PaddedChunk;
 use voxel_core::formats::PackedQuad;
 
 use super::BlockyMesh;
+use super::aligned::Words;
 #[cfg(target_arch = "x86_64")]
 use super::bits::transpose_rows_x86_v3;
 use super::bits::transpose64;
@@ -114,7 +115,7 @@ struct Scratch {
     /// Quads of the slice being meshed.
     quads: Box<SliceQuads>,
     /// Occupancy columns built by [`GreedyMesher::mesh_u16`].
-    columns: Vec<u64>,
+    columns: Words,
     /// The occupancy of the whole array, 64 ids a word, for building columns shorter than 64.
     flat_columns: Box<FlatColumns>,
     /// The equal-id masks of the chunk being meshed with AO off.
@@ -152,8 +153,8 @@ impl GreedyMesher {
                 masks: Masks::default(),
                 keys: Box::new(Keys::new()),
                 quads: Box::new([PackedQuad::default(); 4096]),
-                columns: Vec::new(),
-                flat_columns: Box::new([0; FLAT_WORDS]),
+                columns: Words::default(),
+                flat_columns: Box::new(FlatColumns([0; FLAT_WORDS])),
                 equal: EqualIds::default(),
                 lone_rows: Box::new([[0; 64]; 2]),
             },
@@ -388,7 +389,7 @@ fn with_columns(
     scratch: &mut Scratch,
     job: &Job<'_>,
     out: &mut BlockyMesh,
-    build: impl FnOnce(usize, &[u16], &mut Vec<u64>, &mut FlatColumns) -> bool,
+    build: impl FnOnce(usize, &[u16], &mut Words, &mut FlatColumns) -> bool,
     equal: impl FnOnce(&mut EqualIds, &ChunkIds<'_>) -> bool,
     transpose: impl Fn(&mut [u64; 64], usize) + Copy,
     walk: &mut Walk<'_>,
@@ -405,7 +406,7 @@ fn with_columns(
                 scratch.columns = columns;
                 return Ok(());
             }
-            built.insert(columns).as_slice()
+            &built.insert(columns)[..]
         }
     };
     let result = mesh_chunk(scratch, job, columns, equal, transpose, walk, out);

@@ -1,10 +1,11 @@
 //! The plain-array input: a padded `u16` array as other meshers take it, and its occupancy
 //! columns.
 
-use alloc::vec::Vec;
+use core::ops::{Deref, DerefMut};
 
 use voxel_core::ChunkSize;
 
+use super::aligned::Words;
 use super::bits::{masked, row_non_air};
 use crate::MeshError;
 
@@ -21,8 +22,25 @@ pub(crate) fn padded_edge_of(len: usize) -> Result<usize, MeshError> {
 }
 
 /// The occupancy of a whole padded array of edge 34 or less, 64 ids a word (39,304 ids in
-/// 615 words at 34, and one more word that a row ending in the last one reads as empty).
-pub(crate) type FlatColumns = [u64; FLAT_WORDS];
+/// 615 words at 34, and one more word that a row ending in the last one reads as empty), from
+/// a cache line on, as the column kernels write it with 32-byte stores.
+#[derive(Clone, Debug)]
+#[repr(C, align(64))]
+pub(crate) struct FlatColumns(pub [u64; FLAT_WORDS]);
+
+impl Deref for FlatColumns {
+    type Target = [u64; FLAT_WORDS];
+
+    fn deref(&self) -> &[u64; FLAT_WORDS] {
+        &self.0
+    }
+}
+
+impl DerefMut for FlatColumns {
+    fn deref_mut(&mut self) -> &mut [u64; FLAT_WORDS] {
+        &mut self.0
+    }
+}
 
 /// Words of [`FlatColumns`]: a power of two, so an index is kept in range by a mask.
 pub(crate) const FLAT_WORDS: usize = 1024;
@@ -58,13 +76,13 @@ macro_rules! each_of_32 {
 pub(crate) fn build_columns(
     p: usize,
     voxels: &[u16],
-    out: &mut Vec<u64>,
+    out: &mut Words,
     flat: &mut FlatColumns,
 ) -> bool {
     match p {
         64 => {
             let rows = voxels.as_chunks::<64>().0;
-            for (column, row) in sized(out, rows.len()).iter_mut().zip(rows) {
+            for (column, row) in out.sized(rows.len()).iter_mut().zip(rows) {
                 *column = row_non_air(row);
             }
             true
@@ -75,23 +93,13 @@ pub(crate) fn build_columns(
     }
 }
 
-/// `out` as `n` columns to overwrite: resized (and zeroed) only when the chunk size changes.
-#[inline(always)]
-pub(crate) fn sized(out: &mut Vec<u64>, n: usize) -> &mut [u64] {
-    if out.len() != n {
-        out.clear();
-        out.resize(n, 0);
-    }
-    out
-}
-
 /// The columns of an array of edge `P` below 64 on the portable code path: a call of its own,
 /// since inlined into the mesher it made the 62^3 path 0.9 % slower (the mesher's other loops
 /// compiled differently).
 #[inline(never)]
 fn short_columns_portable<const P: usize>(
     voxels: &[u16],
-    out: &mut Vec<u64>,
+    out: &mut Words,
     flat: &mut FlatColumns,
 ) -> bool {
     let (whole, tail) = voxels.as_chunks::<64>();
@@ -103,7 +111,7 @@ fn short_columns_portable<const P: usize>(
     if flat[..=whole.len()].iter().fold(0, |any, &w| any | w) == 0 {
         return false;
     }
-    cut_rows::<P>(flat, sized(out, P * P));
+    cut_rows::<P>(flat, out.sized(P * P));
     true
 }
 
@@ -150,8 +158,21 @@ pub(crate) fn cut_rows<const P: usize>(flat: &FlatColumns, out: &mut [u64]) {
 #[cfg(test)]
 mod tests {
     use alloc::vec;
+    use alloc::vec::Vec;
 
     use super::*;
+
+    /// Words holding `words`, as a mesher's scratch left by an earlier chunk.
+    fn words_of(words: &[u64]) -> Words {
+        let mut out = Words::default();
+        out.sized(words.len()).copy_from_slice(words);
+        out
+    }
+
+    /// A flat mask of `word`s, as a mesher's scratch left by an earlier chunk.
+    fn flat_of(word: u64) -> alloc::boxed::Box<FlatColumns> {
+        alloc::boxed::Box::new(FlatColumns([word; FLAT_WORDS]))
+    }
 
     /// Every supported edge, random ids with runs of air and ids across the 16-bit range: each
     /// row's mask is its own ids', from every builder this CPU runs. The buffers are reused, as
@@ -161,7 +182,7 @@ mod tests {
     fn columns_match_each_row_s_ids() {
         for (name, build) in builders() {
             let mut rng = voxel_scene::rng::Rng::new(7);
-            let (mut out, mut flat) = (vec![7], alloc::boxed::Box::new([9; FLAT_WORDS]));
+            let (mut out, mut flat) = (words_of(&[7]), flat_of(9));
             for p in [10, 18, 34, 34, 64, 64, 10] {
                 let voxels: Vec<u16> = (0..p * p * p)
                     .map(|_| match rng.below(4) {
@@ -179,7 +200,7 @@ mod tests {
                     })
                     .collect();
                 assert!(build(p, &voxels, &mut out, &mut flat), "{name}, edge {p}");
-                assert_eq!(out, want, "{name}, edge {p}");
+                assert_eq!(*out, want[..], "{name}, edge {p}");
             }
         }
     }
@@ -198,7 +219,7 @@ mod tests {
     }
 
     /// A column builder's signature.
-    type Builder = fn(usize, &[u16], &mut Vec<u64>, &mut FlatColumns) -> bool;
+    type Builder = fn(usize, &[u16], &mut Words, &mut FlatColumns) -> bool;
 
     /// `build_columns_x86_v3` as a safe function, for [`builders`], which lists it only on a
     /// CPU with AVX2.
@@ -206,7 +227,7 @@ mod tests {
     fn build_columns_x86_v3_checked(
         p: usize,
         voxels: &[u16],
-        out: &mut Vec<u64>,
+        out: &mut Words,
         flat: &mut FlatColumns,
     ) -> bool {
         assert!(crate::InstructionSet::X86V3.is_supported());
@@ -228,9 +249,9 @@ mod tests {
         for (name, build) in builders() {
             for p in [10, 18, 34] {
                 let mut air = vec![0u16; p * p * p];
-                let (mut out, mut flat) = (vec![7; 3], alloc::boxed::Box::new([9; FLAT_WORDS]));
+                let (mut out, mut flat) = (words_of(&[7; 3]), flat_of(9));
                 assert!(!build(p, &air, &mut out, &mut flat), "{name}, edge {p}");
-                assert_eq!(out, [7; 3], "{name}, edge {p}: nothing cut");
+                assert_eq!(*out, [7; 3], "{name}, edge {p}: nothing cut");
                 for at in [0, air.len() / 2 + 1, air.len() - 1] {
                     air.fill(0);
                     air[at] = 3;

@@ -38,15 +38,14 @@ use core::arch::x86_64::{
     _mm256_shuffle_epi8, _mm256_srlv_epi64, _mm256_testz_si256, _mm256_xor_si256,
 };
 
-use alloc::vec::Vec;
-
+use super::aligned::Words;
 #[cfg(target_feature = "sse2")]
 use super::bits::{masked, row_non_air};
 use super::plain::FlatColumns;
 #[cfg(not(target_feature = "sse2"))]
 use super::plain::build_columns;
 #[cfg(target_feature = "sse2")]
-use super::plain::{FLAT_WORDS, close_flat, cut_rows, sized};
+use super::plain::{FLAT_WORDS, close_flat, cut_rows};
 
 /// [`build_columns`](super::plain::build_columns) compiled for x86-64-v3, with the AVX2
 /// kernels of this module. On an x86-64 target without SSE (soft float, as
@@ -56,7 +55,7 @@ use super::plain::{FLAT_WORDS, close_flat, cut_rows, sized};
 pub(crate) fn build_columns_x86_v3(
     p: usize,
     voxels: &[u16],
-    out: &mut Vec<u64>,
+    out: &mut Words,
     flat: &mut FlatColumns,
 ) -> bool {
     #[cfg(not(target_feature = "sse2"))]
@@ -64,7 +63,7 @@ pub(crate) fn build_columns_x86_v3(
     #[cfg(target_feature = "sse2")]
     match p {
         64 => {
-            let columns = sized(out, 64 * 64);
+            let columns = out.sized(64 * 64);
             if starts_at_16_of_32(voxels) {
                 non_air_words_from_ninth(voxels, columns);
             } else {
@@ -85,11 +84,7 @@ pub(crate) fn build_columns_x86_v3(
 #[cfg(target_feature = "sse2")]
 #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
 #[inline(never)]
-fn short_columns<const P: usize>(
-    voxels: &[u16],
-    out: &mut Vec<u64>,
-    flat: &mut FlatColumns,
-) -> bool {
+fn short_columns<const P: usize>(voxels: &[u16], out: &mut Words, flat: &mut FlatColumns) -> bool {
     if starts_at_16_of_32(voxels) {
         let words = (P * P * P).div_ceil(64);
         let any = non_air_words_from_ninth(voxels, &mut flat[..words]);
@@ -108,7 +103,7 @@ fn short_columns<const P: usize>(
             return false;
         }
     }
-    let out = sized(out, P * P);
+    let out = out.sized(P * P);
     if P == 34 {
         cut_34_rows(flat, out);
     } else {
@@ -359,11 +354,14 @@ mod tests {
                     }
                     let voxels = &buffer[at..at + len];
                     assert_eq!(starts_at_16_of_32(voxels), skew == 8);
-                    let (mut want, mut want_flat) =
-                        (Vec::new(), alloc::boxed::Box::new([0; FLAT_WORDS]));
+                    let (mut want, mut want_flat) = (
+                        Words::default(),
+                        alloc::boxed::Box::new(FlatColumns([0; FLAT_WORDS])),
+                    );
                     let want_any = build_columns_portable(p, voxels, &mut want, &mut want_flat);
-                    let (mut got, mut flat) =
-                        (alloc::vec![5; 3], alloc::boxed::Box::new([!0; FLAT_WORDS]));
+                    let mut got = Words::default();
+                    got.sized(3).fill(5);
+                    let mut flat = alloc::boxed::Box::new(FlatColumns([!0; FLAT_WORDS]));
                     #[expect(
                         unsafe_code,
                         reason = "calls the AVX2 builder on a CPU checked to have it"
@@ -372,7 +370,7 @@ mod tests {
                     let any = unsafe { build_columns_x86_v3(p, voxels, &mut got, &mut flat) };
                     assert_eq!(any, want_any, "edge {p}, skew {skew}, fill {fill}");
                     if any {
-                        assert_eq!(got, want, "edge {p}, skew {skew}, fill {fill}");
+                        assert_eq!(*got, *want, "edge {p}, skew {skew}, fill {fill}");
                     }
                 }
             }
