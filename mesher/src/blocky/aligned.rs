@@ -63,8 +63,8 @@ struct WordLine([u64; 8]);
 
 /// Words from a cache line on, read as `[u64]`: the occupancy columns that
 /// [`GreedyMesher::mesh_u16`](super::GreedyMesher::mesh_u16) builds, written with 32-byte
-/// stores. (A `Vec<u64>` lands 16 bytes past a cache line as often as on one, and a 62^3
-/// array's columns then took 5 % longer.) Scratch that keeps its capacity between chunks.
+/// stores. (A `Vec<u64>` lands 16 bytes past a cache line as often as on one, and an array's
+/// columns then took 2 % to 10 % longer.) Scratch that keeps its capacity between chunks.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Words {
     lines: Vec<WordLine>,
