@@ -280,20 +280,57 @@ pub fn reference_greedy_count(
     classes: &BlockClasses,
     ao: bool,
 ) -> (usize, usize) {
+    let (opaque, transparent) = reference_greedy_quads(padded, classes, ao);
+    (opaque.len(), transparent.len())
+}
+
+/// A quad as the faces it covers: direction, lowest voxel (padded coordinates), extent along
+/// x, y and z (1 along the normal), id and corner AO. Sorted lists of these compare two
+/// meshes quad by quad, whatever their order and their width and height axes.
+pub type QuadCells = (u8, [u32; 3], [u32; 3], u16, [u8; 4]);
+
+/// The quads of [`reference_greedy_count`]'s algorithm per layer (opaque, transparent), sorted.
+pub fn reference_greedy_quads(
+    padded: &PaddedChunk,
+    classes: &BlockClasses,
+    ao: bool,
+) -> (Vec<QuadCells>, Vec<QuadCells>) {
     let (opaque, transparent) = reference_faces(padded, classes, ao);
     (
-        greedy_count(&opaque, padded),
-        greedy_count(&transparent, padded),
+        greedy_quads(&opaque, padded),
+        greedy_quads(&transparent, padded),
     )
 }
 
-fn greedy_count(faces: &[UnitFace], padded: &PaddedChunk) -> usize {
+/// A mesh layer's quads as [`QuadCells`], sorted.
+pub fn quad_cells(layer: &mesher::QuadLayer) -> Vec<QuadCells> {
+    let mut out = Vec::new();
+    for quads in &layer.faces {
+        for q in quads {
+            let f = q.decode().expect("every emitted quad decodes");
+            let mut extent = [1; 3];
+            extent[f.face.width_axis()] = f.width;
+            extent[f.face.height_axis()] = f.height;
+            out.push((
+                f.face.index(),
+                f.position.map(|a| a + 1),
+                extent,
+                f.block.0,
+                f.ao,
+            ));
+        }
+    }
+    out.sort();
+    out
+}
+
+fn greedy_quads(faces: &[UnitFace], padded: &PaddedChunk) -> Vec<QuadCells> {
     let e = padded.size().edge();
     let mut key: HashMap<([u32; 3], u8), (u16, [u8; 4])> = HashMap::new();
     for f in faces {
         key.insert((f.pos, f.face), (f.id, f.ao));
     }
-    let mut count = 0;
+    let mut quads = Vec::new();
     for face in FaceDirection::ALL {
         let d = face.index();
         let n_axis = face.normal_axis();
@@ -332,12 +369,16 @@ fn greedy_count(faces: &[UnitFace], padded: &PaddedChunk) -> usize {
                             visited.insert(at(i, j));
                         }
                     }
-                    count += 1;
+                    let mut extent = [1; 3];
+                    extent[u_axis] = w;
+                    extent[v_axis] = h;
+                    quads.push((d, start, extent, k.0, k.1));
                 }
             }
         }
     }
-    count
+    quads.sort();
+    quads
 }
 
 /// Chunk sizes as a proptest strategy.
