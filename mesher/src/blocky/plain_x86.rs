@@ -21,9 +21,9 @@
 //! system, such as a 62^3 chunk's 512 KiB), then splits every second load across two cache
 //! lines, and its columns took 1.4 to 1.5 times as long. Such an array is read from its ninth
 //! id on, every load aligned ([`non_air_words_from_ninth`]). Its words are then a byte
-//! ahead of the array's: the id-order pass reads each word from one byte before, and since
-//! that moves the swapped bytes too, it swaps bytes 2 and 3, and 6 and 7, of every word
-//! instead.
+//! ahead of the array's: the id-order pass ([`to_id_order_non_air`]) reads each word from one
+//! byte before, and since that moves the swapped bytes too, it swaps bytes 2 and 3, and 6 and
+//! 7, of every word instead.
 //!
 //! At padded edge 34 each row of 34 bits is then cut out of the flat mask four rows a step
 //! ([`cut_34_rows`]): four rows are 136 bits, 17 bytes, and row `k` of the four starts at
@@ -69,7 +69,7 @@ pub(crate) fn build_columns_x86_v3(
             } else {
                 let rows = voxels.as_chunks::<64>().0;
                 air_in_lane_order(rows, columns);
-                to_id_order_non_air(columns);
+                to_id_order_non_air::<0>(columns, rows.len());
             }
             true
         }
@@ -98,7 +98,7 @@ fn short_columns<const P: usize>(voxels: &[u16], out: &mut Words, flat: &mut Fla
         debug_assert_eq!(whole.len() * 64 + tail.len(), P * P * P);
         let words = &mut flat[..whole.len()];
         air_in_lane_order(whole, words);
-        let any = to_id_order_non_air(words);
+        let any = to_id_order_non_air::<0>(words, whole.len());
         if !close_flat(whole.len(), tail, flat) && !any {
             return false;
         }
@@ -143,36 +143,9 @@ fn non_air_words_from_ninth(voxels: &[u16], out: &mut [u64]) -> bool {
     // before the pass below overwrites anything it reads.
     let top = !out[n] >> 56;
     let last = row_non_air(tail);
-    // Bytes 0, 1, 3, 2 of every `u32`: the swap moved up by one byte, its own inverse.
-    let swap = _mm256_setr_epi8(
-        0, 1, 3, 2, 4, 5, 7, 6, 8, 9, 11, 10, 12, 13, 15, 14, 0, 1, 3, 2, 4, 5, 7, 6, 8, 9, 11, 10,
-        12, 13, 15, 14,
-    );
-    let ones = _mm256_set1_epi8(-1);
-    let mut any = _mm256_setzero_si256();
-    let bytes: &mut [u8] = bytemuck::cast_slice_mut(&mut out[..]);
-    // Words `4 q ..= 4 q + 3` read bytes `32 q + 7 .. 32 q + 39` and write `32 q .. 32 q + 32`:
-    // no step reads what an earlier one wrote.
-    let quads = n / 4;
-    for q in 0..quads {
-        let from = &bytes[32 * q + 7..][..32];
-        let window: [u8; 32] = core::array::from_fn(|i| from[i]);
-        let fixed = _mm256_xor_si256(_mm256_shuffle_epi8(bytemuck::cast(window), swap), ones);
-        any = _mm256_or_si256(any, fixed);
-        let fixed: [u8; 32] = bytemuck::cast(fixed);
-        bytes[32 * q..32 * q + 32].copy_from_slice(&fixed);
-    }
-    let mut any_rest = 0;
-    for k in 4 * quads..n {
-        let from = &bytes[8 * k + 7..][..8];
-        let window: [u8; 8] = core::array::from_fn(|i| from[i]);
-        let [b0, b1, b2, b3, b4, b5, b6, b7] = window;
-        let word = !u64::from_le_bytes([b0, b1, b3, b2, b4, b5, b7, b6]);
-        any_rest |= word;
-        bytes[8 * k..8 * k + 8].copy_from_slice(&word.to_le_bytes());
-    }
+    let any = to_id_order_non_air::<7>(out, n);
     out[n] = top | (last << 8);
-    _mm256_testz_si256(any, any) == 0 || any_rest != 0 || out[n] != 0
+    any || out[n] != 0
 }
 
 /// The air of every 64 ids of `rows` into the word of `out` at the same index, in lane order
@@ -205,30 +178,57 @@ fn air_in_lane_order(rows: &[[u16; 64]], out: &mut [u64]) {
     }
 }
 
-/// Turns words of air bits in lane order (from [`air_in_lane_order`]) into occupancy in id
-/// order, in place. Returns whether any bit is set (some id is not air).
+/// Turns words of air bits in lane order (from [`air_in_lane_order`]) into `n` words of
+/// occupancy in id order, in place: word `k` is read from byte `8 k + AHEAD` of `words` and
+/// written to word `k`. `AHEAD` is 0 for words where the kernel wrote them, or 7 for an array
+/// read from its ninth id on (see [`non_air_words_from_ninth`]), whose swapped bytes then sit
+/// one byte further up. Returns whether any bit is set (some id is not air).
 #[cfg(target_feature = "sse2")]
 #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
 #[inline]
-fn to_id_order_non_air(words: &mut [u64]) -> bool {
-    // Bytes 0, 2, 1, 3 of every `u32`: the swap is its own inverse.
-    let swap = _mm256_setr_epi8(
-        0, 2, 1, 3, 4, 6, 5, 7, 8, 10, 9, 11, 12, 14, 13, 15, 0, 2, 1, 3, 4, 6, 5, 7, 8, 10, 9, 11,
-        12, 14, 13, 15,
-    );
+fn to_id_order_non_air<const AHEAD: usize>(words: &mut [u64], n: usize) -> bool {
+    const { assert!(AHEAD == 0 || AHEAD == 7) };
+    // Bytes 0, 2, 1, 3 of every `u32` (or 0, 1, 3, 2 one byte up): each swap is its own
+    // inverse.
+    let swap = if AHEAD == 0 {
+        _mm256_setr_epi8(
+            0, 2, 1, 3, 4, 6, 5, 7, 8, 10, 9, 11, 12, 14, 13, 15, 0, 2, 1, 3, 4, 6, 5, 7, 8, 10, 9,
+            11, 12, 14, 13, 15,
+        )
+    } else {
+        _mm256_setr_epi8(
+            0, 1, 3, 2, 4, 5, 7, 6, 8, 9, 11, 10, 12, 13, 15, 14, 0, 1, 3, 2, 4, 5, 7, 6, 8, 9, 11,
+            10, 12, 13, 15, 14,
+        )
+    };
     let ones = _mm256_set1_epi8(-1);
     let mut any = _mm256_setzero_si256();
-    let (quads, rest) = words.as_chunks_mut::<4>();
-    for quad in quads {
-        let fixed = _mm256_xor_si256(_mm256_shuffle_epi8(bytemuck::cast(*quad), swap), ones);
+    let bytes: &mut [u8] = bytemuck::cast_slice_mut(words);
+    // Words `4 q ..= 4 q + 3` read bytes `32 q + AHEAD ..` and write `32 q .. 32 q + 32`: no
+    // step reads what an earlier one wrote.
+    let quads = n / 4;
+    // One bounds check for the loop: every window ends within these bytes.
+    let steps = &mut bytes[..32 * quads + AHEAD];
+    for q in 0..quads {
+        let from = &steps[32 * q + AHEAD..][..32];
+        let window: [u8; 32] = core::array::from_fn(|i| from[i]);
+        let fixed = _mm256_xor_si256(_mm256_shuffle_epi8(bytemuck::cast(window), swap), ones);
         any = _mm256_or_si256(any, fixed);
-        *quad = bytemuck::cast(fixed);
+        let fixed: [u8; 32] = bytemuck::cast(fixed);
+        steps[32 * q..32 * q + 32].copy_from_slice(&fixed);
     }
     let mut any_rest = 0;
-    for word in rest {
-        let [b0, b1, b2, b3, b4, b5, b6, b7] = word.to_le_bytes();
-        *word = !u64::from_le_bytes([b0, b2, b1, b3, b4, b6, b5, b7]);
-        any_rest |= *word;
+    for k in 4 * quads..n {
+        let from = &bytes[8 * k + AHEAD..][..8];
+        let [b0, b1, b2, b3, b4, b5, b6, b7] = core::array::from_fn(|i| from[i]);
+        let in_order = if AHEAD == 0 {
+            [b0, b2, b1, b3, b4, b6, b5, b7]
+        } else {
+            [b0, b1, b3, b2, b4, b5, b7, b6]
+        };
+        let word = !u64::from_le_bytes(in_order);
+        any_rest |= word;
+        bytes[8 * k..8 * k + 8].copy_from_slice(&word.to_le_bytes());
     }
     _mm256_testz_si256(any, any) == 0 || any_rest != 0
 }
@@ -308,7 +308,7 @@ mod tests {
             // SAFETY: `X86V3.is_supported()` found every feature the kernels are compiled for.
             let any = unsafe {
                 air_in_lane_order(&rows, &mut words);
-                to_id_order_non_air(&mut words[..rows.len()])
+                to_id_order_non_air::<0>(&mut words, rows.len())
             };
             for (r, row) in rows.iter().enumerate() {
                 assert_eq!(words[r], row_non_air(row), "call {call}, row {r}: {row:?}");
