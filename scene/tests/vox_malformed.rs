@@ -241,10 +241,16 @@ fn chunks_of_the_wrong_length_are_refused() {
         &["'SIZE' at byte 20 holds 13 bytes", "12 bytes"],
     );
 
-    let mut w = VoxWriter::new();
-    w.model([1, 1, 1], &[[0, 0, 0, 1]])
-        .chunk(b"RGBA", vec![0; 1020]);
-    refused(&w.bytes(), &["'RGBA'", "holds 1020 bytes", "1024"]);
+    // A palette of 256 or 255 colours loads (see `vox_scenes.rs`); any other length not.
+    for wrong in [0, 4, 1016, 1021, 1028] {
+        let mut w = VoxWriter::new();
+        w.model([1, 1, 1], &[[0, 0, 0, 1]])
+            .chunk(b"RGBA", vec![0; wrong]);
+        refused(
+            &w.bytes(),
+            &["'RGBA'", &format!("holds {wrong} bytes"), "1024", "1020"],
+        );
+    }
 
     let mut w = VoxWriter::new();
     w.model([1, 1, 1], &[[0, 0, 0, 1]])

@@ -268,6 +268,21 @@ fn rgba_entry_i_is_colour_index_i_plus_one() {
     }
 }
 
+/// Some writers leave out the 256th `RGBA` entry, which no colour index reaches: 255 colours
+/// give every index its colour.
+#[test]
+fn a_palette_of_255_colours_colours_every_index() {
+    let mut w = VoxWriter::new();
+    let colours: Vec<u8> = (0..255u8).flat_map(|i| [i, 255 - i, 9, 255]).collect();
+    w.model([2, 1, 1], &[[0, 0, 0, 1], [1, 0, 0, 255]])
+        .chunk(b"RGBA", colours);
+    let scene = load(&w.bytes());
+    for index in 1..=255usize {
+        let i = (index - 1) as u8;
+        assert_eq!(scene.materials[index].colour, [i, 255 - i, 9, 255]);
+    }
+}
+
 #[test]
 fn matl_materials_map_to_kinds_and_values() {
     let mut w = VoxWriter::new();

@@ -85,7 +85,8 @@ impl Node {
 pub(crate) struct RawFile {
     /// Models in file order (the model index is the position here).
     pub models: Vec<RawModel>,
-    /// The `RGBA` palette: entry `i` is colour index `i + 1` (the 256th entry is unused).
+    /// The `RGBA` palette: entry `i` is colour index `i + 1` (the 256th entry is unused, and
+    /// zero when the file leaves it out).
     pub palette: Option<[[u8; 4]; 256]>,
     /// Materials by colour index (0..=255; 0 is never drawn).
     pub materials: Vec<(u8, RawMaterial, ChunkAt)>,
@@ -155,15 +156,21 @@ pub(crate) fn parse(chunks: &[Chunk<'_>]) -> Result<RawFile, VoxError> {
                 file.models.push(RawModel { size, voxels });
             }
             b"RGBA" => {
-                if chunk.content.len() != 1024 {
+                // 256 colours, or 255: some writers leave out the 256th entry, which no
+                // colour index reaches (entry `i` is index `i + 1`, and indexes end at 255).
+                if ![1024, 1020].contains(&chunk.content.len()) {
                     return Err(VoxError::WrongLength {
                         chunk: chunk.at,
-                        expected: "1024 bytes (256 colours)".into(),
+                        expected: "1024 bytes (256 colours), or 1020 (255, every colour index)"
+                            .into(),
                         found: chunk.content.len(),
                     });
                 }
                 let colours = std::array::from_fn(|i| {
-                    chunk.content[4 * i..4 * i + 4].try_into().expect("4 bytes")
+                    chunk
+                        .content
+                        .get(4 * i..4 * i + 4)
+                        .map_or([0; 4], |c| c.try_into().expect("4 bytes"))
                 });
                 if file.palette.replace(colours).is_some() {
                     return Err(duplicate("the palette ('RGBA')".into(), chunk.at));
