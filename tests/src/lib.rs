@@ -38,3 +38,25 @@ pub fn sample_vox_files() -> Vec<PathBuf> {
     assert!(!files.is_empty(), "{} holds no .vox files", dir.display());
     files
 }
+
+/// Every `.vox` file of the folder named by `BLOCKY_VOX_DIR`, sorted by name, when it is set
+/// (as the blocky bench reads it): models of one's own, to check against the peers beside the
+/// samples. Empty when it is not set; a set path that is not a folder of `.vox` files panics,
+/// so that a mistyped path is never taken for a pass.
+pub fn extra_vox_files() -> Vec<PathBuf> {
+    let Some(dir) = std::env::var_os("BLOCKY_VOX_DIR").map(PathBuf::from) else {
+        return Vec::new();
+    };
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("BLOCKY_VOX_DIR: cannot list {}: {e}", dir.display()))
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "vox"))
+        .collect();
+    files.sort();
+    assert!(
+        !files.is_empty(),
+        "BLOCKY_VOX_DIR: {} holds no .vox files",
+        dir.display()
+    );
+    files
+}

@@ -253,9 +253,14 @@ proptest! {
     }
 }
 
+/// Every sample model, and with `BLOCKY_VOX_DIR` set the models of that folder too, in chunks
+/// of 32^3: a few chunks of each against `block-mesh`.
 #[test]
 fn matches_block_mesh_on_the_sample_models() {
-    for path in tests::sample_vox_files() {
+    for path in tests::sample_vox_files()
+        .into_iter()
+        .chain(tests::extra_vox_files())
+    {
         let scene = viewer::scene::vox::load_vox_file(&path, ChunkSize::S32, 1 << 24)
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let classes = BlockClasses::from_palette(&scene.palette);
