@@ -12,7 +12,7 @@ This writes such models from any mesh `trimesh` loads:
     BLOCKY_VOX_DIR=<folder> cargo test --release -p tests --test blocky_peers
 
 How: the mesh (every node with its transform) is scaled so that its longest side spans
-`edge` voxels; points are sampled on its surface, about 12 per voxel face of area; each
+`edge` voxels exactly; points are sampled on its surface, about 12 per voxel face of area; each
 voxel a point lands in is solid, coloured from the texture at the point's texture
 coordinates (or the material's colour, or the face colours) by the first point that lands
 in it. `--fill` also fills the enclosed interior, in one colour. The colours are quantized
@@ -40,7 +40,10 @@ INTERIOR = (120, 100, 80)
 
 def meshes_of(path):
     """Every mesh of the file, with its node's transform applied."""
-    scene = trimesh.load(path, force="scene")
+    try:
+        scene = trimesh.load(path, force="scene")
+    except Exception as error:  # trimesh raises many kinds; each names the problem
+        raise SystemExit(f"{path}: cannot load: {error}") from error
     meshes = []
     for node in scene.graph.nodes_geometry:
         transform, name = scene.graph[node]
@@ -95,7 +98,12 @@ def main():
     meshes = meshes_of(args.mesh)
     low = np.min([m.bounds[0] for m in meshes], axis=0)
     high = np.max([m.bounds[1] for m in meshes], axis=0)
-    pitch = (high - low).max() / (args.edge - 1)
+    pitch = (high - low).max() / args.edge
+    if not np.isfinite(pitch) or pitch <= 0:
+        raise SystemExit(
+            f"{args.mesh}: the mesh has no extent (every vertex at one point); a file with "
+            "Draco-compressed meshes needs `pip install DracoPy`"
+        )
     points, colours = [], []
     for mesh in meshes:
         count = int(mesh.area / pitch**2 * SAMPLES_PER_FACE) + 1000
@@ -105,7 +113,9 @@ def main():
     points = np.concatenate(points)
     colours = np.concatenate(colours).astype(np.uint8)
 
-    cells = np.floor((points - low) / pitch).astype(int)
+    # A point on the far side of the bounds (at `low + edge * pitch`) lies on the boundary of
+    # the last voxel, not in a voxel past it.
+    cells = np.minimum(np.floor((points - low) / pitch).astype(int), args.edge - 1)
     dims = cells.max(axis=0) + 1
     keys = cells[:, 0] + dims[0] * (cells[:, 1] + dims[1] * cells[:, 2])
     _, first = np.unique(keys, return_index=True)
