@@ -1,6 +1,6 @@
 //! Shared helpers for the cross-crate integration tests in `tests/`.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use gpu_backend::test_support::skip;
 
@@ -29,14 +29,7 @@ pub fn sample_vox_files() -> Vec<PathBuf> {
     let Some(dir) = sample_data("vox") else {
         return Vec::new();
     };
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("cannot list {}: {e}", dir.display()))
-        .filter_map(|entry| entry.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "vox"))
-        .collect();
-    files.sort();
-    assert!(!files.is_empty(), "{} holds no .vox files", dir.display());
-    files
+    vox_files_in(&dir, "")
 }
 
 /// Every `.vox` file of the folder named by `BLOCKY_VOX_DIR`, sorted by name, when it is set
@@ -47,15 +40,21 @@ pub fn extra_vox_files() -> Vec<PathBuf> {
     let Some(dir) = std::env::var_os("BLOCKY_VOX_DIR").map(PathBuf::from) else {
         return Vec::new();
     };
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("BLOCKY_VOX_DIR: cannot list {}: {e}", dir.display()))
+    vox_files_in(&dir, "BLOCKY_VOX_DIR: ")
+}
+
+/// Every `.vox` file of `dir`, sorted by name; panics (the message starting with `context`)
+/// if `dir` cannot be listed or holds none.
+fn vox_files_in(dir: &Path, context: &str) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{context}cannot list {}: {e}", dir.display()))
         .filter_map(|entry| entry.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|e| e == "vox"))
         .collect();
     files.sort();
     assert!(
         !files.is_empty(),
-        "BLOCKY_VOX_DIR: {} holds no .vox files",
+        "{context}{} holds no .vox files",
         dir.display()
     );
     files
