@@ -533,6 +533,7 @@ mod tests {
         BlockId, ChunkSize, FaceDirection, Material, MaterialClass, MaterialPalette, PaddedChunk,
     };
 
+    use super::super::one_id::SAMPLED_FROM;
     use super::*;
 
     #[test]
@@ -563,43 +564,80 @@ mod tests {
         (BlockClasses::from_palette(&palette), stone, ore)
     }
 
-    /// One-id chunks meshed with AO off (the passes that key nothing) give the quads of the
-    /// keyed passes. Those run on a twin with another id in a padding corner, which touches
-    /// no face and, with AO off, changes no quad.
+    /// Chunks whose faces all have one id, meshed with AO off (the passes that key nothing),
+    /// give the quads of the keyed passes: chunks of one id, and chunks with an ore core no
+    /// face shows. The keyed passes run on a twin with a glass voxel in a padding corner, which
+    /// touches no face and, with AO off, changes no quad, but turns the one-id passes off.
     #[test]
     fn one_id_chunks_mesh_as_the_keyed_passes_do() {
-        let (classes, stone, ore) = stone_and_ore();
+        let mut palette = MaterialPalette::new();
+        let stone = palette.push(Material::opaque(128, 128, 128)).unwrap();
+        let ore = palette.push(Material::opaque(200, 50, 50)).unwrap();
+        let glass = Material::opaque(200, 220, 230).with_class(MaterialClass::Transparent);
+        let glass = palette.push(glass).unwrap();
+        let classes = BlockClasses::from_palette(&palette);
         let sponge = voxel_scene::detailed::menger(3);
         for size in ChunkSize::ALL {
             let e = size.edge();
-            let shapes: [&dyn Fn(u32, u32, u32) -> bool; 4] = [
-                &|x, y, z| sponge.get([x, y, z].map(|a| i64::from(a) + 1)) != 0,
+            let air = BlockId::AIR;
+            let shapes: [&dyn Fn(u32, u32, u32) -> BlockId; 5] = [
                 &|x, y, z| {
-                    let d = [x, y, z].map(|a| 2 * i64::from(a) - i64::from(e) - 1);
-                    d.iter().map(|d| d * d).sum::<i64>() <= i64::from(e * e)
+                    let solid = sponge.get([x, y, z].map(|a| i64::from(a) + 1)) != 0;
+                    if solid { stone } else { air }
                 },
-                &|x, y, z| (x + y + z) % 2 == 0 && (x * 7 + y * 3 + z) % 11 != 0,
-                &|x, y, z| (x / 3 + y / 2 + z) % 3 == 0,
+                // A ball with an ore core two voxels in.
+                &|x, y, z| {
+                    let d = [x, y, z].map(|a| 2 * i64::from(a) - i64::from(e) + 1);
+                    let d2 = d.iter().map(|d| d * d).sum::<i64>();
+                    let r = i64::from(e);
+                    match d2 {
+                        _ if d2 <= (r - 4) * (r - 4) => ore,
+                        _ if d2 <= r * r => stone,
+                        _ => air,
+                    }
+                },
+                &|x, y, z| {
+                    let solid = (x + y + z) % 2 == 0 && (x * 7 + y * 3 + z) % 11 != 0;
+                    if solid { stone } else { air }
+                },
+                &|x, y, z| {
+                    if (x / 3 + y / 2 + z) % 3 == 0 {
+                        stone
+                    } else {
+                        air
+                    }
+                },
+                // The lower half solid, with an ore core one voxel in from its faces.
+                &|x, y, z| {
+                    let h = e / 2;
+                    let core =
+                        [x, z].iter().all(|&a| (1..e - 1).contains(&a)) && (1..h - 1).contains(&y);
+                    match y {
+                        _ if core => ore,
+                        _ if y < h => stone,
+                        _ => air,
+                    }
+                },
             ];
-            for (k, solid) in shapes.iter().enumerate() {
-                let one =
-                    PaddedChunk::from_fn(
-                        size,
-                        |x, y, z| {
-                            if solid(x, y, z) { stone } else { BlockId::AIR }
-                        },
-                    );
+            for (k, shape) in shapes.iter().enumerate() {
+                let one = PaddedChunk::from_fn(size, shape);
                 let mut keyed = one.clone();
-                keyed.set(0, 0, 0, ore).unwrap();
+                keyed.set(0, 0, 0, glass).unwrap();
                 let p = one.padded_edge();
-                let one_of = |c: &PaddedChunk| {
+                let masks_of = |c: &PaddedChunk| {
                     let mut masks = Masks::default();
                     masks.build(p, bytemuck::cast_slice(c.voxels()), c.columns(), &classes);
-                    let slabs = masks.opaque(c.columns()).occupied[0];
-                    one_id(bytemuck::cast_slice(c.voxels()), c.columns(), p, slabs)
+                    masks
                 };
-                assert_eq!(one_of(&one), Some(stone.0), "{size:?} shape {k}");
-                assert_eq!(one_of(&keyed), None, "{size:?} shape {k}");
+                let masks = masks_of(&one);
+                let slabs = masks.opaque(one.columns()).occupied[0];
+                let found = one_id(bytemuck::cast_slice(one.voxels()), one.columns(), p, slabs);
+                assert!(!masks.has_transparent, "{size:?} shape {k}");
+                // Below `SAMPLED_FROM` a hidden core is refused, and the keyed passes run.
+                let has_core = one.voxels().contains(&ore);
+                let want = (!has_core || p >= SAMPLED_FROM).then_some(stone.0);
+                assert_eq!(found, want, "{size:?} shape {k}");
+                assert!(masks_of(&keyed).has_transparent, "{size:?} shape {k}");
                 let mut mesher = GreedyMesher::new().with_ambient_occlusion(false);
                 // Greedy from the chunk, from a plain array, and one quad per face.
                 let mut quads = |c: &PaddedChunk, entry: usize| {
