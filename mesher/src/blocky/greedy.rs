@@ -66,10 +66,11 @@ macro_rules! for_direction {
 ///    checkerboard, take a bulk path: the faces that share the first face's key are found
 ///    with whole-line bit operations and a SIMD compare of the ids, and cost an add and a
 ///    store each.
-/// 5. With AO off, a chunk whose solid voxels all have one id (an occupancy grid, a sculpt
-///    in one material) gives every face one key: sampled rows, then a scan of the ids, find
-///    this (both stop at the first other id), and then no face is keyed and no id is read;
-///    neighbouring faces merge.
+/// 5. With AO off, a chunk whose faces all have one id (an occupancy grid, a sculpt in one
+///    material, or from 32^3 up a model filled with a core material no face shows) gives
+///    every face one key: sampled rows, then a scan of the ids, find this (both stop at the
+///    first other id with a face), and then no face is keyed and no id is read; neighbouring
+///    faces merge.
 /// 6. With AO off, a chunk of several ids whose exposed rows are dense (random fills,
 ///    foliage, detailed models, hilly 62^3 terrain) is not keyed face by face either: each
 ///    exposed row of ids is compared with the next ones along x, y and z (SIMD, 16 ids a

@@ -17,7 +17,7 @@ pub(crate) struct Input<'a> {
     pub mixed_transparent: bool,
     /// Compute AO (else every corner is 3 and merging ignores AO).
     pub ao: bool,
-    /// With AO off: the one id of every solid voxel, if they share one (see `one_id`).
+    /// With AO off: the one id of every voxel with a face, if they share one (see `one_id`).
     pub one_id: Option<u16>,
     /// With AO off, the chunk's equal-id masks: faces are merged by them instead of keyed
     /// one by one (see `FROM_IDS`).

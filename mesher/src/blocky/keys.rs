@@ -29,7 +29,7 @@ pub(crate) struct Keys {
     /// The AO splits of the last lines of many lone faces (reset per direction: its entries
     /// hold AO looked up in the direction's table).
     pub(crate) memo: NeighbourhoodMemo<Front>,
-    /// The key of every face of a chunk whose solid voxels all have one id, meshed with AO
+    /// The key of every face of a chunk whose faces all have one id, meshed with AO
     /// off (the passes that take `ONE`): no face is keyed, this is read instead.
     pub(crate) one: u32,
 }
