@@ -586,9 +586,9 @@ mod tests {
                     let solid = sponge.get([x, y, z].map(|a| i64::from(a) + 1)) != 0;
                     if solid { stone } else { air }
                 },
-                // A ball with an ore core two voxels in.
+                // A ball (in padded coordinates, centred) with an ore core two voxels in.
                 &|x, y, z| {
-                    let d = [x, y, z].map(|a| 2 * i64::from(a) - i64::from(e) + 1);
+                    let d = [x, y, z].map(|a| 2 * i64::from(a) - i64::from(e) - 1);
                     let d2 = d.iter().map(|d| d * d).sum::<i64>();
                     let r = i64::from(e);
                     match d2 {
@@ -608,7 +608,8 @@ mod tests {
                         air
                     }
                 },
-                // The lower half solid, with an ore core one voxel in from its faces.
+                // The lower half solid (padding included), with an ore core under one layer of
+                // stone on top; the padding's stone covers its other sides.
                 &|x, y, z| {
                     let h = e / 2;
                     let core =
