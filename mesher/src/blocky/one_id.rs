@@ -104,8 +104,14 @@ pub(crate) fn one_id(voxels: &[u16], columns: &[u64], p: usize, slabs: u64) -> O
         if p < SAMPLED_FROM {
             return None;
         }
-        for y in 1..=e {
-            let f = faced_row(columns, p, inner, y, z);
+        // Rows y - 1, y, y + 1 of the slab (rows 1..=e) with row y of the slabs around it:
+        // zipped slices, so that no read is bounds-checked.
+        let slab = |z: usize| columns.get(z * p..(z + 1) * p).unwrap_or(&[]);
+        let (below, here, above) = (slab(z - 1), slab(z), slab(z + 1));
+        let rows = here.windows(3).zip(below.get(1..)?).zip(above.get(1..)?);
+        for (y, ((near, &b), &a)) in (1..).zip(rows) {
+            let r = near[1];
+            let f = r & inner & !((r << 1) & (r >> 1) & near[0] & near[2] & b & a);
             if f != 0 && faces_of_id(ids(y, z)?, id, f) != f {
                 return None;
             }
