@@ -10,8 +10,9 @@
 
 use super::bits::{faces_of_id, nonzero_lines, occupied_rows, ones};
 
-/// Rows whose first and last voxels with a face are compared with the chunk's first before
-/// every row is scanned: on a chunk of several ids one of them nearly always differs, and the
+/// Rows whose first and last solid voxels (and, where those differ from the chunk's id, whose
+/// first and last voxels with a face) are compared with the chunk's id before every row is
+/// scanned: on a chunk of several ids one of them nearly always differs, and the
 /// scan is skipped. They are taken every `p * p / SAMPLES + 1` rows (about two per slab at
 /// 62^3), a step that is not a multiple of `p`, so that they fall on different rows (y) of
 /// their slabs rather than all on the bottom padding row, which shows no face. Only chunks of
@@ -33,9 +34,9 @@ pub(crate) const SAMPLED_FROM: usize = 34;
 /// must be the opaque occupancy (no transparent voxel). Below padded edge [`SAMPLED_FROM`]
 /// every solid voxel of slabs `1..=p - 2` must have the id.
 ///
-/// First, from padded edge [`SAMPLED_FROM`] on, the first and last voxel with a face of
-/// [`SAMPLES`] rows spread over the chunk are compared with the first one found (a chunk of
-/// layered or painted materials stops here); then every slab's ids, and in a slab with
+/// First, from padded edge [`SAMPLED_FROM`] on, the ends of [`SAMPLES`] rows spread over the
+/// chunk are compared with the id of the first voxel with a face (a chunk of layered or
+/// painted materials stops here); then every slab's ids, and in a slab with
 /// another id, every row with a face.
 #[inline(always)]
 pub(crate) fn one_id(voxels: &[u16], columns: &[u64], p: usize, slabs: u64) -> Option<u16> {
@@ -113,8 +114,8 @@ pub(crate) fn one_id(voxels: &[u16], columns: &[u64], p: usize, slabs: u64) -> O
         let rows = (here.iter().zip(here.get(1..)?).zip(here.get(2..)?))
             .zip(below.get(1..)?)
             .zip(above.get(1..)?);
-        for (f, ((((&y0, &r), &y2), &b), &a)) in faced[1..].iter_mut().zip(rows) {
-            *f = r & inner & !((r << 1) & (r >> 1) & y0 & y2 & b & a);
+        for (f, ((((&before, &r), &after), &under), &over)) in faced[1..].iter_mut().zip(rows) {
+            *f = r & inner & !((r << 1) & (r >> 1) & before & after & under & over);
         }
         for y in ones(nonzero_lines(&faced)) {
             let f = faced[y];
