@@ -302,6 +302,14 @@ impl Iterator for Ones {
     }
 }
 
+/// The voxels of row `row` all of whose 6 neighbours are solid, so that they show no face:
+/// `before` and `after` are the rows on either side in the same slab, `under` and `over` the
+/// same row in the slabs on either side (one bit a voxel, x along the bits).
+#[inline(always)]
+pub(crate) fn buried(row: u64, [before, after]: [u64; 2], [under, over]: [u64; 2]) -> u64 {
+    (row >> 1) & (row << 1) & before & after & under & over
+}
+
 /// True if `bits` has at least 4 set bits (without `popcnt`, which the baseline x86-64 target
 /// lacks): the lines worth the fast path's fixed cost.
 #[inline(always)]

@@ -38,7 +38,7 @@
 use super::aligned::{Slice, Slices};
 #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
 use super::bits::transpose_rows_x86_v3;
-use super::bits::{masked, ones, runs_equal, runs_reach, transpose64};
+use super::bits::{buried, masked, ones, runs_equal, runs_reach, transpose64};
 
 /// Whether a chunk of padded edge `p` whose sampled exposed rows (see [`exposed_rows`]) hold
 /// `sample` is meshed from the masks: its exposed rows must hold both many exposed voxels and
@@ -330,12 +330,11 @@ fn exposed_rows<const SAMPLE: bool>(chunk: &ChunkIds<'_>, out: &mut Slice) -> Op
             let solid = columns[y] & inner;
             // Voxels all of whose 6 neighbours are opaque show no face.
             let o = slab[y];
-            let hidden = (o >> 1)
-                & (o << 1)
-                & slab[masked::<64>(y - 1)]
-                & slab[masked::<64>(y + 1)]
-                & below[y]
-                & above[y];
+            let hidden = buried(
+                o,
+                [slab[masked::<64>(y - 1)], slab[masked::<64>(y + 1)]],
+                [below[y], above[y]],
+            );
             let shown = (solid & !hidden).count_ones();
             count.voxels += shown;
             exposed |= u64::from(shown != 0) << y;

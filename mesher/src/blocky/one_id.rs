@@ -8,7 +8,7 @@
 //! solid and have an air neighbour. A voxel with six solid neighbours shows no face, whatever
 //! its id; a voxel of the padding shows none either (its faces are the next chunk's).
 
-use super::bits::{faces_of_id, nonzero_lines, occupied_rows, ones};
+use super::bits::{buried, faces_of_id, nonzero_lines, occupied_rows, ones};
 
 /// Rows whose first and last solid voxels (and, where those differ from the chunk's id, whose
 /// first and last voxels with a face) are compared with the chunk's id before every row is
@@ -115,7 +115,7 @@ pub(crate) fn one_id(voxels: &[u16], columns: &[u64], p: usize, slabs: u64) -> O
             .zip(below.get(1..)?)
             .zip(above.get(1..)?);
         for (f, ((((&before, &r), &after), &under), &over)) in faced[1..].iter_mut().zip(rows) {
-            *f = r & inner & !((r << 1) & (r >> 1) & before & after & under & over);
+            *f = r & inner & !buried(r, [before, after], [under, over]);
         }
         for y in ones(nonzero_lines(&faced)) {
             let f = faced[y];
@@ -141,8 +141,8 @@ fn row_ends(voxels: &[u16], start: usize, bits: u64) -> (Option<u16>, Option<u16
 fn faced_row(columns: &[u64], p: usize, inner: u64, y: usize, z: usize) -> u64 {
     let row = |y: usize, z: usize| columns.get(y + p * z).copied().unwrap_or(0);
     let r = row(y, z);
-    let buried = (r << 1) & (r >> 1) & row(y - 1, z) & row(y + 1, z);
-    r & inner & !(buried & row(y, z - 1) & row(y, z + 1))
+    let sides = [row(y - 1, z), row(y + 1, z)];
+    r & inner & !buried(r, sides, [row(y, z - 1), row(y, z + 1)])
 }
 
 #[cfg(test)]
