@@ -193,8 +193,8 @@ pub(crate) fn row_equal(row: &[u16], id: u16) -> u64 {
 /// solid id (a compare-and-OR, like [`row_contains`]) answers without the bit packing of
 /// [`row_equal`].
 ///
-/// Rows of 64 and 48 ids (three 16-id registers, enough for a 32^3 chunk's rows of 34) are
-/// compared as arrays; other lengths take a loop.
+/// Rows of 64, 48 (three 16-id registers, enough for a 32^3 chunk's rows of 34) and 32 ids
+/// (half a row of 64) are compared as arrays; other lengths take a loop.
 #[inline(always)]
 pub(crate) fn faces_of_id(row: &[u16], id: u16, faces: u64) -> u64 {
     // A row as an array: the fold is unrolled, with no loop over a run-time length.
@@ -203,6 +203,9 @@ pub(crate) fn faces_of_id(row: &[u16], id: u16, faces: u64) -> u64 {
     }
     if let Ok(short) = <&[u16; 48]>::try_from(row) {
         return faces_of_id_in(short, id, faces);
+    }
+    if let Ok(half) = <&[u16; 32]>::try_from(row) {
+        return faces_of_id_in(half, id, faces);
     }
     if !holds_other_solid(row, id) {
         return faces;
@@ -562,8 +565,8 @@ mod tests {
     /// whole), and rows with a second id anywhere, at a face or not (only the faces of the id).
     #[test]
     fn faces_of_id_keeps_exactly_the_faces_of_the_id() {
-        // Rows of 48 and 64 are compared as arrays, others (34) in a loop.
-        for len in [34usize, 48, 64] {
+        // Rows of 32, 48 and 64 are compared as arrays, others (34) in a loop.
+        for len in [32usize, 34, 48, 64] {
             let faces = 0x5555_5555_5555_5555u64 >> (64 - len) & !1;
             let one_id: [u16; 64] = core::array::from_fn(|i| if i % 2 == 0 { 9 } else { 0 });
             assert_eq!(faces_of_id(&one_id[..len], 9, faces), faces);

@@ -451,13 +451,9 @@ fn mesh_chunk(
     let one = if job.ao || masks.has_transparent {
         None
     } else {
-        one_id(
-            job.voxels,
-            columns,
-            job.p,
-            masks.opaque(columns).occupied[0],
-        )
-        .filter(|&id| u32::from(id) < classes.known_below())
+        let opaque = masks.opaque(columns);
+        one_id(job.voxels, opaque.by[0], job.p, opaque.occupied[0])
+            .filter(|&id| u32::from(id) < classes.known_below())
     };
     if let Some(id) = one {
         keys.one = u32::from(id) << PackedQuad::BLOCK_SHIFT;
@@ -632,8 +628,13 @@ mod tests {
                     masks
                 };
                 let masks = masks_of(&one);
-                let slabs = masks.opaque(one.columns()).occupied[0];
-                let found = one_id(bytemuck::cast_slice(one.voxels()), one.columns(), p, slabs);
+                let opaque = masks.opaque(one.columns());
+                let found = one_id(
+                    bytemuck::cast_slice(one.voxels()),
+                    opaque.by[0],
+                    p,
+                    opaque.occupied[0],
+                );
                 assert!(!masks.has_transparent, "{size:?} shape {k}");
                 // Below `SAMPLED_FROM` a hidden core is refused, and the keyed passes run.
                 let has_core = one.voxels().contains(&ore);
