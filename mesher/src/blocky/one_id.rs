@@ -100,8 +100,8 @@ pub(crate) fn one_id(voxels: &[u16], rows: &[Slice], p: usize, slabs: u64) -> Op
     let mut slab_at_once = true;
     for z in ones(slabs) {
         let here = rows.get(z)?;
-        let solid_ids = |rows: core::ops::Range<usize>| {
-            voxels.get((z * p + rows.start) * p..(z * p + rows.end) * p)
+        let solid_ids = |solid: core::ops::Range<usize>| {
+            voxels.get((z * p + solid.start) * p..(z * p + solid.end) * p)
         };
         if p < SAMPLED_FROM {
             // Every solid voxel of the slab must have the id. Comparing rows one by one costs
