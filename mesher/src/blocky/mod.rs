@@ -44,7 +44,7 @@
 //! | 1 | `plain_x86` | the same columns with AVX2 kernels, for the x86-64-v3 copy of the mesher |
 //! | 2 | `masks` | opaque and transparent bit masks in the three slice layouts, and the early exit for empty and buried chunks |
 //! | 3 | `input` | `Input`: what the rest reads (ids, masks, options), built once per chunk |
-//! | 4 | `lone_x` | a pre-pass: ±X faces with no neighbouring face, in rows of many, written straight from the occupancy rows (checkerboards) |
+//! | 4 | `lone_x` | a pre-pass with AO on, from 32^3 up: ±X faces with no neighbouring face, in rows of many, written straight from the occupancy rows (checkerboards) |
 //! | 5 | `slices` | per direction and slice: the face lines (`cur & !front`), opaque then transparent, handed to `merge` |
 //! | 6 | `merge` | per slice: keys (id + AO) of the faces, equal-key masks, the faces that merge with nothing written as 1 x 1 quads |
 //! | 7 | `grow` | greedy quads grown from the equal-key masks, in `block-mesh`'s order |
