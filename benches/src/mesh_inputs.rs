@@ -9,6 +9,7 @@
 //! | --- | --- |
 //! | `sphere` | a solid ball of stone, radius `e / 2 - 1`, centred, air around |
 //! | `terrain` | [`inputs::chunks::TERRAIN_CENTRE`](crate::inputs::chunks::TERRAIN_CENTRE) of the viewer's terrain gathered with its 26 neighbours: hills, caves, a sea (transparent water), 7 ids |
+//! | `terrain area` | the same terrain over about 256 x 256 columns around that chunk: every chunk with a surface, gathered with its real neighbours ([`terrain_area`]) |
 //! | `checkerboard` | 3-D checkerboard of stone: every face visible, nothing merges |
 //! | `random50` | each voxel air with probability 1/2, else one of 4 opaque ids |
 //! | `full` | every padded voxel stone: buried, no face |
@@ -24,14 +25,15 @@
 
 use std::path::{Path, PathBuf};
 
+use voxel_core::storage::WorldMap;
 use voxel_core::{
-    BlockId, ChunkSize, Material, MaterialPalette, PaddedChunk, gather_neighbourhood,
+    BlockId, ChunkCoord, ChunkSize, Material, MaterialPalette, PaddedChunk, gather_neighbourhood,
 };
 use voxel_scene::TerrainBlocks;
 use voxel_scene::detailed::{VoxelBox, flat_maze, foliage, menger, menger_shaded};
 use voxel_scene::vox::load_vox_file;
 
-use crate::inputs::chunks::{TERRAIN_CENTRE, terrain_world_dense};
+use crate::inputs::chunks::{TERRAIN_CENTRE, terrain_chunk, terrain_world_dense};
 use voxel_scene::rng::Rng;
 
 /// One bench input: one or more padded chunks and the palette their ids index.
@@ -111,6 +113,61 @@ pub fn terrain(size: ChunkSize) -> MeshInput {
     let mut chunk = PaddedChunk::new(size);
     gather_neighbourhood(&world, TERRAIN_CENTRE, &mut chunk);
     single(label("terrain", size), chunk, TerrainBlocks::palette().0)
+}
+
+/// The voxels above which the viewer's terrain holds no solid block and no water: its hills
+/// reach 18 + 14 (`Terrain::height`), its sea 14.
+const TERRAIN_AREA_TOP: i32 = 34;
+
+/// The viewer's terrain over `n x n` chunk columns around [`TERRAIN_CENTRE`], `n` the chunks
+/// that fit in 256 voxels (8 at 32^3, 4 at 62^3): every chunk that holds both air and
+/// something else, gathered with its real neighbours. [`terrain`] is one chunk of this world;
+/// here hills, valleys, beaches, sea floor and caves come in the mix a streamed view meshes.
+pub fn terrain_area(size: ChunkSize) -> MeshInput {
+    let e = size.edge() as i32;
+    let n = (256 / e).max(1);
+    let column = |cx: i32, cz: i32, cy: i32| {
+        ChunkCoord::new(
+            TERRAIN_CENTRE.x - n / 2 + cx,
+            cy,
+            TERRAIN_CENTRE.z - n / 2 + cz,
+        )
+    };
+    // Every solid voxel below y = 0 is stone, and nothing lies above the top: the chunks in
+    // between have the surfaces, the ones next to them are their borders.
+    let (low, high) = (-1, TERRAIN_AREA_TOP.div_euclid(e));
+    let mut world = WorldMap::new(size);
+    for cz in -1..=n {
+        for cx in -1..=n {
+            for cy in low - 1..=high + 1 {
+                let coord = column(cx, cz, cy);
+                world
+                    .insert(coord, terrain_chunk(size, coord))
+                    .expect("the chunk has the world's size");
+            }
+        }
+    }
+    let mut chunks = Vec::new();
+    for cz in 0..n {
+        for cx in 0..n {
+            for cy in low..=high {
+                let mut chunk = PaddedChunk::new(size);
+                gather_neighbourhood(&world, column(cx, cz, cy), &mut chunk);
+                let p = chunk.padded_edge() as u32;
+                let columns = chunk.columns();
+                let any = columns.iter().any(|&c| c != 0);
+                let full = columns.iter().all(|&c| c.count_ones() == p);
+                if any && !full {
+                    chunks.push(chunk);
+                }
+            }
+        }
+    }
+    MeshInput {
+        name: format!("terrain area ({} x {}^3)", chunks.len(), size.edge()),
+        chunks,
+        palette: TerrainBlocks::palette().0,
+    }
 }
 
 /// A 3-D checkerboard: voxel `(x, y, z)` is stone iff `x + y + z` is even.
@@ -201,10 +258,12 @@ pub const FLAT_MAZE_CELLS: usize = 90;
 /// The seed of the flat maze scene.
 pub const FLAT_MAZE_SEED: u64 = 3;
 
-/// Every input at `size`: the synthetic ones, the scenes, then the sample models when
-/// `../shared/data/vox` is there (and `None` when it is not, so callers can say so).
+/// Every input at `size`: the synthetic ones, the terrain area, the scenes, then the sample
+/// models when `../shared/data/vox` is there (and `None` when it is not, so callers can say
+/// so).
 pub fn all_inputs(size: ChunkSize) -> (Vec<MeshInput>, Option<PathBuf>) {
     let mut inputs = synthetic_inputs(size);
+    inputs.push(terrain_area(size));
     inputs.extend(scene_inputs(size));
     let dir = vox_dir();
     if let Some(dir) = &dir {
@@ -218,6 +277,8 @@ pub fn all_inputs(size: ChunkSize) -> (Vec<MeshInput>, Option<PathBuf>) {
 pub fn find_input(name: &str, size: ChunkSize) -> Option<MeshInput> {
     let family = if name.starts_with("vox/") {
         vox_inputs(&vox_dir()?, size)
+    } else if name.starts_with("terrain area") {
+        vec![terrain_area(size)]
     } else if ["menger", "foliage", "flat maze"]
         .iter()
         .any(|scene| name.starts_with(scene))

@@ -299,3 +299,58 @@ fn matches_block_mesh_on_the_detailed_scenes() {
         }
     }
 }
+
+/// The viewer's terrain (seed 7, as the viewer and the benches use: hills, caves, beaches and
+/// a sea of transparent water) over 3 x 3 chunk columns of 32^3 and 6 x 6 of 16^3, each chunk
+/// gathered with its real neighbours: every chunk with a surface against `block-mesh`.
+#[test]
+fn matches_block_mesh_on_the_viewer_terrain() {
+    use voxel_core::storage::{DenseChunk, WorldMap};
+    use voxel_core::{ChunkCoord, LocalPos, gather_neighbourhood};
+    use voxel_scene::{Terrain, TerrainBlocks};
+    let (palette, blocks) = TerrainBlocks::palette();
+    let terrain = Terrain::new(7, blocks);
+    let classes = BlockClasses::from_palette(&palette);
+    // Nothing solid and no water lies above y = 34 (hills reach 18 + 14, the sea 14), and
+    // below y = 0 every voxel is stone.
+    let top_voxel = 34;
+    for (size, n) in [(ChunkSize::S32, 3), (ChunkSize::S16, 6)] {
+        let e = size.edge() as i32;
+        let top = top_voxel / e;
+        let mut world = WorldMap::new(size);
+        for cz in -1..=n {
+            for cx in -1..=n {
+                for cy in -2..=top + 1 {
+                    let chunk = DenseChunk::from_fn(size, |p: LocalPos| {
+                        let [x, y, z] = [p.x, p.y, p.z].map(i32::from);
+                        terrain.block_at(cx * e + x, cy * e + y, cz * e + z)
+                    });
+                    world.insert(ChunkCoord::new(cx, cy, cz), chunk).unwrap();
+                }
+            }
+        }
+        let mut padded = PaddedChunk::new(size);
+        let mut meshed = 0;
+        for cz in 0..n {
+            for cx in 0..n {
+                for cy in -1..=top {
+                    gather_neighbourhood(&world, ChunkCoord::new(cx, cy, cz), &mut padded);
+                    if padded.columns().iter().all(|&c| c == 0) {
+                        continue;
+                    }
+                    let (ours, theirs) = compare(&padded, &classes);
+                    assert!(
+                        ours <= theirs,
+                        "{size:?} ({cx}, {cy}, {cz}): {ours} > {theirs}"
+                    );
+                    meshed += usize::from(ours > 0);
+                }
+            }
+        }
+        // Every column of chunks holds ground under air: at least one chunk with faces each.
+        assert!(
+            meshed >= (n * n) as usize,
+            "{size:?}: {meshed} chunks with faces"
+        );
+    }
+}

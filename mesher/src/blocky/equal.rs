@@ -50,11 +50,15 @@ use super::bits::{buried, masked, ones, runs_equal, runs_reach, transpose64};
 /// minimum of 29 rounds of 20 meshes each way): at 32^3 and 62^3, the sample models `monu1`
 /// and `monu10` (about 2 run ends a row) are up to 58 % slower from the masks even at 5 to 12
 /// exposed voxels a row, while foliage, terrain, random fills and the shaded Menger sponge
-/// (3.3 to 31 run ends a row, 4.5 exposed voxels or more) are up to 36 % faster. With this
-/// rule every input's total is within 1 % of taking the faster way for each chunk, but the
-/// one-chunk `T-Rex` (9 %, 1 µs), `chr_fox` (2 %) and `monu10` (0.9 %). At 16^3 and 8^3 the
-/// two ways are within a few percent of each other on every input; the rule for them is
-/// within 4 % of the faster way per chunk (`T-Rex`: 6.5 %).
+/// (3.3 to 31 run ends a row, 4.5 exposed voxels or more) are up to 36 % faster. The terrain
+/// area (the viewer's terrain over 8 x 8 chunks of 32^3) added rolling hillsides: 2.8 to 4.4
+/// run ends and 3.7 to 10 exposed voxels a row, every chunk 8 % to 30 % faster from the masks
+/// (10 rounds of 10 meshes each way); the bounds below, 2.8 and 3.5, take them all and leave
+/// `monu1` and `monu10` keyed but for a few chunks at 2.8 to 3.2 run ends a row (7 % either
+/// way). With this rule every input's total is within 1 % of taking the faster way for each
+/// chunk, but the one-chunk `T-Rex` and `deer` (10 % to 15 %, 1 µs) and `monu10` (3 %). At
+/// 16^3 and 8^3 the two ways are within a few percent of each other on every input; the rule
+/// for them is within 4 % of the faster way per chunk (`T-Rex`: 6.5 %).
 #[inline(always)]
 const fn masks_pay(p: usize, sample: &Exposure) -> bool {
     let (rows, voxels, ends) = (sample.rows, sample.voxels, sample.run_ends);
@@ -62,8 +66,8 @@ const fn masks_pay(p: usize, sample: &Exposure) -> bool {
         return false;
     }
     if p >= 34 {
-        // At least 4.5 exposed voxels and 3.2 run ends a row.
-        2 * voxels >= 9 * rows && 5 * ends >= 16 * rows
+        // At least 3.5 exposed voxels and 2.8 run ends a row.
+        2 * voxels >= 7 * rows && 5 * ends >= 14 * rows
     } else {
         // At least 2 exposed voxels and 2.5 run ends a row.
         voxels >= 2 * rows && 2 * ends >= 5 * rows

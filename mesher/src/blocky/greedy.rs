@@ -72,7 +72,7 @@ macro_rules! for_direction {
 ///    first other id with a face), and then no face is keyed and no id is read; neighbouring
 ///    faces merge.
 /// 6. With AO off, a chunk of several ids whose exposed rows are dense (random fills,
-///    foliage, detailed models, hilly 62^3 terrain) is not keyed face by face either: each
+///    foliage, detailed models, hilly terrain) is not keyed face by face either: each
 ///    exposed row of ids is compared with the next ones along x, y and z (SIMD, 16 ids a
 ///    register with AVX2), and those bits, transposed for the ±X faces where they have
 ///    enough faces, are the equal-key masks; a quad's id is read when it is written.
