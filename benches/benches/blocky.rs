@@ -2,7 +2,8 @@
 //! `cargo bench -p benches --bench blocky`.
 //!
 //! Every input of `benches::mesh_inputs` at 32^3 and at 62^3: the synthetic chunks, the
-//! Menger sponges, the foliage scene and the sample models. In each input's criterion group,
+//! viewer's terrain over 8 x 8 chunks (the terrain area), the Menger sponges, the foliage scene,
+//! the flat maze and the sample models. In each input's criterion group,
 //! every mesher meshes the same padded chunk(s), and its bench id carries its output size in
 //! quads:
 //!
