@@ -25,7 +25,6 @@
 
 use std::path::{Path, PathBuf};
 
-use voxel_core::storage::WorldMap;
 use voxel_core::{
     BlockId, ChunkCoord, ChunkSize, Material, MaterialPalette, PaddedChunk, gather_neighbourhood,
 };
@@ -33,7 +32,9 @@ use voxel_scene::TerrainBlocks;
 use voxel_scene::detailed::{VoxelBox, flat_maze, foliage, menger, menger_shaded};
 use voxel_scene::vox::load_vox_file;
 
-use crate::inputs::chunks::{TERRAIN_CENTRE, terrain_chunk, terrain_world_dense};
+use crate::inputs::chunks::{
+    TERRAIN_CENTRE, terrain_top, terrain_world_between, terrain_world_dense,
+};
 use voxel_scene::rng::Rng;
 
 /// One bench input: one or more padded chunks and the palette their ids index.
@@ -115,10 +116,6 @@ pub fn terrain(size: ChunkSize) -> MeshInput {
     single(label("terrain", size), chunk, TerrainBlocks::palette().0)
 }
 
-/// The voxels above which the viewer's terrain holds no solid block and no water: its hills
-/// reach 18 + 14 (`Terrain::height`), its sea 14.
-const TERRAIN_AREA_TOP: i32 = 34;
-
 /// The viewer's terrain over `n x n` chunk columns around [`TERRAIN_CENTRE`], `n` the chunks
 /// that fit in 256 voxels (8 at 32^3, 4 at 62^3): every chunk that holds both air and
 /// something else, gathered with its real neighbours. [`terrain`] is one chunk of this world;
@@ -126,33 +123,22 @@ const TERRAIN_AREA_TOP: i32 = 34;
 pub fn terrain_area(size: ChunkSize) -> MeshInput {
     let e = size.edge() as i32;
     let n = (256 / e).max(1);
-    let column = |cx: i32, cz: i32, cy: i32| {
-        ChunkCoord::new(
-            TERRAIN_CENTRE.x - n / 2 + cx,
-            cy,
-            TERRAIN_CENTRE.z - n / 2 + cz,
-        )
-    };
+    let (x0, z0) = (TERRAIN_CENTRE.x - n / 2, TERRAIN_CENTRE.z - n / 2);
     // Every solid voxel below y = 0 is stone, and nothing lies above the top: the chunks in
     // between have the surfaces, the ones next to them are their borders.
-    let (low, high) = (-1, TERRAIN_AREA_TOP.div_euclid(e));
-    let mut world = WorldMap::new(size);
-    for cz in -1..=n {
-        for cx in -1..=n {
-            for cy in low - 1..=high + 1 {
-                let coord = column(cx, cz, cy);
-                world
-                    .insert(coord, terrain_chunk(size, coord))
-                    .expect("the chunk has the world's size");
-            }
-        }
-    }
+    let (low, high) = (-1, terrain_top().div_euclid(e));
+    let world = terrain_world_between(
+        size,
+        [x0 - 1, low - 1, z0 - 1],
+        [x0 + n, high + 1, z0 + n],
+        |c| c,
+    );
     let mut chunks = Vec::new();
     for cz in 0..n {
         for cx in 0..n {
             for cy in low..=high {
                 let mut chunk = PaddedChunk::new(size);
-                gather_neighbourhood(&world, column(cx, cz, cy), &mut chunk);
+                gather_neighbourhood(&world, ChunkCoord::new(x0 + cx, cy, z0 + cz), &mut chunk);
                 let p = chunk.padded_edge() as u32;
                 let columns = chunk.columns();
                 let any = columns.iter().any(|&c| c != 0);

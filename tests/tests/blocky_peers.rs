@@ -311,9 +311,9 @@ fn matches_block_mesh_on_the_viewer_terrain() {
     let (palette, blocks) = TerrainBlocks::palette();
     let terrain = Terrain::new(7, blocks);
     let classes = BlockClasses::from_palette(&palette);
-    // Nothing solid and no water lies above y = 34 (hills reach 18 + 14, the sea 14), and
-    // below y = 0 every voxel is stone.
-    let top_voxel = 34;
+    // Nothing solid and no water lies above the highest hill or the sea, and below y = 0
+    // every voxel is stone.
+    let top_voxel = (terrain.base_height + terrain.amplitude.ceil() as i32).max(terrain.sea_level);
     for (size, n) in [(ChunkSize::S32, 3), (ChunkSize::S16, 6)] {
         let e = size.edge() as i32;
         let top = top_voxel / e;

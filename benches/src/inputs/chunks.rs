@@ -61,14 +61,29 @@ pub fn terrain_world<C: voxel_core::storage::VoxelStorage>(
     size: ChunkSize,
     convert: impl Fn(DenseChunk) -> C,
 ) -> WorldMap<C> {
+    let c = TERRAIN_CENTRE;
+    terrain_world_between(
+        size,
+        [c.x - 1, c.y - 1, c.z - 1],
+        [c.x + 1, c.y + 1, c.z + 1],
+        convert,
+    )
+}
+
+/// Every terrain chunk whose chunk coordinates lie between `low` and `high` (both included),
+/// each turned into the world's chunk type by `convert`, from one generator.
+pub fn terrain_world_between<C: voxel_core::storage::VoxelStorage>(
+    size: ChunkSize,
+    low: [i32; 3],
+    high: [i32; 3],
+    convert: impl Fn(DenseChunk) -> C,
+) -> WorldMap<C> {
     let terrain = terrain();
     let mut world = WorldMap::new(size);
-    for dz in -1..=1 {
-        for dy in -1..=1 {
-            for dx in -1..=1 {
-                let coord = TERRAIN_CENTRE
-                    .checked_offset([dx, dy, dz])
-                    .expect("the centre is far from the i32 limits");
+    for z in low[2]..=high[2] {
+        for y in low[1]..=high[1] {
+            for x in low[0]..=high[0] {
+                let coord = ChunkCoord::new(x, y, z);
                 let chunk = convert(terrain_chunk_with(&terrain, size, coord));
                 world
                     .insert(coord, chunk)
@@ -77,6 +92,13 @@ pub fn terrain_world<C: voxel_core::storage::VoxelStorage>(
         }
     }
     world
+}
+
+/// The height above which the terrain holds no solid block and no water: its highest hill
+/// ([`Terrain::height`] reaches `base_height + amplitude`) or its sea, whichever is higher.
+pub fn terrain_top() -> i32 {
+    let t = terrain();
+    (t.base_height + t.amplitude.ceil() as i32).max(t.sea_level)
 }
 
 /// [`terrain_world`] of [`DenseChunk`]s.
