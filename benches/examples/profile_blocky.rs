@@ -11,9 +11,10 @@
 //! `visible`, `u16`, `baseline` for greedy on `InstructionSet::Baseline`, any of these with
 //! `-noao` for AO off, `stats` for faces per line and direction, `ao-pair` for greedy with AO
 //! on and off alternated, or `vs-bgm` for greedy with AO off alternated with
-//! `binary-greedy-meshing`'s `fast_mesh` on masks built beforehand, bar 2's pair, or `u16-pair`
+//! `binary-greedy-meshing`'s `fast_mesh` on masks built beforehand, bar 2's pair, `u16-pair`
 //! for greedy with AO off from the plain array alternated with the same from the
-//! `PaddedChunk`, which prints what the array's occupancy columns cost), a number of
+//! `PaddedChunk`, which prints what the array's occupancy columns cost, or `ao-by-chunk` for
+//! AO on and off on each chunk alone, grouped by the ids its voxels hold), a number of
 //! meshes and a chunk edge (32 or 62, the default). `MESHER_ISA=baseline|x86-v3` pins
 //! the instruction set (default: the detected one); `PROFILE_EVICT_KIB=N` writes over N KiB
 //! before every mesh (in the pairs too), outside the timed span, to time meshes that start
@@ -28,7 +29,7 @@
 //! since on a shared machine the minimum is the steadier figure.
 
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::hint::black_box;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -71,6 +72,10 @@ fn main() {
         for chunk in &input.chunks {
             face_stats(chunk, &classes);
         }
+        return;
+    }
+    if mode == "ao-by-chunk" {
+        ao_by_chunk(&input, &classes);
         return;
     }
     if ["ao-pair", "vs-bgm", "u16-pair"].contains(&mode) {
@@ -298,6 +303,80 @@ fn alternate(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usiz
         input.name, names[0], a.0, a.1, names[1], b.0, b.1
     );
 }
+
+/// AO on and off on each chunk alone: a chunk meshed 30 times with each in turn, five rounds,
+/// the minimum per mesh of each, so that every mesh but a round's first starts with the chunk's
+/// data and the mesher's code warm (where `ao-pair` meshes every chunk once before the
+/// next). Prints the sums of the minima per group of chunks (by how many ids the chunk's own
+/// voxels hold, and whether one of them is transparent), and over all chunks.
+fn ao_by_chunk(input: &MeshInput, classes: &BlockClasses) {
+    let mut meshers = [true, false].map(|ao| GreedyMesher::new().with_ambient_occlusion(ao));
+    let mut out = BlockyMesh::new();
+    let mut groups: BTreeMap<(usize, bool), ChunkGroup> = BTreeMap::new();
+    for chunk in &input.chunks {
+        let p = chunk.padded_edge();
+        let own = |i: usize| (1..p - 1).contains(&(i % p)) && (1..p - 1).contains(&(i / p % p));
+        let ids: BTreeSet<u16> = as_u16(chunk)
+            .iter()
+            .enumerate()
+            .filter(|&(i, &id)| id != 0 && own(i) && (1..p - 1).contains(&(i / (p * p))))
+            .map(|(_, &id)| id)
+            .collect();
+        let transparent = ids.iter().any(|&id| classes.is_transparent(BlockId(id)));
+        let (mut best, mut quads) = ([f64::MAX; 2], [0; 2]);
+        for _ in 0..5 {
+            for (k, mesher) in meshers.iter_mut().enumerate() {
+                let start = thread_cpu_now();
+                for _ in 0..30 {
+                    mesher
+                        .mesh(black_box(chunk), classes, &mut out)
+                        .expect("bench inputs mesh");
+                    black_box(&out);
+                }
+                let per = (thread_cpu_now() - start).as_secs_f64() * 1e9 / 30.0;
+                best[k] = best[k].min(per);
+                quads[k] = out.len();
+            }
+        }
+        let group = groups.entry((ids.len(), transparent)).or_default();
+        group.0 += 1;
+        for k in 0..2 {
+            group.1[k] += best[k];
+            group.2[k] += quads[k];
+        }
+    }
+    let mut total = [0.0; 2];
+    for ((ids, transparent), (chunks, ns, quads)) in &groups {
+        let n = *chunks as f64;
+        println!(
+            "{} ids{}: {chunks} chunks, AO on {:.0} ns, AO off {:.0} ns a chunk, AO on / AO \
+             off {:.3}x; quads {} / {}",
+            ids,
+            if *transparent {
+                ", one transparent"
+            } else {
+                ""
+            },
+            ns[0] / n,
+            ns[1] / n,
+            ns[0] / ns[1],
+            quads[0],
+            quads[1]
+        );
+        total = [total[0] + ns[0], total[1] + ns[1]];
+    }
+    println!(
+        "{} ao-by-chunk: AO on {:.1} us, AO off {:.1} us, AO on / AO off: {:.3}x",
+        input.name,
+        total[0] / 1e3,
+        total[1] / 1e3,
+        total[0] / total[1]
+    );
+}
+
+/// One group of [`ao_by_chunk`]: its chunks, the sums of their minima (AO on, AO off) in ns,
+/// and of their quads.
+type ChunkGroup = (usize, [f64; 2], [usize; 2]);
 
 /// With `PROFILE_U16_SKEW=N`: a copy of every chunk's ids in an array of its own, with the
 /// index of its first id, `N` ids past a cache line.

@@ -19,7 +19,7 @@ use super::input::Input;
 use super::keys::Keys;
 use super::lone_x::lone_x;
 use super::masks::{Content, Masks, Slice};
-use super::one_id::one_id;
+use super::one_id::{FaceIds, one_id};
 use super::plain::{FLAT_WORDS, FlatColumns, build_columns, padded_edge_of};
 #[cfg(target_arch = "x86_64")]
 use super::plain_x86::build_columns_x86_v3;
@@ -446,14 +446,19 @@ fn mesh_chunk(
         return Ok(());
     }
     // With AO off a one-id chunk keys nothing; an id the classes do not know takes the
-    // keyed path, which names it. (The opaque layouts, a few words, are taken twice: held
-    // across the scan they cost terrain 32^3 0.4 % more instructions, through code layout.)
+    // keyed path, which names it. A chunk in which no voxel has a face ends here (with AO
+    // on the walks find that out, slice by slice). (The opaque layouts, a few words, are
+    // taken twice: held across the scan they cost terrain 32^3 0.4 % more instructions,
+    // through code layout.)
     let one = if job.ao || masks.has_transparent {
         None
     } else {
         let opaque = masks.opaque(columns);
-        one_id(job.voxels, opaque.by[0], job.p, opaque.occupied[0])
-            .filter(|&id| u32::from(id) < classes.known_below())
+        match one_id(job.voxels, opaque.by[0], job.p, opaque.occupied[0]) {
+            FaceIds::NoFace => return Ok(()),
+            found => found.one(),
+        }
+        .filter(|&id| u32::from(id) < classes.known_below())
     };
     if let Some(id) = one {
         keys.one = u32::from(id) << PackedQuad::BLOCK_SHIFT;
@@ -561,6 +566,52 @@ mod tests {
         (BlockClasses::from_palette(&palette), stone, ore)
     }
 
+    /// Chunks in which no voxel has a face mesh to nothing, with AO off (which stops after the
+    /// one-id search) as with AO on, from the chunk and from a plain array, whatever ids their
+    /// padding holds: air inside over a floor in the padding (with an id the classes do not
+    /// know), and solid everywhere but a padding voxel that touches none of the chunk's. One
+    /// step in, that voxel shows one face.
+    #[test]
+    fn chunks_without_a_face_mesh_to_nothing() {
+        let (classes, stone, _) = stone_and_ore();
+        let unknown = BlockId(9);
+        for size in ChunkSize::ALL {
+            let p = size.edge() + 2;
+            let floor = PaddedChunk::from_fn(size, |x, y, _| match (x, y) {
+                (1, 0) => unknown,
+                (_, 0) => stone,
+                _ => BlockId::AIR,
+            });
+            let mut buried = PaddedChunk::from_fn(size, |_, _, _| stone);
+            buried.set(0, 0, p / 2, BlockId::AIR).unwrap();
+            let mut one_face = buried.clone();
+            one_face.set(1, 0, p / 2, BlockId::AIR).unwrap();
+            for ao in [false, true] {
+                let mut mesher = GreedyMesher::new().with_ambient_occlusion(ao);
+                let mut quads = |c: &PaddedChunk| {
+                    let mut counts = [0; 3];
+                    for (entry, count) in counts.iter_mut().enumerate() {
+                        let mut mesh = BlockyMesh::new();
+                        match entry {
+                            0 => mesher.mesh(c, &classes, &mut mesh),
+                            1 => {
+                                let ids = bytemuck::cast_slice(c.voxels());
+                                mesher.mesh_u16(ids, &classes, &mut mesh)
+                            }
+                            _ => mesher.visible_faces(c, &classes, &mut mesh),
+                        }
+                        .unwrap();
+                        *count = mesh.len();
+                    }
+                    counts
+                };
+                assert_eq!(quads(&floor), [0; 3], "{size:?} AO {ao}: floor");
+                assert_eq!(quads(&buried), [0; 3], "{size:?} AO {ao}: buried");
+                assert_eq!(quads(&one_face), [1; 3], "{size:?} AO {ao}: one face");
+            }
+        }
+    }
+
     /// Chunks whose faces all have one id, meshed with AO off (the passes that key nothing),
     /// give the quads of the keyed passes: chunks of one id, and chunks with an ore core no
     /// face shows. The keyed passes run on a twin with a glass voxel in a padding corner, which
@@ -634,7 +685,8 @@ mod tests {
                     opaque.by[0],
                     p,
                     opaque.occupied[0],
-                );
+                )
+                .one();
                 assert!(!masks.has_transparent, "{size:?} shape {k}");
                 // Below `SAMPLED_FROM` a hidden core is refused, and the keyed passes run.
                 let has_core = one.voxels().contains(&ore);

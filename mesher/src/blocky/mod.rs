@@ -59,7 +59,7 @@
 //! | `direction` | `Axis<A>`: the slice, line and bit axes of an axis's faces and their `PackedQuad` shifts, as constants; `Facing`: which of the axis's two faces, read at run time (each axis's walk serves both) |
 //! | `keys` | `Keys`, the greedy pass's scratch (keys and equal-key masks of one slice) |
 //! | `memo` | `NeighbourhoodMemo`: the AO split of recent lines, for periodic slices |
-//! | `one_id` | whether a chunk's voxels with a face share one id: then, with AO off, every face has one key and nothing is keyed |
+//! | `one_id` | whether a chunk's voxels with a face share one id: then, with AO off, every face has one key and nothing is keyed (and whether any voxel has a face: with AO off a chunk with none ends there) |
 //! | `equal` | `EqualIds`: with AO off, in chunks whose exposed rows are dense, every exposed voxel's id compared with its next neighbours' along x, y and z by SIMD row compares (built by the entry after step 2), as the equal-key masks of every slice: then nothing is keyed |
 //! | `ao` | the AO rule, the per-direction AO tables, AO of a whole line as bit planes, the diagonal flip |
 //! | `aligned` | `Slice`, 64 lines of one slice, and `Slices`, the masks' scratch slices, each on a cache line |
