@@ -323,6 +323,19 @@ pub(crate) fn many(bits: u64) -> bool {
     x != 0
 }
 
+/// Transposes an 8 x 8 bit matrix held in one word, a row a byte: afterwards bit `c` of byte
+/// `r` is what bit `r` of byte `c` was. Three rounds of block swaps (1, 2 and 4 bits), each
+/// one masked exchange within the word.
+#[inline(always)]
+pub(crate) fn transpose8(mut m: u64) -> u64 {
+    let t = (m ^ (m >> 7)) & 0x00AA_00AA_00AA_00AA;
+    m ^= t ^ (t << 7);
+    let t = (m ^ (m >> 14)) & 0x0000_CCCC_0000_CCCC;
+    m ^= t ^ (t << 14);
+    let t = (m ^ (m >> 28)) & 0x0000_0000_F0F0_F0F0;
+    m ^ t ^ (t << 28)
+}
+
 /// Transposes a 64 x 64 bit matrix in place: afterwards bit `c` of word `r` is what bit `r` of
 /// word `c` was. Six rounds of block swaps (32, 16, ..., 1), each a masked exchange between
 /// word pairs, so the cost is fixed (about 1,200 simple operations) whatever the bits are.
@@ -509,6 +522,30 @@ mod tests {
         for (r, &row) in m.iter().enumerate() {
             for (c, &col) in original.iter().enumerate() {
                 assert_eq!((row >> c) & 1, (col >> r) & 1, "bit ({r}, {c})");
+            }
+        }
+    }
+
+    #[test]
+    fn transpose8_matches_the_definition() {
+        let mut state = 0x0123_4567_89AB_CDEFu64;
+        for round in 0..200 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let m = match round {
+                0 => 0,
+                1 => u64::MAX,
+                2 => 1,
+                3 => 1 << 63,
+                _ => state,
+            };
+            let t = transpose8(m);
+            for r in 0..8 {
+                for c in 0..8 {
+                    let bit = |w: u64, row: usize, col: usize| (w >> (8 * row + col)) & 1;
+                    assert_eq!(bit(t, r, c), bit(m, c, r), "{m:#x} ({r}, {c})");
+                }
             }
         }
     }
