@@ -566,6 +566,27 @@ mod tests {
         (BlockClasses::from_palette(&palette), stone, ore)
     }
 
+    /// `padded` meshed by `mesher` through entry `entry`: 0 greedy from the chunk, 1 greedy
+    /// from its ids as a plain array, 2 one quad per face.
+    fn mesh_by(
+        mesher: &mut GreedyMesher,
+        entry: usize,
+        padded: &PaddedChunk,
+        classes: &BlockClasses,
+    ) -> BlockyMesh {
+        let mut mesh = BlockyMesh::new();
+        match entry {
+            0 => mesher.mesh(padded, classes, &mut mesh),
+            1 => {
+                let ids = bytemuck::cast_slice(padded.voxels());
+                mesher.mesh_u16(ids, classes, &mut mesh)
+            }
+            _ => mesher.visible_faces(padded, classes, &mut mesh),
+        }
+        .unwrap();
+        mesh
+    }
+
     /// Chunks in which no voxel has a face mesh to nothing, with AO off (which stops after the
     /// one-id search) as with AO on, from the chunk and from a plain array, whatever ids their
     /// padding holds: air inside over a floor in the padding (with an id the classes do not
@@ -588,23 +609,8 @@ mod tests {
             one_face.set(1, 0, p / 2, BlockId::AIR).unwrap();
             for ao in [false, true] {
                 let mut mesher = GreedyMesher::new().with_ambient_occlusion(ao);
-                let mut quads = |c: &PaddedChunk| {
-                    let mut counts = [0; 3];
-                    for (entry, count) in counts.iter_mut().enumerate() {
-                        let mut mesh = BlockyMesh::new();
-                        match entry {
-                            0 => mesher.mesh(c, &classes, &mut mesh),
-                            1 => {
-                                let ids = bytemuck::cast_slice(c.voxels());
-                                mesher.mesh_u16(ids, &classes, &mut mesh)
-                            }
-                            _ => mesher.visible_faces(c, &classes, &mut mesh),
-                        }
-                        .unwrap();
-                        *count = mesh.len();
-                    }
-                    counts
-                };
+                let mut quads =
+                    |c: &PaddedChunk| [0, 1, 2].map(|e| mesh_by(&mut mesher, e, c, &classes).len());
                 assert_eq!(quads(&floor), [0; 3], "{size:?} AO {ao}: floor");
                 assert_eq!(quads(&buried), [0; 3], "{size:?} AO {ao}: buried");
                 assert_eq!(quads(&one_face), [1; 3], "{size:?} AO {ao}: one face");
@@ -696,16 +702,7 @@ mod tests {
                 let mut mesher = GreedyMesher::new().with_ambient_occlusion(false);
                 // Greedy from the chunk, from a plain array, and one quad per face.
                 let mut quads = |c: &PaddedChunk, entry: usize| {
-                    let mut mesh = BlockyMesh::new();
-                    match entry {
-                        0 => mesher.mesh(c, &classes, &mut mesh),
-                        1 => {
-                            let ids = bytemuck::cast_slice(c.voxels());
-                            mesher.mesh_u16(ids, &classes, &mut mesh)
-                        }
-                        _ => mesher.visible_faces(c, &classes, &mut mesh),
-                    }
-                    .unwrap();
+                    let mesh = mesh_by(&mut mesher, entry, c, &classes);
                     assert!(mesh.transparent.is_empty());
                     mesh.opaque.faces.map(|mut face| {
                         face.sort_by_key(|q| q.to_u64());
