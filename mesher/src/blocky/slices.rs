@@ -43,9 +43,10 @@ fn slice(layout: &[Slice], n: usize) -> &Slice {
 }
 
 /// Meshes the faces along axis `A` that face as `facing` says: every slice, opaque faces into
-/// `opaque`, transparent ones into `transparent`.
+/// `opaque`, transparent ones into `transparent`. `AO` is the input's AO setting, as a
+/// constant, so that each setting's walk is code of its own.
 #[inline(always)]
-pub(crate) fn mesh_direction<const A: usize>(
+pub(crate) fn mesh_direction<const A: usize, const AO: bool>(
     facing: Facing,
     input: &Input<'_>,
     classes: &BlockClasses,
@@ -54,6 +55,7 @@ pub(crate) fn mesh_direction<const A: usize>(
     opaque: &mut Vec<PackedQuad>,
     transparent: &mut Vec<PackedQuad>,
 ) -> Result<(), MeshError> {
+    debug_assert_eq!(input.ao, AO, "the walk compiled for the input's AO setting");
     let p = input.p;
     let e = p - 2;
     let inner = (u64::MAX >> (64 - e)) << 1;
@@ -105,7 +107,7 @@ pub(crate) fn mesh_direction<const A: usize>(
         };
         if any != 0 {
             let one = input.one_id.is_some();
-            emit(input, one, &slice_faces, &mut faces, keys, buf, opaque)?;
+            emit::<A, AO>(input, one, &slice_faces, &mut faces, keys, buf, opaque)?;
         }
 
         let Some(t_layout) = t_layout else { continue };
@@ -139,7 +141,7 @@ pub(crate) fn mesh_direction<const A: usize>(
             }
         }
         slice_faces.known_below = u32::MAX;
-        emit(
+        emit::<A, AO>(
             input,
             false,
             &slice_faces,
@@ -173,7 +175,7 @@ fn differing_ids(voxels: &[u16], at: [usize; 3], strides: [usize; 3], both: u64)
 /// Turns the face lines of one slice into quads, leaving `faces` all zero. With `one` (the
 /// opaque layer of a one-id chunk, AO off) every face has the key `keys.one`.
 #[inline(always)]
-fn emit<const A: usize>(
+fn emit<const A: usize, const AO: bool>(
     input: &Input<'_>,
     one: bool,
     slice: &SliceFaces<'_, A>,
@@ -186,7 +188,7 @@ fn emit<const A: usize>(
     let rows = rows_of(faces);
     // Faces none of which touches another are their own greedy quads: no merging to do.
     let merge = input.merge && !isolated_faces(faces, rows);
-    match (merge, input.ao, one) {
+    match (merge, AO, one) {
         (false, true, _) => unit_quads::<A, true, false>(slice, faces, rows, keys, &mut quads)?,
         (false, false, false) => {
             unit_quads::<A, false, false>(slice, faces, rows, keys, &mut quads)?;
