@@ -173,7 +173,8 @@ fn differing_ids(voxels: &[u16], at: [usize; 3], strides: [usize; 3], both: u64)
 }
 
 /// Turns the face lines of one slice into quads, leaving `faces` all zero. With `one` (the
-/// opaque layer of a one-id chunk, AO off) every face has the key `keys.one`.
+/// opaque layer of a one-id chunk, AO off) every face has the key `keys.one`. `AO` is the
+/// input's AO setting (see [`mesh_direction`]).
 #[inline(always)]
 fn emit<const A: usize, const AO: bool>(
     input: &Input<'_>,
