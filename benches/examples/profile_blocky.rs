@@ -24,7 +24,8 @@
 //! `PROFILE_ALLOC_OFFSET=N` (0, 16, 32 or 48) places every allocation `N` bytes past a cache
 //! line (see `PlacedAllocator`); `PROFILE_U16_SKEW=N` (0 to 31), in the pairs, copies every
 //! chunk's ids to a `u16` array that starts `N` ids past a cache line, to time the plain
-//! array's columns at a placement of its own while the mesher's scratch lies elsewhere. The
+//! array's columns at a placement of its own while the mesher's scratch lies elsewhere;
+//! `PROFILE_IDS=N` keeps only the chunks whose own voxels hold `N` ids, none transparent. The
 //! time is the thread's CPU time, taken over 20 batches: the minimum and the median per mesh,
 //! since on a shared machine the minimum is the steadier figure.
 
@@ -63,11 +64,21 @@ fn main() {
             std::process::exit(2);
         }
     };
-    let Some(input) = find_input(want, size) else {
+    let Some(mut input) = find_input(want, size) else {
         eprintln!("no input named {want:?} at {edge}^3");
         std::process::exit(2);
     };
     let classes = BlockClasses::from_palette(&input.palette);
+    if let Ok(ids) = std::env::var("PROFILE_IDS") {
+        // Only the chunks whose own voxels hold that many ids, none transparent.
+        let Ok(ids) = ids.parse::<usize>() else {
+            eprintln!("PROFILE_IDS must be a number of ids, not {ids:?}");
+            std::process::exit(2);
+        };
+        input
+            .chunks
+            .retain(|chunk| id_class(chunk, &classes) == (ids, false));
+    }
     if mode == "stats" {
         for chunk in &input.chunks {
             face_stats(chunk, &classes);
@@ -304,6 +315,21 @@ fn alternate(input: &MeshInput, classes: &BlockClasses, mode: &str, meshes: usiz
     );
 }
 
+/// How many ids the chunk's own voxels (the padding left out) hold, and whether one of them
+/// is transparent.
+fn id_class(chunk: &PaddedChunk, classes: &BlockClasses) -> (usize, bool) {
+    let p = chunk.padded_edge();
+    let inside = |c: usize| (1..p - 1).contains(&c);
+    let ids: BTreeSet<u16> = as_u16(chunk)
+        .iter()
+        .enumerate()
+        .filter(|&(i, &id)| id != 0 && inside(i % p) && inside(i / p % p) && inside(i / (p * p)))
+        .map(|(_, &id)| id)
+        .collect();
+    let transparent = ids.iter().any(|&id| classes.is_transparent(BlockId(id)));
+    (ids.len(), transparent)
+}
+
 /// AO on and off on each chunk alone: a chunk meshed 30 times with each in turn, five rounds,
 /// the minimum per mesh of each, so that every mesh but a round's first starts with the chunk's
 /// data and the mesher's code warm (where `ao-pair` meshes every chunk once before the
@@ -314,15 +340,7 @@ fn ao_by_chunk(input: &MeshInput, classes: &BlockClasses) {
     let mut out = BlockyMesh::new();
     let mut groups: BTreeMap<(usize, bool), ChunkGroup> = BTreeMap::new();
     for chunk in &input.chunks {
-        let p = chunk.padded_edge();
-        let own = |i: usize| (1..p - 1).contains(&(i % p)) && (1..p - 1).contains(&(i / p % p));
-        let ids: BTreeSet<u16> = as_u16(chunk)
-            .iter()
-            .enumerate()
-            .filter(|&(i, &id)| id != 0 && own(i) && (1..p - 1).contains(&(i / (p * p))))
-            .map(|(_, &id)| id)
-            .collect();
-        let transparent = ids.iter().any(|&id| classes.is_transparent(BlockId(id)));
+        let (ids, transparent) = id_class(chunk, classes);
         let (mut best, mut quads) = ([f64::MAX; 2], [0; 2]);
         for _ in 0..5 {
             for (k, mesher) in meshers.iter_mut().enumerate() {
@@ -338,7 +356,7 @@ fn ao_by_chunk(input: &MeshInput, classes: &BlockClasses) {
                 quads[k] = out.len();
             }
         }
-        let group = groups.entry((ids.len(), transparent)).or_default();
+        let group = groups.entry((ids, transparent)).or_default();
         group.0 += 1;
         for k in 0..2 {
             group.1[k] += best[k];
