@@ -101,7 +101,8 @@ pub(crate) fn unit_quads<const A: usize, const AO: bool, const ONE: bool>(
 ///    `across`: stale where there is no face, masked in step 2). Ids are checked once for the
 ///    slice.
 /// 2. Per line: the faces with no neighbour of an equal key (`alone`) leave `faces`.
-/// 3. The alone faces are written as 1 x 1 quads.
+/// 3. The alone faces are written as 1 x 1 quads (with AO off, from the lines that have one,
+///    see [`lone_first`]).
 /// 4. The other faces grow quads with bit operations on the masks: a run of equal keys is a
 ///    run of ones.
 #[inline(always)]
@@ -120,6 +121,7 @@ pub(crate) fn greedy<const A: usize, const AO: bool, const K: u8>(
     };
     let one = K == FROM_ONE;
     let mut left = 0u64;
+    let mut lone_rows = 0u64;
     for l in ones(rows) {
         let here = faces[l];
         // Bit b: face b has the key of the face after it in the line (the keyed masks say
@@ -149,8 +151,16 @@ pub(crate) fn greedy<const A: usize, const AO: bool, const K: u8>(
         keys.alone[l] = alone;
         faces[l] = here & !alone;
         left |= u64::from(here != alone) << l;
+        if lone_first::<AO, K>() {
+            lone_rows |= u64::from(alone != 0) << l;
+        }
     }
-    emit_alone::<A, AO, K>(s, rows, keys, out);
+    let alone_rows = if lone_first::<AO, K>() {
+        lone_rows
+    } else {
+        rows
+    };
+    emit_alone::<A, AO, K>(s, alone_rows, keys, out);
     if Axis::<A>::LINES_FIRST {
         greedy_lines_first::<A, AO, K>(s, faces, left, keys, out);
     } else {
@@ -293,7 +303,15 @@ fn check_faces<const A: usize>(
     result
 }
 
-/// The 1 x 1 quads of the alone faces of the lines `rows` (keys from where `K` says).
+/// Whether [`emit_alone`] takes only lines with an alone face and writes each one's first
+/// before its loop: with AO off and keys that differ (a one-id chunk's faces have few alone
+/// faces, and those on few lines).
+const fn lone_first<const AO: bool, const K: u8>() -> bool {
+    !AO && K != FROM_ONE
+}
+
+/// The 1 x 1 quads of the alone faces of the lines `rows` (keys from where `K` says). Where
+/// [`lone_first`], `rows` holds only lines with an alone face (see [`greedy`]).
 #[inline(always)]
 fn emit_alone<const A: usize, const AO: bool, const K: u8>(
     s: &SliceFaces<'_, A>,
@@ -304,9 +322,21 @@ fn emit_alone<const A: usize, const AO: bool, const K: u8>(
     let mut n = out.len;
     for l in ones(rows) {
         let line = s.unit_line(l);
-        for b in ones(keys.alone[l]) {
-            out.buf[masked::<4096>(n)] =
-                line.quad(b, s.key_of::<K>(keys, l, b) | key_bits::<AO>(s.facing));
+        let quad = |b: usize| line.quad(b, s.key_of::<K>(keys, l, b) | key_bits::<AO>(s.facing));
+        let mut bits = keys.alone[l];
+        if lone_first::<AO, K>() {
+            // With AO off most of these lines have one alone face: it is written before the
+            // loop, which then mostly runs no step. From the first face, and over every line
+            // with a face, the loop's end was mispredicted often: this way terrain 32^3 has
+            // 14 % fewer simulated mispredictions with AO off (callgrind), and bar 2 on it
+            // went from 1.03x-1.05x to 1.15x-1.28x on the GPU machine's CPU.
+            debug_assert!(bits != 0, "line {l} was taken for an alone face");
+            out.buf[masked::<4096>(n)] = quad(bits.trailing_zeros() as usize);
+            n += 1;
+            bits &= bits.wrapping_sub(1);
+        }
+        for b in ones(bits) {
+            out.buf[masked::<4096>(n)] = quad(b);
             n += 1;
         }
     }
