@@ -329,7 +329,7 @@ fn emit_alone<const A: usize, const AO: bool, const K: u8>(
             // loop, which then mostly runs no step. From the first face, and over every line
             // with a face, the loop's end was mispredicted often: this way terrain 32^3 has
             // 14 % fewer simulated mispredictions with AO off (callgrind), and bar 2 on it
-            // went from 1.03x-1.05x to 1.15x-1.28x on the GPU machine's CPU.
+            // rose from 1.03x-1.05x to 1.13x-1.28x on the GPU machine's CPU.
             debug_assert!(bits != 0, "line {l} was taken for an alone face");
             out.buf[masked::<4096>(n)] = quad(bits.trailing_zeros() as usize);
             n += 1;
