@@ -103,6 +103,10 @@ impl UnitLine {
     }
 }
 
+/// The most quads of a slice [`Quads::flush`] appends with a copy of constant length: most
+/// slices of an 8^3 chunk hold fewer.
+const FLUSHED_AT_ONCE: usize = 8;
+
 /// Where the quads being meshed go: a buffer of one slice's quads and how many it holds,
 /// appended to the output layer by [`flush`](Quads::flush), and the output layer itself, which
 /// the bulk path [`push_bits`](Quads::push_bits) writes to directly.
@@ -164,9 +168,21 @@ impl<'a> Quads<'a> {
     }
 
     /// Appends the buffered quads to the output and empties the buffer.
+    ///
+    /// A slice of at most [`FLUSHED_AT_ONCE`] quads is appended as that many, a copy of
+    /// constant length that compiles to a few vector moves, and the output is then cut back
+    /// to the quads written; only larger slices take a call to `memcpy`. With that call for
+    /// every slice, a few quads each at 8^3, the terrain area's 8^3 chunks ran 0.8 % to 1.1 %
+    /// more instructions (callgrind) and 3 % to 7 % more time (the GPU machine's CPU).
     #[inline(always)]
     pub(crate) fn flush(&mut self) {
-        self.out.extend_from_slice(&self.buf[..self.len.min(4096)]);
+        let (len, end) = (self.len.min(4096), self.out.len() + self.len);
+        if len > FLUSHED_AT_ONCE {
+            self.out.extend_from_slice(&self.buf[..len]);
+        } else {
+            self.out.extend_from_slice(&self.buf[..FLUSHED_AT_ONCE]);
+            self.out.truncate(end);
+        }
         self.len = 0;
     }
 }
