@@ -172,8 +172,9 @@ impl<'a> Quads<'a> {
     /// A slice of at most [`FLUSHED_AT_ONCE`] quads is appended as that many, a copy of
     /// constant length that compiles to a few vector moves, and the output is then cut back
     /// to the quads written; only larger slices take a call to `memcpy`. With that call for
-    /// every slice, a few quads each at 8^3, the terrain area's 8^3 chunks ran 0.8 % to 1.1 %
-    /// more instructions (callgrind) and 3 % to 7 % more time (the GPU machine's CPU).
+    /// every slice (a few quads each at 8^3) and the masks' copies as calls too (see
+    /// `masks::copy_lines`), the terrain area's 8^3 chunks ran about 1 % more instructions
+    /// (callgrind) and 2 % to 5 % more time with AO off (the GPU machine's CPU).
     #[inline(always)]
     pub(crate) fn flush(&mut self) {
         let (len, end) = (self.len.min(4096), self.out.len() + self.len);
