@@ -82,7 +82,9 @@ fn main() {
             .retain(|chunk| id_class(chunk, &classes) == (ids, false));
     }
     if std::env::var_os("PROFILE_SORT").is_some() {
-        input.chunks.sort_by_key(|chunk| id_class(chunk, &classes));
+        input
+            .chunks
+            .sort_by_cached_key(|chunk| id_class(chunk, &classes));
     }
     if mode == "stats" {
         for chunk in &input.chunks {
