@@ -4,8 +4,11 @@
 //! what the host drew (here: nothing, the targets are as created, zeroed = far).
 
 use gpu_backend::device::{optional_features, required_limits};
-use gpu_backend::render::{ChunkMeshData, HostDepth, HostPass, HostTargets, RenderCamera};
-use gpu_backend::{ChunkLayersData, GpuContext, Renderer, RendererConfig};
+use gpu_backend::render::{HostDepth, HostPass, HostTargets};
+use gpu_backend::{GpuContext, Renderer, RendererConfig};
+use render_model::camera::Camera;
+use render_model::resident::ChunkMeshData;
+use voxel_core::formats::ChunkLayersData;
 use voxel_core::formats::{FaceDirection, PackedQuad, PackedQuadFields};
 use voxel_core::{BlockId, ChunkCoord, ChunkSize, Material, MaterialPalette, WorldPos};
 use wgpu::{TextureFormat as F, TextureUsages as U};
@@ -55,7 +58,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let coord = ChunkCoord::new(0, 0, 0);
     renderer.upload_chunk(&ChunkMeshData { coord, lod: 0, layers })?;
     let eye = WorldPos::new(8, 6, 24);
-    let camera = RenderCamera::from_world(eye, [0.5; 3], ChunkSize::S16, 0.0, -0.4, 1.0);
+    let camera = Camera::new(eye, glam::DVec3::splat(0.5), 0.0, -0.4, 1.0);
     renderer.set_camera(&camera);
 
     // Draw into the host's targets, depth converted to its projection (reversed-Z, infinite).

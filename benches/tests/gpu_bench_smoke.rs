@@ -101,7 +101,7 @@ fn small_lod_terrain_runs() {
     // Resident for the budgets' runs: what some budget selects (the reference's level 0 had a
     // renderer of its own).
     let params = budget_params(
-        &bench_camera(terrain.size),
+        &bench_camera(),
         &config.budgets,
         terrain.levels.len() as u32 - 1,
         config.height,

@@ -20,15 +20,14 @@
 use benches::gpu_bench::{ImageError, image_error, renderer_for, upload_terrain};
 use benches::gpu_scene::LodTerrain;
 use gpu_backend::DeviceOptions;
-use gpu_backend::cull::{LodAnchor, LodSettings};
-use gpu_backend::from_mesher::node_layers;
 use gpu_backend::render::far::{FarPath, FarRequest};
-use gpu_backend::render::memory_plan::{self, PlannedNode};
-use gpu_backend::render::{
-    ChunkMeshData, FrameImage, RenderCamera, Renderer, RendererConfig, SceneFootprint,
-};
+use gpu_backend::render::{FrameImage, Renderer, RendererConfig, SceneFootprint};
 use gpu_backend::test_support::headless_or_skip;
 use mesher::lod::NodeMesh;
+use render_model::camera::Camera;
+use render_model::cull::{LodAnchor, LodSettings};
+use render_model::memory_plan::{self, PlannedNode};
+use render_model::resident::ChunkMeshData;
 use voxel_core::{ChunkCoord, ChunkSize, WorldPos};
 
 const WIDTH: u32 = 256;
@@ -39,18 +38,17 @@ fn within_bound(error: &ImageError, budget_px: f32) -> bool {
     error.mean_abs <= 2.5 * b && error.share_over_8 <= 0.05 * b
 }
 
-fn camera(x: i32, yaw_degrees: f64) -> RenderCamera {
-    RenderCamera::from_world(
+fn camera(x: i32, yaw_degrees: f64) -> Camera {
+    Camera::new(
         WorldPos::new(x, 46, -40),
-        [0.5; 3],
-        ChunkSize::S8,
+        glam::DVec3::splat(0.5),
         yaw_degrees.to_radians(),
         -14f64.to_radians(),
         70f64.to_radians(),
     )
 }
 
-fn frame(renderer: &mut Renderer, camera: &RenderCamera) -> FrameImage {
+fn frame(renderer: &mut Renderer, camera: &Camera) -> FrameImage {
     renderer.set_camera(camera);
     renderer.render().expect("frame");
     renderer.read_image().expect("readback")
@@ -217,7 +215,7 @@ fn a_memory_budget_coarsens_far_detail_without_holes() {
         .map(|n| PlannedNode {
             level: n.level,
             coord: [n.coord.x, n.coord.y, n.coord.z],
-            bytes: node_layers(n).byte_len(),
+            bytes: n.layers().byte_len(),
         })
         .collect();
     let everything = memory_plan::plan(&planned, &params, u64::MAX).expect("plan");
@@ -237,7 +235,7 @@ fn a_memory_budget_coarsens_far_detail_without_holes() {
 
     let mut footprint = SceneFootprint::default();
     for &i in &tight.keep {
-        footprint.add(&node_layers(nodes[i]));
+        footprint.add(&nodes[i].layers());
     }
     let far = FarRequest::Path(FarPath::CameraQuads);
     let config = RendererConfig::fitted(WIDTH, HEIGHT, ChunkSize::S8, far, &footprint);
@@ -249,7 +247,7 @@ fn a_memory_budget_coarsens_far_detail_without_holes() {
             .upload_chunk(&ChunkMeshData {
                 coord: node.coord,
                 lod: node.level,
-                layers: node_layers(node),
+                layers: node.layers(),
             })
             .expect("the plan fits the fitted renderer");
     }

@@ -17,6 +17,7 @@ use std::collections::BinaryHeap;
 use std::fmt;
 
 use bytemuck::Pod;
+use render_model::cull::NodeRecord;
 use voxel_core::formats::{ChunkDrawInfo, ChunkKind, MeshedChunkInfo};
 use wgpu::{Buffer, BufferDescriptor, BufferUsages, Device, Queue};
 
@@ -66,6 +67,24 @@ impl TableEntry for ChunkDrawInfo {
         gigabuffer_index: -1,
     };
     const LABEL: &'static str = "far chunk table (ChunkDrawInfo)";
+}
+
+impl TableEntry for NodeRecord {
+    /// Nothing: no smooth quads, no blocks.
+    const VACANT: Self = NodeRecord {
+        smooth_quad_offset: 0,
+        smooth_quad_count: 0,
+        smooth_quad_form: 0,
+        block_offset: 0,
+        block_count: 0,
+        mask_offset: 0,
+        mask_words: 0,
+        flags: 0,
+        opaque_skirts: [0; 3],
+        block_skirts: [0; 3],
+        pad: [0; 2],
+    };
+    const LABEL: &'static str = "node table (NodeRecord)";
 }
 
 /// The near-field table.

@@ -21,7 +21,6 @@
 //!   draws, deferred lighting, a back-to-front transparent pass and a tonemap, recorded into
 //!   one encoder per frame ([`Renderer`]); [`render::external`] draws its frame into a host's
 //!   own colour and depth targets;
-//! - [`from_mesher`]: the mesher's output as upload data;
 //! - [`present`]: a window's swapchain ([`WindowOutput`]) and the pass that copies the
 //!   renderer's output into it;
 //! - [`pass_chain`]: a frame's consecutive compute steps in one compute pass;
@@ -39,7 +38,6 @@ pub mod chunk_table;
 pub mod cull;
 pub mod device;
 mod dirty_ranges;
-pub mod from_mesher;
 mod fullscreen;
 pub mod gigabuffer;
 pub mod hiz;
@@ -55,16 +53,15 @@ pub mod shaders;
 #[cfg(feature = "test-support")]
 pub mod test_support;
 pub mod timing;
+#[cfg(test)]
+mod twins;
 
 pub use chunk_table::{FarChunkTable, GpuTable, MeshedChunkTable, TableError, TableSlot};
-pub use cull::{CullCamera, CullConfig, CullLayer, CullOutput, CullPass};
+pub use cull::{CullOutput, CullPass};
 pub use device::{
     DeviceError, DeviceOptions, GpuCapabilities, GpuContext, MultiDrawPath, TimingPath,
 };
-pub use gigabuffer::{
-    ChunkHandle, ChunkLayersData, ChunkRanges, DataKind, Gigabuffer, GigabufferConfig,
-    GigabufferError, UploadedChunk,
-};
+pub use gigabuffer::{ChunkHandle, Gigabuffer, GigabufferConfig, GigabufferError, UploadedChunk};
 pub use present::{FrameSkipped, WindowFrame, WindowOutput};
 pub use readback::ReadbackError;
 pub use render::{Renderer, RendererConfig};

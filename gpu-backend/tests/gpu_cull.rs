@@ -22,17 +22,19 @@ use std::sync::OnceLock;
 
 use common::Rng;
 use gpu_backend::chunk_table::MeshedChunkTable;
-use gpu_backend::cull::{
-    ChunkCull, CullCamera, CullConfig, CullLayer, CullOutput, CullPass, CullReadback, cull_chunk,
-    cull_reference, cull_reference_ordered, depth_key, relative_box, relative_chunk,
-};
-use gpu_backend::gigabuffer::{DataKind, PageLayout};
+use gpu_backend::cull::{CullOutput, CullPass, CullReadback};
 use gpu_backend::test_support::{NO_ADAPTER, headless, skip};
 use gpu_backend::{DeviceOptions, GpuContext, MultiDrawPath};
 use gpu_cull_support::{
     assert_matches, faces_drawn, random_camera, random_scene, sorted, view_projection,
     visible_chunks,
 };
+use render_model::cull::{
+    ChunkCull, CullConfig, CullLayer, CullView, cull_chunk, cull_reference, cull_reference_ordered,
+    depth_key, relative_box, relative_chunk,
+};
+use render_model::pages::PageLayout;
+use voxel_core::formats::DataKind;
 use voxel_core::formats::{FaceLayerRange, MeshedChunkInfo};
 use voxel_core::{ChunkCoord, ChunkSize};
 
@@ -82,7 +84,7 @@ fn cull_on_gpu(
     ctx: &GpuContext,
     pass: &CullPass,
     table: &mut MeshedChunkTable,
-    camera: &CullCamera,
+    camera: &CullView,
     layer: CullLayer,
     output: &CullOutput,
     ordered: bool,
@@ -104,7 +106,7 @@ fn run(
     ctx: &GpuContext,
     pass: &CullPass,
     table: &mut MeshedChunkTable,
-    camera: &CullCamera,
+    camera: &CullView,
     layer: CullLayer,
     output: &CullOutput,
 ) -> CullReadback {
@@ -146,12 +148,9 @@ fn random_tables_match_the_cpu_reference() {
         let mut total_malformed = 0u32;
         for (scene_index, camera_chunk) in camera_chunks(&mut rng).into_iter().enumerate() {
             let mut table = table(ctx);
-            let cameras: Vec<CullCamera> = (0..4)
+            let cameras: Vec<CullView> = (0..4)
                 .map(|_| random_camera(&mut rng, camera_chunk, EDGE))
-                .chain([CullCamera::without_frustum(
-                    camera_chunk,
-                    [3.25, 9.5, 12.75],
-                )])
+                .chain([CullView::without_frustum(camera_chunk, [3.25, 9.5, 12.75])])
                 .collect();
             let scene = random_scene(
                 &mut rng,
@@ -265,7 +264,7 @@ fn hand_checked_face_groups_and_frustum() {
             ),
         ];
         for (name, cam_chunk, offset, expected) in &cases {
-            let camera = CullCamera::without_frustum(
+            let camera = CullView::without_frustum(
                 ChunkCoord::new(cam_chunk[0], cam_chunk[1], cam_chunk[2]),
                 *offset,
             );
@@ -283,15 +282,15 @@ fn hand_checked_face_groups_and_frustum() {
                 .iter()
                 .map(|&f| {
                     let before: u32 = counts[..f].iter().sum();
-                    gpu_backend::cull::Command {
-                        args: gpu_backend::cull::DrawIndexedArgs {
+                    render_model::cull::Command {
+                        args: render_model::cull::DrawIndexedArgs {
                             index_count: 6 * counts[f],
                             instance_count: 1,
                             first_index: 0,
                             base_vertex: 4 * (100 + before) as i32,
                             first_instance: 0,
                         },
-                        record: gpu_backend::cull::DrawRecord {
+                        record: render_model::cull::DrawRecord {
                             chunk: cam_chunk.map(|c| -c),
                             level: 0,
                         },
@@ -314,7 +313,7 @@ fn hand_checked_face_groups_and_frustum() {
         // Empty groups give no command even when they face the eye.
         let sparse = full_chunk([5, 0, 0], 0, [0, 7, 0, 0, 0, 9]);
         table.insert(sparse).unwrap();
-        let camera = CullCamera::without_frustum(ChunkCoord::new(0, 0, 0), [8.0, 8.0, 8.0]);
+        let camera = CullView::without_frustum(ChunkCoord::new(0, 0, 0), [8.0, 8.0, 8.0]);
         assert_eq!(
             cull_chunk(&sparse, &camera, CullLayer::Opaque, &layout),
             ChunkCull::Visible {
@@ -346,7 +345,7 @@ fn hand_checked_face_groups_and_frustum() {
             table.insert(info).unwrap();
         }
         let m = view_projection(0.0, 0.0, std::f64::consts::FRAC_PI_2, 1.0, 0.5, 100.0);
-        let camera = CullCamera::from_view_projection(ChunkCoord::new(0, 0, 0), [8.0; 3], m);
+        let camera = CullView::from_view_projection(ChunkCoord::new(0, 0, 0), [8.0; 3], m);
         for (info, visible) in [
             (front, true),
             (behind, false),
@@ -388,7 +387,7 @@ fn extra_views_and_overflow() {
         let cameras = [
             random_camera(&mut rng, origin, EDGE),
             random_camera(&mut rng, origin, EDGE),
-            CullCamera::without_frustum(origin, [7.5, 2.25, 11.0]),
+            CullView::without_frustum(origin, [7.5, 2.25, 11.0]),
         ];
         let mut table = table(ctx);
         let scene = random_scene(&mut rng, &mut table, &layout, origin, &cameras, 400, 6);
@@ -455,19 +454,19 @@ fn extra_views_and_overflow() {
             gpu_backend::readback::read_buffer(&ctx.device, &ctx.queue, b, 0, b.size()).unwrap()
         };
         let counts: Vec<u32> = bytemuck::pod_collect_to_vec(&read(&counts_a));
-        let records: Vec<gpu_backend::cull::DrawRecord> =
+        let records: Vec<render_model::cull::DrawRecord> =
             bytemuck::pod_collect_to_vec(&read(&records_a));
-        let args: Vec<gpu_backend::cull::DrawIndexedArgs> =
+        let args: Vec<render_model::cull::DrawIndexedArgs> =
             bytemuck::pod_collect_to_vec(&read(&args_a));
         let per_page = layout.commands_per_page as usize;
         for (page, &count) in counts.iter().take(layout.page_count as usize).enumerate() {
             assert_eq!(count, expected[0].wanted[page], "first view, page {page}");
             let start = page * per_page;
             let range = start..start + count as usize;
-            let got: Vec<gpu_backend::cull::Command> = args[range.clone()]
+            let got: Vec<render_model::cull::Command> = args[range.clone()]
                 .iter()
                 .zip(&records[range])
-                .map(|(&args, &record)| gpu_backend::cull::Command { args, record })
+                .map(|(&args, &record)| render_model::cull::Command { args, record })
                 .collect();
             assert_eq!(
                 sorted(&got),
@@ -535,7 +534,7 @@ fn empty_table_gives_no_commands() {
         let pass = CullPass::new(ctx, &quad_pages(), &CullConfig::new(SIZE, 16)).unwrap();
         let output = pass.create_output("empty").unwrap();
         let mut table = table(ctx);
-        let camera = CullCamera::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
+        let camera = CullView::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
         let gpu = run(ctx, &pass, &mut table, &camera, CullLayer::Opaque, &output);
         assert_eq!(gpu.wanted, vec![0, 0, 0]);
         assert_eq!(gpu.malformed, 0);
@@ -566,7 +565,7 @@ fn ordered_cull_is_back_to_front() {
         let mut descents = 0usize;
         for (scene_index, camera_chunk) in camera_chunks(&mut rng).into_iter().enumerate() {
             let mut table = table(ctx);
-            let cameras: Vec<CullCamera> = (0..3)
+            let cameras: Vec<CullView> = (0..3)
                 .map(|_| random_camera(&mut rng, camera_chunk, EDGE))
                 .collect();
             let scene = random_scene(

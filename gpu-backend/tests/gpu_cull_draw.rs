@@ -15,16 +15,16 @@ mod common;
 mod gpu_cull_support;
 
 use common::Rng;
-use gpu_backend::cull::Command;
-use gpu_backend::cull::{
-    CullConfig, CullLayer, CullPass, DrawIndexedArgs, cull_reference, quad_indices,
-};
-use gpu_backend::gigabuffer::{DataKind, PageLayout};
+use gpu_backend::cull::CullPass;
 use gpu_backend::readback::read_buffer;
 use gpu_backend::shaders::compose;
 use gpu_backend::test_support::{headless_or_skip, skip};
 use gpu_backend::{DeviceOptions, GpuContext, MeshedChunkTable};
 use gpu_cull_support::{random_camera, random_scene, unordered};
+use render_model::cull::Command;
+use render_model::cull::{CullConfig, CullLayer, DrawIndexedArgs, cull_reference, quad_indices};
+use render_model::pages::PageLayout;
+use voxel_core::formats::DataKind;
 use voxel_core::{ChunkCoord, ChunkSize};
 use wgpu::util::DeviceExt;
 

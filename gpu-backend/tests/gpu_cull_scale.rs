@@ -9,11 +9,13 @@ mod common;
 use std::time::Instant;
 
 use common::Rng;
-use gpu_backend::cull::{CullCamera, CullConfig, CullLayer, CullPass, cull_reference};
-use gpu_backend::gigabuffer::{DataKind, PageLayout};
+use gpu_backend::cull::CullPass;
 use gpu_backend::test_support::headless_or_skip;
 use gpu_backend::timing::{GpuTimer, TimingSource};
 use gpu_backend::{DeviceOptions, MeshedChunkTable};
+use render_model::cull::{CullConfig, CullLayer, CullView, cull_reference};
+use render_model::pages::PageLayout;
+use voxel_core::formats::DataKind;
 use voxel_core::formats::{FaceLayerRange, MeshedChunkInfo};
 use voxel_core::{ChunkCoord, ChunkSize};
 
@@ -92,7 +94,7 @@ fn cull_400k_chunks() {
     // The eye sits off the chunks' half-block lattice: with it at (4, 4, 4) many box corners
     // lie exactly on a frustum plane, where a GPU's fused multiply-adds and the CPU's separate
     // roundings may decide differently.
-    let camera = CullCamera::from_view_projection(
+    let camera = CullView::from_view_projection(
         ChunkCoord::new(0, 0, 0),
         [4.37, 4.11, 4.73],
         view_projection,

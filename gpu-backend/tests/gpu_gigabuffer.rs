@@ -5,15 +5,15 @@
 mod common;
 
 use common::{Rng, flush_and_submit, read_range};
-use gpu_backend::gigabuffer::{
-    ChunkLayersData, ChunkRanges, DataKind, Gigabuffer, GigabufferConfig, GigabufferError,
-};
+use gpu_backend::gigabuffer::{Gigabuffer, GigabufferConfig, GigabufferError};
 use gpu_backend::test_support::headless_or_skip;
 use gpu_backend::{DeviceOptions, GpuContext};
+use render_model::resident::ChunkRanges;
 use voxel_core::formats::{
     BlockVertex, ClutterUnit, DrawBlock, MeshedChunkInfoFields, PackedQuad, SmoothQuadForm,
     SmoothQuads,
 };
+use voxel_core::formats::{ChunkLayersData, DataKind};
 
 /// One chunk's layers, owned.
 #[derive(Clone, Debug, Default)]

@@ -23,16 +23,16 @@ mod gpu_hiz_support;
 use std::sync::OnceLock;
 
 use common::Rng;
-use gpu_backend::hiz::{
-    DepthPyramid, HizError, TAIL_LEVELS, level_sizes, merge_visibility_reference,
-    pyramid_reference, rect_test_reference,
-};
+use gpu_backend::hiz::{DepthPyramid, HizError, TAIL_LEVELS};
 use gpu_backend::shaders::{HIZ_PROBE, validate};
 use gpu_backend::test_support::headless_or_skip;
 use gpu_backend::{DeviceOptions, GpuContext, GpuTimer};
 use gpu_hiz_support::{
     Answer, Fill, Query, assert_levels_equal, depth_target, probe, random_depth, random_rect,
     random_visibility, read_depth, unit_depth, visibility_buffer,
+};
+use render_model::hiz::{
+    ScreenError, level_sizes, merge_visibility_reference, pyramid_reference, rect_test_reference,
 };
 
 /// `HIZ_TEST_SEED` if set, else `default`; printed.
@@ -303,11 +303,11 @@ fn bad_inputs_are_errors_and_record_nothing() {
     let max = device.limits().max_texture_dimension_2d;
     assert!(matches!(
         DepthPyramid::new(device, 0, 4),
-        Err(HizError::BadSize { width: 0, .. })
+        Err(HizError::Screen(ScreenError::BadSize { width: 0, .. }))
     ));
     assert!(matches!(
         DepthPyramid::new(device, 4, max + 1),
-        Err(HizError::BadSize { .. })
+        Err(HizError::Screen(ScreenError::BadSize { .. }))
     ));
     let (w, h) = (20, 10);
     let pyramid = DepthPyramid::new(device, w, h).expect("pyramid");
@@ -387,7 +387,7 @@ fn bad_inputs_are_errors_and_record_nothing() {
 
     // A screen whose visibility buffer would exceed the storage binding limit.
     let limit = device.limits().max_storage_buffer_binding_size;
-    let edge = max.min(gpu_backend::hiz::MAX_SCREEN_EDGE);
+    let edge = max.min(render_model::hiz::MAX_SCREEN_EDGE);
     let height = (limit / 8 / u64::from(edge) + 1).min(u64::from(edge)) as u32;
     if u64::from(edge) * u64::from(height) * 8 > limit {
         let big = DepthPyramid::new(device, edge, height).expect("big pyramid");

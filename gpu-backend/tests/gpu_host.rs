@@ -6,11 +6,12 @@
 
 use gpu_backend::device::{DeviceError, DeviceOptions, optional_features, required_limits};
 use gpu_backend::readback::read_buffer;
-use gpu_backend::render::{
-    ChunkMeshData, HostDepth, HostError, HostPass, HostTargets, RenderCamera,
-};
+use gpu_backend::render::{HostDepth, HostError, HostPass, HostTargets};
 use gpu_backend::test_support::{NO_ADAPTER, headless_or_skip, skip};
-use gpu_backend::{ChunkLayersData, GpuContext, Renderer, RendererConfig};
+use gpu_backend::{GpuContext, Renderer, RendererConfig};
+use render_model::camera::{Camera, Eye};
+use render_model::resident::ChunkMeshData;
+use voxel_core::formats::ChunkLayersData;
 use voxel_core::formats::{FaceDirection, PackedQuad, PackedQuadFields};
 use voxel_core::{BlockId, ChunkCoord, ChunkSize, Material, MaterialPalette};
 use wgpu::{Limits, TextureFormat, TextureUsages};
@@ -125,13 +126,17 @@ fn renderer_with_quads(ctx: &GpuContext) -> Renderer {
             layers,
         })
         .expect("upload");
-    renderer.set_camera(&RenderCamera {
-        chunk: ChunkCoord::new(0, 0, 1),
-        offset: [8.0, 6.0, 8.0],
-        yaw: 0.2,
-        pitch: -0.4,
-        fov_y: f64::from(FOV),
-        near: f64::from(NEAR),
+    renderer.set_camera(&{
+        let chunk = ChunkCoord::new(0, 0, 1);
+        let offset = [8.0, 6.0, 8.0];
+        let yaw = 0.2;
+        let pitch = -0.4;
+        let fov_y = f64::from(FOV);
+        let near = f64::from(NEAR);
+        let eye = Eye { chunk, offset };
+        let camera = Camera::at_eye(eye, ChunkSize::S16, yaw, pitch, fov_y)
+            .expect("the eye is inside the i32 world");
+        Camera { near, ..camera }
     });
     renderer
 }

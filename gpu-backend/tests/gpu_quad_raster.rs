@@ -36,16 +36,15 @@ use std::f64::consts::PI;
 
 use common::Rng;
 use gpu_backend::DeviceOptions;
-use gpu_backend::cull::LodParams;
-use gpu_backend::cull::lod::{focal_px, selected};
-use gpu_backend::render::RenderCamera;
-use gpu_backend::render::quad_raster::{
-    QuadRaster, QuadRasterConfig, QuadRasterError, QuadRasterInputs,
-};
+use gpu_backend::render::quad_raster::{QuadRaster, QuadRasterError, QuadRasterInputs};
 use gpu_backend::test_support::headless_or_skip;
 use gpu_quad_raster_support::{Frame, Rig, assert_close, bit_exact, compare, device, report};
+use render_model::camera::{Camera, Eye};
+use render_model::cull::LodParams;
+use render_model::cull::lod::{focal_px, selected};
+use render_model::quad_raster::QuadRasterConfig;
 use voxel_core::formats::{PackedQuad, PackedQuadFields};
-use voxel_core::{BlockId, ChunkCoord, FaceDirection};
+use voxel_core::{BlockId, ChunkCoord, ChunkSize, FaceDirection};
 
 /// `GPU_TEST_SEED` if set, else the test's `default`; printed.
 fn seed(default: u64) -> u64 {
@@ -102,14 +101,13 @@ fn random_quad(rng: &mut Rng) -> PackedQuad {
 }
 
 /// Uploads the nodes of levels 0..=2 near `camera` that `lod` selects, with random quads.
-fn random_scene(
-    rig: &mut Rig<'_>,
-    rng: &mut Rng,
-    camera: &RenderCamera,
-    lod: &LodParams,
-) -> [u32; 3] {
+fn random_scene(rig: &mut Rig<'_>, rng: &mut Rng, camera: &Camera, lod: &LodParams) -> [u32; 3] {
     let mut per_level = [0u32; 3];
-    let c = [camera.chunk.x, camera.chunk.y, camera.chunk.z];
+    let c = [
+        camera.eye(ChunkSize::S16).chunk.x,
+        camera.eye(ChunkSize::S16).chunk.y,
+        camera.eye(ChunkSize::S16).chunk.z,
+    ];
     for level in 0..=2u32 {
         let centre = c.map(|v| v >> level);
         for dz in -2..=2 {
@@ -161,13 +159,16 @@ fn random_scenes_match_the_reference() {
                     -(rng.below(1000) as i32) - 1,
                 )
             };
-            let camera = RenderCamera {
-                chunk,
-                offset: [0; 3].map(|_| uniform(&mut rng, 0.5, 15.5) as f32),
-                yaw: uniform(&mut rng, -PI, PI),
-                pitch: uniform(&mut rng, -1.3, 1.3),
-                fov_y: uniform(&mut rng, 0.8, 1.6),
-                near: uniform(&mut rng, 0.05, 0.3),
+            let camera = {
+                let offset = [0; 3].map(|_| uniform(&mut rng, 0.5, 15.5) as f32);
+                let yaw = uniform(&mut rng, -PI, PI);
+                let pitch = uniform(&mut rng, -1.3, 1.3);
+                let fov_y = uniform(&mut rng, 0.8, 1.6);
+                let near = uniform(&mut rng, 0.05, 0.3);
+                let eye = Eye { chunk, offset };
+                let camera = Camera::at_eye(eye, ChunkSize::S16, yaw, pitch, fov_y)
+                    .expect("the eye is inside the i32 world");
+                Camera { near, ..camera }
             };
             // Level 0 within about 20 blocks, level 1 to about 60, level 2 beyond (level k errs
             // by sqrt(3) (2^k - 1) blocks: cull::lod).
@@ -175,7 +176,7 @@ fn random_scenes_match_the_reference() {
             let lod = LodParams {
                 anchor_chunk: [chunk.x, chunk.y, chunk.z],
                 top_level: 2,
-                anchor_offset: camera.offset,
+                anchor_offset: camera.eye(ChunkSize::S16).offset,
                 budget_px: 3f32.sqrt() * focal / 20.0,
                 focal_px: focal,
                 hysteresis: 0.0,
@@ -185,7 +186,7 @@ fn random_scenes_match_the_reference() {
             let levels = random_scene(&mut rig, &mut rng, &camera, &lod);
             let pages = rig
                 .gigabuffer
-                .pages(gpu_backend::gigabuffer::DataKind::Quads)
+                .pages(voxel_core::formats::DataKind::Quads)
                 .count();
             assert!(pages >= 2, "the scene spans several quad pages: {pages}");
             let frame = rig.render(&camera, Some(lod), 1);
@@ -218,16 +219,20 @@ fn random_scenes_match_the_reference() {
 
 /// Eye at world (24, 16, 20) looking along -z, 4 pixels per block on the wall at z = 0: the
 /// wall's block edges fall on pixel borders, half a pixel from every pixel centre.
-fn head_on() -> (RenderCamera, u32, u32) {
+fn head_on() -> (Camera, u32, u32) {
     let (width, height) = (192, 128);
-    let camera = RenderCamera {
-        chunk: ChunkCoord::new(1, 1, 1),
-        offset: [8.0, 0.0, 4.0],
-        yaw: 0.0,
-        pitch: 0.0,
+    let camera = {
         // tan(fov / 2) = 64 pixels / (4 pixels per block * 20 blocks).
-        fov_y: 2.0 * (0.8f64).atan(),
-        near: 0.1,
+        let chunk = ChunkCoord::new(1, 1, 1);
+        let offset = [8.0, 0.0, 4.0];
+        let yaw = 0.0;
+        let pitch = 0.0;
+        let fov_y = 2.0 * (0.8f64).atan();
+        let near = 0.1;
+        let eye = Eye { chunk, offset };
+        let camera = Camera::at_eye(eye, ChunkSize::S16, yaw, pitch, fov_y)
+            .expect("the eye is inside the i32 world");
+        Camera { near, ..camera }
     };
     (camera, width, height)
 }
@@ -456,21 +461,25 @@ fn greedy_floors_have_no_pinholes() {
                 rig.upload([base[0] + cx, base[1], base[2] + cz], 0, &quads);
             }
         }
-        let camera = RenderCamera {
-            chunk: ChunkCoord::new(
+        let camera = {
+            let chunk = ChunkCoord::new(
                 base[0] - 1 + rng.below(2) as i32,
                 base[1],
                 base[2] - 1 + rng.below(2) as i32,
-            ),
-            offset: [
+            );
+            let offset = [
                 uniform(&mut rng, 0.0, 16.0) as f32,
                 uniform(&mut rng, 8.5, 15.0) as f32,
                 uniform(&mut rng, 0.0, 16.0) as f32,
-            ],
-            yaw: uniform(&mut rng, -PI, PI),
-            pitch: -uniform(&mut rng, 0.05, 1.4),
-            fov_y: uniform(&mut rng, 0.9, 1.5),
-            near: 0.05,
+            ];
+            let yaw = uniform(&mut rng, -PI, PI);
+            let pitch = -uniform(&mut rng, 0.05, 1.4);
+            let fov_y = uniform(&mut rng, 0.9, 1.5);
+            let near = 0.05;
+            let eye = Eye { chunk, offset };
+            let camera = Camera::at_eye(eye, ChunkSize::S16, yaw, pitch, fov_y)
+                .expect("the eye is inside the i32 world");
+            Camera { near, ..camera }
         };
         let frame = rig.render(&camera, None, 1);
         let what = format!("seed {seed}, floor view {view}");
@@ -479,8 +488,12 @@ fn greedy_floors_have_no_pinholes() {
         // The floor: y = 8 in chunk row base[1]; x and z over chunks base - 3 .. base + 3.
         let f = &frame.uniforms;
         let eye: [f64; 3] = std::array::from_fn(|i| {
-            let chunk = [camera.chunk.x, camera.chunk.y, camera.chunk.z][i];
-            f64::from(chunk) * 16.0 + f64::from(camera.offset[i])
+            let chunk = [
+                camera.eye(ChunkSize::S16).chunk.x,
+                camera.eye(ChunkSize::S16).chunk.y,
+                camera.eye(ChunkSize::S16).chunk.z,
+            ][i];
+            f64::from(chunk) * 16.0 + f64::from(camera.eye(ChunkSize::S16).offset[i])
         });
         let lo = [f64::from(base[0] - 3) * 16.0, f64::from(base[2] - 3) * 16.0];
         let hi = [f64::from(base[0] + 3) * 16.0, f64::from(base[2] + 3) * 16.0];
@@ -539,13 +552,17 @@ fn near_plane_clipping_and_back_faces() {
         &QuadRasterConfig::for_screen(width, height, 4),
     );
     // Eye at (8.04, 1.05, 12.0) of chunk (0, 0, 0), looking along -z, slightly down.
-    let camera = RenderCamera {
-        chunk: ChunkCoord::new(0, 0, 0),
-        offset: [8.04, 1.05, 12.0],
-        yaw: 0.0,
-        pitch: -0.2,
-        fov_y: 1.2,
-        near: 0.1,
+    let camera = {
+        let chunk = ChunkCoord::new(0, 0, 0);
+        let offset = [8.04, 1.05, 12.0];
+        let yaw = 0.0;
+        let pitch = -0.2;
+        let fov_y = 1.2;
+        let near = 0.1;
+        let eye = Eye { chunk, offset };
+        let camera = Camera::at_eye(eye, ChunkSize::S16, yaw, pitch, fov_y)
+            .expect("the eye is inside the i32 world");
+        Camera { near, ..camera }
     };
     for cz in -2..=0 {
         let mut quads = vec![
@@ -618,11 +635,10 @@ fn more_commands_than_one_dispatch_dimension() {
     let mut rig = Rig::new(&ctx, 16, 16, &QuadRasterConfig::for_screen(16, 16, 1));
     rig.cull = gpu_backend::cull::CullPass::new(
         &ctx,
-        rig.gigabuffer
-            .layout(gpu_backend::gigabuffer::DataKind::Quads),
-        &gpu_backend::cull::CullConfig {
+        rig.gigabuffer.layout(voxel_core::formats::DataKind::Quads),
+        &render_model::cull::CullConfig {
             commands_per_page: Some(COMMANDS + 5),
-            ..gpu_backend::cull::CullConfig::new(voxel_core::ChunkSize::S16, 16)
+            ..render_model::cull::CullConfig::new(ChunkSize::S16, 16)
         },
     )
     .expect("cull pass");
@@ -658,13 +674,17 @@ fn more_commands_than_one_dispatch_dimension() {
         .write_buffer(rig.output.args(), 0, bytemuck::cast_slice(&args));
     ctx.queue
         .write_buffer(rig.output.counts(), 0, bytemuck::cast_slice(&counts));
-    let camera = RenderCamera {
-        chunk: ChunkCoord::new(0, 0, 0),
-        offset: [-4.0, 0.5, 0.5],
-        yaw: std::f64::consts::FRAC_PI_2,
-        pitch: 0.0,
-        fov_y: 1.0,
-        near: 0.1,
+    let camera = {
+        let chunk = ChunkCoord::new(0, 0, 0);
+        let offset = [-4.0, 0.5, 0.5];
+        let yaw = std::f64::consts::FRAC_PI_2;
+        let pitch = 0.0;
+        let fov_y = 1.0;
+        let near = 0.1;
+        let eye = Eye { chunk, offset };
+        let camera = Camera::at_eye(eye, ChunkSize::S16, yaw, pitch, fov_y)
+            .expect("the eye is inside the i32 world");
+        Camera { near, ..camera }
     };
     let uniforms = rig.uniforms_of(&camera);
     ctx.queue

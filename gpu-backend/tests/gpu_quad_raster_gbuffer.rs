@@ -25,15 +25,17 @@ mod common;
 mod gpu_quad_raster_support;
 
 use gpu_backend::DeviceOptions;
-use gpu_backend::cull::lod::focal_px;
-use gpu_backend::cull::{LodAnchor, LodParams, LodSettings};
-use gpu_backend::gigabuffer::ChunkLayersData;
-use gpu_backend::render::quad_raster::QuadRasterConfig;
-use gpu_backend::render::quad_raster::reference::{sample_reference, setup_reference};
-use gpu_backend::render::{ChunkMeshData, RenderCamera, Renderer, RendererConfig};
+use gpu_backend::render::{Renderer, RendererConfig};
 use gpu_quad_raster_support::gbuffer::{GTexel, oct_face, read_gbuffer};
 use gpu_quad_raster_support::terrain::node_quads;
 use gpu_quad_raster_support::{Frame, Rig, assert_close, bit_exact, compare, depth, device};
+use render_model::camera::{Camera, Eye};
+use render_model::cull::lod::focal_px;
+use render_model::cull::{LodAnchor, LodParams, LodSettings};
+use render_model::quad_raster::QuadRasterConfig;
+use render_model::quad_raster::reference::{sample_reference, setup_reference};
+use render_model::resident::ChunkMeshData;
+use voxel_core::formats::ChunkLayersData;
 use voxel_core::formats::PackedQuad;
 use voxel_core::{ChunkCoord, ChunkSize, Material, MaterialPalette};
 
@@ -231,13 +233,14 @@ fn the_visibility_buffer_matches_the_gbuffer_raster_pass() {
     let mut worst = 0.0f64;
     let mut level_one = 0;
     for (view, &(chunk, offset, yaw, pitch)) in views.iter().enumerate() {
-        let camera = RenderCamera {
-            chunk: ChunkCoord::new(chunk[0], chunk[1], chunk[2]),
-            offset,
-            yaw,
-            pitch,
-            fov_y: 1.1,
-            near: 0.1,
+        let camera = {
+            let chunk = ChunkCoord::new(chunk[0], chunk[1], chunk[2]);
+            let fov_y = 1.1;
+            let near = 0.1;
+            let eye = Eye { chunk, offset };
+            let camera = Camera::at_eye(eye, ChunkSize::S16, yaw, pitch, fov_y)
+                .expect("the eye is inside the i32 world");
+            Camera { near, ..camera }
         };
         // Level 0 within about 24 blocks of the eye, level 1 beyond (level 1 errs by sqrt(3)
         // blocks: cull::lod).
@@ -249,9 +252,10 @@ fn the_visibility_buffer_matches_the_gbuffer_raster_pass() {
         };
         renderer.set_camera(&camera);
         renderer.set_lod(Some(settings)).expect("settings");
+        let eye = camera.eye(ChunkSize::S16);
         renderer.set_lod_anchor(LodAnchor {
-            chunk: camera.chunk,
-            offset: camera.offset,
+            chunk: eye.chunk,
+            offset: eye.offset,
         });
         renderer.render().expect("frame");
         let (stats, _) = renderer.read_frame_stats().expect("stats");

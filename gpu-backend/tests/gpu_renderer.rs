@@ -4,9 +4,11 @@
 
 use glam::{Vec2, Vec3};
 use gpu_backend::DeviceOptions;
-use gpu_backend::gigabuffer::ChunkLayersData;
-use gpu_backend::render::{ChunkMeshData, RenderCamera, RenderError, Renderer, RendererConfig};
+use gpu_backend::render::{RenderError, Renderer, RendererConfig};
 use gpu_backend::test_support::headless_or_skip;
+use render_model::camera::Camera;
+use render_model::resident::ChunkMeshData;
+use voxel_core::formats::ChunkLayersData;
 use voxel_core::formats::{
     BlockVertex, BlockVertexFields, PackedQuad, PackedQuadFields, SmoothQuads, UnormExtent,
     compact_quad_encode,
@@ -37,11 +39,10 @@ fn floor() -> [PackedQuad; 1] {
 }
 
 /// Looking straight down at the floor of chunk (0, 0, 0) from 10 blocks above.
-fn camera_above() -> RenderCamera {
-    RenderCamera::from_world(
+fn camera_above() -> Camera {
+    Camera::new(
         WorldPos::new(8, 10, 8),
-        [0.5; 3],
-        ChunkSize::S16,
+        glam::DVec3::splat(0.5),
         0.0,
         -1.5,
         1.0,

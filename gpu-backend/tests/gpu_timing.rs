@@ -5,14 +5,15 @@
 
 use std::time::Instant;
 
-use gpu_backend::cull::{
-    CullCamera, CullConfig, CullError, CullInputs, CullLayer, CullParams, CullPass, UniformSource,
-};
-use gpu_backend::gigabuffer::{DataKind, PageLayout};
+use render_model::cull::{CullConfig, CullError, CullLayer, CullParams, CullView};
+
+use gpu_backend::cull::{CullInputs, CullPass, UniformSource};
 use gpu_backend::pass_chain::PassChain;
 use gpu_backend::test_support::{headless_or_skip, skip};
 use gpu_backend::timing::{FRAMES_IN_FLIGHT, GpuTimer, PassTime, TimerError, TimingSource};
 use gpu_backend::{DeviceOptions, GpuContext, MeshedChunkTable, TimingPath};
+use render_model::pages::PageLayout;
+use voxel_core::formats::DataKind;
 use voxel_core::formats::{FaceLayerRange, MeshedChunkInfo};
 use voxel_core::{ChunkCoord, ChunkSize};
 use wgpu::util::DeviceExt;
@@ -154,7 +155,7 @@ fn time_frame(ctx: &GpuContext, timer: &mut GpuTimer) -> (Vec<PassTime>, u128) {
     let busy = Busy::new(ctx, &[LIGHT, HEAVY]);
     let (cull, table) = cull_setup(ctx);
     let output = cull.create_output("timed").unwrap();
-    let camera = CullCamera::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
+    let camera = CullView::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
     // Warm up: lavapipe compiles a pipeline at its first dispatch, which would land in the
     // first scope.
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
@@ -410,7 +411,7 @@ fn time_chain(ctx: &GpuContext, timer: &mut GpuTimer) -> (Vec<PassTime>, u32, Ve
     let busy = Busy::new(ctx, &[LIGHT, HEAVY]);
     let (cull, table) = cull_setup(ctx);
     let output = cull.create_output("chained").unwrap();
-    let camera = CullCamera::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
+    let camera = CullView::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
     let inputs = table_only(&table);
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
     // The uniforms from a shared staging buffer, after 256 bytes of someone else's.
@@ -465,7 +466,7 @@ fn time_chain(ctx: &GpuContext, timer: &mut GpuTimer) -> (Vec<PassTime>, u32, Ve
 fn cull_alone(ctx: &GpuContext) -> Vec<u32> {
     let (cull, table) = cull_setup(ctx);
     let output = cull.create_output("alone").unwrap();
-    let camera = CullCamera::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
+    let camera = CullView::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
     cull.record(&mut encoder, &table, &camera, CullLayer::Opaque, &output)
         .unwrap();
@@ -538,7 +539,7 @@ fn staged_uniforms_that_cannot_be_copied_are_errors() {
     };
     let (cull, table) = cull_setup(&ctx);
     let output = cull.create_output("staged").unwrap();
-    let camera = CullCamera::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
+    let camera = CullView::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
     let inputs = table_only(&table);
     let buffer = |size, usage| {
         ctx.device.create_buffer(&wgpu::BufferDescriptor {

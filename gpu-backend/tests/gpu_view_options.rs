@@ -3,12 +3,12 @@
 //! paths; turning it off gives the filled image back. The opaque path: `Auto` measures both
 //! and keeps one, switching draws the same image, and a path the renderer lacks is an error.
 
-use gpu_backend::gigabuffer::ChunkLayersData;
-use gpu_backend::render::{
-    ChunkMeshData, FrameImage, OpaquePath, RenderCamera, RenderError, Renderer, RendererConfig,
-};
+use gpu_backend::render::{FrameImage, OpaquePath, RenderError, Renderer, RendererConfig};
 use gpu_backend::test_support::{headless_or_skip, in_ci};
 use gpu_backend::{DeviceOptions, GpuContext};
+use render_model::camera::Camera;
+use render_model::resident::ChunkMeshData;
+use voxel_core::formats::ChunkLayersData;
 use voxel_core::formats::{PackedQuad, PackedQuadFields};
 use voxel_core::{
     BlockId, ChunkCoord, ChunkSize, FaceDirection, Material, MaterialPalette, WorldPos,
@@ -45,11 +45,10 @@ fn floor() -> Vec<PackedQuad> {
 
 /// Straight down at the centre of chunk (0, 0, 0) from 24 blocks above: the whole floor is in
 /// view, with sky around it.
-fn camera() -> RenderCamera {
-    RenderCamera::from_world(
+fn camera() -> Camera {
+    Camera::new(
         WorldPos::new(8, 24, 8),
-        [0.0, 0.5, 0.0],
-        ChunkSize::S16,
+        glam::DVec3::from_array([0.0, 0.5, 0.0]),
         0.0,
         -std::f64::consts::FRAC_PI_2 + 1e-3,
         1.0,

@@ -15,6 +15,7 @@
 
 use alloc::vec::Vec;
 
+use voxel_core::formats::ChunkLayersData;
 use voxel_core::storage::{VoxelStorage, WorldMap, gather_neighbourhood};
 use voxel_core::{ChunkCoord, FaceDirection, PaddedChunk};
 
@@ -70,6 +71,25 @@ impl ChunkMesh {
     /// True when no layer has anything to draw.
     pub fn is_empty(&self) -> bool {
         self.blocky.is_empty() && self.smooth.is_empty() && self.clutter.is_empty()
+    }
+
+    /// The upload view of the layers: the mesher's buffers as they are, borrowed (the smooth
+    /// quads in the form the mesh chose, compact where it fits), in the form a GPU backend
+    /// uploads ([`ChunkLayersData`]). Nothing is copied or re-encoded: the mesher writes the
+    /// packed formats the GPU reads.
+    pub fn layers(&self) -> ChunkLayersData<'_> {
+        let mut layers = ChunkLayersData {
+            smooth_vertices: self.smooth.vertices(),
+            smooth_quads: self.smooth.quads(),
+            clutter_units: self.clutter.units(),
+            ..Default::default()
+        };
+        for face in FaceDirection::ALL {
+            let i = usize::from(face.index());
+            layers.opaque_quads[i] = self.blocky.opaque.face(face);
+            layers.transparent_quads[i] = self.blocky.transparent.face(face);
+        }
+        layers
     }
 
     /// Bytes of packed GPU data in all layers (8 per quad, the smooth layer's exact size, 20

@@ -3,7 +3,7 @@
 //!
 //! Same rays and hits as [`reference_raycast`](crate::reference_raycast) (one ray per pixel
 //! centre, DDA through voxels), shaded with the deferred lighting model's CPU twin
-//! ([`gpu_backend::render::lighting`]): no shadow rays, no fog, per-vertex ambient occlusion
+//! ([`render_model::lighting`]): no shadow rays, no fog, per-vertex ambient occlusion
 //! interpolated over each face exactly as the GPU interpolates it over a quad (the mesher's AO
 //! rule per corner, the same diagonal flip, linear interpolation over the triangle the hit point
 //! lies in), transparent surfaces lit the same way and blended back to front, and the same
@@ -16,11 +16,11 @@
 //! repeat along both axes, the shading differs slightly.
 
 use glam::DVec3;
-use gpu_backend::render::lighting::{LightingParams, blend, output_rgba8, shade, srgb_to_linear};
+use render_model::lighting::{Lighting, blend, output_rgba8, shade, srgb_to_linear};
 use voxel_core::{BlockId, FaceDirection, MaterialPalette, WorldPos};
 
-use crate::camera::Camera;
 use crate::reference_raycast::{RenderedImage, render_pixels, trace_ray};
+use render_model::Camera;
 
 /// The face direction whose outward normal is `normal`, if any.
 pub fn face_of(normal: [i32; 3]) -> Option<FaceDirection> {
@@ -124,7 +124,7 @@ fn material(palette: &MaterialPalette, block: BlockId) -> ([f32; 3], f32, f32) {
 fn shade_face(
     block_at: &impl Fn(WorldPos) -> BlockId,
     palette: &MaterialPalette,
-    params: &LightingParams,
+    params: &Lighting,
     camera: &Camera,
     direction: DVec3,
     block: BlockId,
@@ -160,7 +160,7 @@ pub fn render_deferred(
     block_at: &(impl Fn(WorldPos) -> BlockId + Sync),
     palette: &MaterialPalette,
     camera: &Camera,
-    params: &LightingParams,
+    params: &Lighting,
     width: u32,
     height: u32,
     max_distance: f64,

@@ -10,8 +10,7 @@ use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use voxel_core::{BlockId, MaterialClass, MaterialPalette, WorldPos};
 
-use crate::camera::Camera;
-use crate::lighting::Lighting;
+use render_model::{Camera, Lighting};
 
 /// What one ray hit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -297,8 +296,12 @@ fn shade(
     hit: Option<&Hit>,
     max_distance: f64,
 ) -> Vec3 {
+    let sun_direction = Vec3::from_array(lighting.sun_direction);
+    let sun_colour = Vec3::from_array(lighting.sun_colour);
+    let sky_colour = Vec3::from_array(lighting.sky_colour);
+    let ground_colour = Vec3::from_array(lighting.ground_colour);
     let Some(hit) = hit else {
-        return lighting.sky_colour;
+        return sky_colour;
     };
     let normal = Vec3::new(
         hit.normal[0] as f32,
@@ -306,7 +309,7 @@ fn shade(
         hit.normal[2] as f32,
     );
     let (base, _, emission) = albedo(palette, hit.block);
-    let n_dot_l = normal.dot(lighting.sun_direction).max(0.0);
+    let n_dot_l = normal.dot(sun_direction).max(0.0);
     // Shadow ray from the centre of the lit face, offset out of the voxel.
     let lit = n_dot_l > 0.0 && {
         let face_centre = DVec3::splat(0.5) + normal.as_dvec3() * 0.501;
@@ -321,33 +324,30 @@ fn shade(
             palette,
             start,
             fraction,
-            lighting.sun_direction.as_dvec3(),
+            sun_direction.as_dvec3(),
             96.0,
         )
         .is_none()
     };
     let hemisphere = 0.5 + 0.5 * normal.y;
-    let ambient = lighting
-        .sky_colour
-        .lerp(lighting.ground_colour, 1.0 - hemisphere)
-        * 0.55;
+    let ambient = sky_colour.lerp(ground_colour, 1.0 - hemisphere) * lighting.ambient_strength;
     let mut colour = base
         * (ambient
             + if lit {
-                lighting.sun_colour * n_dot_l
+                sun_colour * n_dot_l
             } else {
                 Vec3::ZERO
             })
-        + base * emission * 4.0;
+        + base * emission * lighting.emissive_scale;
     for layer in hit.transparent.iter().rev().flatten() {
         let (tint, alpha, _) = albedo(palette, *layer);
-        let surface = tint * (lighting.sky_colour * 0.8 + lighting.sun_colour * 0.3);
+        let surface = tint * (sky_colour * 0.8 + sun_colour * 0.3);
         colour = colour * (1.0 - alpha) + surface * alpha;
     }
     let fog = ((hit.distance / max_distance) as f32)
         .powi(2)
         .clamp(0.0, 1.0);
-    colour.lerp(lighting.sky_colour, fog)
+    colour.lerp(sky_colour, fog)
 }
 
 #[cfg(test)]
@@ -426,6 +426,7 @@ mod tests {
             yaw: 0.2,
             pitch: -0.3,
             fov_y: 1.0,
+            near: Camera::DEFAULT_NEAR,
         };
         let lighting = Lighting::default();
         let near = render(&scene(0), &palette, &camera(0), &lighting, 48, 32, 64.0);

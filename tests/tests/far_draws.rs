@@ -8,7 +8,6 @@
 mod image_support;
 
 use gpu_backend::DeviceOptions;
-use gpu_backend::cull::{CullStats, LodSettings};
 use gpu_backend::render::far::{FarPath, FarRequest};
 use gpu_backend::render::{OpaquePath, Renderer, RendererConfig};
 use gpu_backend::test_support::headless_or_skip;
@@ -16,9 +15,10 @@ use image_support::scenes::{HEIGHT, TestScene, WIDTH, cpu_render};
 use image_support::{Image, Tolerance, assert_images_match};
 use mesher::lod::{NodeSettings, mesh_nodes};
 use mesher::{BlockClasses, MeshSettings};
-use viewer::camera::Camera;
-use viewer::gpu_view::{render_camera, upload_nodes};
-use viewer::lighting::{Lighting, lighting_params};
+use render_model::camera::Camera;
+use render_model::cull::{CullStats, LodSettings};
+use render_model::lighting::Lighting;
+use viewer::gpu_view::upload_nodes;
 use voxel_core::{BlockId, ChunkSize, Material, MaterialPalette, WorldPos};
 
 /// Renders `scene` with every node far-drawn by `far` (level 0 only: budget 0; a far threshold
@@ -46,9 +46,9 @@ fn far_render(
     };
     let nodes = mesh_nodes(&scene.world, 0, &coords, &classes, &settings).expect("nodes");
     upload_nodes(&mut renderer, &nodes).expect("upload");
-    let render_cam = render_camera(camera, size);
+    let render_cam = *camera;
     renderer.set_camera(&render_cam);
-    renderer.set_lighting(&lighting_params(&Lighting::default()));
+    renderer.set_lighting(&Lighting::default());
     renderer
         .set_lod(Some(LodSettings {
             budget_px: 0.0,
@@ -239,6 +239,7 @@ fn wall_before_far_ground() -> TestScene {
         yaw: 0.0,
         pitch: -0.4,
         fov_y: 70f64.to_radians(),
+        near: Camera::DEFAULT_NEAR,
     };
     scene
 }

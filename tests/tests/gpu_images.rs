@@ -15,7 +15,7 @@ use image_support::mesh_raster::{mesh_triangles, rasterise, smooth_pixels};
 use image_support::scenes::{self, TestScene, cpu_render, gpu_render, gpu_render_with};
 use image_support::{Image, Tolerance, assert_images_match, compare};
 use mesher::SurfaceMode;
-use viewer::lighting::{Lighting, lighting_params};
+use render_model::lighting::Lighting;
 use voxel_core::ChunkSize;
 
 const TOLERANCE: Tolerance = Tolerance::LAVAPIPE;
@@ -94,7 +94,7 @@ fn nocubes_matches_a_cpu_rasterisation_of_its_quads() {
     };
     let (gpu, _) = gpu_render_with(&ctx, &scene, &scene.camera, SurfaceMode::NoCubes);
     let triangles = mesh_triangles(&scene, &scene.camera, SurfaceMode::NoCubes);
-    let params = lighting_params(&Lighting::default());
+    let params = Lighting::default();
     let cpu = rasterise(&triangles, &scene, &scene.camera, &params);
     let sky = gpu.depth.iter().filter(|d| !d.is_finite()).count();
     assert_eq!(sky, 0, "sky seen through {sky} pixels of the NoCubes mesh");
@@ -119,7 +119,7 @@ fn nocubes_matches_a_cpu_rasterisation_of_its_quads() {
 /// independent CPU references of the same scenes agree under the GPU's tolerance.
 #[test]
 fn the_mesh_rasteriser_agrees_with_the_raycaster() {
-    let params = lighting_params(&Lighting::default());
+    let params = Lighting::default();
     for (name, scene) in [
         ("raster_cube", scenes::cube(0)),
         ("raster_hill_blocky", scenes::smooth_hill()),

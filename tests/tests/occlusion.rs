@@ -6,14 +6,14 @@
 mod image_support;
 
 use gpu_backend::DeviceOptions;
-use gpu_backend::cull::CullStats;
 use gpu_backend::render::{FrameImage, Renderer, RendererConfig};
 use gpu_backend::test_support::headless_or_skip;
 use image_support::scenes::{HEIGHT, TestScene, WIDTH, scene_from_fn};
 use mesher::MeshSettings;
-use viewer::camera::Camera;
-use viewer::gpu_view::{render_camera, upload_world_with};
-use viewer::lighting::{Lighting, lighting_params};
+use render_model::camera::Camera;
+use render_model::cull::CullStats;
+use render_model::lighting::Lighting;
+use viewer::gpu_view::upload_world_with;
 use voxel_core::{BlockId, ChunkSize, Material, MaterialPalette, WorldPos};
 
 /// A 16 x 16 wall 30 blocks in front of the eye (chunk (0, 0, 0)), a 7^3 cube 70 blocks
@@ -40,6 +40,7 @@ fn wall_scene() -> TestScene {
         yaw: 0.0,
         pitch: 0.0,
         fov_y: 60f64.to_radians(),
+        near: Camera::DEFAULT_NEAR,
     };
     scene
 }
@@ -64,8 +65,8 @@ fn render(
         &MeshSettings::default(),
     )
     .expect("upload");
-    renderer.set_camera(&render_camera(&scene.camera, size));
-    renderer.set_lighting(&lighting_params(&Lighting::default()));
+    renderer.set_camera(&scene.camera);
+    renderer.set_lighting(&Lighting::default());
     for _ in 0..frames {
         renderer.render().expect("frame");
     }

@@ -1,7 +1,7 @@
 //! `--camera X,Y,Z,YAW,PITCH` and `--fov DEG`: parsing them, and the camera they make.
 
 use glam::DVec3;
-use viewer::camera::Camera;
+use render_model::camera::Camera;
 use voxel_core::WorldPos;
 
 /// `--camera`: an eye position and direction.
@@ -26,6 +26,7 @@ impl CameraArg {
             yaw: self.yaw_degrees.to_radians(),
             pitch: self.pitch_degrees.to_radians(),
             fov_y,
+            near: Camera::DEFAULT_NEAR,
         }
     }
 }

@@ -26,11 +26,10 @@ use glam::DVec3;
 use gpu_backend::{GpuContext, TimingPath};
 use serde::Serialize;
 
-use crate::camera::Camera;
-use crate::gpu_view::render_camera;
 use crate::headless::{draw_frame, load};
 use crate::stream::{StreamError, StreamSettings, StreamStatus};
 use crate::view::{OPAQUE_TRIAL_FRAMES, StreamedView};
+use render_model::camera::Camera;
 
 /// Frames per second of the flight's clock.
 pub const FLIGHT_HZ: f64 = 60.0;
@@ -89,6 +88,7 @@ fn camera_at(pos: DVec3, yaw: f64, pitch: f64, fov_y: f64) -> Camera {
         yaw,
         pitch,
         fov_y,
+        near: Camera::DEFAULT_NEAR,
     }
 }
 
@@ -241,11 +241,10 @@ pub fn fly(
     let fov_y = 70f64.to_radians();
     let cameras = path.cameras(seconds, fov_y);
     let mut view = StreamedView::new(ctx, settings, width, height)?;
-    let size = settings.chunk;
     let loading = Instant::now();
     load(
         &mut view,
-        &render_camera(&cameras[0], size),
+        &cameras[0],
         Duration::from_secs(1800),
         &mut progress,
     )?;
@@ -268,7 +267,7 @@ pub fn fly(
     let started = Instant::now();
     for (i, camera) in cameras.iter().enumerate() {
         let frame_started = Instant::now();
-        view.update(&render_camera(camera, size))?;
+        view.update(camera)?;
         let renderer = view.renderer_mut();
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         renderer

@@ -3,21 +3,19 @@
 
 use std::fmt;
 
-use gpu_backend::from_mesher::{layers_of, node_layers};
 use gpu_backend::gigabuffer::ChunkHandle;
 use gpu_backend::render::far::FarRequest;
-use gpu_backend::render::{
-    ChunkMeshData, RenderCamera, RenderError, Renderer, RendererConfig, SceneFootprint,
-};
+use gpu_backend::render::{RenderError, Renderer, RendererConfig, SceneFootprint};
 use gpu_backend::{DeviceError, DeviceOptions, GpuContext, PassTime};
 use mesher::lod::NodeMesh;
 use mesher::{BlockClasses, ChunkMesh, MeshError, MeshSettings};
+use render_model::camera::Camera;
+use render_model::resident::ChunkMeshData;
 use voxel_core::storage::{VoxelStorage, WorldMap};
-use voxel_core::{ChunkCoord, ChunkSize, MaterialPalette};
+use voxel_core::{ChunkCoord, MaterialPalette};
 
-use crate::camera::Camera;
-use crate::lighting::{Lighting, lighting_params};
 use crate::scene::Scene;
+use render_model::lighting::Lighting;
 
 /// Why a scene could not be put on the GPU.
 #[derive(Debug)]
@@ -46,19 +44,6 @@ impl fmt::Display for GpuViewError {
 
 impl std::error::Error for GpuViewError {}
 
-/// The renderer's camera for the raycaster's camera (same eye, split into chunk + offset for
-/// chunks of `size`; same angles).
-pub fn render_camera(camera: &Camera, size: ChunkSize) -> RenderCamera {
-    RenderCamera::from_world(
-        camera.voxel,
-        camera.fraction.to_array(),
-        size,
-        camera.yaw,
-        camera.pitch,
-        camera.fov_y,
-    )
-}
-
 /// Uploads `nodes` (from `mesher::lod::mesh_nodes`) to `renderer` at their levels. Returns
 /// their handles.
 pub fn upload_nodes(
@@ -72,7 +57,7 @@ pub fn upload_nodes(
                 .upload_chunk(&ChunkMeshData {
                     coord: node.coord,
                     lod: node.level,
-                    layers: node_layers(node),
+                    layers: node.layers(),
                 })
                 .map_err(|e| GpuViewError::Render(node.coord, e))
         })
@@ -126,7 +111,7 @@ pub fn upload_meshes(
             let data = ChunkMeshData {
                 coord: mesh.coord,
                 lod: 0,
-                layers: layers_of(mesh),
+                layers: mesh.layers(),
             };
             renderer
                 .upload_chunk(&data)
@@ -139,7 +124,7 @@ pub fn upload_meshes(
 pub fn footprint_of(meshes: &[ChunkMesh]) -> SceneFootprint {
     let mut footprint = SceneFootprint::default();
     for mesh in meshes {
-        footprint.add(&layers_of(mesh));
+        footprint.add(&mesh.layers());
     }
     footprint
 }
@@ -176,8 +161,8 @@ pub fn render_scene(
     let mut renderer =
         Renderer::new(&ctx, &config, &scene.palette).map_err(GpuViewError::Renderer)?;
     let handles = upload_meshes(&mut renderer, &meshes)?;
-    renderer.set_camera(&render_camera(camera, size));
-    renderer.set_lighting(&lighting_params(lighting));
+    renderer.set_camera(camera);
+    renderer.set_lighting(lighting);
     renderer.set_wireframe(wireframe);
     let timings = renderer.render().map_err(GpuViewError::Renderer)?;
     let image = renderer.read_image().map_err(GpuViewError::Renderer)?;

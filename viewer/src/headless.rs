@@ -6,8 +6,8 @@
 
 use std::time::{Duration, Instant};
 
-use gpu_backend::render::RenderCamera;
 use gpu_backend::{GpuContext, PassTime};
+use render_model::camera::Camera;
 
 use crate::stream::{StreamError, StreamStatus};
 use crate::view::StreamedView;
@@ -32,7 +32,7 @@ pub fn draw_frame(ctx: &GpuContext, view: &mut StreamedView) -> Result<Vec<PassT
 /// [`PROGRESS_EVERY`] and once at the end.
 pub fn load(
     view: &mut StreamedView,
-    camera: &RenderCamera,
+    camera: &Camera,
     timeout: Duration,
     mut progress: impl FnMut(&StreamStatus),
 ) -> Result<(), StreamError> {

@@ -23,4 +23,4 @@ pub mod stream;
 pub mod view;
 pub mod window;
 
-pub use voxel_reference::{camera, deferred_reference, lighting, reference_raycast};
+pub use voxel_reference::{deferred_reference, reference_raycast};

@@ -27,11 +27,11 @@ use clap::Parser;
 use cli::Args;
 use gpu_backend::png::encode_png;
 use gpu_backend::{DeviceError, DeviceOptions, GpuContext};
-use viewer::camera::Camera;
+use render_model::camera::Camera;
+use render_model::lighting::Lighting;
 use viewer::flight::{FlightPath, fly};
-use viewer::gpu_view::{GpuViewError, render_camera, render_scene};
+use viewer::gpu_view::{GpuViewError, render_scene};
 use viewer::headless::{draw_frame, load};
-use viewer::lighting::Lighting;
 use viewer::reference_raycast::render;
 use viewer::scene::vox::{VoxError, VoxOptions, load_vox_file_with};
 use viewer::scene::{
@@ -271,7 +271,7 @@ fn streamed_gpu_frame(
     (width, height): (u32, u32),
     wireframe: bool,
 ) -> Option<(Vec<u8>, String)> {
-    let camera = render_camera(view, settings.chunk);
+    let camera = *view;
     let loaded = Instant::now();
     let result = StreamedView::new(ctx, settings, width, height).and_then(|mut streamed| {
         load(&mut streamed, &camera, LOAD_TIMEOUT, |status| {

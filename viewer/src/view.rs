@@ -13,7 +13,8 @@
 //! the view's nodes on the GPU while the new one loads.
 
 use gpu_backend::GpuContext;
-use gpu_backend::render::{OpaqueChoice, OpaquePath, RenderCamera, Renderer};
+use gpu_backend::render::{OpaqueChoice, OpaquePath, Renderer};
+use render_model::camera::Camera;
 
 use crate::controls::Controls;
 use crate::stream::{StreamError, StreamSettings, StreamStatus, Streamer};
@@ -50,7 +51,7 @@ impl StreamedView {
     /// One frame's streaming for both streamers; swaps in the new one once it has committed.
     /// Returns true when it swapped (the renderer changed: a caller that set the renderer up,
     /// e.g. its fullscreen path, does it again).
-    pub fn update(&mut self, camera: &RenderCamera) -> Result<bool, StreamError> {
+    pub fn update(&mut self, camera: &Camera) -> Result<bool, StreamError> {
         self.current.update(camera)?;
         if !self.current.ready() {
             // Nothing of it is drawn yet, so no frame flushes its uploads.

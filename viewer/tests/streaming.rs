@@ -8,16 +8,16 @@
 use std::collections::HashSet;
 use std::time::Duration;
 
-use gpu_backend::cull::{LodParams, lod};
 use gpu_backend::render::far::{FarPath, FarRequest};
-use gpu_backend::render::{RenderCamera, Renderer, RendererConfig};
+use gpu_backend::render::{Renderer, RendererConfig};
 use gpu_backend::test_support::headless_or_skip;
 use gpu_backend::{DeviceOptions, GpuContext};
-use viewer::camera::Camera;
+use render_model::camera::Camera;
+use render_model::cull::{LodParams, lod};
+use render_model::lighting::Lighting;
 use viewer::controls::Controls;
-use viewer::gpu_view::{render_camera, upload_world};
+use viewer::gpu_view::upload_world;
 use viewer::headless::{draw_frame, load};
-use viewer::lighting::{Lighting, lighting_params};
 use viewer::scene::{Terrain, TerrainBlocks, terrain_scene, terrain_view};
 use viewer::screenshot::save_screenshot;
 use viewer::stream::selection::{Extent, Selection};
@@ -55,15 +55,17 @@ fn camera_at(x: f64, y: f64, z: f64, yaw: f64, pitch: f64) -> Camera {
         yaw: yaw.to_radians(),
         pitch: pitch.to_radians(),
         fov_y: 70f64.to_radians(),
+        near: Camera::DEFAULT_NEAR,
     }
 }
 
 /// What the renderer's rule selects from `camera` for `settings` at `height` pixels.
-fn expected(settings: &StreamSettings, camera: &RenderCamera, height: u32) -> HashSet<NodeKey> {
+fn expected(settings: &StreamSettings, camera: &Camera, height: u32) -> HashSet<NodeKey> {
+    let eye = camera.eye(settings.chunk);
     let params = LodParams {
-        anchor_chunk: [camera.chunk.x, camera.chunk.y, camera.chunk.z],
+        anchor_chunk: [eye.chunk.x, eye.chunk.y, eye.chunk.z],
         top_level: settings.top_level(),
-        anchor_offset: camera.offset,
+        anchor_offset: eye.offset,
         budget_px: settings.budget_px,
         focal_px: lod::focal_px(camera.fov_y, height),
         hysteresis: settings.hysteresis,
@@ -89,7 +91,7 @@ fn streaming_converges_and_follows_the_camera() {
     let settings = small(192);
     let (w, h) = (96, 54);
     let mut view = StreamedView::new(&ctx, &settings, w, h).unwrap();
-    let first = render_camera(&terrain_view(&terrain()), settings.chunk);
+    let first = terrain_view(&terrain());
     load(&mut view, &first, LOAD, |_| {}).unwrap();
     let want = expected(&settings, &first, h);
     let got = resident(view.streamer());
@@ -111,8 +113,8 @@ fn streaming_converges_and_follows_the_camera() {
     // 300 blocks east: the nodes of the old view that the new one lacks are freed, the new
     // ones loaded.
     let before = view.streamer().counters();
-    let moved = RenderCamera {
-        chunk: voxel_core::ChunkCoord::new(first.chunk.x + 300 / 16, first.chunk.y, first.chunk.z),
+    let moved = Camera {
+        voxel: WorldPos::new(first.voxel.x + 300 / 16 * 16, first.voxel.y, first.voxel.z),
         ..first
     };
     load(&mut view, &moved, LOAD, |_| {}).unwrap();
@@ -132,7 +134,10 @@ fn streaming_converges_and_follows_the_camera() {
         view.renderer().chunk_count(),
         view.streamer().status().drawn_nodes
     );
-    assert_eq!(view.streamer().anchor().map(|a| a.chunk), Some(moved.chunk));
+    assert_eq!(
+        view.streamer().anchor().map(|a| a.chunk),
+        Some(moved.eye(settings.chunk).chunk)
+    );
 }
 
 /// A renderer holding every level-0 chunk of the terrain over `n x n` chunks of 16^3 around
@@ -143,7 +148,7 @@ fn full_detail(ctx: &GpuContext, n: i32, w: u32, h: u32) -> Renderer {
     config.max_chunks = (n * n * 3) as u32;
     let mut renderer = Renderer::new(ctx, &config, &scene.palette).unwrap();
     upload_world(&mut renderer, &scene.world, &scene.palette).unwrap();
-    renderer.set_lighting(&lighting_params(&Lighting::default()));
+    renderer.set_lighting(&Lighting::default());
     renderer
 }
 
@@ -168,7 +173,7 @@ fn no_frame_shows_a_hole_while_streaming() {
         // while earlier plans are still loading.
         let x = -120.0 + 3.0 * f64::from(step);
         let z = 20.0 - f64::from(step);
-        render_camera(&camera_at(x, 70.0, z, 250.0, -55.0), settings.chunk)
+        camera_at(x, 70.0, z, 250.0, -55.0)
     };
     load(&mut view, &camera(0), LOAD, |_| {}).unwrap();
     let (mut drawn_frames, mut loading_frames, mut covered) = (0, 0, 0u64);
@@ -213,7 +218,7 @@ fn overlay_controls_change_the_renderer() {
     let (w, h) = (96, 54);
     let mut view = StreamedView::new(&ctx, &settings, w, h).unwrap();
     // The default view: hills with lakes on either side.
-    let camera = render_camera(&terrain_view(&terrain()), settings.chunk);
+    let camera = terrain_view(&terrain());
     load(&mut view, &camera, LOAD, |_| {}).unwrap();
     let frame_stats = |view: &mut StreamedView| {
         draw_frame(&ctx, view).unwrap();
@@ -295,7 +300,7 @@ fn screenshots_are_pngs_of_the_frame() {
     let settings = small(64);
     let (w, h) = (72, 40);
     let mut view = StreamedView::new(&ctx, &settings, w, h).unwrap();
-    let camera = render_camera(&terrain_view(&terrain()), settings.chunk);
+    let camera = terrain_view(&terrain());
     load(&mut view, &camera, LOAD, |_| {}).unwrap();
     draw_frame(&ctx, &mut view).unwrap();
     let dir = std::env::temp_dir().join(format!("viewer-screenshots-{}", std::process::id()));
@@ -322,7 +327,7 @@ fn too_little_memory_raises_the_budget_and_never_holes() {
         return;
     };
     let (w, h) = (96, 54);
-    let camera = render_camera(&terrain_view(&terrain()), ChunkSize::S16);
+    let camera = terrain_view(&terrain());
     let roomy = StreamSettings {
         max_nodes: 4096,
         ..small(192)

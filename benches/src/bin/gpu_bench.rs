@@ -161,7 +161,7 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     };
     let ctx = GpuContext::new_headless(&DeviceOptions::default())?;
     eprintln!("adapter: {}", ctx.capabilities.adapter);
-    let camera = bench_camera(size);
+    let camera = bench_camera();
     // What the views can select: every node some budget selects from the bench camera (and all
     // of level 0 for the full-detail reference).
     let params = budget_params(&camera, &args.budget, args.top_level, args.height, size);

@@ -15,15 +15,17 @@ mod report;
 use std::time::Instant;
 
 use gpu_backend::GpuContext;
-use gpu_backend::cull::{LodParams, LodSettings, lod};
-use gpu_backend::from_mesher::node_layers;
-use gpu_backend::gigabuffer::{DataKind, GigabufferConfig};
+use gpu_backend::gigabuffer::GigabufferConfig;
 use gpu_backend::render::far::{FarChoice, FarRequest};
 use gpu_backend::render::{
-    ChunkMeshData, FrameImage, FullscreenPath, LightingParams, OpaquePath, RenderCamera,
-    RenderError, Renderer, RendererConfig,
+    FrameImage, FullscreenPath, OpaquePath, RenderError, Renderer, RendererConfig,
 };
 use mesher::lod::NodeMesh;
+use render_model::camera::Camera;
+use render_model::cull::{LodParams, LodSettings, lod};
+use render_model::lighting::Lighting;
+use render_model::resident::ChunkMeshData;
+use voxel_core::formats::DataKind;
 use voxel_core::{ChunkCoord, WorldPos};
 
 use crate::cpu_time::thread_cpu_now;
@@ -93,11 +95,10 @@ impl From<RenderError> for BenchError {
 /// The camera every run is drawn from: 16 blocks above the highest hills at the terrain's
 /// centre, looking out over it (yaw 40 degrees, 12 degrees down, 70-degree vertical field of
 /// view), so the far terrain fills the top of the image up to the horizon.
-pub fn bench_camera(size: voxel_core::ChunkSize) -> RenderCamera {
-    RenderCamera::from_world(
+pub fn bench_camera() -> Camera {
+    Camera::new(
         WorldPos::new(0, 48, 0),
-        [0.5; 3],
-        size,
+        glam::DVec3::splat(0.5),
         40f64.to_radians(),
         -12f64.to_radians(),
         70f64.to_radians(),
@@ -108,18 +109,19 @@ pub fn bench_camera(size: voxel_core::ChunkSize) -> RenderCamera {
 /// `height` pixels tall, anchored at the camera with no hysteresis (as the benchmark's fixed
 /// view needs), levels `0..=top_level`.
 pub fn budget_params(
-    camera: &RenderCamera,
+    camera: &Camera,
     budgets: &[f32],
     top_level: u32,
     height: u32,
     size: voxel_core::ChunkSize,
 ) -> Vec<LodParams> {
+    let eye = camera.eye(size);
     budgets
         .iter()
         .map(|&budget_px| LodParams {
-            anchor_chunk: [camera.chunk.x, camera.chunk.y, camera.chunk.z],
+            anchor_chunk: [eye.chunk.x, eye.chunk.y, eye.chunk.z],
             top_level,
-            anchor_offset: camera.offset,
+            anchor_offset: eye.offset,
             budget_px,
             focal_px: lod::focal_px(camera.fov_y, height),
             hysteresis: 0.0,
@@ -189,7 +191,7 @@ pub fn upload_terrain_where(
         renderer.upload_chunk(&ChunkMeshData {
             coord: node.coord,
             lod: node.level,
-            layers: node_layers(node),
+            layers: node.layers(),
         })?;
     }
     Ok(started.elapsed().as_secs_f64() * 1e3)
@@ -320,7 +322,7 @@ pub fn run(
             "at least one far path, full-screen path, occlusion setting and opaque path".to_owned(),
         ));
     }
-    let camera = bench_camera(terrain.size);
+    let camera = bench_camera();
     let mut runs = Vec::new();
     let mut images = BenchImages {
         reference: None,
@@ -350,7 +352,7 @@ pub fn run(
             // budgets' runs: their frames then cost what the view's own resident set costs.
             let mut renderer = renderer_with(ctx, terrain, size, far, occlusion, opaque)?;
             renderer.set_camera(&camera);
-            renderer.set_lighting(&LightingParams::default());
+            renderer.set_lighting(&Lighting::default());
             upload_terrain_where(&mut renderer, terrain, |n| n.level == 0)?;
             renderer.set_lod(None)?;
             for &fullscreen in &config.fullscreen {
@@ -380,7 +382,7 @@ pub fn run(
         eprintln!("far draws: {far_choice}");
         choices.push(far_choice.clone());
         renderer.set_camera(&camera);
-        renderer.set_lighting(&LightingParams::default());
+        renderer.set_lighting(&Lighting::default());
         scene.upload_ms = upload_terrain_where(&mut renderer, terrain, |n| {
             selected_by_any(&params, n.level, n.coord)
         })?;

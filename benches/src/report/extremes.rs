@@ -3,9 +3,9 @@
 //! moved together by ±2^30 voxels; the pixel difference between the frames.
 
 use glam::DVec3;
+use render_model::camera::Camera;
+use render_model::lighting::Lighting;
 use voxel_core::WorldPos;
-use voxel_reference::camera::Camera;
-use voxel_reference::lighting::Lighting;
 use voxel_reference::reference_raycast::render;
 use voxel_scene::{Terrain, TerrainBlocks};
 
@@ -54,6 +54,7 @@ pub fn measure(seed: i32, size: (u32, u32)) -> Vec<ExtremeRow> {
             yaw: 0.6,
             pitch: -0.3,
             fov_y: 60f64.to_radians(),
+            near: Camera::DEFAULT_NEAR,
         };
         let block_at = |p: WorldPos| {
             terrain.block_at(

@@ -3,13 +3,12 @@
 
 use wgpu::{Buffer, BufferDescriptor, BufferUsages, Device, Queue, RenderPass};
 
-use super::layout::{CullError, CullLayout, DrawIndexedArgs};
-use super::node::DrawRecord;
-use super::order::ORDER_KEYS;
-use super::reference::{Command, SmoothCommand};
-use super::stats::{CullStats, STAT_COUNT};
 use crate::device::MultiDrawPath;
 use crate::readback::{ReadbackError, read_buffer};
+use render_model::cull::{
+    Command, CullError, CullLayout, CullStats, CullUniforms, DrawIndexedArgs, DrawRecord,
+    ORDER_KEYS, STAT_COUNT, SmoothCommand,
+};
 
 /// wgpu's `DrawIndirectArgs` (16 bytes): the smooth draws' stride.
 pub const DRAW_ARGS_BYTES: u64 = 16;
@@ -74,7 +73,7 @@ impl OutputFactory<'_> {
             uniforms: self.buffer(
                 label,
                 "uniforms",
-                size_of::<super::layout::CullUniforms>() as u64,
+                size_of::<CullUniforms>() as u64,
                 BufferUsages::UNIFORM | BufferUsages::COPY_DST,
             ),
             order_counts: self.buffer(label, "order counts", order_bytes, readable),
@@ -185,7 +184,7 @@ impl CullOutput {
     }
 
     /// Records the draw of page `page`'s commands into `pass`, whose pipeline, index buffer
-    /// (see [`quad_indices`](super::quad_indices)) and bind groups (with page `page` of the
+    /// (see [`quad_indices`](render_model::cull::quad_indices)) and bind groups (with page `page` of the
     /// quad gigabuffer and [`records`](Self::records)) are set: one
     /// `multi_draw_indexed_indirect_count` with [`MultiDrawPath::IndirectCount`], one
     /// `multi_draw_indexed_indirect` over the whole (zero-padded) range otherwise. Needs

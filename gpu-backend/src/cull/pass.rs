@@ -9,14 +9,15 @@ use wgpu::{
 
 use voxel_core::formats::MeshedChunkInfo;
 
-use super::camera::{CullCamera, CullLayer};
-use super::layout::{CullConfig, CullError, CullLayout, CullParams, CullUniforms};
-use super::node::NodeRecord;
+use render_model::cull::{
+    CullConfig, CullError, CullLayer, CullLayout, CullParams, CullUniforms, CullView, NodeRecord,
+};
+use render_model::pages::PageLayout;
+
 use super::output::{CullFrame, CullOutput, OutputFactory};
 use crate::bind::{BindGroupCache, buffer_entry};
 use crate::chunk_table::GpuTable;
 use crate::device::{GpuContext, MultiDrawPath};
-use crate::gigabuffer::PageLayout;
 use crate::shaders::{CULL, LIST_ARGS};
 
 /// Invocations per workgroup (`CULL_WORKGROUP` in the shader).
@@ -274,7 +275,7 @@ impl CullPass {
         &self,
         encoder: &mut CommandEncoder,
         table: &GpuTable<MeshedChunkInfo>,
-        camera: &CullCamera,
+        camera: &CullView,
         layer: CullLayer,
         output: &CullOutput,
     ) -> Result<(), CullError> {
@@ -297,12 +298,12 @@ impl CullPass {
 
     /// Like [`record`](Self::record), with node records, the frame's far list and statistics,
     /// and `params`: level-of-detail selection, far draws, smooth draws (see
-    /// [`cull::lod`](super::lod) for the rule).
+    /// [`cull::lod`](render_model::cull::lod) for the rule).
     pub fn record_with(
         &self,
         encoder: &mut CommandEncoder,
         inputs: &CullInputs<'_>,
-        camera: &CullCamera,
+        camera: &CullView,
         layer: CullLayer,
         output: &CullOutput,
         params: &CullParams,
@@ -320,7 +321,7 @@ impl CullPass {
         &self,
         encoder: &mut CommandEncoder,
         inputs: &CullInputs<'_>,
-        camera: &CullCamera,
+        camera: &CullView,
         layer: CullLayer,
         output: &CullOutput,
         params: &CullParams,
@@ -387,12 +388,12 @@ impl CullPass {
     /// same copies and clears as `record`, plus a clear of the per-key counts; the CPU work is
     /// the same whatever the chunk count.
     ///
-    /// [`depth_key`]: super::depth_key
+    /// [`depth_key`]: render_model::cull::depth_key
     pub fn record_ordered(
         &self,
         encoder: &mut CommandEncoder,
         table: &GpuTable<MeshedChunkInfo>,
-        camera: &CullCamera,
+        camera: &CullView,
         layer: CullLayer,
         output: &CullOutput,
     ) -> Result<(), CullError> {
@@ -420,7 +421,7 @@ impl CullPass {
         &self,
         encoder: &mut CommandEncoder,
         inputs: &CullInputs<'_>,
-        camera: &CullCamera,
+        camera: &CullView,
         layer: CullLayer,
         output: &CullOutput,
         params: &CullParams,
@@ -436,7 +437,7 @@ impl CullPass {
         &self,
         encoder: &mut CommandEncoder,
         inputs: &CullInputs<'_>,
-        camera: &CullCamera,
+        camera: &CullView,
         layer: CullLayer,
         output: &CullOutput,
         params: &CullParams,
@@ -474,7 +475,7 @@ impl CullPass {
     pub fn uniforms(
         &self,
         inputs: &CullInputs<'_>,
-        camera: &CullCamera,
+        camera: &CullView,
         layer: CullLayer,
         params: &CullParams,
     ) -> CullUniforms {
@@ -493,7 +494,7 @@ impl CullPass {
         &self,
         encoder: &mut CommandEncoder,
         inputs: &CullInputs<'_>,
-        camera: &CullCamera,
+        camera: &CullView,
         layer: CullLayer,
         output: &CullOutput,
         params: &CullParams,

@@ -1,6 +1,6 @@
 //! How large each kind's gigabuffer may grow.
 
-use super::{DataKind, PerKind};
+use voxel_core::formats::{DataKind, PerKind};
 
 /// How large each kind's gigabuffer may grow, and allocator bounds.
 #[derive(Clone, Debug, PartialEq, Eq)]

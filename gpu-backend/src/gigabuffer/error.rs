@@ -2,7 +2,10 @@
 
 use std::fmt;
 
-use super::{ChunkHandle, DataKind, PageLayoutError};
+use render_model::pages::PageLayoutError;
+use voxel_core::formats::DataKind;
+
+use super::ChunkHandle;
 
 /// Why a gigabuffer operation failed.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -38,24 +38,20 @@
 mod config;
 mod error;
 mod handles;
-mod kind;
-mod layers;
-mod pages;
 mod pool;
 mod report;
 mod staging;
 
 use wgpu::{Buffer, CommandEncoder, Device};
 
-use voxel_core::formats::{FaceLayerRange, LayerRange};
+use render_model::pages::{PageLayout, PageLayoutError};
+use render_model::resident::ChunkRanges;
+use voxel_core::formats::{ChunkLayersData, DataKind, FaceLayerRange, LayerRange};
 
 use crate::device::GpuCapabilities;
 pub use config::GigabufferConfig;
 pub use error::GigabufferError;
 use handles::{Handle, HandleTable};
-pub use kind::{DataKind, PerKind};
-pub use layers::{ChunkLayersData, ChunkRanges};
-pub use pages::{PageLayout, PageLayoutError};
 use pool::{Pool, PoolAllocation};
 pub use report::{KindUsage, ResidentReport};
 pub use staging::FlushStats;

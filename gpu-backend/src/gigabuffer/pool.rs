@@ -3,7 +3,9 @@
 use offset_allocator::{Allocation, Allocator};
 use wgpu::{Buffer, BufferDescriptor, BufferUsages, Device, ErrorFilter};
 
-use super::{GigabufferError, PageLayout};
+use render_model::pages::PageLayout;
+
+use super::GigabufferError;
 
 /// One page: a storage buffer bound whole, and the allocator of its elements.
 #[derive(Debug)]

@@ -1,6 +1,6 @@
 //! Resident memory, per kind, for benchmarks and on-screen stats.
 
-use super::PerKind;
+use voxel_core::formats::PerKind;
 
 /// Memory use of one kind.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -13,7 +13,7 @@
 
 use wgpu::{Buffer, BufferDescriptor, BufferUsages, CommandEncoder, Device};
 
-use super::DataKind;
+use voxel_core::formats::DataKind;
 
 /// A copy waiting for the next flush: `size` bytes from `src` in the arena to `dst` in page
 /// `page` of `kind`.

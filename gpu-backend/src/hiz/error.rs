@@ -1,6 +1,8 @@
-//! Why a depth pyramid, a build or a reference refused its input.
+//! Why a depth pyramid or a build refused its input.
 
 use std::fmt;
+
+use render_model::hiz::ScreenError;
 
 use crate::readback::ReadbackError;
 
@@ -8,45 +10,8 @@ use crate::readback::ReadbackError;
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum HizError {
-    /// The screen size is zero or larger than the device's (or the CPU side's) limit.
-    BadSize {
-        /// Width asked for, pixels.
-        width: u32,
-        /// Height asked for, pixels.
-        height: u32,
-        /// The largest edge accepted.
-        max: u32,
-    },
-    /// A CPU depth image whose length is not `width * height`.
-    DepthLength {
-        /// `width * height`.
-        expected: usize,
-        /// Values given.
-        found: usize,
-    },
-    /// A CPU visibility buffer whose length is not `width * height`.
-    VisibilityLength {
-        /// `width * height`.
-        expected: usize,
-        /// Values given.
-        found: usize,
-    },
-    /// CPU levels that are not the pyramid of the stated screen: wrong level count.
-    LevelCount {
-        /// Levels of the screen's pyramid.
-        expected: usize,
-        /// Levels given.
-        found: usize,
-    },
-    /// CPU levels that are not the pyramid of the stated screen: a level of the wrong length.
-    LevelLength {
-        /// The level.
-        level: usize,
-        /// Its `width * height`.
-        expected: usize,
-        /// Values given.
-        found: usize,
-    },
+    /// The screen, or a CPU image or level set, does not fit the pyramid's rules.
+    Screen(ScreenError),
     /// The depth texture is not `Depth32Float`.
     DepthFormat(wgpu::TextureFormat),
     /// The depth texture is not the pyramid's screen size.
@@ -82,30 +47,7 @@ pub enum HizError {
 impl fmt::Display for HizError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            HizError::BadSize { width, height, max } => write!(
-                f,
-                "depth pyramid screen {width}x{height} is invalid: each side must be 1..={max}"
-            ),
-            HizError::DepthLength { expected, found } => write!(
-                f,
-                "depth image has {found} values, the screen needs {expected}"
-            ),
-            HizError::VisibilityLength { expected, found } => write!(
-                f,
-                "visibility buffer has {found} values, the screen needs {expected}"
-            ),
-            HizError::LevelCount { expected, found } => write!(
-                f,
-                "{found} pyramid levels given, the screen's pyramid has {expected}"
-            ),
-            HizError::LevelLength {
-                level,
-                expected,
-                found,
-            } => write!(
-                f,
-                "pyramid level {level} has {found} values, it should have {expected}"
-            ),
+            HizError::Screen(e) => write!(f, "{e}"),
             HizError::DepthFormat(format) => {
                 write!(
                     f,
@@ -140,6 +82,12 @@ impl fmt::Display for HizError {
 }
 
 impl std::error::Error for HizError {}
+
+impl From<ScreenError> for HizError {
+    fn from(e: ScreenError) -> Self {
+        HizError::Screen(e)
+    }
+}
 
 impl From<ReadbackError> for HizError {
     fn from(e: ReadbackError) -> Self {

@@ -15,8 +15,8 @@ use super::bindings::{
     layout,
 };
 use super::error::HizError;
-use super::levels::{check_screen, level_sizes};
 use crate::shaders::HIZ_BUILD;
+use render_model::hiz::{check_screen, level_sizes};
 
 /// Invocations per workgroup edge (`HIZ_BUILD_WORKGROUP` in the shader).
 const WORKGROUP: u32 = 8;

@@ -5,10 +5,10 @@ use std::fmt;
 use voxel_core::FormatError;
 
 use crate::chunk_table::TableError;
-use crate::cull::{CullError, SkirtTooLarge, lod::BadLodSetting};
 use crate::gigabuffer::{ChunkHandle, GigabufferError};
 use crate::readback::ReadbackError;
 use crate::timing::TimerError;
+use render_model::cull::{CullError, SkirtTooLarge, lod::BadLodSetting};
 
 use super::quad_raster::QuadRasterError;
 

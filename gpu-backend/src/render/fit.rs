@@ -8,7 +8,9 @@
 //! something wgpu reports: a caller with a memory budget plans residency against it
 //! ([`memory_plan`](super::memory_plan)) and fits the renderer to the planned set.
 
-use crate::gigabuffer::{ChunkLayersData, DataKind, GigabufferConfig, PerKind};
+use voxel_core::formats::{ChunkLayersData, DataKind, PerKind};
+
+use crate::gigabuffer::GigabufferConfig;
 #[cfg(doc)]
 use crate::render::error::RenderError;
 use crate::render::far::FarRequest;

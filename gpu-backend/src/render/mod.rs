@@ -73,31 +73,19 @@
 //! [`BlockVertex`]: voxel_core::formats::BlockVertex
 //! [`quad_indices`]: crate::cull::quad_indices
 
-pub mod camera;
 mod error;
 pub mod external;
 pub mod far;
 mod fit;
-pub mod frame;
-pub mod lighting;
-pub mod materials;
-pub mod memory_plan;
 mod pipelines;
 pub mod quad_raster;
 mod renderer;
-mod residency;
 pub mod targets;
-pub mod transparent;
 
-pub use camera::{CameraBasis, RenderCamera};
 pub use error::RenderError;
 pub use external::{HostDepth, HostError, HostPass, HostTargets};
 pub use fit::SceneFootprint;
-pub use frame::{FrameShape, FrameUniforms, SmoothDraw};
-pub use lighting::LightingParams;
-pub use materials::{GpuMaterial, gpu_materials};
 pub use pipelines::FullscreenPath;
 pub use quad_raster::OpaquePath;
 pub use renderer::{OpaqueChoice, Renderer, RendererConfig};
-pub use residency::{ChunkMeshData, SmoothFrame, SmoothRanges, chunk_record, mesh_bounds};
 pub use targets::{FrameImage, RenderTargets};

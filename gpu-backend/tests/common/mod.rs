@@ -4,8 +4,9 @@
 #![allow(dead_code, reason = "each test binary uses a different subset")]
 
 use gpu_backend::GpuContext;
-use gpu_backend::gigabuffer::{DataKind, Gigabuffer};
+use gpu_backend::gigabuffer::Gigabuffer;
 use gpu_backend::readback::read_buffer;
+use voxel_core::formats::DataKind;
 use voxel_core::formats::LayerRange;
 
 /// The seed of every randomised GPU test unless `GPU_TEST_SEED` is set ([`Rng::test_seed`]).

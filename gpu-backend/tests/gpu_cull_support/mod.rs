@@ -6,9 +6,9 @@
 
 use gpu_backend::GpuContext;
 use gpu_backend::chunk_table::MeshedChunkTable;
-use gpu_backend::cull::{
-    Command, CullCamera, CullLayer, CullLayout, CullReadback, CullReference, cull_chunk,
-    layer_range,
+use gpu_backend::cull::CullReadback;
+use render_model::cull::{
+    Command, CullLayer, CullLayout, CullReference, CullView, cull_chunk, layer_range,
 };
 use voxel_core::ChunkCoord;
 use voxel_core::formats::{FaceLayerRange, MeshedChunkInfo};
@@ -71,7 +71,7 @@ pub fn view_projection(
 }
 
 /// A random perspective camera at `chunk` (random offset inside it, random direction).
-pub fn random_camera(rng: &mut Rng, chunk: ChunkCoord, edge: f32) -> CullCamera {
+pub fn random_camera(rng: &mut Rng, chunk: ChunkCoord, edge: f32) -> CullView {
     let offset = [0; 3].map(|_| uniform(rng, 0.0, edge));
     let yaw = f64::from(uniform(rng, -3.2, 3.2));
     let pitch = f64::from(uniform(rng, -1.4, 1.4));
@@ -79,7 +79,7 @@ pub fn random_camera(rng: &mut Rng, chunk: ChunkCoord, edge: f32) -> CullCamera 
     let aspect = f64::from(uniform(rng, 1.0, 2.0));
     let near = f64::from(uniform(rng, 0.05, 1.0));
     let far = f64::from(uniform(rng, 40.0, 250.0));
-    CullCamera::from_view_projection(
+    CullView::from_view_projection(
         chunk,
         offset,
         view_projection(yaw, pitch, fov, aspect, near, far),
@@ -88,7 +88,7 @@ pub fn random_camera(rng: &mut Rng, chunk: ChunkCoord, edge: f32) -> CullCamera 
 
 /// True when some decision about `info` (frustum planes, face directions) lies within a small
 /// margin of its boundary, computed in `f64` from the same `f32` inputs.
-pub fn near_a_boundary(info: &MeshedChunkInfo, camera: &CullCamera, edge: u32) -> bool {
+pub fn near_a_boundary(info: &MeshedChunkInfo, camera: &CullView, edge: u32) -> bool {
     let cam = [camera.chunk.x, camera.chunk.y, camera.chunk.z];
     let c: [f64; 3] = std::array::from_fn(|i| {
         let rel = info.chunk[i].wrapping_sub(cam[i]);
@@ -167,7 +167,7 @@ pub fn random_scene(
     table: &mut MeshedChunkTable,
     layout: &CullLayout,
     camera_chunk: ChunkCoord,
-    cameras: &[CullCamera],
+    cameras: &[CullView],
     chunks: u32,
     reach: i32,
 ) -> Scene {
@@ -377,11 +377,11 @@ pub fn flush(ctx: &GpuContext, table: &mut MeshedChunkTable) {
 }
 
 /// The reference decision of one chunk (re-exported for tests that hand-check cases).
-pub use gpu_backend::cull::ChunkCull;
+pub use render_model::cull::ChunkCull;
 
 /// [`cull_chunk`] with the camera and layer first, for brevity.
 pub fn decide(
-    camera: &CullCamera,
+    camera: &CullView,
     layer: CullLayer,
     layout: &CullLayout,
     info: &MeshedChunkInfo,

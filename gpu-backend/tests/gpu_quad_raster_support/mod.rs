@@ -7,20 +7,20 @@
 pub mod gbuffer;
 pub mod terrain;
 
-use gpu_backend::cull::{
-    CullConfig, CullInputs, CullLayer, CullOutput, CullParams, CullPass, DrawRecord, LodParams,
-    UniformSource,
-};
-use gpu_backend::gigabuffer::{ChunkLayersData, DataKind, Gigabuffer, GigabufferConfig};
+use render_model::cull::{CullConfig, CullLayer, CullParams, DrawRecord, LodParams};
+
+use gpu_backend::cull::{CullInputs, CullOutput, CullPass, UniformSource};
+use gpu_backend::gigabuffer::{Gigabuffer, GigabufferConfig};
 use gpu_backend::readback::read_buffer;
-use gpu_backend::render::lighting::LightingParams;
-use gpu_backend::render::quad_raster::reference::{sample_reference, setup_reference};
-use gpu_backend::render::quad_raster::{
-    QuadRaster, QuadRasterConfig, QuadRasterInputs, QuadRasterStats,
-};
-use gpu_backend::render::{FrameShape, FrameUniforms, RenderCamera};
+use gpu_backend::render::quad_raster::{QuadRaster, QuadRasterInputs};
 use gpu_backend::test_support::{headless_or_skip, in_ci};
 use gpu_backend::{DeviceOptions, GpuContext, MeshedChunkTable};
+use render_model::camera::Camera;
+use render_model::frame::{FrameShape, FrameUniforms};
+use render_model::lighting::Lighting;
+use render_model::quad_raster::reference::{sample_reference, setup_reference};
+use render_model::quad_raster::{QuadRasterConfig, QuadRasterStats};
+use voxel_core::formats::{ChunkLayersData, DataKind};
 use voxel_core::formats::{FaceLayerRange, MeshedChunkInfo, PackedQuad};
 use voxel_core::{ChunkSize, FaceDirection};
 
@@ -151,14 +151,14 @@ impl<'a> Rig<'a> {
     }
 
     /// The frame uniforms of `camera` on this rig's screen.
-    pub fn uniforms_of(&self, camera: &RenderCamera) -> FrameUniforms {
+    pub fn uniforms_of(&self, camera: &Camera) -> FrameUniforms {
         FrameUniforms::new(
             camera,
-            &LightingParams::default(),
+            &Lighting::default(),
             &FrameShape {
                 width: self.width,
                 height: self.height,
-                chunk_edge: 16,
+                chunk_size: ChunkSize::S16,
                 material_count: 1,
                 smooth_extent: 1.0,
                 smooth_origin: 0.0,
@@ -169,7 +169,7 @@ impl<'a> Rig<'a> {
 
     /// Culls the table for `camera` (level selection by `lod`, level 0 only without), clears the
     /// visibility buffer and the statistics, rasterises `records` times, and reads back.
-    pub fn render(&mut self, camera: &RenderCamera, lod: Option<LodParams>, records: u32) -> Frame {
+    pub fn render(&mut self, camera: &Camera, lod: Option<LodParams>, records: u32) -> Frame {
         let ctx = self.ctx;
         let uniforms = self.uniforms_of(camera);
         ctx.queue
@@ -194,7 +194,7 @@ impl<'a> Rig<'a> {
             .record_with(
                 &mut encoder,
                 &inputs,
-                &camera.cull_camera(self.width, self.height),
+                &camera.cull_view(ChunkSize::S16, self.width, self.height),
                 CullLayer::Opaque,
                 &self.output,
                 &params,

@@ -15,9 +15,9 @@
 
 use alloc::vec::Vec;
 
-use voxel_core::formats::DrawBlock;
+use voxel_core::formats::{ChunkLayersData, DrawBlock};
 use voxel_core::storage::{PaletteChunk, VoxelStorage, WorldMap, gather_neighbourhood};
-use voxel_core::{ChunkCoord, PaddedChunk};
+use voxel_core::{ChunkCoord, FaceDirection, PaddedChunk};
 
 use super::skirts::{Skirts, skirt_blocks, skirt_quads};
 use crate::batch::is_trivially_empty;
@@ -61,6 +61,21 @@ impl NodeMesh {
             && self.skirts.quad_counts() == [0; 6]
             && self.skirts.block_counts() == [0; 6]
             && self.blocks.is_empty()
+    }
+
+    /// The upload view of the node: its mesh's layers ([`ChunkMesh::layers`]) plus its skirts
+    /// and its far-draw blocks with their hiding and transparent masks.
+    pub fn layers(&self) -> ChunkLayersData<'_> {
+        let mut layers = self.mesh.layers();
+        for face in FaceDirection::ALL {
+            let i = usize::from(face.index());
+            layers.opaque_skirts[i] = self.skirts.quads(face);
+            layers.draw_block_skirts[i] = self.skirts.blocks(face);
+        }
+        layers.draw_blocks = &self.blocks;
+        layers.hiding_mask = &self.hiding_mask;
+        layers.transparent_mask = &self.transparent_mask;
+        layers
     }
 }
 
@@ -155,7 +170,7 @@ impl NodeMesher {
             out.blocks.extend_from_slice(self.surface.blocks());
             // skirt_blocks clears the quads it does not make: keep them aside.
             skirt_blocks(padded, classes, &mut self.skirts)?;
-            for side in voxel_core::FaceDirection::ALL {
+            for side in FaceDirection::ALL {
                 let index = usize::from(side.index());
                 out.skirts.set_blocks(index, self.skirts.blocks(side));
             }

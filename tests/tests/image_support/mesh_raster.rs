@@ -16,7 +16,7 @@
 //! The nearest hit gives the depth (distance along the ray), the [`Surface`] (the face plane
 //! of a quad; the smooth surface of the block of a smooth triangle's first corner, which is
 //! the vertex flat interpolation takes) and the colour: the lighting model's CPU twin
-//! (`gpu_backend::render::lighting::shade`) with what the G-buffer holds there: the block's
+//! (`render_model::lighting::shade`) with what the G-buffer holds there: the block's
 //! albedo and emission, the normal (a quad's face normal; the smooth corners' normals
 //! interpolated perspective-correctly and normalized, as the fragment shader does), and AO
 //! interpolated over the triangle (3 on smooth surfaces). Geometry is made relative to the
@@ -26,9 +26,9 @@
 
 use glam::DVec3;
 use gpu_backend::render::RendererConfig;
-use gpu_backend::render::lighting::{LightingParams, output_rgba8, shade, srgb_to_linear};
 use mesher::{BlockClasses, MeshSettings, SurfaceMode};
-use viewer::camera::Camera;
+use render_model::camera::Camera;
+use render_model::lighting::{Lighting, output_rgba8, shade, srgb_to_linear};
 use voxel_core::formats::BlockVertexFields;
 use voxel_core::{BlockId, ChunkCoord};
 
@@ -160,7 +160,7 @@ pub fn rasterise(
     triangles: &[Triangle],
     scene: &TestScene,
     camera: &Camera,
-    params: &LightingParams,
+    params: &Lighting,
 ) -> Image {
     let pixels = (WIDTH * HEIGHT) as usize;
     let mut image = Image {

@@ -3,10 +3,10 @@
 use gpu_backend::render::{Renderer, RendererConfig};
 use gpu_backend::{GpuContext, PassTime};
 use mesher::{MeshSettings, SurfaceMode};
-use viewer::camera::Camera;
+use render_model::camera::Camera;
+use render_model::lighting::Lighting;
 use viewer::deferred_reference::render_deferred;
-use viewer::gpu_view::{render_camera, upload_world_with};
-use viewer::lighting::{Lighting, lighting_params};
+use viewer::gpu_view::upload_world_with;
 use viewer::reference_raycast::trace_ray;
 use voxel_core::storage::{PaletteChunk, WorldMap};
 use voxel_core::{BlockId, ChunkSize, Material, MaterialClass, MaterialPalette, WorldPos};
@@ -161,6 +161,7 @@ pub fn glass_panes() -> TestScene {
         yaw: 0.05,
         pitch: -0.03,
         fov_y: 1.2,
+        near: Camera::DEFAULT_NEAR,
     };
     scene
 }
@@ -198,6 +199,7 @@ pub fn smooth_hill() -> TestScene {
         yaw: 0.0,
         pitch: -1.4,
         fov_y: 0.8,
+        near: Camera::DEFAULT_NEAR,
     };
     scene
 }
@@ -236,9 +238,9 @@ pub fn gpu_render_with(
         clutter: None,
     };
     upload_world_with(&mut renderer, &scene.world, &scene.palette, &settings).expect("upload");
-    let render_cam = render_camera(camera, size);
+    let render_cam = *camera;
     renderer.set_camera(&render_cam);
-    renderer.set_lighting(&lighting_params(&Lighting::default()));
+    renderer.set_lighting(&Lighting::default());
     let times = renderer.render().expect("frame");
     let frame = renderer.read_image().expect("readback");
     let depth = frame
@@ -269,7 +271,7 @@ pub fn cpu_render(scene: &TestScene, camera: &Camera) -> Image {
         &block_at,
         &scene.palette,
         camera,
-        &lighting_params(&Lighting::default()),
+        &Lighting::default(),
         WIDTH,
         HEIGHT,
         MAX_DISTANCE,

@@ -2,6 +2,7 @@
 //! generated or loaded by the `voxel-scene` crate (re-exported here as [`terrain`] and
 //! [`vox`]), with a first camera view.
 
+use render_model::Camera;
 use voxel_core::storage::{PaletteChunk, WorldMap};
 use voxel_core::{ChunkSize, MaterialPalette};
 
@@ -14,7 +15,7 @@ pub struct Scene {
     /// The materials of the ids in `world`.
     pub palette: MaterialPalette,
     /// A good first camera position and direction for this scene.
-    pub suggested_view: crate::camera::Camera,
+    pub suggested_view: Camera,
 }
 
 /// Generates the built-in terrain over `chunks_x * chunks_z` chunk columns of `size`, centred on
@@ -42,22 +43,20 @@ pub fn terrain_scene(
 
 /// The built-in terrain's first view: 14 blocks above the ground (or the sea) at `(0, 40)`,
 /// looking over the hills, 70-degree vertical field of view.
-pub fn terrain_view(terrain: &Terrain) -> crate::camera::Camera {
+pub fn terrain_view(terrain: &Terrain) -> Camera {
     let eye_y = terrain.height(0, 40).max(terrain.sea_level) + 14;
-    crate::camera::Camera {
+    Camera {
         voxel: voxel_core::WorldPos::new(0, eye_y, 40),
         fraction: glam::DVec3::splat(0.5),
         yaw: 0.35,
         pitch: -0.32,
         fov_y: 70f64.to_radians(),
+        near: Camera::DEFAULT_NEAR,
     }
 }
 
 /// A camera that frames the box `lo..=hi` (world voxels) from above and to the south-east.
-pub fn camera_looking_at(
-    lo: voxel_core::WorldPos,
-    hi: voxel_core::WorldPos,
-) -> crate::camera::Camera {
+pub fn camera_looking_at(lo: voxel_core::WorldPos, hi: voxel_core::WorldPos) -> Camera {
     let lo_v = glam::DVec3::new(f64::from(lo.x), f64::from(lo.y), f64::from(lo.z));
     let hi_v = glam::DVec3::new(f64::from(hi.x), f64::from(hi.y), f64::from(hi.z)) + 1.0;
     let centre = (lo_v + hi_v) * 0.5;
@@ -66,11 +65,12 @@ pub fn camera_looking_at(
     let direction = glam::DVec3::new(-0.55, -0.45, -0.7).normalize();
     let eye = centre - direction * (radius / (fov_y * 0.5).sin() * 1.05);
     let floor = eye.floor();
-    crate::camera::Camera {
+    Camera {
         voxel: voxel_core::WorldPos::new(floor.x as i32, floor.y as i32, floor.z as i32),
         fraction: eye - floor,
         yaw: (-direction.x).atan2(-direction.z),
         pitch: direction.y.asin(),
         fov_y,
+        near: Camera::DEFAULT_NEAR,
     }
 }

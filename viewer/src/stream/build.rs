@@ -9,10 +9,9 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc::Sender;
 use std::sync::{Arc, Mutex};
 
-use gpu_backend::from_mesher::node_layers;
-use gpu_backend::gigabuffer::ChunkLayersData;
 use mesher::lod::{NodeMesh, NodeMesher, NodeSettings};
 use mesher::{BlockClasses, MeshSettings};
+use voxel_core::formats::ChunkLayersData;
 use voxel_core::formats::{DrawBlock, SmoothQuads};
 use voxel_core::{FaceDirection, MaterialClass, MaterialPalette, PaddedChunk};
 use voxel_scene::{NodeContent, Terrain, TerrainBlocks};
@@ -143,9 +142,9 @@ impl BuiltNode {
         self.bytes
     }
 
-    /// The upload view: the node's layers ([`node_layers`]) less the hidden ones.
+    /// The upload view: the node's layers ([`NodeMesh::layers`]) less the hidden ones.
     pub fn layers(&self) -> ChunkLayersData<'_> {
-        let mut view = node_layers(&self.node);
+        let mut view = self.node.layers();
         if !self.layers.opaque {
             view.opaque_quads = [&[]; 6];
             view.opaque_skirts = [&[]; 6];

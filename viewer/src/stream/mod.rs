@@ -16,7 +16,7 @@
 //! # Why no frame shows a hole
 //!
 //! The renderer draws every resident node that the level-of-detail rule selects
-//! ([`cull::lod`](gpu_backend::cull::lod)) from its anchor and budget, and the rule's selection
+//! ([`cull::lod`](render_model::cull::lod)) from its anchor and budget, and the rule's selection
 //! covers space exactly once. A plan is that selection for one anchor and budget, walked on the
 //! CPU with the rule's own twin ([`selection`]). The renderer's anchor and budget are always
 //! those of the **committed** plan, and a plan is committed only when every node it selects is
@@ -45,7 +45,7 @@
 //! The renderer gets the settings' memory for node data (split per kind in `sizing.rs`) and
 //! table room for [`StreamSettings::node_capacity`] nodes. When an upload finds no room, the
 //! budget is raised by 2^(1/4) and the plan made again, the rule of
-//! [`memory_plan`](gpu_backend::render::memory_plan): the farthest detail gives way first, and
+//! [`memory_plan`](render_model::memory_plan): the farthest detail gives way first, and
 //! what is drawn stays whole. The raised budget stays until another budget is asked for
 //! ([`StreamStatus::memory_floor_px`] reports it).
 

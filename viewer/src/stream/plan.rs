@@ -5,7 +5,7 @@
 use std::collections::HashSet;
 use std::sync::Arc;
 
-use gpu_backend::cull::{LodAnchor, LodParams};
+use render_model::cull::{LodAnchor, LodParams};
 use voxel_core::ChunkCoord;
 
 use super::selection::{Extent, NodeKey, Selection};

@@ -1,5 +1,5 @@
 //! Which nodes a view selects: the renderer's level-of-detail rule
-//! ([`cull::lod`](gpu_backend::cull::lod), its CPU twin) walked from the top level down, over
+//! ([`cull::lod`](render_model::cull::lod), its CPU twin) walked from the top level down, over
 //! the nodes within the streamed radius of the anchor and within the terrain's height.
 //!
 //! ```text
@@ -14,7 +14,7 @@
 
 use std::collections::HashSet;
 
-use gpu_backend::cull::{LodParams, lod};
+use render_model::cull::{LodParams, lod};
 use voxel_core::ChunkCoord;
 
 /// One node: its level of detail and its coordinate among the nodes of that level.

@@ -8,11 +8,13 @@ use std::time::Instant;
 
 use gpu_backend::GpuContext;
 use gpu_backend::chunk_table::TableError;
-use gpu_backend::cull::{LodAnchor, LodParams, LodSettings, lod};
 use gpu_backend::gigabuffer::{ChunkHandle, GigabufferError};
 use gpu_backend::render::far::FarChoice;
-use gpu_backend::render::memory_plan::MAX_PLAN_BUDGET_PX;
-use gpu_backend::render::{ChunkMeshData, RenderCamera, RenderError, Renderer};
+use gpu_backend::render::{RenderError, Renderer};
+use render_model::camera::Camera;
+use render_model::cull::{LodAnchor, LodParams, LodSettings, lod};
+use render_model::memory_plan::MAX_PLAN_BUDGET_PX;
+use render_model::resident::ChunkMeshData;
 use voxel_scene::{TERRAIN_TOP, TerrainBlocks};
 
 use super::build::{Builders, BuiltNode, Finished, NodeSource};
@@ -21,7 +23,7 @@ use super::selection::{Extent, NodeKey};
 use super::settings::StreamSettings;
 use super::sizing::{far_choice, renderer_config};
 use super::{StreamError, StreamStatus};
-use crate::lighting::{Lighting, lighting_params};
+use render_model::lighting::Lighting;
 
 /// What the streamer knows of a node.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -93,7 +95,7 @@ impl Streamer {
         let config = renderer_config(&settings, far.path, (width, height), &ctx.capabilities);
         let (palette, blocks) = TerrainBlocks::palette();
         let mut renderer = Renderer::new(ctx, &config, &palette).map_err(StreamError::Renderer)?;
-        renderer.set_lighting(&lighting_params(&Lighting::default()));
+        renderer.set_lighting(&Lighting::default());
         let far_blocks = far.path != gpu_backend::render::far::FarPath::Off;
         let source = Arc::new(NodeSource::new(&settings, &palette, blocks, far_blocks));
         let (finished_sender, finished) = channel();
@@ -222,7 +224,7 @@ impl Streamer {
     /// One frame's streaming: the camera in, finished nodes uploaded (within the settings'
     /// per-frame limit), more nodes asked for, a plan committed once resident, and the
     /// renderer's anchor and budget set to the committed plan's. Call before drawing.
-    pub fn update(&mut self, camera: &RenderCamera) -> Result<(), StreamError> {
+    pub fn update(&mut self, camera: &Camera) -> Result<(), StreamError> {
         self.renderer.set_camera(camera);
         self.receive_plan()?;
         self.receive_finished()?;
@@ -418,7 +420,7 @@ impl Streamer {
         Ok(())
     }
 
-    /// The memory plan's rule (`gpu_backend::render::memory_plan`): raise the budget by
+    /// The memory plan's rule (`render_model::memory_plan`): raise the budget by
     /// 2^(1/4) and plan again, so the farthest detail goes first; past its largest budget the
     /// nodes cannot fit at all.
     fn out_of_memory(&mut self, e: RenderError) -> Result<(), StreamError> {
@@ -495,16 +497,17 @@ impl Streamer {
     /// Asks for a plan when the camera left the hysteresis distance of the target anchor, or
     /// the budget or focal length changed. A pending plan is not replaced for camera moves
     /// alone (so loading always finishes and the anchor follows, however fast the camera).
-    fn replan_if_needed(&mut self, camera: &RenderCamera) {
+    fn replan_if_needed(&mut self, camera: &Camera) {
         if self.planning.is_some() {
             return;
         }
         let budget = self.effective_budget();
         let focal = self.focal_px();
         let changed = |p: &LodParams| p.budget_px != budget || p.focal_px != focal;
+        let eye = camera.eye(self.settings.chunk);
         let here = LodAnchor {
-            chunk: camera.chunk,
-            offset: camera.offset,
+            chunk: eye.chunk,
+            offset: eye.offset,
         };
         let edge = self.settings.chunk.edge();
         let replan = match (&self.committed, &self.wanted) {
@@ -512,7 +515,7 @@ impl Streamer {
             (None, None) => true,
             (Some(c), None) => {
                 changed(&c.params)
-                    || c.anchor().distance_to(camera.chunk, camera.offset, edge)
+                    || c.anchor().distance_to(eye.chunk, eye.offset, edge)
                         > f64::from(self.settings.hysteresis)
             }
         };

@@ -21,7 +21,7 @@ use super::lines::overlay_lines;
 use super::panel::Panel;
 use super::stats::FrameStats;
 use super::{WindowError, WindowOptions, WindowReport, WindowSource};
-use crate::camera::Camera;
+use render_model::camera::Camera;
 
 /// Pixels of a scroll "line" for touchpads that report pixels.
 const PIXELS_PER_SCROLL_LINE: f64 = 40.0;
@@ -126,7 +126,7 @@ impl<'a> App<'a> {
         let Some(gpu) = self.gpu.as_mut() else {
             return;
         };
-        let camera = self.camera.render_camera(gpu.chunk_size());
+        let camera = self.camera.camera();
         self.panel.lines = if self.panel.show {
             overlay_lines(&self.stats, gpu, &self.camera)
         } else {

@@ -1,15 +1,13 @@
 //! The window's fly camera: WASD + Space/Shift to move, mouse drag to look, scroll for speed.
 //!
-//! The eye is the raycaster's [`Camera`]: an `i32` voxel plus a fraction, so it stays exact
-//! anywhere in the `i32` world (the renderer's camera is split from it into chunk + offset).
+//! The eye is the stack's [`Camera`]: an `i32` voxel plus a fraction, so it stays exact
+//! anywhere in the `i32` world (the GPU renderer splits it into chunk + offset).
 //! Movement adds in `f64` and re-splits; positions past the `i32` range stop at its edge.
 
 use glam::DVec3;
-use voxel_core::{ChunkSize, WorldPos};
+use voxel_core::WorldPos;
 
-use crate::camera::Camera;
-use crate::gpu_view::render_camera;
-use gpu_backend::render::RenderCamera;
+use render_model::camera::Camera;
 
 /// Which movement keys are held.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -75,7 +73,7 @@ impl FlyCamera {
             return;
         }
         let (right, up, forward) = keys.axes();
-        let basis = render_camera(&self.eye, ChunkSize::S32).basis();
+        let basis = self.eye.basis();
         let dir =
             DVec3::from(basis.forward) * forward + DVec3::from(basis.right) * right + DVec3::Y * up;
         if dir == DVec3::ZERO {
@@ -120,9 +118,9 @@ impl FlyCamera {
         }
     }
 
-    /// The renderer's camera for chunks of `size`.
-    pub fn render_camera(&self, size: ChunkSize) -> RenderCamera {
-        render_camera(&self.eye, size)
+    /// The camera at the eye.
+    pub fn camera(&self) -> Camera {
+        self.eye
     }
 
     /// The eye's world position, blocks (for display).
@@ -153,6 +151,7 @@ mod tests {
                 yaw: 0.0,
                 pitch: 0.0,
                 fov_y: 1.0,
+                near: Camera::DEFAULT_NEAR,
             },
             10.0,
         )
@@ -190,7 +189,7 @@ mod tests {
     fn dragging_right_turns_right_and_pitch_is_clamped() {
         let mut c = camera();
         c.look(100.0, 0.0);
-        let forward = c.render_camera(ChunkSize::S32).basis().forward;
+        let forward = c.camera().basis().forward;
         assert!(forward[0] > 0.0, "turned towards +x: {forward:?}");
         c.look(0.0, -1e6);
         assert_eq!(c.eye.pitch, FlyCamera::MAX_PITCH);

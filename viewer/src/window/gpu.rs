@@ -5,10 +5,11 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
-use gpu_backend::cull::CullStats;
-use gpu_backend::gigabuffer::DataKind;
-use gpu_backend::render::{RenderCamera, Renderer, RendererConfig};
+use gpu_backend::render::{Renderer, RendererConfig};
 use gpu_backend::{DeviceOptions, FrameSkipped, GpuContext, TimingPath, WindowOutput};
+use render_model::camera::Camera;
+use render_model::cull::CullStats;
+use voxel_core::formats::DataKind;
 use winit::event::WindowEvent;
 use winit::event_loop::OwnedDisplayHandle;
 use winit::window::Window;
@@ -19,10 +20,10 @@ use super::stats::FrameStats;
 use super::{WindowError, WindowSource};
 use crate::controls::Controls;
 use crate::gpu_view::upload_world;
-use crate::lighting::{Lighting, lighting_params};
 use crate::screenshot::{ScreenshotError, save_screenshot};
 use crate::stream::StreamError;
 use crate::view::{OPAQUE_TRIAL_FRAMES, StreamedView};
+use render_model::lighting::Lighting;
 
 /// The clear colour of the window while the first view loads (a dusk sky).
 const LOADING_SKY: wgpu::Color = wgpu::Color {
@@ -98,7 +99,6 @@ pub struct GpuWindow {
     cull: Option<CullStats>,
     /// When `cull` was last read.
     cull_read: Option<Instant>,
-    chunk_size: voxel_core::ChunkSize,
 }
 
 impl GpuWindow {
@@ -121,10 +121,6 @@ impl GpuWindow {
         output.set_vsync(vsync);
         let (width, height) = output.size();
         let (width, height) = (width.max(1), height.max(1));
-        let chunk_size = match source {
-            WindowSource::Fixed(scene) => scene.world.size(),
-            WindowSource::Streamed(settings) => settings.chunk,
-        };
         let drawn = match source {
             WindowSource::Fixed(scene) => {
                 let config = RendererConfig::new(width, height, scene.world.size());
@@ -132,7 +128,7 @@ impl GpuWindow {
                     Renderer::new(&ctx, &config, &scene.palette).map_err(WindowError::Renderer)?;
                 upload_world(&mut renderer, &scene.world, &scene.palette)
                     .map_err(WindowError::Scene)?;
-                renderer.set_lighting(&lighting_params(&Lighting::default()));
+                renderer.set_lighting(&Lighting::default());
                 let counts = scene_counts(&renderer);
                 Drawn::Fixed {
                     renderer: Box::new(renderer),
@@ -152,7 +148,6 @@ impl GpuWindow {
             overlay,
             cull: None,
             cull_read: None,
-            chunk_size,
         })
     }
 
@@ -179,11 +174,6 @@ impl GpuWindow {
     /// The last drawn frame's cull counters, when the overlay was shown.
     pub fn cull_stats(&self) -> Option<&CullStats> {
         self.cull.as_ref()
-    }
-
-    /// The chunk size of the scene.
-    pub fn chunk_size(&self) -> voxel_core::ChunkSize {
-        self.chunk_size
     }
 
     /// True when pass times are GPU timestamps (otherwise CPU wall time per pass).
@@ -251,7 +241,7 @@ impl GpuWindow {
     /// and includes the streaming work of the frame (uploads, frees, plans).
     pub fn draw(
         &mut self,
-        camera: &RenderCamera,
+        camera: &Camera,
         panel: &mut Panel,
         stats: &mut FrameStats,
     ) -> Result<Result<(), FrameSkipped>, WindowError> {

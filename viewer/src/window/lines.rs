@@ -2,7 +2,7 @@
 //! and visible per representation, primitives drawn, GPU memory by kind, streaming progress,
 //! where the camera is.
 
-use gpu_backend::cull::CullStats;
+use render_model::cull::CullStats;
 
 use super::camera::FlyCamera;
 use super::gpu::{Drawn, GpuWindow};

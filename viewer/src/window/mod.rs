@@ -41,10 +41,10 @@ use gpu_backend::render::RenderError;
 use winit::error::{EventLoopError, OsError};
 use winit::event_loop::EventLoop;
 
-use crate::camera::Camera;
 use crate::gpu_view::GpuViewError;
 use crate::scene::Scene;
 use crate::stream::{StreamError, StreamSettings};
+use render_model::camera::Camera;
 
 /// What the window shows.
 pub enum WindowSource<'a> {

@@ -11,6 +11,9 @@
 //! | [`ChunkDrawIndirect`]  | 32 B  | one indexed indirect draw plus its chunk                |
 //! | [compact quad]         | 6 B   | one smooth-mesh quad: 4 vertex indices as `[u16; 3]`    |
 //!
+//! [`ChunkLayersData`] is one chunk's packed layers as the backend uploads them, grouped by
+//! [`DataKind`] (one gigabuffer per kind).
+//!
 //! [`SmoothQuads`] is a smooth mesh's quad buffer in one of three forms (compact records,
 //! 4 x `u16`, 4 x `u32`), tagged by [`SmoothQuadForm`] for the GPU.
 //!
@@ -58,6 +61,7 @@
 mod block_vertex;
 mod chunk_draw_indirect;
 mod chunk_draw_info;
+mod chunk_layers;
 mod clutter_unit;
 pub mod compact_quad;
 mod draw_block;
@@ -74,6 +78,7 @@ mod wgsl;
 pub use block_vertex::{BlockVertex, BlockVertexFields};
 pub use chunk_draw_indirect::{ChunkDrawIndirect, ChunkDrawIndirectFields};
 pub use chunk_draw_info::{ChunkDrawInfo, ChunkDrawInfoFields, ChunkKind};
+pub use chunk_layers::{ChunkLayersData, DataKind, PerKind};
 pub use clutter_unit::{ClutterUnit, ClutterUnitFields};
 pub use compact_quad::{
     COMPACT_QUAD_BYTES, COMPACT_QUAD_MAX_DELTA, compact_quad_decode, compact_quad_encode,

@@ -6,11 +6,12 @@
 use wgpu::util::DeviceExt;
 use wgpu::{BindGroup, Buffer, BufferUsages, Device};
 
-use super::layout::{ArgsParams, PageArgs};
 use super::pipelines::Layouts;
 use crate::bind::buffer_entry;
 use crate::cull::CullOutput;
-use crate::gigabuffer::{DataKind, Gigabuffer};
+use crate::gigabuffer::Gigabuffer;
+use render_model::quad_raster::{ArgsParams, PageArgs};
+use voxel_core::formats::DataKind;
 
 /// Entries kept of each kind; the oldest goes first.
 pub(super) const CACHED: usize = 4;

@@ -17,7 +17,7 @@ pub enum QuadRasterError {
         /// The device's largest storage binding.
         max_bytes: u64,
     },
-    /// The screen is empty or wider or taller than [`MAX_SCREEN_EDGE`](super::MAX_SCREEN_EDGE).
+    /// The screen is empty or wider or taller than [`MAX_SCREEN_EDGE`](render_model::quad_raster::MAX_SCREEN_EDGE).
     BadScreen {
         /// Width.
         width: u32,
@@ -65,7 +65,7 @@ impl fmt::Display for QuadRasterError {
             QuadRasterError::BadScreen { width, height } => write!(
                 f,
                 "a {width}x{height} screen cannot be rasterised: each side must be 1..={}",
-                super::MAX_SCREEN_EDGE
+                render_model::quad_raster::MAX_SCREEN_EDGE
             ),
             QuadRasterError::VisibilityTooSmall { bytes, needed } => write!(
                 f,

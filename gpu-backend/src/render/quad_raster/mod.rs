@@ -127,21 +127,11 @@
 
 mod cache;
 mod error;
-mod layout;
 mod pipelines;
 mod raster;
-pub mod reference;
-mod stats;
 
 pub use error::QuadRasterError;
-pub use layout::{
-    ArgsParams, BOX_PAD, EMPTY_BOX, EPS_MIN, EPS_PX, FIRST_STAT_WORD, LOCAL_MAX_PIXELS, MAX_GROUPS,
-    MAX_SCREEN_EDGE, MAX_T, MIN_TILES_PER_BIG, NEAR_CLIP, PageArgs, QuadRasterConfig, RasterQuad,
-    STATE_WORDS, StateWord, TILE, WORKGROUP,
-};
 pub use raster::{QuadRaster, QuadRasterInputs};
-pub use reference::PixelSample;
-pub use stats::QuadRasterStats;
 
 /// How the renderer draws the opaque greedy quads of meshed nodes: the choice is the GPU's
 /// (BENCHMARKS.md has both paths measured on the GPU machine).

@@ -31,7 +31,7 @@ pub(super) const FRAME_ENTRIES: [BindGroupLayoutEntry; 2] = [
     buffer(
         0,
         BufferBindingType::Uniform,
-        size_of::<crate::render::frame::FrameUniforms>() as u64,
+        size_of::<render_model::frame::FrameUniforms>() as u64,
     ),
     buffer(2, WRITE, 8),
 ];

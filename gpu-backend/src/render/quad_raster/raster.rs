@@ -6,15 +6,15 @@ use wgpu::{BindGroup, Buffer, BufferUsages, CommandEncoder, Device, Features, Qu
 
 use super::cache::{Cache, Maker};
 use super::error::QuadRasterError;
-use super::layout::{
-    FIRST_STAT_WORD, MAX_GROUPS, MAX_SCREEN_EDGE, PageArgs, QuadRasterConfig, STATE_WORDS,
-};
 use super::pipelines::{Layouts, Pipelines};
-use super::stats::QuadRasterStats;
 use crate::cull::CullOutput;
 use crate::gigabuffer::Gigabuffer;
 use crate::readback::{ReadbackError, read_buffer};
-use crate::render::frame::FrameUniforms;
+use render_model::frame::FrameUniforms;
+use render_model::quad_raster::QuadRasterStats;
+use render_model::quad_raster::{
+    FIRST_STAT_WORD, MAX_GROUPS, MAX_SCREEN_EDGE, PageArgs, QuadRasterConfig, STATE_WORDS,
+};
 
 /// What a record reads and writes besides the rasteriser's own buffers.
 #[derive(Clone, Copy, Debug)]

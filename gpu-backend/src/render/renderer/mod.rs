@@ -14,27 +14,32 @@ use wgpu::{Buffer, BufferUsages, Device, Queue};
 
 use voxel_core::{ChunkSize, MaterialPalette};
 
-use super::camera::RenderCamera;
 use super::error::RenderError;
 use super::far::raster::FarRaster;
 use super::far::splat::FarSplat;
 use super::far::{FarChoice, FarPath, FarRequest};
-use super::frame::FrameUniforms;
-use super::lighting::LightingParams;
-use super::materials::gpu_materials;
 use super::pipelines::{FullscreenPath, Pipelines};
-use super::quad_raster::{OpaquePath, QuadRaster, QuadRasterConfig};
-use super::residency::{ChunkMeshData, SmoothFrame, SmoothRanges, chunk_record, mesh_bounds};
+use render_model::camera::Camera;
+use render_model::frame::FrameUniforms;
+use render_model::lighting::Lighting;
+use render_model::materials::gpu_materials;
+use render_model::quad_raster::QuadRasterConfig;
+
+use super::quad_raster::{OpaquePath, QuadRaster};
 use super::targets::{FrameImage, RenderTargets, read_output};
 use crate::bind::BindGroupCache;
 use crate::chunk_table::{GpuTable, MeshedChunkTable, TableError, TableSlot};
-use crate::cull::{
-    CullConfig, CullFrame, CullOutput, CullPass, LodAnchor, LodSettings, NodeRecord, SmoothPages,
-    quad_indices,
-};
+use crate::cull::{CullFrame, CullOutput, CullPass};
 use crate::device::GpuContext;
-use crate::gigabuffer::{ChunkHandle, DataKind, Gigabuffer, GigabufferConfig};
+use crate::gigabuffer::{ChunkHandle, Gigabuffer, GigabufferConfig};
 use crate::timing::GpuTimer;
+use render_model::cull::{
+    CullConfig, LodAnchor, LodSettings, NodeRecord, SmoothPages, quad_indices,
+};
+use render_model::resident::{
+    ChunkMeshData, ChunkRanges, SmoothFrame, SmoothRanges, chunk_record, mesh_bounds,
+};
+use voxel_core::formats::DataKind;
 
 /// How a [`Renderer`] is sized.
 #[derive(Clone, Debug, PartialEq)]
@@ -192,8 +197,8 @@ pub struct Renderer {
     timer: GpuTimer,
     /// The device's largest storage binding (the visibility buffers' limit).
     gigabuffer_max_page: u64,
-    camera: RenderCamera,
-    lighting: LightingParams,
+    camera: Camera,
+    lighting: Lighting,
 }
 
 impl Renderer {
@@ -356,15 +361,14 @@ impl Renderer {
             frame_uniforms,
             timer: GpuTimer::new(ctx, 16),
             gigabuffer_max_page: ctx.capabilities.max_page_bytes(),
-            camera: RenderCamera::from_world(
+            camera: Camera::new(
                 voxel_core::WorldPos::new(edge / 2, edge / 2, edge / 2),
-                [0.5; 3],
-                config.chunk_size,
+                glam::DVec3::splat(0.5),
                 0.0,
                 0.0,
                 1.0,
             ),
-            lighting: LightingParams::default(),
+            lighting: Lighting::default(),
             config: config.clone(),
         })
     }
@@ -377,12 +381,13 @@ impl Renderer {
     /// Sets the camera of the next frames. The level-of-detail anchor follows it with the
     /// selection's hysteresis (see [`cull::lod`](crate::cull::lod)); a caller that streams
     /// chunks in sets the anchor itself with [`set_lod_anchor`](Self::set_lod_anchor) after this.
-    pub fn set_camera(&mut self, camera: &RenderCamera) {
+    pub fn set_camera(&mut self, camera: &Camera) {
         self.camera = *camera;
+        let eye = camera.eye(self.config.chunk_size);
         let hysteresis = self.lod.map_or(0.0, |l| l.hysteresis);
         self.anchor = self.anchor.follow(
-            camera.chunk,
-            camera.offset,
+            eye.chunk,
+            eye.offset,
             self.config.chunk_size.edge(),
             hysteresis,
         );
@@ -413,12 +418,12 @@ impl Renderer {
     }
 
     /// The current camera.
-    pub fn camera(&self) -> &RenderCamera {
+    pub fn camera(&self) -> &Camera {
         &self.camera
     }
 
     /// Sets the light of the next frames.
-    pub fn set_lighting(&mut self, lighting: &LightingParams) {
+    pub fn set_lighting(&mut self, lighting: &Lighting) {
         self.lighting = *lighting;
     }
 
@@ -604,7 +609,7 @@ impl Renderer {
         &mut self,
         mesh: &ChunkMeshData<'_>,
         bounds: Option<([f32; 3], [f32; 3])>,
-        ranges: &crate::gigabuffer::ChunkRanges,
+        ranges: &ChunkRanges,
     ) -> Result<TableSlot, RenderError> {
         let record = chunk_record(mesh.coord, mesh.lod, bounds, ranges)?;
         let node = NodeRecord::new(ranges)?;
@@ -628,7 +633,7 @@ impl Renderer {
     /// neighbourhood, in chunks a `DrawBlock` can address.
     fn check_far_data(
         &self,
-        layers: &crate::gigabuffer::ChunkLayersData<'_>,
+        layers: &voxel_core::formats::ChunkLayersData<'_>,
     ) -> Result<(), RenderError> {
         let blocks = layers.draw_blocks.len()
             + layers

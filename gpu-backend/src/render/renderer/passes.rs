@@ -6,9 +6,9 @@ use wgpu::{BindGroup, Buffer, CommandEncoder};
 use super::Renderer;
 use crate::bind::buffer_entry;
 use crate::cull::CullOutput;
-use crate::gigabuffer::DataKind;
 use crate::pass_chain::PassChain;
 use crate::render::pipelines::FullscreenPipelines;
+use voxel_core::formats::DataKind;
 
 impl Renderer {
     pub(super) fn frame_group(&self) -> BindGroup {

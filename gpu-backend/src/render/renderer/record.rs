@@ -5,18 +5,21 @@ use wgpu::CommandEncoder;
 use wgpu::util::DeviceExt;
 
 use super::Renderer;
-use crate::cull::{
-    CullInputs, CullLayer, CullParams, CullStats, LodParams, OcclusionInputs, OcclusionView,
-    PHASE_EARLY, PHASE_LATE, PHASE_TEST, PreparedCull, UniformSource, lod,
-};
-use crate::gigabuffer::DataKind;
+use crate::cull::{CullInputs, OcclusionInputs, PreparedCull, UniformSource};
 use crate::pass_chain::PassChain;
 use crate::render::error::RenderError;
 use crate::render::far::FarPath;
 use crate::render::far::raster::{FarRaster, FarRasterInputs};
 use crate::render::far::splat::{SplatInputs, SplatStats};
-use crate::render::frame::{FRAME_SPLAT, FrameShape, FrameUniforms};
-use crate::render::quad_raster::{QuadRasterInputs, QuadRasterStats};
+use render_model::cull::{
+    CullLayer, CullParams, CullStats, LodParams, OcclusionView, PHASE_EARLY, PHASE_LATE,
+    PHASE_TEST, lod,
+};
+use render_model::frame::{FRAME_SPLAT, FrameShape, FrameUniforms};
+use render_model::quad_raster::QuadRasterStats;
+use voxel_core::formats::DataKind;
+
+use crate::render::quad_raster::QuadRasterInputs;
 use crate::timing::{PassTime, TimerScope};
 
 impl Renderer {
@@ -100,7 +103,7 @@ impl Renderer {
         let shape = FrameShape {
             width,
             height,
-            chunk_edge: self.config.chunk_size.edge(),
+            chunk_size: self.config.chunk_size,
             material_count: self.material_count,
             smooth_extent: self.config.smooth.extent,
             smooth_origin: self.config.smooth.origin,
@@ -165,7 +168,7 @@ impl Renderer {
         frame_uniforms: &FrameUniforms,
     ) -> Result<FrameCulls, RenderError> {
         let (width, height) = (self.targets.width, self.targets.height);
-        let camera = self.camera.cull_camera(width, height);
+        let camera = self.camera.cull_view(self.config.chunk_size, width, height);
         self.cull_frame.clear(encoder);
         if let Some(splat) = &self.splat {
             splat.clear(encoder);

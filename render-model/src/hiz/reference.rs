@@ -1,7 +1,7 @@
 //! The CPU twin of the pyramid build (`hiz_build.wgsl`): the same footprints, the same `min` and
 //! `max` in the same order, so a GPU pyramid equals it exactly.
 
-use super::error::HizError;
+use super::error::ScreenError;
 use super::levels::{footprint, level_sizes};
 
 /// The nearer of the depth image and the visibility buffer per pixel: `max(depth, f32 of the
@@ -9,9 +9,12 @@ use super::levels::{footprint, level_sizes};
 ///
 /// `visibility` holds the splatting pass's `u64` words (high 32 bits: the `f32` bits of a
 /// reversed-Z depth, 0 = nothing; low 32 bits: payload), one per pixel, row-major.
-pub fn merge_visibility_reference(depth: &[f32], visibility: &[u64]) -> Result<Vec<f32>, HizError> {
+pub fn merge_visibility_reference(
+    depth: &[f32],
+    visibility: &[u64],
+) -> Result<Vec<f32>, ScreenError> {
     if visibility.len() != depth.len() {
-        return Err(HizError::VisibilityLength {
+        return Err(ScreenError::VisibilityLength {
             expected: depth.len(),
             found: visibility.len(),
         });
@@ -27,17 +30,17 @@ pub fn merge_visibility_reference(depth: &[f32], visibility: &[u64]) -> Result<V
 /// level 0 first, each row-major: texel `(i, j)` of a level is the minimum (farthest) of the
 /// source values in its [`footprint`] on each axis.
 ///
-/// Errors: [`HizError::BadSize`] for an empty or oversized screen, [`HizError::DepthLength`]
+/// Errors: [`ScreenError::BadSize`] for an empty or oversized screen, [`ScreenError::DepthLength`]
 /// when `depth` is not `width * height` values long.
 pub fn pyramid_reference(
     depth: &[f32],
     width: u32,
     height: u32,
-) -> Result<Vec<Vec<f32>>, HizError> {
+) -> Result<Vec<Vec<f32>>, ScreenError> {
     let sizes = level_sizes(width, height)?;
     let expected = width as usize * height as usize;
     if depth.len() != expected {
-        return Err(HizError::DepthLength {
+        return Err(ScreenError::DepthLength {
             expected,
             found: depth.len(),
         });
@@ -142,7 +145,7 @@ mod tests {
         );
         assert_eq!(
             merge_visibility_reference(&depth, &vis[..3]),
-            Err(HizError::VisibilityLength {
+            Err(ScreenError::VisibilityLength {
                 expected: 4,
                 found: 3
             })
@@ -153,14 +156,14 @@ mod tests {
     fn bad_input_is_an_error() {
         assert_eq!(
             pyramid_reference(&[0.0; 5], 2, 3),
-            Err(HizError::DepthLength {
+            Err(ScreenError::DepthLength {
                 expected: 6,
                 found: 5
             })
         );
         assert!(matches!(
             pyramid_reference(&[], 0, 3),
-            Err(HizError::BadSize { .. })
+            Err(ScreenError::BadSize { .. })
         ));
     }
 

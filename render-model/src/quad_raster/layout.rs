@@ -37,7 +37,7 @@ const _: () = assert!(
 );
 
 /// The words of the rasteriser's state buffer: list counters (cleared by every record) and
-/// statistics (cleared by [`QuadRaster::clear_stats`](super::QuadRaster::clear_stats)).
+/// statistics (cleared by `gpu_backend`'s `QuadRaster::clear_stats`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum StateWord {
     /// Tile entries appended by the record (`QR_TILE_COUNT`).
@@ -214,127 +214,7 @@ impl Default for QuadRasterConfig {
 
 #[cfg(test)]
 mod tests {
-    use std::mem::offset_of;
-
     use super::*;
-    use crate::shaders::{QUAD_RASTER, QUAD_RASTER_ARGS, struct_layout, validate_with};
-
-    fn module(spec: crate::shaders::ShaderSpec) -> naga::Module {
-        validate_with(spec.name, &spec.source(), spec.capabilities)
-            .unwrap_or_else(|e| panic!("{e}"))
-    }
-
-    fn members(module: &naga::Module, name: &str) -> (Vec<(String, usize)>, usize) {
-        struct_layout(module, name)
-    }
-
-    /// The value of the WGSL constant `name`.
-    fn constant(module: &naga::Module, name: &str) -> naga::Literal {
-        let (_, c) = module
-            .constants
-            .iter()
-            .find(|(_, c)| c.name.as_deref() == Some(name))
-            .unwrap_or_else(|| panic!("no constant {name}"));
-        match module.global_expressions[c.init] {
-            naga::Expression::Literal(l) => l,
-            ref e => panic!("{name} is not a literal: {e:?}"),
-        }
-    }
-
-    #[test]
-    fn structs_match_their_wgsl_twins() {
-        let m = module(QUAD_RASTER);
-        let (got, size) = members(&m, "RasterQuad");
-        assert_eq!(size, size_of::<RasterQuad>());
-        let want = [
-            ("plane", offset_of!(RasterQuad, plane)),
-            ("lo_w", offset_of!(RasterQuad, lo_w)),
-            ("lo_h", offset_of!(RasterQuad, lo_h)),
-            ("hi_w", offset_of!(RasterQuad, hi_w)),
-            ("hi_h", offset_of!(RasterQuad, hi_h)),
-            ("face_ao_block", offset_of!(RasterQuad, face_ao_block)),
-            ("box_lo", offset_of!(RasterQuad, box_lo)),
-            ("box_hi", offset_of!(RasterQuad, box_hi)),
-        ];
-        let got: Vec<(&str, usize)> = got.iter().map(|(n, o)| (n.as_str(), *o)).collect();
-        assert_eq!(got, want);
-        let (got, size) = members(&m, "PageArgs");
-        assert_eq!(size, size_of::<PageArgs>());
-        let offsets: Vec<usize> = got.iter().map(|m| m.1).collect();
-        assert_eq!(offsets, [0, 4, 8, 12, 16, 20, 24, 28]);
-        assert_eq!(offset_of!(PageArgs, first_command), 12);
-        assert_eq!(offset_of!(PageArgs, commands), 16);
-        assert_eq!(offset_of!(PageArgs, page), 20);
-        let (got, size) = members(&m, "DrawRecord");
-        assert_eq!(size, size_of::<crate::cull::DrawRecord>());
-        let got: Vec<(&str, usize)> = got.iter().map(|(n, o)| (n.as_str(), *o)).collect();
-        assert_eq!(
-            got,
-            [
-                ("chunk_x", 0),
-                ("chunk_y", 4),
-                ("chunk_z", 8),
-                ("level", 12)
-            ]
-        );
-        let a = module(QUAD_RASTER_ARGS);
-        let (got, size) = members(&a, "ArgsParams");
-        assert_eq!(size, size_of::<ArgsParams>());
-        let got: Vec<(&str, usize)> = got.iter().map(|(n, o)| (n.as_str(), *o)).collect();
-        assert_eq!(
-            got,
-            [
-                ("page_count", offset_of!(ArgsParams, page_count)),
-                (
-                    "commands_per_page",
-                    offset_of!(ArgsParams, commands_per_page)
-                ),
-                ("page_stride", offset_of!(ArgsParams, page_stride)),
-                ("tile_capacity", offset_of!(ArgsParams, tile_capacity)),
-            ]
-        );
-    }
-
-    #[test]
-    fn constants_match_their_wgsl_twins() {
-        use naga::Literal::{F32, U32};
-        let m = module(QUAD_RASTER);
-        assert_eq!(constant(&m, "QR_WORKGROUP"), U32(WORKGROUP));
-        assert_eq!(constant(&m, "QR_TILE"), U32(TILE));
-        assert_eq!(constant(&m, "QR_LOCAL_MAX_PIXELS"), U32(LOCAL_MAX_PIXELS));
-        assert_eq!(constant(&m, "QR_EPS_PX"), F32(EPS_PX));
-        assert_eq!(constant(&m, "QR_EPS_MIN"), F32(EPS_MIN));
-        assert_eq!(constant(&m, "QR_MAX_T"), F32(MAX_T));
-        assert_eq!(constant(&m, "QR_NEAR_CLIP"), F32(NEAR_CLIP));
-        assert_eq!(constant(&m, "QR_BOX_PAD"), F32(BOX_PAD));
-        for (name, word) in [
-            ("QR_TILE_COUNT", StateWord::TileCount),
-            ("QR_BIG_COUNT", StateWord::BigCount),
-            ("QR_STAT_QUADS", StateWord::Quads),
-            ("QR_STAT_VISIBLE", StateWord::Visible),
-            ("QR_STAT_LOCAL_PIXELS", StateWord::LocalPixels),
-            ("QR_STAT_BIG", StateWord::Big),
-            ("QR_STAT_OVERFLOW", StateWord::Overflow),
-            ("QR_STAT_TILE_PIXELS", StateWord::TilePixels),
-            ("QR_STAT_HITS", StateWord::Hits),
-        ] {
-            assert_eq!(constant(&m, name), U32(word as u32), "{name}");
-            let stat = (word as u32) >= FIRST_STAT_WORD;
-            assert_eq!(stat, name.starts_with("QR_STAT"), "{name}");
-            assert!((word as u32) < STATE_WORDS);
-        }
-        let a = module(QUAD_RASTER_ARGS);
-        assert_eq!(
-            constant(&a, "QR_TILE_COUNT"),
-            U32(StateWord::TileCount as u32)
-        );
-        assert_eq!(constant(&a, "MAX_GROUPS"), U32(MAX_GROUPS));
-        assert_eq!(constant(&a, "QR_FIRST_STAT_WORD"), U32(FIRST_STAT_WORD));
-        for (name, spec) in [("qr_quads", &m), ("qr_tiles", &m)] {
-            let ep = spec.entry_points.iter().find(|e| e.name == name).unwrap();
-            assert_eq!(ep.workgroup_size, [WORKGROUP, 1, 1], "{name}");
-        }
-    }
 
     #[test]
     fn boxes_and_capacities() {

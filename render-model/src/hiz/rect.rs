@@ -4,7 +4,7 @@
 
 use std::cmp::Ordering;
 
-use super::error::HizError;
+use super::error::ScreenError;
 use super::levels::{level_sizes, texel_of_pixel};
 
 /// What the Hi-Z test decided for one rectangle.
@@ -55,8 +55,8 @@ fn rect_pixels(rect_min: [f32; 2], rect_max: [f32; 2], size0: (u32, u32)) -> [[u
 /// the pyramid of a `width x height` screen (as [`pyramid_reference`](super::pyramid_reference)
 /// or [`DepthPyramid::read_levels`](super::DepthPyramid::read_levels) gives it).
 ///
-/// Errors when `levels` is not that screen's pyramid ([`HizError::LevelCount`],
-/// [`HizError::LevelLength`]) or the screen is invalid ([`HizError::BadSize`]). See the
+/// Errors when `levels` is not that screen's pyramid ([`ScreenError::LevelCount`],
+/// [`ScreenError::LevelLength`]) or the screen is invalid ([`ScreenError::BadSize`]). See the
 /// [module docs](super) for the rules on empty, inverted and off-screen rectangles.
 pub fn rect_test_reference(
     levels: &[Vec<f32>],
@@ -65,10 +65,10 @@ pub fn rect_test_reference(
     rect_min: [f32; 2],
     rect_max: [f32; 2],
     nearest_depth: f32,
-) -> Result<RectTest, HizError> {
+) -> Result<RectTest, ScreenError> {
     let sizes = level_sizes(width, height)?;
     if levels.len() != sizes.len() {
-        return Err(HizError::LevelCount {
+        return Err(ScreenError::LevelCount {
             expected: sizes.len(),
             found: levels.len(),
         });
@@ -76,7 +76,7 @@ pub fn rect_test_reference(
     for (level, (values, &(w, h))) in levels.iter().zip(&sizes).enumerate() {
         let expected = w as usize * h as usize;
         if values.len() != expected {
-            return Err(HizError::LevelLength {
+            return Err(ScreenError::LevelLength {
                 level,
                 expected,
                 found: values.len(),
@@ -121,7 +121,7 @@ pub fn rect_visible_reference(
     rect_min: [f32; 2],
     rect_max: [f32; 2],
     nearest_depth: f32,
-) -> Result<bool, HizError> {
+) -> Result<bool, ScreenError> {
     rect_test_reference(levels, width, height, rect_min, rect_max, nearest_depth).map(|t| t.visible)
 }
 
@@ -200,7 +200,7 @@ mod tests {
         let levels = small();
         assert_eq!(
             rect_visible_reference(&levels, 16, 4, [0.0; 2], [1.0; 2], 0.5),
-            Err(HizError::LevelCount {
+            Err(ScreenError::LevelCount {
                 expected: 4,
                 found: 3
             })
@@ -213,7 +213,7 @@ mod tests {
         short[1].pop();
         assert_eq!(
             rect_visible_reference(&short, 8, 4, [0.0; 2], [1.0; 2], 0.5),
-            Err(HizError::LevelLength {
+            Err(ScreenError::LevelLength {
                 level: 1,
                 expected: 2,
                 found: 1

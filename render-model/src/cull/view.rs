@@ -1,7 +1,8 @@
 //! The view a cull runs for: where the eye is (chunk + small offset) and the frustum planes in
-//! camera-relative space.
+//! camera-relative space. A [`Camera`](crate::Camera) makes one with
+//! [`Camera::cull_view`](crate::Camera::cull_view); a shadow map or a second view is another.
 
-use voxel_core::{ChunkCoord, ChunkSize};
+use voxel_core::ChunkCoord;
 
 /// Which quad layer of `MeshedChunkInfo` a cull reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -40,10 +41,10 @@ pub const PLANE_KEEP_ALL: [f32; 4] = [0.0, 0.0, 0.0, 1.0];
 ///
 /// A chunk `k` is placed at `f32(k - chunk) * edge - offset` (the difference wraps in `i32`);
 /// see the [module docs](super) for the precision this has. A second view (shadow map,
-/// reflection, another camera) is just another `CullCamera` passed to another
-/// [`record`](super::CullPass::record).
+/// reflection, another camera) is just another `CullView` in another cull request
+/// (`gpu_backend::cull::CullRequest`).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CullCamera {
+pub struct CullView {
     /// Chunk holding the eye.
     pub chunk: ChunkCoord,
     /// The eye inside `chunk`, blocks.
@@ -52,11 +53,11 @@ pub struct CullCamera {
     pub planes: [[f32; 4]; 6],
 }
 
-impl CullCamera {
+impl CullView {
     /// A view without frustum planes (every plane [`PLANE_KEEP_ALL`]): only the face-direction
     /// test culls.
-    pub fn without_frustum(chunk: ChunkCoord, offset: [f32; 3]) -> CullCamera {
-        CullCamera {
+    pub fn without_frustum(chunk: ChunkCoord, offset: [f32; 3]) -> CullView {
+        CullView {
             chunk,
             offset,
             planes: [PLANE_KEEP_ALL; 6],
@@ -75,7 +76,7 @@ impl CullCamera {
         chunk: ChunkCoord,
         offset: [f32; 3],
         view_projection: [[f32; 4]; 4],
-    ) -> CullCamera {
+    ) -> CullView {
         let row =
             |r: usize| -> [f64; 4] { std::array::from_fn(|c| f64::from(view_projection[c][r])) };
         let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));
@@ -89,28 +90,11 @@ impl CullCamera {
             r2,
             sub(r3, r2),
         ];
-        CullCamera {
+        CullView {
             chunk,
             offset,
             planes: raw.map(normalize_plane),
         }
-    }
-
-    /// The eye's chunk and offset for a world position given in `f64` blocks (exact for every
-    /// `i32` block coordinate plus a fraction): Euclidean split by the chunk edge. Positions
-    /// outside the `i32` world are clamped to it.
-    pub fn eye_from_world(world: [f64; 3], size: ChunkSize) -> (ChunkCoord, [f32; 3]) {
-        let edge = f64::from(size.edge());
-        let mut chunk = [0i32; 3];
-        let mut offset = [0f32; 3];
-        for axis in 0..3 {
-            let p = world[axis].clamp(f64::from(i32::MIN), f64::from(i32::MAX));
-            let c = (p / edge).floor();
-            chunk[axis] = c as i32;
-            // p - c * edge is exact in f64 for |p| < 2^52 and lies in [0, edge].
-            offset[axis] = (p - c * edge) as f32;
-        }
-        (ChunkCoord::new(chunk[0], chunk[1], chunk[2]), offset)
     }
 }
 
@@ -149,7 +133,7 @@ mod tests {
     #[test]
     fn perspective_planes_bound_the_frustum() {
         let m = perspective(std::f32::consts::FRAC_PI_2, 1.0, 0.5, 100.0);
-        let cam = CullCamera::from_view_projection(ChunkCoord::new(0, 0, 0), [0.0; 3], m);
+        let cam = CullView::from_view_projection(ChunkCoord::new(0, 0, 0), [0.0; 3], m);
         for n in &cam.planes {
             let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
             assert!((len - 1.0).abs() < 1e-6, "{n:?}");
@@ -181,21 +165,8 @@ mod tests {
         let mut m = perspective(1.0, 1.0, 0.5, 100.0);
         m[2][2] = -1.0;
         m[3][2] = -0.5;
-        let cam = CullCamera::from_view_projection(ChunkCoord::new(0, 0, 0), [0.0; 3], m);
+        let cam = CullView::from_view_projection(ChunkCoord::new(0, 0, 0), [0.0; 3], m);
         assert_eq!(cam.planes[5], PLANE_KEEP_ALL);
         assert!(inside(&cam.planes, [0.0, 0.0, -1.0e9]));
-    }
-
-    #[test]
-    fn eye_split_is_euclidean_and_exact() {
-        let (chunk, offset) =
-            CullCamera::eye_from_world([-0.5, 31.25, 1_073_741_824.75], ChunkSize::S32);
-        assert_eq!(chunk, ChunkCoord::new(-1, 0, 1 << 25));
-        assert_eq!(offset, [31.5, 31.25, 0.75]);
-        let (chunk, offset) =
-            CullCamera::eye_from_world([f64::from(i32::MIN), 0.0, 1e300], ChunkSize::S62);
-        assert_eq!(chunk.x, i32::MIN.div_euclid(62));
-        assert_eq!(offset[0], i32::MIN.rem_euclid(62) as f32);
-        assert_eq!(chunk.z, i32::MAX.div_euclid(62), "clamped to the i32 world");
     }
 }

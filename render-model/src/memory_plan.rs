@@ -15,7 +15,7 @@
 //!
 //! Nodes the plan does not keep may be freed in any order; a streaming caller moves the anchor
 //! only once the plan for the new anchor is resident
-//! ([`Renderer::set_lod_anchor`](super::Renderer::set_lod_anchor)).
+//! (`gpu_backend::Renderer::set_lod_anchor`).
 //!
 //! A plan that does not fit even at a budget of [`MAX_PLAN_BUDGET_PX`] pixels (where only the
 //! nodes within the hysteresis distance of the anchor refine) is an error naming both sizes.

@@ -1,20 +1,124 @@
-//! The input of an upload (a chunk's packed layers) and its result (where they landed).
+//! One chunk's packed layers as the GPU backend uploads them ([`ChunkLayersData`]), and the
+//! kinds of data they hold ([`DataKind`]): the mesher returns this view of its buffers and the
+//! backend stores each kind in its own gigabuffer, so neither names the other.
 
-use voxel_core::formats::{
-    BlockVertex, ClutterUnit, DrawBlock, FaceLayerRange, LayerRange, MeshedChunkInfoFields,
-    PackedQuad, SmoothQuadForm, SmoothQuads,
+use super::{BlockVertex, ClutterUnit, DrawBlock, PackedQuad, SmoothQuads};
+
+/// The copy alignment of GPU buffer copies, bytes: every element size is a multiple of it.
+const COPY_ALIGNMENT: u32 = 4;
+
+/// One kind of per-chunk GPU data. Each kind lives in its own gigabuffer (a set of pages) whose
+/// element type is fixed, so offsets are element indices of that type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum DataKind {
+    /// Greedy quads, [`PackedQuad`], 8 bytes: a chunk's opaque and transparent quad layers,
+    /// each grouped by face direction.
+    Quads,
+    /// Smooth-surface vertices, [`BlockVertex`], 16 bytes.
+    SmoothVertices,
+    /// Smooth-surface quads, as `u32` words (4 bytes): a chunk's quads are the bytes of the
+    /// mesher's [`SmoothQuads`](voxel_core::formats::SmoothQuads) (compact 6-byte records, or 4
+    /// `u16` / `u32` vertex indices per quad, relative to the chunk's first smooth vertex),
+    /// zero-padded to a whole word; the draw record carries the form.
+    SmoothQuads,
+    /// Clutter instances, [`ClutterUnit`], 20 bytes.
+    Clutter,
+    /// Surface blocks, [`DrawBlock`], 4 bytes: the block list far chunks are raycast from.
+    DrawBlocks,
+}
+
+impl DataKind {
+    /// Number of kinds.
+    pub const COUNT: usize = 5;
+
+    /// Every kind, in index order.
+    pub const ALL: [DataKind; DataKind::COUNT] = [
+        DataKind::Quads,
+        DataKind::SmoothVertices,
+        DataKind::SmoothQuads,
+        DataKind::Clutter,
+        DataKind::DrawBlocks,
+    ];
+
+    /// Position in [`DataKind::ALL`].
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+
+    /// Bytes per element. Every size is a multiple of 4 (the copy alignment of wgpu and
+    /// Vulkan), so every element offset is a valid copy offset.
+    pub const fn element_size(self) -> u32 {
+        (match self {
+            DataKind::Quads => size_of::<PackedQuad>(),
+            DataKind::SmoothVertices => size_of::<BlockVertex>(),
+            DataKind::SmoothQuads => size_of::<u32>(),
+            DataKind::Clutter => size_of::<ClutterUnit>(),
+            DataKind::DrawBlocks => size_of::<DrawBlock>(),
+        }) as u32
+    }
+
+    /// The name used in buffer labels and reports.
+    pub const fn name(self) -> &'static str {
+        match self {
+            DataKind::Quads => "quads",
+            DataKind::SmoothVertices => "smooth vertices",
+            DataKind::SmoothQuads => "smooth quads",
+            DataKind::Clutter => "clutter",
+            DataKind::DrawBlocks => "draw blocks",
+        }
+    }
+}
+
+const _: () = {
+    let mut i = 0;
+    while i < DataKind::COUNT {
+        assert!(
+            DataKind::ALL[i]
+                .element_size()
+                .is_multiple_of(COPY_ALIGNMENT),
+            "element sizes must be multiples of the copy alignment"
+        );
+        assert!(DataKind::ALL[i].index() == i, "ALL is in index order");
+        i += 1;
+    }
 };
 
-use super::{DataKind, PerKind};
+impl core::fmt::Display for DataKind {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
+}
 
-/// One chunk's packed layers, borrowed from the mesher's output. Every field may be empty;
+/// One value per [`DataKind`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PerKind<T>(pub [T; DataKind::COUNT]);
+
+impl<T> PerKind<T> {
+    /// The value of `kind`.
+    pub fn get(&self, kind: DataKind) -> &T {
+        &self.0[kind.index()]
+    }
+
+    /// The value of `kind`, mutably.
+    pub fn get_mut(&mut self, kind: DataKind) -> &mut T {
+        &mut self.0[kind.index()]
+    }
+
+    /// `(kind, value)` pairs in kind order.
+    pub fn iter(&self) -> impl Iterator<Item = (DataKind, &T)> {
+        DataKind::ALL.into_iter().zip(self.0.iter())
+    }
+}
+
+/// One chunk's packed layers, borrowed from the mesher's output (`mesher::ChunkMesh::layers`,
+/// `mesher::lod::NodeMesh::layers`). Every field may be empty;
 /// empty layers take no gigabuffer space.
 ///
 /// Quads are grouped by face direction, indexed by `FaceDirection::index` (the mesher's
 /// `QuadLayer::faces`), so the cull pass can skip the groups that face away from the camera.
 ///
 /// ```
-/// use gpu_backend::gigabuffer::ChunkLayersData;
+/// use voxel_core::formats::ChunkLayersData;
 /// use voxel_core::formats::PackedQuad;
 ///
 /// let up = [PackedQuad::default(); 3];
@@ -105,78 +209,6 @@ impl<'a> ChunkLayersData<'a> {
             .iter()
             .map(|(kind, &n)| n * u64::from(kind.element_size()))
             .sum()
-    }
-}
-
-/// Where an uploaded chunk's layers live: global element offsets (page * page_capacity +
-/// offset in page, see [`PageLayout`](super::PageLayout)) and counts, per layer. Empty layers
-/// have offset 0 and count 0.
-///
-/// The quads of a chunk are one allocation: opaque groups first (each face direction's quads
-/// followed by that side's skirt quads, counted in the group), then transparent ones, so
-/// `transparent_quads.offset = opaque_quads.offset + opaque total`. The draw-block allocation
-/// holds the blocks, then the skirt blocks side by side, then the hiding mask.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct ChunkRanges {
-    /// Opaque quads, by face direction, in the quad gigabuffer: each group is the face's
-    /// quads followed by its skirt quads.
-    pub opaque_quads: FaceLayerRange,
-    /// The skirt quads at the end of each opaque group.
-    pub opaque_skirts: [u32; 6],
-    /// Transparent quads, by face direction, in the quad gigabuffer.
-    pub transparent_quads: FaceLayerRange,
-    /// Smooth vertices, in the smooth-vertex gigabuffer.
-    pub smooth_vertices: LayerRange,
-    /// Smooth quads (indices relative to `smooth_vertices.offset`), in the smooth-quad
-    /// gigabuffer: its words (`DataKind::SmoothQuads` elements), in the form
-    /// `smooth_quad_form`, holding `smooth_quad_count` quads. `MeshedChunkInfo` has no field
-    /// for it yet.
-    pub smooth_quads: LayerRange,
-    /// Number of smooth quads.
-    pub smooth_quad_count: u32,
-    /// The form of the smooth quads' words.
-    pub smooth_quad_form: SmoothQuadForm,
-    /// Clutter units, in the clutter gigabuffer.
-    pub clutter_units: LayerRange,
-    /// Surface blocks, in the draw-block gigabuffer (without their skirts).
-    pub draw_blocks: LayerRange,
-    /// Skirt blocks per side, stored one side after the other right after `draw_blocks`.
-    pub draw_block_skirts: [u32; 6],
-    /// The hiding mask's words, after the skirt blocks (count 0 when none was uploaded).
-    pub hiding_mask: LayerRange,
-    /// The transparent mask's words, right after the hiding mask (count 0 when none).
-    pub transparent_mask: LayerRange,
-}
-
-impl ChunkRanges {
-    /// Writes the layer ranges `MeshedChunkInfo` holds into `fields`, leaving the chunk
-    /// coordinate, lod and bounds as they are.
-    pub fn apply_to(&self, fields: &mut MeshedChunkInfoFields) {
-        fields.opaque_quads = self.opaque_quads;
-        fields.transparent_quads = self.transparent_quads;
-        fields.smooth_vertices = self.smooth_vertices;
-        fields.clutter_units = self.clutter_units;
-    }
-
-    /// The global range of `kind`'s allocation (both quad layers together for
-    /// [`DataKind::Quads`]).
-    pub fn range_of(&self, kind: DataKind) -> LayerRange {
-        match kind {
-            DataKind::Quads => LayerRange {
-                offset: self.opaque_quads.offset,
-                count: (self.opaque_quads.total() + self.transparent_quads.total()) as u32,
-            },
-            DataKind::SmoothVertices => self.smooth_vertices,
-            DataKind::SmoothQuads => self.smooth_quads,
-            DataKind::Clutter => self.clutter_units,
-            DataKind::DrawBlocks => LayerRange {
-                offset: self.draw_blocks.offset,
-                count: self.draw_blocks.count
-                    + self.draw_block_skirts.iter().sum::<u32>()
-                    + self.hiding_mask.count
-                    + self.transparent_mask.count,
-            },
-        }
     }
 }
 

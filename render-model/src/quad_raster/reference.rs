@@ -14,7 +14,7 @@ use voxel_core::formats::{FaceDirection, PackedQuad};
 
 use super::layout::{BOX_PAD, EMPTY_BOX, EPS_MIN, EPS_PX, MAX_T, NEAR_CLIP, RasterQuad};
 use crate::cull::DrawRecord;
-use crate::render::frame::FrameUniforms;
+use crate::frame::FrameUniforms;
 
 /// Relative margin of [`PixelSample::ambiguous`]: `2^-16` (about 500 units in the last place
 /// of an `f32`, far above the rounding of the few operations involved, and about 1/100 pixel
@@ -303,31 +303,30 @@ pub fn payload_face(value: u64) -> Option<FaceDirection> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::camera::RenderCamera;
-    use crate::render::frame::FrameShape;
-    use crate::render::lighting::LightingParams;
+    use crate::camera::Camera;
+    use crate::frame::FrameShape;
+    use crate::lighting::Lighting;
+    use glam::DVec3;
     use voxel_core::formats::PackedQuadFields;
-    use voxel_core::{BlockId, ChunkCoord};
+    use voxel_core::{BlockId, ChunkSize, WorldPos};
 
     fn frame(yaw: f64, pitch: f64, offset: [f32; 3], w: u32, h: u32) -> FrameUniforms {
-        let camera = RenderCamera {
-            chunk: ChunkCoord::new(0, 0, 0),
-            offset,
-            yaw,
-            pitch,
-            fov_y: 1.0,
-            near: 0.05,
-        };
+        let camera = Camera::new(WorldPos::new(0, 0, 0), DVec3::ZERO, yaw, pitch, 1.0);
         let shape = FrameShape {
             width: w,
             height: h,
-            chunk_edge: 16,
+            chunk_size: ChunkSize::S16,
             material_count: 1,
             smooth_extent: 1.0,
             smooth_origin: 0.0,
             flags: 0,
         };
-        FrameUniforms::new(&camera, &LightingParams::default(), &shape)
+        // The eye may lie outside chunk 0: the records below are relative to chunk 0.
+        FrameUniforms {
+            camera_offset: offset,
+            camera_chunk: [0; 3],
+            ..FrameUniforms::new(&camera, &Lighting::default(), &shape)
+        }
     }
 
     fn quad(position: [u32; 3], size: (u32, u32), face: FaceDirection, ao: [u8; 4]) -> PackedQuad {

@@ -1,12 +1,86 @@
-//! Chunks resident in the renderer: their gigabuffer space, table slot and bounds.
+//! What the renderer records about a resident node: where its layers landed in the gigabuffer
+//! ([`ChunkRanges`]), its smooth layer ([`SmoothRanges`]), its bounds ([`mesh_bounds`]) and its
+//! chunk-table record ([`chunk_record`]). The GPU side of residency (allocation, tables,
+//! uploads) is `gpu_backend::residency`; these are the rules it follows, without wgpu.
 
 use voxel_core::ChunkCoord;
 use voxel_core::formats::quantize::UnormExtent;
 use voxel_core::formats::{
-    LayerRange, MeshedChunkInfo, MeshedChunkInfoFields, PackedQuad, SmoothQuadForm,
+    ChunkLayersData, DataKind, FaceLayerRange, LayerRange, MeshedChunkInfo, MeshedChunkInfoFields,
+    PackedQuad, SmoothQuadForm,
 };
 
-use crate::gigabuffer::{ChunkLayersData, ChunkRanges};
+/// Where an uploaded chunk's layers live: global element offsets (page * page_capacity +
+/// offset in page, see [`PageLayout`](crate::pages::PageLayout)) and counts, per layer. Empty layers
+/// have offset 0 and count 0.
+///
+/// The quads of a chunk are one allocation: opaque groups first (each face direction's quads
+/// followed by that side's skirt quads, counted in the group), then transparent ones, so
+/// `transparent_quads.offset = opaque_quads.offset + opaque total`. The draw-block allocation
+/// holds the blocks, then the skirt blocks side by side, then the hiding mask.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ChunkRanges {
+    /// Opaque quads, by face direction, in the quad gigabuffer: each group is the face's
+    /// quads followed by its skirt quads.
+    pub opaque_quads: FaceLayerRange,
+    /// The skirt quads at the end of each opaque group.
+    pub opaque_skirts: [u32; 6],
+    /// Transparent quads, by face direction, in the quad gigabuffer.
+    pub transparent_quads: FaceLayerRange,
+    /// Smooth vertices, in the smooth-vertex gigabuffer.
+    pub smooth_vertices: LayerRange,
+    /// Smooth quads (indices relative to `smooth_vertices.offset`), in the smooth-quad
+    /// gigabuffer: its words (`DataKind::SmoothQuads` elements), in the form
+    /// `smooth_quad_form`, holding `smooth_quad_count` quads. `MeshedChunkInfo` has no field
+    /// for it yet.
+    pub smooth_quads: LayerRange,
+    /// Number of smooth quads.
+    pub smooth_quad_count: u32,
+    /// The form of the smooth quads' words.
+    pub smooth_quad_form: SmoothQuadForm,
+    /// Clutter units, in the clutter gigabuffer.
+    pub clutter_units: LayerRange,
+    /// Surface blocks, in the draw-block gigabuffer (without their skirts).
+    pub draw_blocks: LayerRange,
+    /// Skirt blocks per side, stored one side after the other right after `draw_blocks`.
+    pub draw_block_skirts: [u32; 6],
+    /// The hiding mask's words, after the skirt blocks (count 0 when none was uploaded).
+    pub hiding_mask: LayerRange,
+    /// The transparent mask's words, right after the hiding mask (count 0 when none).
+    pub transparent_mask: LayerRange,
+}
+
+impl ChunkRanges {
+    /// Writes the layer ranges `MeshedChunkInfo` holds into `fields`, leaving the chunk
+    /// coordinate, lod and bounds as they are.
+    pub fn apply_to(&self, fields: &mut MeshedChunkInfoFields) {
+        fields.opaque_quads = self.opaque_quads;
+        fields.transparent_quads = self.transparent_quads;
+        fields.smooth_vertices = self.smooth_vertices;
+        fields.clutter_units = self.clutter_units;
+    }
+
+    /// The global range of `kind`'s allocation (both quad layers together for
+    /// [`DataKind::Quads`]).
+    pub fn range_of(&self, kind: DataKind) -> LayerRange {
+        match kind {
+            DataKind::Quads => LayerRange {
+                offset: self.opaque_quads.offset,
+                count: (self.opaque_quads.total() + self.transparent_quads.total()) as u32,
+            },
+            DataKind::SmoothVertices => self.smooth_vertices,
+            DataKind::SmoothQuads => self.smooth_quads,
+            DataKind::Clutter => self.clutter_units,
+            DataKind::DrawBlocks => LayerRange {
+                offset: self.draw_blocks.offset,
+                count: self.draw_blocks.count
+                    + self.draw_block_skirts.iter().sum::<u32>()
+                    + self.hiding_mask.count
+                    + self.transparent_mask.count,
+            },
+        }
+    }
+}
 
 /// One chunk's mesh, ready to upload: its coordinate, its level of detail and its packed layers
 /// (borrowed from the mesher's output; see [`ChunkLayersData`]).

@@ -13,7 +13,7 @@
 
 use std::fmt;
 
-use super::DataKind;
+use voxel_core::formats::DataKind;
 
 /// The page split of one kind.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,8 +1,10 @@
-//! The lighting model of the deferred renderer, and its CPU twin.
+//! The lighting model of the deferred renderer, and its CPU twin: one [`Lighting`] for every
+//! renderer of the stack (the GPU passes, the CPU raycasters, the viewer).
 //!
-//! One formula, written twice: in WGSL (`shaders/render_common.wgsl`, used by the lighting pass
-//! and the transparent pass) and here in Rust, operation for operation, so a CPU renderer (the
-//! viewer's reference raycaster) can shade exactly like the GPU and images can be compared.
+//! One formula, written twice: in WGSL (`gpu-backend`'s `render_common.wgsl`, used by the
+//! lighting pass and the transparent pass) and here in Rust, operation for operation, so a CPU
+//! renderer (the viewer's reference raycaster) can shade exactly like the GPU and images can
+//! be compared.
 //!
 //! ```text
 //! ambient  = mix(ground, sky, 0.5 + 0.5 * n.y) * ambient_strength      hemisphere light
@@ -23,7 +25,7 @@ pub const AO_FLOOR: f32 = 0.4;
 
 /// Light and sky of a frame. Colours are linear RGB; the sun direction points towards the sun.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LightingParams {
+pub struct Lighting {
     /// Unit direction towards the sun.
     pub sun_direction: [f32; 3],
     /// Linear sun radiance.
@@ -40,12 +42,12 @@ pub struct LightingParams {
     pub exposure: f32,
 }
 
-impl Default for LightingParams {
+impl Default for Lighting {
     /// The viewer's default daylight.
     fn default() -> Self {
         let d = [0.45f32, 0.8, 0.35];
         let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        LightingParams {
+        Lighting {
             sun_direction: d.map(|c| c / len),
             sun_colour: [1.0 * 2.2, 0.95 * 2.2, 0.85 * 2.2],
             sky_colour: [0.45, 0.62, 0.9],
@@ -92,7 +94,7 @@ fn mix(a: [f32; 3], b: [f32; 3], t: f32) -> [f32; 3] {
 ///
 /// `albedo` linear, `normal` unit length, `ao` interpolated `0..=3`, `emission` `0..=1`.
 pub fn shade(
-    params: &LightingParams,
+    params: &Lighting,
     albedo: [f32; 3],
     normal: [f32; 3],
     ao: f32,
@@ -115,12 +117,12 @@ pub fn aces(x: f32) -> f32 {
 }
 
 /// Tonemapped linear colour (exposure, then [`aces`] per channel), before sRGB encoding.
-pub fn tonemap(params: &LightingParams, colour: [f32; 3]) -> [f32; 3] {
+pub fn tonemap(params: &Lighting, colour: [f32; 3]) -> [f32; 3] {
     colour.map(|c| aces(c * params.exposure))
 }
 
 /// What the output target stores for a linear colour: [`tonemap`] then sRGB, alpha 255.
-pub fn output_rgba8(params: &LightingParams, colour: [f32; 3]) -> [u8; 4] {
+pub fn output_rgba8(params: &Lighting, colour: [f32; 3]) -> [u8; 4] {
     let [r, g, b] = tonemap(params, colour).map(linear_to_srgb8);
     [r, g, b, 255]
 }
@@ -130,22 +132,22 @@ pub fn blend(dst: [f32; 3], src: [f32; 3], alpha: f32) -> [f32; 3] {
     std::array::from_fn(|i| src[i] * alpha + dst[i] * (1.0 - alpha))
 }
 
-/// The lighting half of the frame uniforms (twin of the WGSL `Lighting`; the layout is
-/// checked against naga in a unit test).
+/// The lighting half of the frame uniforms (twin of the WGSL `Lighting`; a `gpu-backend` test
+/// checks the layout against naga).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct LightingUniforms {
     /// Towards the sun, unit length.
     pub sun_direction: [f32; 3],
-    /// [`LightingParams::ambient_strength`].
+    /// [`Lighting::ambient_strength`].
     pub ambient_strength: f32,
     /// Sun radiance.
     pub sun_colour: [f32; 3],
-    /// [`LightingParams::emissive_scale`].
+    /// [`Lighting::emissive_scale`].
     pub emissive_scale: f32,
     /// Sky colour.
     pub sky_colour: [f32; 3],
-    /// [`LightingParams::exposure`].
+    /// [`Lighting::exposure`].
     pub exposure: f32,
     /// Ground colour.
     pub ground_colour: [f32; 3],
@@ -157,7 +159,7 @@ const _: () = assert!(size_of::<LightingUniforms>() == 64);
 
 impl LightingUniforms {
     /// The uniforms of `params`.
-    pub fn new(params: &LightingParams) -> LightingUniforms {
+    pub fn new(params: &Lighting) -> LightingUniforms {
         LightingUniforms {
             sun_direction: params.sun_direction,
             ambient_strength: params.ambient_strength,
@@ -184,9 +186,9 @@ mod tests {
 
     #[test]
     fn ao_scales_only_the_ambient() {
-        let params = LightingParams {
+        let params = Lighting {
             sun_colour: [0.0; 3],
-            ..LightingParams::default()
+            ..Lighting::default()
         };
         let lit = shade(&params, [1.0; 3], [0.0, 1.0, 0.0], 3.0, 0.0);
         let dark = shade(&params, [1.0; 3], [0.0, 1.0, 0.0], 0.0, 0.0);

@@ -3,7 +3,7 @@
 use super::layout::StateWord;
 
 /// The rasteriser's counters. The statistics add up over records until
-/// [`QuadRaster::clear_stats`](super::QuadRaster::clear_stats); `tiles` and `big_entries` are
+/// `gpu_backend`'s `QuadRaster::clear_stats`; `tiles` and `big_entries` are
 /// the last record's list lengths.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct QuadRasterStats {

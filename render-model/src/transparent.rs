@@ -1,7 +1,7 @@
 //! The transparent layer's draw order: culled and sorted back to front on the GPU.
 //!
 //! Blending is order-dependent, so the transparent layer is culled with the cull pass's
-//! ordered mode ([`CullPass::record_ordered`]): the same frustum and per-face-direction
+//! ordered mode (`gpu_backend::cull::CullOrder::BackToFront`): the same frustum and per-face-direction
 //! decisions as the opaque layer, then a counting sort of each quad page's commands on the
 //! depth key of their chunk's box centre, farthest first ([`depth_key`]). The draw is one
 //! multi-draw-indirect per quad page, like the opaque layer, so the CPU work per frame does not
@@ -17,7 +17,6 @@
 //! centre can swap order when seen edge-on, and with several quad pages the order holds
 //! within each page.
 //!
-//! [`CullPass::record_ordered`]: crate::cull::CullPass::record_ordered
 //! [`depth_key`]: crate::cull::depth_key
 
 #[cfg(test)]
@@ -27,8 +26,10 @@ mod tests {
 
     use voxel_core::formats::MeshedChunkInfo;
 
-    use crate::cull::{CullCamera, CullConfig, CullLayer, CullLayout, cull_reference_ordered};
-    use crate::gigabuffer::{DataKind, PageLayout};
+    use voxel_core::formats::DataKind;
+
+    use crate::cull::{CullConfig, CullLayer, CullLayout, CullView, cull_reference_ordered};
+    use crate::pages::PageLayout;
 
     fn chunk(z: i32, offset: u32) -> MeshedChunkInfo {
         MeshedChunkInfo {
@@ -48,7 +49,7 @@ mod tests {
     fn chunks_come_back_to_front_with_facing_groups_only() {
         let pages = PageLayout::plan(DataKind::Quads, 1 << 20, 1 << 20).unwrap();
         let layout = CullLayout::new(&pages, &CullConfig::new(ChunkSize::S16, 16)).unwrap();
-        let camera = CullCamera::without_frustum(ChunkCoord::new(0, 0, 0), [8.0, 8.0, 8.0]);
+        let camera = CullView::without_frustum(ChunkCoord::new(0, 0, 0), [8.0, 8.0, 8.0]);
         // Chunks at z = -1, -3, -2 (all in front of the eye along -z).
         let infos = [chunk(-1, 0), chunk(-3, 100), chunk(-2, 200)];
         let draws = cull_reference_ordered(&infos, &camera, CullLayer::Transparent, &layout);

@@ -4,22 +4,18 @@
 
 use voxel_core::formats::{FaceLayerRange, MeshedChunkInfo};
 
-use super::camera::{CullCamera, CullLayer};
 use super::layout::{
     CULL_FAR, CULL_LOD, CULL_SMOOTH, CullLayout, CullParams, CullUniforms, DrawIndexedArgs,
 };
 use super::lod;
 use super::node::{DrawRecord, NODE_HAS_BLOCKS, NodeRecord, skirt_count};
+use super::view::{CullLayer, CullView};
 
 /// The chunk's bounding box in camera-relative space: `(centre, half size)`.
 ///
 /// `centre = (f32(chunk - camera.chunk) * edge - camera.offset) + info.centre`, each step one
 /// `f32` operation (the `i32` difference wraps). See the [module docs](super) for its error.
-pub fn relative_box(
-    info: &MeshedChunkInfo,
-    camera: &CullCamera,
-    edge: u32,
-) -> ([f32; 3], [f32; 3]) {
+pub fn relative_box(info: &MeshedChunkInfo, camera: &CullView, edge: u32) -> ([f32; 3], [f32; 3]) {
     let rel = relative_chunk(info, camera);
     let edge = edge as f32;
     let centre = std::array::from_fn(|i| {
@@ -30,7 +26,7 @@ pub fn relative_box(
 }
 
 /// `info.chunk - camera.chunk`, wrapping in `i32`: the chunk coordinate the commands carry.
-pub fn relative_chunk(info: &MeshedChunkInfo, camera: &CullCamera) -> [i32; 3] {
+pub fn relative_chunk(info: &MeshedChunkInfo, camera: &CullView) -> [i32; 3] {
     let c = [camera.chunk.x, camera.chunk.y, camera.chunk.z];
     std::array::from_fn(|i| info.chunk[i].wrapping_sub(c[i]))
 }
@@ -115,7 +111,7 @@ pub fn layer_range(info: &MeshedChunkInfo, layer: CullLayer) -> &FaceLayerRange 
 /// malformed, frustum, faces.
 pub fn cull_chunk(
     info: &MeshedChunkInfo,
-    camera: &CullCamera,
+    camera: &CullView,
     layer: CullLayer,
     layout: &CullLayout,
 ) -> ChunkCull {
@@ -153,7 +149,7 @@ pub fn face_draw_count(
 pub fn cull_node(
     info: &MeshedChunkInfo,
     node: &NodeRecord,
-    camera: &CullCamera,
+    camera: &CullView,
     layer: CullLayer,
     layout: &CullLayout,
     params: &CullParams,
@@ -236,7 +232,7 @@ pub fn cull_node(
 /// The node's box in camera-relative space, `(centre, half size)`: its level-0 chunk
 /// difference (`chunk << level - camera chunk`, wrapping) times the edge, minus the camera
 /// offset, plus its chunk-local box scaled by `2^level`; each step one `f32` operation.
-pub fn node_box(info: &MeshedChunkInfo, camera: &CullCamera, edge: u32) -> ([f32; 3], [f32; 3]) {
+pub fn node_box(info: &MeshedChunkInfo, camera: &CullView, edge: u32) -> ([f32; 3], [f32; 3]) {
     let level = info.lod.min(15);
     let rel = node_rel(info, camera);
     let scale = (1u32 << level) as f32;
@@ -249,7 +245,7 @@ pub fn node_box(info: &MeshedChunkInfo, camera: &CullCamera, edge: u32) -> ([f32
 
 /// `(info.chunk << level) - camera.chunk`, wrapping in `i32`: the level-0 chunk difference the
 /// commands carry.
-pub fn node_rel(info: &MeshedChunkInfo, camera: &CullCamera) -> [i32; 3] {
+pub fn node_rel(info: &MeshedChunkInfo, camera: &CullView) -> [i32; 3] {
     let level = info.lod.min(15);
     let c = [camera.chunk.x, camera.chunk.y, camera.chunk.z];
     std::array::from_fn(|i| (info.chunk[i] << level).wrapping_sub(c[i]))
@@ -297,7 +293,7 @@ pub struct CullReference {
 /// no node records.
 pub fn cull_reference(
     records: &[MeshedChunkInfo],
-    camera: &CullCamera,
+    camera: &CullView,
     layer: CullLayer,
     layout: &CullLayout,
 ) -> CullReference {
@@ -316,7 +312,7 @@ pub fn cull_reference(
 pub fn cull_reference_with(
     records: &[MeshedChunkInfo],
     nodes: &[NodeRecord],
-    camera: &CullCamera,
+    camera: &CullView,
     layer: CullLayer,
     layout: &CullLayout,
     params: &CullParams,
@@ -377,7 +373,7 @@ pub(super) fn push_commands(
     out: &mut CullReference,
     info: &MeshedChunkInfo,
     node: &NodeRecord,
-    camera: &CullCamera,
+    camera: &CullView,
     layer: CullLayer,
     layout: &CullLayout,
     visible: &VisibleNode,
@@ -415,7 +411,7 @@ fn push_smooth(
     out: &mut CullReference,
     info: &MeshedChunkInfo,
     node: &NodeRecord,
-    camera: &CullCamera,
+    camera: &CullView,
     layout: &CullLayout,
     pair: u32,
 ) {
@@ -448,7 +444,7 @@ mod tests {
     use voxel_core::ChunkCoord;
 
     use super::*;
-    use crate::cull::camera::PLANE_KEEP_ALL;
+    use crate::cull::view::PLANE_KEEP_ALL;
 
     #[test]
     fn face_mask_compares_the_eye_with_the_box_planes() {
@@ -483,10 +479,8 @@ mod tests {
             extent: [8.0; 3],
             ..MeshedChunkInfo::default()
         };
-        let camera = CullCamera::without_frustum(
-            ChunkCoord::new(i32::MAX, i32::MAX - 1, 5),
-            [0.5, 15.5, 8.0],
-        );
+        let camera =
+            CullView::without_frustum(ChunkCoord::new(i32::MAX, i32::MAX - 1, 5), [0.5, 15.5, 8.0]);
         // x: i32::MIN - i32::MAX wraps to 1; y: 1; z: 0.
         assert_eq!(relative_chunk(&info, &camera), [1, 1, 0]);
         let (c, e) = relative_box(&info, &camera, 16);

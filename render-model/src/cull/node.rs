@@ -3,8 +3,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::chunk_table::TableEntry;
-use crate::gigabuffer::ChunkRanges;
+use crate::resident::ChunkRanges;
 
 /// `NodeRecord::flags` bit: the node has far-draw blocks and a hiding mask.
 pub const NODE_HAS_BLOCKS: u32 = 1;
@@ -45,24 +44,6 @@ pub struct NodeRecord {
 }
 
 const _: () = assert!(size_of::<NodeRecord>() == 64, "NodeRecord is 64 bytes");
-
-impl TableEntry for NodeRecord {
-    /// Nothing: no smooth quads, no blocks.
-    const VACANT: Self = NodeRecord {
-        smooth_quad_offset: 0,
-        smooth_quad_count: 0,
-        smooth_quad_form: 0,
-        block_offset: 0,
-        block_count: 0,
-        mask_offset: 0,
-        mask_words: 0,
-        flags: 0,
-        opaque_skirts: [0; 3],
-        block_skirts: [0; 3],
-        pad: [0; 2],
-    };
-    const LABEL: &'static str = "node table (NodeRecord)";
-}
 
 /// Why a chunk's ranges do not fit a [`NodeRecord`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -145,39 +126,6 @@ const _: () = assert!(size_of::<DrawRecord>() == 16, "DrawRecord is 16 bytes");
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shaders::{CULL, struct_layout, validate};
-    use std::mem::offset_of;
-
-    #[test]
-    fn node_record_matches_its_wgsl_twin() {
-        let module = validate(CULL.name, &CULL.source()).unwrap_or_else(|e| panic!("{e}"));
-        let (members, size) = struct_layout(&module, "NodeRecord");
-        assert_eq!(size, size_of::<NodeRecord>());
-        let got: Vec<(&str, usize)> = members.iter().map(|(n, o)| (n.as_str(), *o)).collect();
-        assert_eq!(
-            got,
-            [
-                (
-                    "smooth_quad_offset",
-                    offset_of!(NodeRecord, smooth_quad_offset)
-                ),
-                (
-                    "smooth_quad_count",
-                    offset_of!(NodeRecord, smooth_quad_count)
-                ),
-                ("smooth_quad_form", offset_of!(NodeRecord, smooth_quad_form)),
-                ("block_offset", offset_of!(NodeRecord, block_offset)),
-                ("block_count", offset_of!(NodeRecord, block_count)),
-                ("mask_offset", offset_of!(NodeRecord, mask_offset)),
-                ("mask_words", offset_of!(NodeRecord, mask_words)),
-                ("flags", offset_of!(NodeRecord, flags)),
-                ("opaque_skirts", offset_of!(NodeRecord, opaque_skirts)),
-                ("block_skirts", offset_of!(NodeRecord, block_skirts)),
-                ("pad0", offset_of!(NodeRecord, pad)),
-                ("pad1", offset_of!(NodeRecord, pad) + 4),
-            ]
-        );
-    }
 
     #[test]
     fn skirt_counts_pack_two_per_word_and_refuse_overflow() {

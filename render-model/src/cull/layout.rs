@@ -7,9 +7,11 @@ use std::ops::Range;
 use bytemuck::{Pod, Zeroable};
 use voxel_core::ChunkSize;
 
-use super::camera::{CullCamera, CullLayer};
 use super::lod::LodParams;
-use crate::gigabuffer::{DataKind, PageLayout};
+use super::view::{CullLayer, CullView};
+use voxel_core::formats::DataKind;
+
+use crate::pages::PageLayout;
 
 /// Largest page count of the quad gigabuffer one cull handles (the shader's workgroup arrays).
 /// 256 pages of 128 MiB (lavapipe's binding limit) are 32 GiB, the most 32-bit element offsets
@@ -77,19 +79,6 @@ const _: () = assert!(
     size_of::<DrawIndexedArgs>() == 20,
     "DrawIndexedArgs must be wgpu's 20-byte DrawIndexedIndirectArgs"
 );
-
-impl DrawIndexedArgs {
-    /// The same bytes as wgpu's own type.
-    pub fn to_wgpu(self) -> wgpu::util::DrawIndexedIndirectArgs {
-        wgpu::util::DrawIndexedIndirectArgs {
-            index_count: self.index_count,
-            instance_count: self.instance_count,
-            first_index: self.first_index,
-            base_vertex: self.base_vertex,
-            first_instance: self.first_instance,
-        }
-    }
-}
 
 /// The cull shader's uniform block (`CullUniforms` in `cull.wgsl`), 320 bytes; a unit test
 /// checks every offset against naga's layout of the WGSL struct.
@@ -192,7 +181,7 @@ impl CullUniforms {
     /// The uniforms of one record.
     pub fn new(
         layout: &CullLayout,
-        camera: &CullCamera,
+        camera: &CullView,
         layer: CullLayer,
         slot_bound: u32,
         params: &CullParams,
@@ -280,7 +269,7 @@ impl SmoothPages {
     }
 }
 
-/// How a [`CullPass`](super::CullPass) and its outputs are sized.
+/// How a cull pass (`gpu_backend::cull::CullPass`) and its outputs are sized.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CullConfig {
     /// Chunk edge of the scene (places chunks; bounds face groups).
