@@ -2,25 +2,22 @@
 //!
 //! The wgpu backend of the voxel meshing stack: it consumes the packed buffers of
 //! `voxel-core` (decoding them in WGSL with the formats' own twins, never a re-written copy)
-//! and draws them.
+//! and draws them, following the rules `render-model` states without a GPU.
 //!
 //! - [`device`]: headless and windowed device setup, adapter choice with a clear error, feature
 //!   probing with recorded fallbacks ([`GpuCapabilities`]), limits from the adapter; or a host
 //!   engine's own instance, adapter, device and queue adopted with
 //!   [`GpuContext::from_wgpu`] (limits checked, missing ones named);
-//! - [`gigabuffer`]: one paged storage buffer per kind of chunk data, sub-allocated with
-//!   `offset-allocator`, generation-checked chunk handles, per-frame batched uploads;
-//! - [`chunk_table`]: the near (`MeshedChunkInfo`) and far (`ChunkDrawInfo`) chunk tables on the
-//!   GPU, written incrementally;
+//! - [`residency`]: the resident nodes: the [`residency::gigabuffer`] (one paged storage buffer
+//!   per kind of node data, sub-allocated with `offset-allocator`, generation-checked handles,
+//!   per-frame batched uploads) and the [`residency::chunk_table`]s (`MeshedChunkInfo` and
+//!   node records in the same slots, written incrementally);
+//! - [`render`]: the renderer ([`Renderer`]): a frame of passes, one file each with its shader
+//!   ([`render::passes`]: cull, compute quad raster, far splat and raster far draws, G-buffer,
+//!   Hi-Z, lighting, transparent, tonemap, present), recorded into one encoder per frame;
+//!   [`render::external`] draws its frame into a host's own colour and depth targets;
 //! - [`shaders`]: WGSL composition on top of `voxel_core::formats::FORMATS_WGSL`, validated
 //!   with naga;
-//! - [`cull`]: the cull pass (frustum, per-face-direction, level-of-detail and two-phase
-//!   occlusion culling into multi-draw-indirect commands) and its CPU reference;
-//! - [`hiz`]: the depth pyramid the occlusion cull tests against;
-//! - [`render`]: the renderer: vertex-pulled greedy and smooth quads into a G-buffer, far
-//!   draws, deferred lighting, a back-to-front transparent pass and a tonemap, recorded into
-//!   one encoder per frame ([`Renderer`]); [`render::external`] draws its frame into a host's
-//!   own colour and depth targets;
 //! - [`present`]: a window's swapchain ([`WindowOutput`]) and the pass that copies the
 //!   renderer's output into it;
 //! - [`pass_chain`]: a frame's consecutive compute steps in one compute pass;
@@ -34,13 +31,8 @@
 //! Only the Vulkan backend is compiled (lavapipe in CI, the vendor driver on GPU machines).
 
 mod bind;
-pub mod chunk_table;
-pub mod cull;
 pub mod device;
 mod dirty_ranges;
-mod fullscreen;
-pub mod gigabuffer;
-pub mod hiz;
 pub mod pass_chain;
 pub mod png;
 pub mod present;
@@ -49,6 +41,7 @@ pub mod readback;
 #[cfg(not(feature = "test-support"))]
 mod readback;
 pub mod render;
+pub mod residency;
 pub mod shaders;
 #[cfg(feature = "test-support")]
 pub mod test_support;
@@ -56,13 +49,15 @@ pub mod timing;
 #[cfg(test)]
 mod twins;
 
-pub use chunk_table::{FarChunkTable, GpuTable, MeshedChunkTable, TableError, TableSlot};
-pub use cull::{CullOutput, CullPass};
 pub use device::{
     DeviceError, DeviceOptions, GpuCapabilities, GpuContext, MultiDrawPath, TimingPath,
 };
-pub use gigabuffer::{ChunkHandle, Gigabuffer, GigabufferConfig, GigabufferError, UploadedChunk};
 pub use present::{FrameSkipped, WindowFrame, WindowOutput};
 pub use readback::ReadbackError;
+pub use render::passes::cull::{CullOutput, CullPass};
 pub use render::{Renderer, RendererConfig};
+pub use residency::{
+    ChunkHandle, FarChunkTable, Gigabuffer, GigabufferConfig, GigabufferError, GpuTable,
+    MeshedChunkTable, Residency, ResidencyError, TableError, TableSlot, UploadedChunk,
+};
 pub use timing::{GpuTimer, PassTime};

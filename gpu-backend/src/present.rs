@@ -35,7 +35,6 @@
 //! until [`WindowOutput::resize`] gives a real size. Sizes above the device's texture limit are
 //! clamped.
 
-mod blit;
 mod format;
 mod windowed;
 
@@ -47,8 +46,8 @@ use wgpu::{
     PresentMode, Queue, Surface, SurfaceConfiguration, SurfaceTexture, TextureFormat, TextureView,
 };
 
-pub use blit::PresentBlit;
-pub use format::{SurfaceEncoding, choose_surface_format};
+pub use crate::render::passes::present::{PresentBlit, SurfaceEncoding};
+pub use format::choose_surface_format;
 
 use crate::device::{DeviceError, GpuContext};
 

@@ -1,6 +1,7 @@
 //! WGSL sources: every shader is voxel-core's [`FORMATS_WGSL`] (the twins of the packed
-//! formats, never re-written here) followed by a body from `src/shaders/`, composed in one
-//! place, [`ShaderSpec::source`]. Each composed module is validated with naga in a unit test,
+//! formats, never re-written here) followed by a body: a pass's own shader beside its file in
+//! `src/render/passes/` (`gbuffer.rs` and `gbuffer.wgsl`), after the includes it shares with
+//! other passes from `src/shaders/`, composed in one place, [`ShaderSpec::source`]. Each composed module is validated with naga in a unit test,
 //! without a GPU.
 //!
 //! [`FORMATS_WGSL`]: voxel_core::formats::FORMATS_WGSL
@@ -30,65 +31,94 @@ pub const FORMAT_PARITY: ShaderSpec = ShaderSpec {
 };
 
 /// The cull pass: table slots to per-page multi-draw-indirect commands (entry point `cull`;
-/// see [`crate::cull`]).
+/// see [`crate::render::passes::cull`]).
 pub const CULL: ShaderSpec = ShaderSpec {
     capabilities: naga::valid::Capabilities::empty(),
     name: "cull",
     body: concat!(
         include_str!("shaders/node.wgsl"),
         include_str!("shaders/lod.wgsl"),
-        include_str!("shaders/hiz.wgsl"),
-        include_str!("shaders/cull.wgsl")
+        include_str!("shaders/hiz_test.wgsl"),
+        include_str!("render/passes/cull.wgsl")
     ),
 };
 
-/// The renderer's geometry passes (entry points `vs_quad`, `vs_quad_transparent`, `vs_smooth`,
-/// `fs_gbuffer`, `fs_transparent`; see [`crate::render`]).
+/// The G-buffer pass (entry points `vs_quad`, `vs_smooth`, `fs_gbuffer`, and the wireframe
+/// view's `vs_quad_wire`, `vs_smooth_wire`, `fs_gbuffer_wire`; see
+/// [`crate::render::passes::gbuffer`]).
 pub const GBUFFER: ShaderSpec = ShaderSpec {
     capabilities: naga::valid::Capabilities::empty(),
     name: "gbuffer",
     body: concat!(
         include_str!("shaders/render_common.wgsl"),
-        include_str!("shaders/gbuffer.wgsl")
+        include_str!("shaders/surface.wgsl"),
+        include_str!("render/passes/gbuffer.wgsl")
     ),
 };
 
-/// The renderer's full-screen passes (entry points `vs_fullscreen`, `fs_lighting`,
-/// `fs_tonemap`; see [`crate::render`]).
-pub const DEFERRED: ShaderSpec = ShaderSpec {
+/// The transparent pass (entry points `vs_quad_transparent`, `fs_transparent`,
+/// `fs_transparent_over_visibility`; see [`crate::render::passes::transparent`]).
+pub const TRANSPARENT: ShaderSpec = ShaderSpec {
     capabilities: naga::valid::Capabilities::empty(),
-    name: "deferred",
+    name: "transparent",
     body: concat!(
         include_str!("shaders/render_common.wgsl"),
-        include_str!("shaders/deferred.wgsl")
+        include_str!("shaders/surface.wgsl"),
+        include_str!("render/passes/transparent.wgsl")
+    ),
+};
+
+/// The lighting pass (entry points `vs_fullscreen`, `fs_lighting`, `cs_lighting`; see
+/// [`crate::render::passes::lighting`]).
+pub const LIGHTING: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "lighting",
+    body: concat!(
+        include_str!("shaders/render_common.wgsl"),
+        include_str!("shaders/fullscreen.wgsl"),
+        include_str!("render/passes/lighting.wgsl")
+    ),
+};
+
+/// The tonemap pass (entry points `vs_fullscreen`, `fs_tonemap`, `cs_tonemap`; see
+/// [`crate::render::passes::tonemap`]).
+pub const TONEMAP: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "tonemap",
+    body: concat!(
+        include_str!("shaders/render_common.wgsl"),
+        include_str!("shaders/fullscreen.wgsl"),
+        include_str!("render/passes/tonemap.wgsl")
     ),
 };
 
 /// Window presentation: the renderer's output copied into the swapchain image (entry points
-/// `vs_present`, `fs_present`, `fs_present_encode`; see [`crate::present`]).
+/// `vs_present`, `fs_present`, `fs_present_encode`; see [`crate::render::passes::present`]).
 pub const PRESENT: ShaderSpec = ShaderSpec {
     capabilities: naga::valid::Capabilities::empty(),
     name: "present",
-    body: include_str!("shaders/present.wgsl"),
+    body: include_str!("render/passes/present.wgsl"),
 };
 
-/// The far draws' compute splat (see [`crate::render::far`]): needs 64-bit atomic min/max.
-pub const SPLAT: ShaderSpec = ShaderSpec {
+/// The far draws' compute splat (see [`crate::render::passes::far_splat`]): needs 64-bit
+/// atomic min/max.
+pub const FAR_SPLAT: ShaderSpec = ShaderSpec {
     capabilities: naga::valid::Capabilities::SHADER_INT64
         .union(naga::valid::Capabilities::SHADER_INT64_ATOMIC_MIN_MAX),
-    name: "splat",
+    name: "far_splat",
     body: concat!(
         include_str!("shaders/render_common.wgsl"),
         include_str!("shaders/node.wgsl"),
         include_str!("shaders/far_blocks.wgsl"),
         include_str!("shaders/far_ao.wgsl"),
-        include_str!("shaders/splat.wgsl")
+        include_str!("render/passes/far_splat.wgsl")
     ),
 };
 
-/// The raster far draws (see [`crate::render::far`]): sprites (entry points `vs_sprite`,
-/// `fs_sprite`, `vs_sprite_transparent`, `fs_sprite_transparent`) and cubes (`vs_cube`,
-/// `vs_cube_transparent` with [`GBUFFER`]'s `fs_gbuffer` and `fs_transparent`).
+/// The raster far draws (see [`crate::render::passes::far_raster`]): sprites (entry points
+/// `vs_sprite`, `fs_sprite`, `vs_sprite_transparent`, `fs_sprite_transparent`) and cubes
+/// (`vs_cube`, `vs_cube_transparent` with the G-buffer pass's `fs_gbuffer` and the transparent
+/// pass's `fs_transparent`).
 pub const FAR_RASTER: ShaderSpec = ShaderSpec {
     capabilities: naga::valid::Capabilities::empty(),
     name: "far_raster",
@@ -97,8 +127,10 @@ pub const FAR_RASTER: ShaderSpec = ShaderSpec {
         include_str!("shaders/node.wgsl"),
         include_str!("shaders/far_blocks.wgsl"),
         include_str!("shaders/far_ao.wgsl"),
-        include_str!("shaders/gbuffer.wgsl"),
-        include_str!("shaders/far_raster.wgsl")
+        include_str!("shaders/surface.wgsl"),
+        include_str!("render/passes/gbuffer.wgsl"),
+        include_str!("render/passes/transparent.wgsl"),
+        include_str!("render/passes/far_raster.wgsl")
     ),
 };
 
@@ -112,8 +144,10 @@ pub const FAR_RASTER_CONSERVATIVE: ShaderSpec = ShaderSpec {
         include_str!("shaders/node.wgsl"),
         include_str!("shaders/far_blocks.wgsl"),
         include_str!("shaders/far_ao.wgsl"),
-        include_str!("shaders/gbuffer.wgsl"),
-        include_str!("shaders/far_raster.wgsl"),
+        include_str!("shaders/surface.wgsl"),
+        include_str!("render/passes/gbuffer.wgsl"),
+        include_str!("render/passes/transparent.wgsl"),
+        include_str!("render/passes/far_raster.wgsl"),
         include_str!("shaders/far_raster_conservative.wgsl")
     ),
 };
@@ -137,14 +171,14 @@ pub const FAR_ARGS: ShaderSpec = ShaderSpec {
 };
 
 /// The compute rasteriser of opaque greedy quads (entry points `qr_quads`, `qr_tiles`; see
-/// [`crate::render::quad_raster`]): needs 64-bit atomic min/max.
+/// [`crate::render::passes::quad_raster`]): needs 64-bit atomic min/max.
 pub const QUAD_RASTER: ShaderSpec = ShaderSpec {
     capabilities: naga::valid::Capabilities::SHADER_INT64
         .union(naga::valid::Capabilities::SHADER_INT64_ATOMIC_MIN_MAX),
     name: "quad_raster",
     body: concat!(
         include_str!("shaders/render_common.wgsl"),
-        include_str!("shaders/quad_raster.wgsl")
+        include_str!("render/passes/quad_raster.wgsl")
     ),
 };
 
@@ -155,16 +189,18 @@ pub const QUAD_RASTER_ARGS: ShaderSpec = ShaderSpec {
     body: include_str!("shaders/quad_raster_args.wgsl"),
 };
 
-/// The Hi-Z test functions (`hiz_rect_visible` and its steps; see [`crate::hiz`]): no bindings,
-/// prepended to a shader that declares `var hiz_texture: texture_2d<f32>`, e.g. a body of
-/// `concat!(include_str!("shaders/hiz.wgsl"), include_str!("shaders/cull.wgsl"))`.
-pub const HIZ_FUNCTIONS: &str = include_str!("shaders/hiz.wgsl");
+/// The Hi-Z test functions (`hiz_rect_visible` and its steps; see
+/// [`crate::render::passes::hiz`]): no bindings, prepended to a shader that declares
+/// `var hiz_texture: texture_2d<f32>`, e.g. a body of
+/// `concat!(include_str!("shaders/hiz_test.wgsl"), include_str!("render/passes/cull.wgsl"))`.
+pub const HIZ_FUNCTIONS: &str = include_str!("shaders/hiz_test.wgsl");
 
-/// The depth pyramid's build (entry points `hiz_level0`, `hiz_reduce`; see [`crate::hiz`]).
-pub const HIZ_BUILD: ShaderSpec = ShaderSpec {
+/// The depth pyramid's build (entry points `hiz_level0`, `hiz_reduce`, `hiz_tail`; see
+/// [`crate::render::passes::hiz`]).
+pub const HIZ: ShaderSpec = ShaderSpec {
     capabilities: naga::valid::Capabilities::empty(),
-    name: "hiz_build",
-    body: include_str!("shaders/hiz_build.wgsl"),
+    name: "hiz",
+    body: include_str!("render/passes/hiz.wgsl"),
 };
 
 /// [`HIZ_FUNCTIONS`] run on a list of rectangles (entry point `hiz_probe`): the GPU test of the
@@ -173,7 +209,7 @@ pub const HIZ_PROBE: ShaderSpec = ShaderSpec {
     capabilities: naga::valid::Capabilities::empty(),
     name: "hiz_probe",
     body: concat!(
-        include_str!("shaders/hiz.wgsl"),
+        include_str!("shaders/hiz_test.wgsl"),
         include_str!("shaders/hiz_probe.wgsl")
     ),
 };
@@ -190,15 +226,17 @@ pub const ALL_SHADERS: &[ShaderSpec] = &[
     FORMAT_PARITY,
     CULL,
     GBUFFER,
-    DEFERRED,
+    TRANSPARENT,
+    LIGHTING,
+    TONEMAP,
     PRESENT,
-    SPLAT,
+    FAR_SPLAT,
     FAR_ARGS,
     FAR_RASTER,
     FAR_RASTER_CONSERVATIVE,
     FAR_DRAW_ARGS,
     LIST_ARGS,
-    HIZ_BUILD,
+    HIZ,
     HIZ_PROBE,
     QUAD_RASTER,
     QUAD_RASTER_ARGS,

@@ -180,7 +180,7 @@ mod frame {
     use render_model::frame::{FrameUniforms, SmoothDraw};
     use render_model::lighting::LightingUniforms;
 
-    use crate::shaders::{DEFERRED, GBUFFER, struct_layout, validate};
+    use crate::shaders::{GBUFFER, LIGHTING, struct_layout, validate};
 
     fn check(module: &naga::Module, name: &str, size: usize, expected: &[(&str, usize)]) {
         let (members, span) = struct_layout(module, name);
@@ -191,7 +191,7 @@ mod frame {
 
     #[test]
     fn uniforms_and_records_match_their_wgsl_twins() {
-        for spec in [GBUFFER, DEFERRED] {
+        for spec in [GBUFFER, LIGHTING] {
             let module = validate(spec.name, &spec.source()).unwrap_or_else(|e| panic!("{e}"));
             check(
                 &module,

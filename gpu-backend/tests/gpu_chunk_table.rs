@@ -3,10 +3,9 @@
 
 mod common;
 
-use gpu_backend::chunk_table::{
-    FarChunkTable, MeshedChunkTable, TableEntry, TableError, TableSlot,
-};
 use gpu_backend::readback::read_whole;
+use gpu_backend::residency::chunk_table::TableEntry;
+use gpu_backend::residency::{FarChunkTable, MeshedChunkTable, TableError, TableSlot};
 use gpu_backend::test_support::headless_or_skip;
 use gpu_backend::{DeviceOptions, GpuContext};
 use voxel_core::ChunkCoord;

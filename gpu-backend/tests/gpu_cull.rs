@@ -21,8 +21,9 @@ mod gpu_cull_support;
 use std::sync::OnceLock;
 
 use common::Rng;
-use gpu_backend::chunk_table::MeshedChunkTable;
-use gpu_backend::cull::{CullOutput, CullPass, CullReadback};
+use gpu_backend::render::passes::cull::CullRequest;
+use gpu_backend::render::passes::cull::{CullOutput, CullPass, CullReadback};
+use gpu_backend::residency::MeshedChunkTable;
 use gpu_backend::test_support::{NO_ADAPTER, headless, skip};
 use gpu_backend::{DeviceOptions, GpuContext, MultiDrawPath};
 use gpu_cull_support::{
@@ -92,9 +93,15 @@ fn cull_on_gpu(
     table.flush(&ctx.queue);
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
     if ordered {
-        pass.record_ordered(&mut encoder, table, camera, layer, output)
+        pass.record(
+            &mut encoder,
+            &CullRequest::new(table, camera, layer, output).back_to_front(),
+        )
     } else {
-        pass.record(&mut encoder, table, camera, layer, output)
+        pass.record(
+            &mut encoder,
+            &CullRequest::new(table, camera, layer, output),
+        )
     }
     .unwrap();
     ctx.queue.submit([encoder.finish()]);
@@ -402,8 +409,11 @@ fn extra_views_and_overflow() {
         ];
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         for (camera, output) in cameras[..2].iter().zip(&outputs) {
-            pass.record(&mut encoder, &table, camera, CullLayer::Opaque, output)
-                .unwrap();
+            pass.record(
+                &mut encoder,
+                &CullRequest::new(&table, camera, CullLayer::Opaque, output),
+            )
+            .unwrap();
         }
         ctx.queue.submit([encoder.finish()]);
         for (i, output) in outputs.iter().enumerate() {
@@ -434,13 +444,19 @@ fn extra_views_and_overflow() {
             copy("counts a", output.counts()),
         );
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
-        pass.record(&mut encoder, &table, &cameras[0], CullLayer::Opaque, output)
-            .unwrap();
+        pass.record(
+            &mut encoder,
+            &CullRequest::new(&table, &cameras[0], CullLayer::Opaque, output),
+        )
+        .unwrap();
         encoder.copy_buffer_to_buffer(output.records(), 0, &records_a, 0, None);
         encoder.copy_buffer_to_buffer(output.args(), 0, &args_a, 0, None);
         encoder.copy_buffer_to_buffer(output.counts(), 0, &counts_a, 0, None);
-        pass.record(&mut encoder, &table, &cameras[1], CullLayer::Opaque, output)
-            .unwrap();
+        pass.record(
+            &mut encoder,
+            &CullRequest::new(&table, &cameras[1], CullLayer::Opaque, output),
+        )
+        .unwrap();
         ctx.queue.submit([encoder.finish()]);
         let second = output.read(&ctx.device, &ctx.queue).unwrap();
         assert_matches(
@@ -486,10 +502,7 @@ fn extra_views_and_overflow() {
         assert!(
             pass.record(
                 &mut ctx.device.create_command_encoder(&Default::default()),
-                &table,
-                &cameras[2],
-                CullLayer::Opaque,
-                &small_output
+                &CullRequest::new(&table, &cameras[2], CullLayer::Opaque, &small_output)
             )
             .is_err(),
             "an output of another layout is refused"

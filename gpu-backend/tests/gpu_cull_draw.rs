@@ -15,8 +15,9 @@ mod common;
 mod gpu_cull_support;
 
 use common::Rng;
-use gpu_backend::cull::CullPass;
 use gpu_backend::readback::read_buffer;
+use gpu_backend::render::passes::cull::CullPass;
+use gpu_backend::render::passes::cull::CullRequest;
 use gpu_backend::shaders::compose;
 use gpu_backend::test_support::{headless_or_skip, skip};
 use gpu_backend::{DeviceOptions, GpuContext, MeshedChunkTable};
@@ -140,7 +141,7 @@ impl Probe {
     fn draw(
         &self,
         ctx: &GpuContext,
-        output: &gpu_backend::cull::CullOutput,
+        output: &gpu_backend::render::passes::cull::CullOutput,
         page: u32,
     ) -> Vec<u32> {
         let bind_group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -263,8 +264,11 @@ fn commands_drive_multi_draws() {
                 ctx.queue
                     .write_buffer(output.args(), 0, bytemuck::cast_slice(&garbage));
                 let mut encoder = ctx.device.create_command_encoder(&Default::default());
-                pass.record(&mut encoder, &table, camera, layer, &output)
-                    .unwrap();
+                pass.record(
+                    &mut encoder,
+                    &CullRequest::new(&table, camera, layer, &output),
+                )
+                .unwrap();
                 ctx.queue.submit([encoder.finish()]);
                 let gpu = output.read(&ctx.device, &ctx.queue).unwrap();
                 let commands: Vec<Command> = gpu

@@ -9,7 +9,8 @@ mod common;
 use std::time::Instant;
 
 use common::Rng;
-use gpu_backend::cull::CullPass;
+use gpu_backend::render::passes::cull::CullPass;
+use gpu_backend::render::passes::cull::CullRequest;
 use gpu_backend::test_support::headless_or_skip;
 use gpu_backend::timing::{GpuTimer, TimingSource};
 use gpu_backend::{DeviceOptions, MeshedChunkTable};
@@ -106,8 +107,11 @@ fn cull_400k_chunks() {
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         let scope = timer.begin(&mut encoder, "cull");
         let started = Instant::now();
-        pass.record(&mut encoder, &table, &camera, CullLayer::Opaque, &output)
-            .unwrap();
+        pass.record(
+            &mut encoder,
+            &CullRequest::new(&table, &camera, CullLayer::Opaque, &output),
+        )
+        .unwrap();
         record_ns.push(started.elapsed().as_nanos() as u64);
         timer.end(&mut encoder, scope);
         timer.resolve(&mut encoder);

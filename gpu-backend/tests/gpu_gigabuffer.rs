@@ -5,7 +5,7 @@
 mod common;
 
 use common::{Rng, flush_and_submit, read_range};
-use gpu_backend::gigabuffer::{Gigabuffer, GigabufferConfig, GigabufferError};
+use gpu_backend::residency::{Gigabuffer, GigabufferConfig, GigabufferError};
 use gpu_backend::test_support::headless_or_skip;
 use gpu_backend::{DeviceOptions, GpuContext};
 use render_model::resident::ChunkRanges;

@@ -23,7 +23,7 @@ mod gpu_hiz_support;
 use std::sync::OnceLock;
 
 use common::Rng;
-use gpu_backend::hiz::{DepthPyramid, HizError, TAIL_LEVELS};
+use gpu_backend::render::passes::hiz::{DepthPyramid, HizError, TAIL_LEVELS};
 use gpu_backend::shaders::{HIZ_PROBE, validate};
 use gpu_backend::test_support::headless_or_skip;
 use gpu_backend::{DeviceOptions, GpuContext, GpuTimer};

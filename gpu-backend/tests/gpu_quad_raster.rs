@@ -36,7 +36,7 @@ use std::f64::consts::PI;
 
 use common::Rng;
 use gpu_backend::DeviceOptions;
-use gpu_backend::render::quad_raster::{QuadRaster, QuadRasterError, QuadRasterInputs};
+use gpu_backend::render::passes::quad_raster::{QuadRaster, QuadRasterError, QuadRasterInputs};
 use gpu_backend::test_support::headless_or_skip;
 use gpu_quad_raster_support::{Frame, Rig, assert_close, bit_exact, compare, device, report};
 use render_model::camera::{Camera, Eye};
@@ -633,7 +633,7 @@ fn more_commands_than_one_dispatch_dimension() {
         return;
     };
     let mut rig = Rig::new(&ctx, 16, 16, &QuadRasterConfig::for_screen(16, 16, 1));
-    rig.cull = gpu_backend::cull::CullPass::new(
+    rig.cull = gpu_backend::render::passes::cull::CullPass::new(
         &ctx,
         rig.gigabuffer.layout(voxel_core::formats::DataKind::Quads),
         &render_model::cull::CullConfig {

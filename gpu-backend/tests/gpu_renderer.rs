@@ -5,6 +5,7 @@
 use glam::{Vec2, Vec3};
 use gpu_backend::DeviceOptions;
 use gpu_backend::render::{RenderError, Renderer, RendererConfig};
+use gpu_backend::residency::ResidencyError;
 use gpu_backend::test_support::headless_or_skip;
 use render_model::camera::Camera;
 use render_model::resident::ChunkMeshData;
@@ -106,7 +107,7 @@ fn uploads_appear_and_frees_disappear() {
     assert_eq!(centre_depth(&renderer), 0.0, "freed: sky again");
     assert!(matches!(
         renderer.free_chunk(handle),
-        Err(RenderError::UnknownChunk(h)) if h == handle
+        Err(RenderError::Residency(ResidencyError::UnknownChunk(h))) if h == handle
     ));
     assert_eq!(renderer.chunk_count(), 0);
 }
@@ -146,7 +147,10 @@ fn bad_input_is_an_error() {
         layers,
     };
     let err = renderer.upload_chunk(&third).unwrap_err();
-    assert!(matches!(err, RenderError::Table(_)), "{err}");
+    assert!(
+        matches!(err, RenderError::Residency(ResidencyError::Table(_))),
+        "{err}"
+    );
     assert_eq!(
         renderer.gigabuffer().resident(),
         used,

@@ -5,10 +5,11 @@
 
 use std::time::Instant;
 
-use render_model::cull::{CullConfig, CullError, CullLayer, CullParams, CullView};
+use render_model::cull::{CullConfig, CullError, CullLayer, CullView};
 
-use gpu_backend::cull::{CullInputs, CullPass, UniformSource};
 use gpu_backend::pass_chain::PassChain;
+use gpu_backend::render::passes::cull::CullRequest;
+use gpu_backend::render::passes::cull::{CullInputs, CullPass, UniformSource};
 use gpu_backend::test_support::{headless_or_skip, skip};
 use gpu_backend::timing::{FRAMES_IN_FLIGHT, GpuTimer, PassTime, TimerError, TimingSource};
 use gpu_backend::{DeviceOptions, GpuContext, MeshedChunkTable, TimingPath};
@@ -161,8 +162,11 @@ fn time_frame(ctx: &GpuContext, timer: &mut GpuTimer) -> (Vec<PassTime>, u128) {
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
     busy.record(&mut encoder, LIGHT);
     busy.record(&mut encoder, HEAVY);
-    cull.record(&mut encoder, &table, &camera, CullLayer::Opaque, &output)
-        .unwrap();
+    cull.record(
+        &mut encoder,
+        &CullRequest::new(&table, &camera, CullLayer::Opaque, &output),
+    )
+    .unwrap();
     ctx.queue.submit([encoder.finish()]);
     ctx.device
         .poll(wgpu::PollType::wait_indefinitely())
@@ -176,8 +180,11 @@ fn time_frame(ctx: &GpuContext, timer: &mut GpuTimer) -> (Vec<PassTime>, u128) {
     busy.record(&mut encoder, HEAVY);
     timer.end(&mut encoder, scope);
     let scope = timer.begin(&mut encoder, "cull");
-    cull.record(&mut encoder, &table, &camera, CullLayer::Opaque, &output)
-        .unwrap();
+    cull.record(
+        &mut encoder,
+        &CullRequest::new(&table, &camera, CullLayer::Opaque, &output),
+    )
+    .unwrap();
     timer.end(&mut encoder, scope);
     if let Some(writes) = timer.compute_pass_writes("heavy pass") {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -415,8 +422,11 @@ fn time_chain(ctx: &GpuContext, timer: &mut GpuTimer) -> (Vec<PassTime>, u32, Ve
     let inputs = table_only(&table);
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
     // The uniforms from a shared staging buffer, after 256 bytes of someone else's.
-    let params = CullParams::default();
-    let uniforms = cull.uniforms(&inputs, &camera, CullLayer::Opaque, &params);
+    let request = CullRequest {
+        inputs,
+        ..CullRequest::new(&table, &camera, CullLayer::Opaque, &output)
+    };
+    let uniforms = cull.uniforms(&request);
     let mut bytes = vec![0xAB; 256];
     bytes.extend_from_slice(bytemuck::bytes_of(&uniforms));
     let staging = ctx
@@ -426,22 +436,18 @@ fn time_chain(ctx: &GpuContext, timer: &mut GpuTimer) -> (Vec<PassTime>, u32, Ve
             contents: &bytes,
             usage: wgpu::BufferUsages::COPY_SRC,
         });
-    let inputs = CullInputs {
-        uniforms: UniformSource::Staged {
-            buffer: &staging,
-            offset: 256,
+    let request = CullRequest {
+        inputs: CullInputs {
+            uniforms: UniformSource::Staged {
+                buffer: &staging,
+                offset: 256,
+            },
+            ..inputs
         },
-        ..inputs
+        ..request
     };
     let prepared = cull
-        .prepare_with(
-            &mut encoder,
-            &inputs,
-            &camera,
-            CullLayer::Opaque,
-            &output,
-            &params,
-        )
+        .prepare(&mut encoder, &request)
         .unwrap()
         .expect("the table has slots");
     let mut chain = PassChain::new(&mut encoder, "chained");
@@ -468,8 +474,11 @@ fn cull_alone(ctx: &GpuContext) -> Vec<u32> {
     let output = cull.create_output("alone").unwrap();
     let camera = CullView::without_frustum(ChunkCoord::new(0, 0, 0), [1.0; 3]);
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    cull.record(&mut encoder, &table, &camera, CullLayer::Opaque, &output)
-        .unwrap();
+    cull.record(
+        &mut encoder,
+        &CullRequest::new(&table, &camera, CullLayer::Opaque, &output),
+    )
+    .unwrap();
     ctx.queue.submit([encoder.finish()]);
     output.read(&ctx.device, &ctx.queue).unwrap().wanted
 }
@@ -558,14 +567,11 @@ fn staged_uniforms_that_cannot_be_copied_are_errors() {
             uniforms: UniformSource::Staged { buffer, offset },
             ..inputs
         };
-        let result = cull.prepare_with(
-            &mut encoder,
-            &inputs,
-            &camera,
-            CullLayer::Opaque,
-            &output,
-            &CullParams::default(),
-        );
+        let request = CullRequest {
+            inputs,
+            ..CullRequest::new(&table, &camera, CullLayer::Opaque, &output)
+        };
+        let result = cull.prepare(&mut encoder, &request);
         let error = result.expect_err("an unusable staging buffer");
         assert_eq!(
             error,

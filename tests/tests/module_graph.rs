@@ -1,5 +1,6 @@
-//! No module cycles: in `gpu-backend` and `mesher` (every folder of each), no module imports,
-//! through others, a module that imports it, so each can be read after the ones it uses.
+//! No module cycles: in `gpu-backend`, `render-model` and `mesher` (every folder of each), no
+//! module imports, through others, a module that imports it, so each can be read after the
+//! ones it uses.
 //!
 //! The graph is read from the sources. Every path that starts with `crate::`, `super::` or
 //! `self::` outside comments (`use` groups included) is resolved from the file's own module to
@@ -236,6 +237,13 @@ fn cycles(src: &Path, check: impl Fn(&[String]) -> bool) -> (usize, Vec<String>)
 fn gpu_backend_modules_import_each_other_without_cycles() {
     let (edges, found) = cycles(&crate_src("gpu-backend"), |_| true);
     assert!(edges > 50, "only {edges} edges found: the reader is broken");
+    assert!(found.is_empty(), "module cycles:\n{}", found.join("\n"));
+}
+
+#[test]
+fn render_model_modules_import_each_other_without_cycles() {
+    let (edges, found) = cycles(&crate_src("render-model"), |_| true);
+    assert!(edges > 15, "only {edges} edges found: the reader is broken");
     assert!(found.is_empty(), "module cycles:\n{}", found.join("\n"));
 }
 

@@ -3,9 +3,9 @@
 
 use std::fmt;
 
-use gpu_backend::gigabuffer::ChunkHandle;
 use gpu_backend::render::far::FarRequest;
 use gpu_backend::render::{RenderError, Renderer, RendererConfig, SceneFootprint};
+use gpu_backend::residency::ChunkHandle;
 use gpu_backend::{DeviceError, DeviceOptions, GpuContext, PassTime};
 use mesher::lod::NodeMesh;
 use mesher::{BlockClasses, ChunkMesh, MeshError, MeshSettings};

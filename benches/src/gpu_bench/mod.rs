@@ -15,11 +15,11 @@ mod report;
 use std::time::Instant;
 
 use gpu_backend::GpuContext;
-use gpu_backend::gigabuffer::GigabufferConfig;
 use gpu_backend::render::far::{FarChoice, FarRequest};
 use gpu_backend::render::{
     FrameImage, FullscreenPath, OpaquePath, RenderError, Renderer, RendererConfig,
 };
+use gpu_backend::residency::GigabufferConfig;
 use mesher::lod::NodeMesh;
 use render_model::camera::Camera;
 use render_model::cull::{LodParams, LodSettings, lod};

@@ -2,15 +2,7 @@
 
 use wgpu::TextureFormat;
 
-/// Where the sRGB transfer function is applied on the way to the swapchain image.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SurfaceEncoding {
-    /// The swapchain format is sRGB: the hardware encodes on write.
-    Hardware,
-    /// The swapchain format is a plain unorm format that the compositor reads as sRGB: the
-    /// present shader encodes (`fs_present_encode`).
-    Shader,
-}
+use crate::render::passes::present::SurfaceEncoding;
 
 /// The format to configure from a surface's `formats` (the adapter's list, preferred first),
 /// or `None` when none is usable.

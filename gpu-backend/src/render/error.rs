@@ -2,15 +2,16 @@
 
 use std::fmt;
 
-use voxel_core::FormatError;
+use render_model::cull::CullError;
+use render_model::cull::lod::BadLodSetting;
 
-use crate::chunk_table::TableError;
-use crate::gigabuffer::{ChunkHandle, GigabufferError};
+use super::passes::far_splat::VisibilityTooLarge;
+use super::passes::hiz::HizError;
+use super::passes::quad_raster::QuadRasterError;
+use super::passes::targets::BadSize;
 use crate::readback::ReadbackError;
+use crate::residency::ResidencyError;
 use crate::timing::TimerError;
-use render_model::cull::{CullError, SkirtTooLarge, lod::BadLodSetting};
-
-use super::quad_raster::QuadRasterError;
 
 /// An error of the [`Renderer`](super::Renderer): each names the problem, none is a panic.
 #[derive(Debug)]
@@ -30,33 +31,22 @@ pub enum RenderError {
     /// [`Renderer::set_opaque_path`](crate::render::Renderer::set_opaque_path) asked for a
     /// path this renderer cannot draw with (why).
     OpaquePathUnavailable(&'static str),
-    /// The gigabuffer refused an upload or free.
-    Gigabuffer(GigabufferError),
-    /// The chunk table is full or the slot is stale.
-    Table(TableError),
+    /// Residency refused an upload or a free (memory, tables, records, handles, far-draw
+    /// data).
+    Residency(ResidencyError),
     /// The cull pass could not be set up.
     Cull(CullError),
-    /// A chunk record does not encode (non-finite bounds, range overflow).
-    Format(FormatError),
-    /// A handle that names no resident chunk of this renderer.
-    UnknownChunk(ChunkHandle),
     /// Reading the image back failed.
     Readback(ReadbackError),
     /// Collecting the per-pass times failed.
     Timer(TimerError),
-    /// A chunk's level of detail is above 15 (`MeshedChunkInfo::MAX_LOD`).
-    BadLevel(u32),
-    /// A chunk's far-draw data does not fit the renderer (what is wrong, in words).
-    BadFarData(String),
-    /// A chunk has more skirt elements on one side than a node records.
-    Skirt(SkirtTooLarge),
     /// A level-of-detail setting is not a finite non-negative number.
     Lod(BadLodSetting),
     /// The far-draw path asked for cannot run on this device or configuration (why, in
     /// words).
     FarDrawsUnavailable(String),
     /// The depth pyramid of occlusion culling could not be built.
-    Hiz(crate::hiz::HizError),
+    Hiz(HizError),
     /// The compute quad rasteriser refused its device, configuration or inputs.
     QuadRaster(QuadRasterError),
 }
@@ -74,20 +64,10 @@ impl fmt::Display for RenderError {
             RenderError::OpaquePathUnavailable(why) => {
                 write!(f, "that opaque path is not available: {why}")
             }
-            RenderError::Gigabuffer(e) => write!(f, "gigabuffer: {e}"),
-            RenderError::Table(e) => write!(f, "chunk table: {e}"),
+            RenderError::Residency(e) => write!(f, "{e}"),
             RenderError::Cull(e) => write!(f, "cull pass: {e}"),
-            RenderError::Format(e) => write!(f, "chunk record: {e}"),
-            RenderError::UnknownChunk(h) => {
-                write!(f, "chunk handle {h:?} names no resident chunk")
-            }
             RenderError::Readback(e) => write!(f, "{e}"),
             RenderError::Timer(e) => write!(f, "pass timing: {e}"),
-            RenderError::BadLevel(level) => {
-                write!(f, "chunk level of detail {level} is above the largest, 15")
-            }
-            RenderError::BadFarData(why) => write!(f, "far-draw data: {why}"),
-            RenderError::Skirt(e) => write!(f, "skirts: {e}"),
             RenderError::Lod(e) => write!(f, "{e}"),
             RenderError::FarDrawsUnavailable(why) => write!(f, "far draws unavailable: {why}"),
             RenderError::Hiz(e) => write!(f, "depth pyramid: {e}"),
@@ -108,12 +88,26 @@ macro_rules! from_error {
     };
 }
 
-from_error!(GigabufferError, Gigabuffer);
-from_error!(TableError, Table);
+from_error!(ResidencyError, Residency);
 from_error!(CullError, Cull);
-from_error!(FormatError, Format);
 from_error!(ReadbackError, Readback);
 from_error!(TimerError, Timer);
-from_error!(SkirtTooLarge, Skirt);
 from_error!(BadLodSetting, Lod);
 from_error!(QuadRasterError, QuadRaster);
+from_error!(HizError, Hiz);
+
+impl From<BadSize> for RenderError {
+    fn from(e: BadSize) -> Self {
+        RenderError::BadSize {
+            width: e.width,
+            height: e.height,
+            max: e.max,
+        }
+    }
+}
+
+impl From<VisibilityTooLarge> for RenderError {
+    fn from(e: VisibilityTooLarge) -> Self {
+        RenderError::FarDrawsUnavailable(e.to_string())
+    }
+}

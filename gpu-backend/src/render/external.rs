@@ -15,7 +15,7 @@
 //!  host: draws more (UI, effects), submits, presents
 //! ```
 //!
-//! Both cameras must agree: the host sets the renderer's [`RenderCamera`](super::RenderCamera)
+//! Both cameras must agree: the host sets the renderer's [`Camera`](render_model::Camera)
 //! to its own eye, orientation and vertical field of view, and passes its projection so the
 //! depths can be converted ([`HostDepth`]). The colour written is the renderer's tonemapped
 //! output (linear values from its sRGB view: an sRGB host target stores the same bytes). The

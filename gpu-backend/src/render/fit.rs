@@ -6,15 +6,15 @@
 //! The adapter bounds each kind's pages by its storage binding size (`max_page_bytes`); the
 //! draw blocks must fit one page (far draws bind them as one). Video memory in all is not
 //! something wgpu reports: a caller with a memory budget plans residency against it
-//! ([`memory_plan`](super::memory_plan)) and fits the renderer to the planned set.
+//! ([`memory_plan`](render_model::memory_plan)) and fits the renderer to the planned set.
 
 use voxel_core::formats::{ChunkLayersData, DataKind, PerKind};
 
-use crate::gigabuffer::GigabufferConfig;
 #[cfg(doc)]
 use crate::render::error::RenderError;
 use crate::render::far::FarRequest;
 use crate::render::renderer::RendererConfig;
+use crate::residency::GigabufferConfig;
 use voxel_core::ChunkSize;
 
 /// Allocator slack: 1/16 of each kind plus 64 KiB (fragmentation between chunks of different

@@ -4,8 +4,8 @@
 #![allow(dead_code, reason = "each test binary uses a different subset")]
 
 use gpu_backend::GpuContext;
-use gpu_backend::gigabuffer::Gigabuffer;
 use gpu_backend::readback::read_buffer;
+use gpu_backend::residency::Gigabuffer;
 use voxel_core::formats::DataKind;
 use voxel_core::formats::LayerRange;
 
@@ -84,7 +84,7 @@ impl Rng {
 pub fn flush_and_submit(
     ctx: &GpuContext,
     gigabuffer: &mut Gigabuffer,
-) -> gpu_backend::gigabuffer::FlushStats {
+) -> gpu_backend::residency::FlushStats {
     let mut encoder = ctx
         .device
         .create_command_encoder(&wgpu::CommandEncoderDescriptor {

@@ -5,8 +5,8 @@
 #![allow(dead_code, reason = "each test binary uses a different subset")]
 
 use gpu_backend::GpuContext;
-use gpu_backend::chunk_table::MeshedChunkTable;
-use gpu_backend::cull::CullReadback;
+use gpu_backend::render::passes::cull::CullReadback;
+use gpu_backend::residency::MeshedChunkTable;
 use render_model::cull::{
     Command, CullLayer, CullLayout, CullReference, CullView, cull_chunk, layer_range,
 };

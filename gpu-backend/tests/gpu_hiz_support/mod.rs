@@ -3,8 +3,8 @@
 //! harness with its query and answer structs.
 
 use gpu_backend::GpuContext;
-use gpu_backend::hiz::DepthPyramid;
 use gpu_backend::readback::read_whole;
+use gpu_backend::render::passes::hiz::DepthPyramid;
 use gpu_backend::shaders::HIZ_PROBE;
 use wgpu::util::DeviceExt;
 

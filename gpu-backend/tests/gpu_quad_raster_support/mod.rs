@@ -9,10 +9,11 @@ pub mod terrain;
 
 use render_model::cull::{CullConfig, CullLayer, CullParams, DrawRecord, LodParams};
 
-use gpu_backend::cull::{CullInputs, CullOutput, CullPass, UniformSource};
-use gpu_backend::gigabuffer::{Gigabuffer, GigabufferConfig};
 use gpu_backend::readback::read_buffer;
-use gpu_backend::render::quad_raster::{QuadRaster, QuadRasterInputs};
+use gpu_backend::render::passes::cull::CullRequest;
+use gpu_backend::render::passes::cull::{CullOutput, CullPass};
+use gpu_backend::render::passes::quad_raster::{QuadRaster, QuadRasterInputs};
+use gpu_backend::residency::{Gigabuffer, GigabufferConfig};
 use gpu_backend::test_support::{headless_or_skip, in_ci};
 use gpu_backend::{DeviceOptions, GpuContext, MeshedChunkTable};
 use render_model::camera::Camera;
@@ -183,23 +184,12 @@ impl<'a> Rig<'a> {
             lod,
             ..CullParams::default()
         };
-        let inputs = CullInputs {
-            table: &self.table,
-            nodes: None,
-            frame: None,
-            occlusion: None,
-            uniforms: UniformSource::Own,
+        let view = camera.cull_view(ChunkSize::S16, self.width, self.height);
+        let request = CullRequest {
+            params,
+            ..CullRequest::new(&self.table, &view, CullLayer::Opaque, &self.output)
         };
-        self.cull
-            .record_with(
-                &mut encoder,
-                &inputs,
-                &camera.cull_view(ChunkSize::S16, self.width, self.height),
-                CullLayer::Opaque,
-                &self.output,
-                &params,
-            )
-            .expect("cull");
+        self.cull.record(&mut encoder, &request).expect("cull");
         for _ in 0..records {
             self.raster
                 .record(

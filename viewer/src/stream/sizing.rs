@@ -9,9 +9,9 @@
 //! share stops at the device's largest binding.
 
 use gpu_backend::GpuCapabilities;
-use gpu_backend::gigabuffer::GigabufferConfig;
 use gpu_backend::render::RendererConfig;
 use gpu_backend::render::far::{FarChoice, FarPath, FarRequest};
+use gpu_backend::residency::GigabufferConfig;
 use render_model::resident::SmoothFrame;
 use voxel_core::formats::DataKind;
 

@@ -7,10 +7,9 @@ use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::time::Instant;
 
 use gpu_backend::GpuContext;
-use gpu_backend::chunk_table::TableError;
-use gpu_backend::gigabuffer::{ChunkHandle, GigabufferError};
 use gpu_backend::render::far::FarChoice;
 use gpu_backend::render::{RenderError, Renderer};
+use gpu_backend::residency::ChunkHandle;
 use render_model::camera::Camera;
 use render_model::cull::{LodAnchor, LodParams, LodSettings, lod};
 use render_model::memory_plan::MAX_PLAN_BUDGET_PX;
@@ -546,12 +545,5 @@ impl Streamer {
 
 /// Upload failures that mean "no room": the gigabuffer, the device or the node table full.
 fn out_of_room(e: &RenderError) -> bool {
-    matches!(
-        e,
-        RenderError::Gigabuffer(
-            GigabufferError::OutOfMemory { .. }
-                | GigabufferError::TooManyChunks { .. }
-                | GigabufferError::PageCreation { .. }
-        ) | RenderError::Table(TableError::Full { .. })
-    )
+    matches!(e, RenderError::Residency(e) if e.is_out_of_memory())
 }

@@ -9,8 +9,8 @@
 use std::fmt;
 
 use super::Renderer;
+use super::config::OpaquePath;
 use crate::render::error::RenderError;
-use crate::render::quad_raster::OpaquePath;
 use crate::timing::TimingSource;
 
 /// What [`Renderer::measure_opaque_paths`] found and kept.
@@ -53,7 +53,7 @@ impl Renderer {
     /// has no compute rasteriser (see [`OpaquePath::Auto`]) or the device no timestamps.
     pub fn measure_opaque_paths(&mut self, frames: usize) -> Result<OpaqueChoice, RenderError> {
         let frames = frames.max(1);
-        let unmeasured = if self.quad_raster.is_none() {
+        let unmeasured = if self.passes.quad_raster.is_none() {
             Some("the renderer has no compute rasteriser (it needs 64-bit atomic min/max)")
         } else if self.timer.source() != TimingSource::GpuTimestamps {
             Some("the device has no GPU timestamps to measure with")
@@ -61,7 +61,7 @@ impl Renderer {
             None
         };
         if let Some(why) = unmeasured {
-            self.opaque = OpaquePath::Raster;
+            self.view.opaque = OpaquePath::Raster;
             return Ok(OpaqueChoice {
                 path: OpaquePath::Raster,
                 measured_ms: None,
@@ -73,12 +73,12 @@ impl Renderer {
         let mut times: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
         // One untimed frame each first: pipelines and bind groups are made at first use.
         for path in paths {
-            self.opaque = path;
+            self.view.opaque = path;
             self.render()?;
         }
         for _ in 0..frames {
             for (i, path) in paths.into_iter().enumerate() {
-                self.opaque = path;
+                self.view.opaque = path;
                 let passes = self.render()?;
                 times[i].push(passes.iter().map(|p| p.nanoseconds as f64 / 1e6).sum());
             }
@@ -92,7 +92,7 @@ impl Renderer {
         } else {
             OpaquePath::Raster
         };
-        self.opaque = path;
+        self.view.opaque = path;
         Ok(OpaqueChoice {
             path,
             measured_ms: Some((raster, compute)),

@@ -1,5 +1,21 @@
-//! The cull pass on the GPU: the pipelines ([`CullPass`]) and how a record binds its inputs and
-//! outputs ([`CullOutput`], [`CullFrame`] in `output`).
+//! The cull pass on the GPU: near chunks (`MeshedChunkInfo`) to multi-draw-indirect commands.
+//! What it decides (frustum, face directions, level of detail, far draws, occlusion), the
+//! command layout per page and the CPU reference that makes the same decisions are in
+//! [`render_model::cull`]; this module holds the pipelines ([`CullPass`]), the buffers a record
+//! writes ([`CullOutput`], [`CullFrame`]) and their reads.
+//!
+//! **Fallback.** With [`MultiDrawPath::ZeroedCommands`] (no `MULTI_DRAW_INDIRECT_COUNT`) the
+//! args buffer is cleared before the dispatch, so every slot past a page's count is a zero
+//! command (`instance_count = 0`) and `multi_draw_indexed_indirect(args, p*C*20, C)` draws
+//! nothing extra. Order is not deterministic either way: commands of a page come in the order
+//! of the atomics (workgroups take their slots with one global `atomicAdd` per page).
+//! [`FrameCulls`] holds the renderer's records of a frame.
+
+mod frame_culls;
+mod output;
+
+pub use frame_culls::{FrameCullParams, FrameCulls, PreparedFrame};
+pub use output::{CullFrame, CullOutput, CullReadback};
 
 use wgpu::util::DeviceExt;
 use wgpu::{
@@ -14,11 +30,11 @@ use render_model::cull::{
 };
 use render_model::pages::PageLayout;
 
-use super::output::{CullFrame, CullOutput, OutputFactory};
 use crate::bind::{BindGroupCache, buffer_entry};
-use crate::chunk_table::GpuTable;
 use crate::device::{GpuContext, MultiDrawPath};
+use crate::residency::GpuTable;
 use crate::shaders::{CULL, LIST_ARGS};
+use output::OutputFactory;
 
 /// Invocations per workgroup (`CULL_WORKGROUP` in the shader).
 const WORKGROUP: u32 = 64;
@@ -27,7 +43,7 @@ const MAX_GROUPS_PER_DIM: u32 = 65_535;
 /// Buffer bindings of the cull's bind group (the depth pyramid follows them).
 const BINDINGS: u32 = 14;
 
-/// What a record reads besides its camera: the chunk table, the node table in the same slots
+/// What a record reads besides its view: the chunk table, the node table in the same slots
 /// (`None`: no node records, as for chunks uploaded without smooth quads, blocks or skirts),
 /// the frame's shared buffers (`None`: the pass's own, for records whose far list and
 /// statistics nobody reads), and where its uniforms come from.
@@ -45,9 +61,79 @@ pub struct CullInputs<'a> {
     pub uniforms: UniformSource<'a>,
 }
 
+/// The order of a record's commands within each page.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum CullOrder {
+    /// In the order of the atomics (opaque layers).
+    #[default]
+    Any,
+    /// Sorted by the depth key of their chunk's box centre, farthest first (blended layers;
+    /// `render_model::cull::depth_key` states the rule and its resolution; chunks of one key
+    /// in any order, a chunk's face groups in face order). Three dispatches (count, prefix
+    /// sums, scatter) after the same copies and clears, plus a clear of the per-key counts;
+    /// the CPU work is the same whatever the chunk count. Far-drawn nodes are skipped (the far
+    /// draw shades their transparent blocks) and never listed.
+    BackToFront,
+}
+
+/// One cull record: what it reads ([`CullInputs`]), the view, the layer, the output it writes,
+/// what it selects ([`CullParams`]: level of detail, far draws, smooth draws, occlusion) and
+/// the order of its commands. [`CullRequest::new`] is the near-field cull of a table of
+/// full-detail chunks; set the other fields for more.
+#[derive(Clone, Copy, Debug)]
+pub struct CullRequest<'a> {
+    /// What the record reads besides its view.
+    pub inputs: CullInputs<'a>,
+    /// The view (eye and frustum planes).
+    pub view: &'a CullView,
+    /// The quad layer culled.
+    pub layer: CullLayer,
+    /// Where the commands go.
+    pub output: &'a CullOutput,
+    /// Level-of-detail selection, far draws, smooth draws, occlusion (see
+    /// [`cull::lod`](render_model::cull::lod) for the rule).
+    pub params: CullParams,
+    /// The order of the commands.
+    pub order: CullOrder,
+}
+
+impl<'a> CullRequest<'a> {
+    /// The cull of `layer` of `table`'s slots `0..slot_bound` for `view` into `output`:
+    /// level 0 only, no far draws, no smooth draws, commands in any order.
+    pub fn new(
+        table: &'a GpuTable<MeshedChunkInfo>,
+        view: &'a CullView,
+        layer: CullLayer,
+        output: &'a CullOutput,
+    ) -> CullRequest<'a> {
+        CullRequest {
+            inputs: CullInputs {
+                table,
+                nodes: None,
+                frame: None,
+                occlusion: None,
+                uniforms: UniformSource::Own,
+            },
+            view,
+            layer,
+            output,
+            params: CullParams::default(),
+            order: CullOrder::Any,
+        }
+    }
+
+    /// This request with its commands back to front ([`CullOrder::BackToFront`]).
+    pub fn back_to_front(self) -> CullRequest<'a> {
+        CullRequest {
+            order: CullOrder::BackToFront,
+            ..self
+        }
+    }
+}
+
 /// What two-phase occlusion culling reads and writes: a bit per table slot (visible in the last
 /// late phase; `ceil(capacity / 32)` words, zeroed at creation) and the depth pyramid of the
-/// early phase ([`DepthPyramid::texture_view`](crate::hiz::DepthPyramid::texture_view)).
+/// early phase ([`DepthPyramid::texture_view`](super::hiz::DepthPyramid::texture_view)).
 #[derive(Clone, Copy, Debug)]
 pub struct OcclusionInputs<'a> {
     /// The visibility bits.
@@ -124,7 +210,7 @@ impl CullPass {
                 storage(11, false),
                 storage(12, false),
                 storage(13, false),
-                crate::hiz::DepthPyramid::layout_entry(14, ShaderStages::COMPUTE),
+                super::hiz::DepthPyramid::layout_entry(14, ShaderStages::COMPUTE),
                 storage(15, false),
             ],
         });
@@ -263,96 +349,72 @@ impl CullPass {
         self.factory().frame(label)
     }
 
-    /// Records the cull of `layer` of `table`'s slots `0..slot_bound` for `camera` into
-    /// `encoder`, writing `output`; commands come in any order. Level 0 only, no far draws, no
-    /// smooth draws: the near-field cull of a table of full-detail chunks.
+    /// Records the cull `request` into `encoder`: its copies and clears, then its dispatches
+    /// in a compute pass of their own. Commands come in any order, or back to front with
+    /// [`CullOrder::BackToFront`].
     ///
     /// In encoder order: the uniforms are copied in (so several records of one output in one
-    /// encoder each see their own camera), the counts cleared, with
-    /// [`MultiDrawPath::ZeroedCommands`] the args cleared too, then one dispatch. Flush the
+    /// encoder each see their own view), the counts cleared, with
+    /// [`MultiDrawPath::ZeroedCommands`] the args cleared too, then the dispatches. Flush the
     /// table before submitting (its writes land before the submission).
     pub fn record(
         &self,
         encoder: &mut CommandEncoder,
-        table: &GpuTable<MeshedChunkInfo>,
-        camera: &CullView,
-        layer: CullLayer,
-        output: &CullOutput,
+        request: &CullRequest<'_>,
     ) -> Result<(), CullError> {
-        let inputs = CullInputs {
-            table,
-            nodes: None,
-            frame: None,
-            occlusion: None,
-            uniforms: UniformSource::Own,
-        };
-        self.record_with(
-            encoder,
-            &inputs,
-            camera,
-            layer,
-            output,
-            &CullParams::default(),
-        )
-    }
-
-    /// Like [`record`](Self::record), with node records, the frame's far list and statistics,
-    /// and `params`: level-of-detail selection, far draws, smooth draws (see
-    /// [`cull::lod`](render_model::cull::lod) for the rule).
-    pub fn record_with(
-        &self,
-        encoder: &mut CommandEncoder,
-        inputs: &CullInputs<'_>,
-        camera: &CullView,
-        layer: CullLayer,
-        output: &CullOutput,
-        params: &CullParams,
-    ) -> Result<(), CullError> {
-        let prepared = self.prepare_with(encoder, inputs, camera, layer, output, params)?;
-        self.dispatch_in_own_pass(encoder, "cull", prepared.as_ref());
-        Ok(())
-    }
-
-    /// The first half of [`record_with`](Self::record_with): its copies and clears, recorded
-    /// into `encoder`; [`dispatch`](Self::dispatch) records the rest into any later compute
-    /// pass of the same encoder (several records can share one pass; see
-    /// [`PassChain`](crate::pass_chain::PassChain)). `None`: nothing to dispatch (no slots).
-    pub fn prepare_with(
-        &self,
-        encoder: &mut CommandEncoder,
-        inputs: &CullInputs<'_>,
-        camera: &CullView,
-        layer: CullLayer,
-        output: &CullOutput,
-        params: &CullParams,
-    ) -> Result<Option<PreparedCull>, CullError> {
-        let Some((bind_group, groups)) =
-            self.prepare(encoder, inputs, camera, layer, output, params)?
-        else {
-            return Ok(None);
-        };
-        Ok(Some(PreparedCull {
-            bind_group,
-            groups,
-            ordered: None,
-        }))
-    }
-
-    /// [`dispatch`](Self::dispatch) in a compute pass of its own (nothing when `prepared` is
-    /// `None`): the second half of the `record_*` methods.
-    fn dispatch_in_own_pass(
-        &self,
-        encoder: &mut CommandEncoder,
-        label: &str,
-        prepared: Option<&PreparedCull>,
-    ) {
-        if let Some(prepared) = prepared {
+        let prepared = self.prepare(encoder, request)?;
+        if let Some(prepared) = &prepared {
+            let label = match request.order {
+                CullOrder::Any => "cull",
+                CullOrder::BackToFront => "ordered cull",
+            };
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(label),
                 timestamp_writes: None,
             });
             self.dispatch(&mut pass, prepared);
         }
+        Ok(())
+    }
+
+    /// The first half of [`record`](Self::record): the request's copies and clears, recorded
+    /// into `encoder`; [`dispatch`](Self::dispatch) records the rest into any later compute
+    /// pass of the same encoder (several records can share one pass; see
+    /// [`PassChain`](crate::pass_chain::PassChain)). `None`: nothing to dispatch (no slots).
+    pub fn prepare(
+        &self,
+        encoder: &mut CommandEncoder,
+        request: &CullRequest<'_>,
+    ) -> Result<Option<PreparedCull>, CullError> {
+        let Some((bind_group, groups)) = self.prepare_record(encoder, request)? else {
+            return Ok(None);
+        };
+        let ordered = match request.order {
+            CullOrder::Any => None,
+            CullOrder::BackToFront => {
+                encoder.clear_buffer(&request.output.order_counts, 0, None);
+                let frame = request.inputs.frame.unwrap_or(&self.own_frame);
+                let from_list = request.params.from_list.then(|| {
+                    let args_group = self.bind_cache.get(
+                        &self.device,
+                        "transparent list dispatch",
+                        &self.ordered.list_args_layout,
+                        &[
+                            buffer_entry(0, &frame.stats),
+                            buffer_entry(1, &frame.list_args),
+                            buffer_entry(2, &frame.transparent_list),
+                        ],
+                    );
+                    (args_group, frame.list_args.clone())
+                });
+                Some(OrderedDispatch { from_list })
+            }
+        };
+        Ok(Some(PreparedCull {
+            bind_group,
+            groups,
+            ordered,
+        }))
     }
 
     /// Records a prepared record's dispatches into `pass`.
@@ -381,124 +443,26 @@ impl CullPass {
         dispatch(pass);
     }
 
-    /// Like [`record`](Self::record), but each page's commands come back to front: sorted by
-    /// the depth key of their chunk's box centre, farthest first (see [`depth_key`] for the
-    /// rule and its resolution; chunks of one key in any order, a chunk's face groups in face
-    /// order). For blended layers. Three dispatches (count, prefix sums, scatter) after the
-    /// same copies and clears as `record`, plus a clear of the per-key counts; the CPU work is
-    /// the same whatever the chunk count.
-    ///
-    /// [`depth_key`]: render_model::cull::depth_key
-    pub fn record_ordered(
-        &self,
-        encoder: &mut CommandEncoder,
-        table: &GpuTable<MeshedChunkInfo>,
-        camera: &CullView,
-        layer: CullLayer,
-        output: &CullOutput,
-    ) -> Result<(), CullError> {
-        let inputs = CullInputs {
-            table,
-            nodes: None,
-            frame: None,
-            occlusion: None,
-            uniforms: UniformSource::Own,
-        };
-        self.record_ordered_with(
-            encoder,
-            &inputs,
-            camera,
-            layer,
-            output,
-            &CullParams::default(),
-        )
-    }
-
-    /// [`record_ordered`](Self::record_ordered) with the inputs and parameters of
-    /// [`record_with`](Self::record_with). Far-drawn nodes are skipped (the far draw shades
-    /// their transparent blocks) and never listed.
-    pub fn record_ordered_with(
-        &self,
-        encoder: &mut CommandEncoder,
-        inputs: &CullInputs<'_>,
-        camera: &CullView,
-        layer: CullLayer,
-        output: &CullOutput,
-        params: &CullParams,
-    ) -> Result<(), CullError> {
-        let prepared = self.prepare_ordered_with(encoder, inputs, camera, layer, output, params)?;
-        self.dispatch_in_own_pass(encoder, "ordered cull", prepared.as_ref());
-        Ok(())
-    }
-
-    /// The first half of [`record_ordered_with`](Self::record_ordered_with), as
-    /// [`prepare_with`](Self::prepare_with) is of `record_with`.
-    pub fn prepare_ordered_with(
-        &self,
-        encoder: &mut CommandEncoder,
-        inputs: &CullInputs<'_>,
-        camera: &CullView,
-        layer: CullLayer,
-        output: &CullOutput,
-        params: &CullParams,
-    ) -> Result<Option<PreparedCull>, CullError> {
-        let Some((bind_group, groups)) =
-            self.prepare(encoder, inputs, camera, layer, output, params)?
-        else {
-            return Ok(None);
-        };
-        encoder.clear_buffer(&output.order_counts, 0, None);
-        let frame = inputs.frame.unwrap_or(&self.own_frame);
-        let from_list = params.from_list.then(|| {
-            let args_group = self.bind_cache.get(
-                &self.device,
-                "transparent list dispatch",
-                &self.ordered.list_args_layout,
-                &[
-                    buffer_entry(0, &frame.stats),
-                    buffer_entry(1, &frame.list_args),
-                    buffer_entry(2, &frame.transparent_list),
-                ],
-            );
-            (args_group, frame.list_args.clone())
-        });
-        Ok(Some(PreparedCull {
-            bind_group,
-            groups,
-            ordered: Some(OrderedDispatch { from_list }),
-        }))
-    }
-
-    /// The uniforms a record of `layer` with `inputs`, `camera` and `params` copies in: what a
-    /// caller writes into its own staging buffer for [`UniformSource::Staged`]
-    /// (`inputs.uniforms` is not read).
-    pub fn uniforms(
-        &self,
-        inputs: &CullInputs<'_>,
-        camera: &CullView,
-        layer: CullLayer,
-        params: &CullParams,
-    ) -> CullUniforms {
+    /// The uniforms `request` copies in: what a caller writes into its own staging buffer for
+    /// [`UniformSource::Staged`] (`request.inputs.uniforms` is not read).
+    pub fn uniforms(&self, request: &CullRequest<'_>) -> CullUniforms {
         CullUniforms::new(
             &self.layout,
-            camera,
-            layer,
-            inputs.table.slot_bound(),
-            params,
+            request.view,
+            request.layer,
+            request.inputs.table.slot_bound(),
+            &request.params,
         )
     }
 
     /// The copies and clears every record starts with, and the bind group; `None` when the
     /// table has no slots (nothing to dispatch).
-    fn prepare(
+    fn prepare_record(
         &self,
         encoder: &mut CommandEncoder,
-        inputs: &CullInputs<'_>,
-        camera: &CullView,
-        layer: CullLayer,
-        output: &CullOutput,
-        params: &CullParams,
+        request: &CullRequest<'_>,
     ) -> Result<Option<(wgpu::BindGroup, u32)>, CullError> {
+        let (inputs, output, params) = (&request.inputs, request.output, &request.params);
         if output.layout != self.layout || output.multi_draw != self.multi_draw {
             return Err(CullError::OutputMismatch);
         }
@@ -519,7 +483,7 @@ impl CullPass {
         let size = size_of::<CullUniforms>() as u64;
         match inputs.uniforms {
             UniformSource::Own => {
-                let uniforms = self.uniforms(inputs, camera, layer, params);
+                let uniforms = self.uniforms(request);
                 let staging = self
                     .device
                     .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -628,8 +592,7 @@ pub enum UniformSource<'a> {
 }
 
 /// A cull record whose copies and clears are in the encoder and whose dispatches are not yet
-/// recorded ([`CullPass::prepare_with`], [`CullPass::prepare_ordered_with`]; recorded by
-/// [`CullPass::dispatch`]).
+/// recorded ([`CullPass::prepare`]; recorded by [`CullPass::dispatch`]).
 #[derive(Debug)]
 pub struct PreparedCull {
     bind_group: wgpu::BindGroup,

@@ -20,12 +20,15 @@ use wgpu::{
     RenderPass, RenderPipeline, ShaderStages,
 };
 
-use super::FarPath;
+use voxel_core::formats::DataKind;
+
+use super::cull::CullFrame;
+use super::frame::FrameCtx;
+use super::shared::{PipelineDesc, depth_state, pipeline};
+use super::targets::{ALBEDO_FORMAT, HDR_FORMAT, NORMAL_FORMAT};
 use crate::bind::{BindGroupCache, buffer_entry};
-use crate::cull::CullFrame;
 use crate::device::{GpuCapabilities, MultiDrawPath};
-use crate::render::pipelines::{PipelineDesc, depth_state, pipeline};
-use crate::render::targets::{ALBEDO_FORMAT, HDR_FORMAT, NORMAL_FORMAT};
+use crate::render::far::FarPath;
 use crate::shaders::{FAR_ARGS, FAR_DRAW_ARGS, FAR_RASTER, FAR_RASTER_CONSERVATIVE};
 
 /// Bytes of one non-indexed indirect draw.
@@ -46,6 +49,69 @@ pub struct FarRasterInputs<'a> {
     pub blocks: &'a Buffer,
     /// The cull frame (far list, statistics).
     pub frame: &'a CullFrame,
+}
+
+/// The raster far draws of one frame: the pass, and what it binds once draw blocks are
+/// resident (`inputs` is `None` before).
+#[derive(Clone, Copy, Debug)]
+pub struct FarRasterDraw<'a> {
+    /// The pass.
+    pub raster: &'a FarRaster,
+    /// What it binds, when there is a draw-block page.
+    pub inputs: Option<FarRasterInputs<'a>>,
+}
+
+impl<'a> FarRasterDraw<'a> {
+    /// The frame's raster far draws with `ctx`'s residency and the frame's far list `frame`.
+    pub fn new(raster: &'a FarRaster, ctx: &FrameCtx<'a>, frame: &'a CullFrame) -> Self {
+        let residency = ctx.residency;
+        let inputs = residency
+            .gigabuffer()
+            .page(DataKind::DrawBlocks, 0)
+            .map(|blocks| FarRasterInputs {
+                table: residency.table().buffer(),
+                nodes: residency.nodes().buffer(),
+                blocks,
+                frame,
+            });
+        FarRasterDraw { raster, inputs }
+    }
+
+    /// [`FarRaster::record_phase_args`] and the draws' bind group; `None` (nothing recorded)
+    /// without draw blocks.
+    pub fn record_phase_args(&self, encoder: &mut CommandEncoder) -> Option<BindGroup> {
+        let inputs = self.inputs.as_ref()?;
+        self.raster.record_phase_args(encoder, inputs);
+        Some(self.raster.bind_group(inputs))
+    }
+
+    /// [`FarRaster::record_all_args`] and the draws' bind group; `None` (nothing recorded)
+    /// without draw blocks.
+    pub fn record_all_args(&self, encoder: &mut CommandEncoder) -> Option<BindGroup> {
+        let inputs = self.inputs.as_ref()?;
+        self.raster.record_all_args(encoder, inputs);
+        Some(self.raster.bind_group(inputs))
+    }
+
+    /// [`FarRaster::draw_opaque`].
+    pub fn draw_opaque(
+        &self,
+        pass: &mut RenderPass<'_>,
+        frame_group: &BindGroup,
+        group: &BindGroup,
+    ) {
+        self.raster.draw_opaque(pass, frame_group, group);
+    }
+
+    /// [`FarRaster::draw_transparent`].
+    pub fn draw_transparent(
+        &self,
+        pass: &mut RenderPass<'_>,
+        frame_group: &BindGroup,
+        group: &BindGroup,
+    ) {
+        self.raster.draw_transparent(pass, frame_group, group);
+    }
 }
 
 /// The raster far draws' pipelines and indirect commands.

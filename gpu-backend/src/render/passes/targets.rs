@@ -14,8 +14,7 @@
 
 use wgpu::{Device, Extent3d, Queue, Texture, TextureFormat, TextureUsages, TextureView};
 
-use super::error::RenderError;
-use crate::readback::read_buffer;
+use crate::readback::{ReadbackError, read_buffer};
 
 /// G-buffer albedo + AO.
 pub const ALBEDO_FORMAT: TextureFormat = TextureFormat::Rgba8Unorm;
@@ -29,6 +28,17 @@ pub const HDR_FORMAT: TextureFormat = TextureFormat::Rgba16Float;
 pub const OUTPUT_FORMAT: TextureFormat = TextureFormat::Rgba8UnormSrgb;
 /// The output texture's own format (the compute tonemap's storage view).
 pub const OUTPUT_STORAGE_FORMAT: TextureFormat = TextureFormat::Rgba8Unorm;
+
+/// An output size of zero or past the device's largest 2D texture.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BadSize {
+    /// Width asked for.
+    pub width: u32,
+    /// Height asked for.
+    pub height: u32,
+    /// The device's largest 2D texture edge.
+    pub max: u32,
+}
 
 /// The textures of one output size.
 #[derive(Debug)]
@@ -56,11 +66,11 @@ pub struct RenderTargets {
 }
 
 impl RenderTargets {
-    /// Textures for `width x height`, or [`RenderError::BadSize`].
-    pub fn new(device: &Device, width: u32, height: u32) -> Result<RenderTargets, RenderError> {
+    /// Textures for `width x height`, or [`BadSize`] past the device's texture limit.
+    pub fn new(device: &Device, width: u32, height: u32) -> Result<RenderTargets, BadSize> {
         let max = device.limits().max_texture_dimension_2d;
         if width == 0 || height == 0 || width > max || height > max {
-            return Err(RenderError::BadSize { width, height, max });
+            return Err(BadSize { width, height, max });
         }
         let texture = |label: &str, format: TextureFormat, usage: TextureUsages| {
             let srgb_view = [OUTPUT_FORMAT];
@@ -135,7 +145,7 @@ fn read_texture(
     queue: &Queue,
     texture: &Texture,
     aspect: wgpu::TextureAspect,
-) -> Result<Vec<u8>, RenderError> {
+) -> Result<Vec<u8>, ReadbackError> {
     let (width, height) = (texture.width(), texture.height());
     let row = width * 4;
     let padded_row =
@@ -178,7 +188,7 @@ pub fn read_output(
     device: &Device,
     queue: &Queue,
     targets: &RenderTargets,
-) -> Result<FrameImage, RenderError> {
+) -> Result<FrameImage, ReadbackError> {
     let rgba = read_texture(
         device,
         queue,

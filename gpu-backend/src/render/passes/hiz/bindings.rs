@@ -109,8 +109,8 @@ mod tests {
     use wgpu::{BindGroupLayoutEntry, BindingType, BufferBindingType, TextureSampleType};
 
     use super::{LEVEL0_ENTRIES, REDUCE_ENTRIES, TAIL_ENTRIES, TAIL_LEVELS};
-    use crate::hiz::DepthPyramid;
-    use crate::shaders::{HIZ_BUILD, HIZ_FUNCTIONS, validate};
+    use crate::render::passes::hiz::DepthPyramid;
+    use crate::shaders::{HIZ, HIZ_FUNCTIONS, validate};
 
     /// The global named `name` of `module`: its binding and its type.
     fn global<'m>(
@@ -213,8 +213,7 @@ mod tests {
 
     #[test]
     fn build_bindings_match_the_wgsl() {
-        let module =
-            validate(HIZ_BUILD.name, &HIZ_BUILD.source()).unwrap_or_else(|e| panic!("{e}"));
+        let module = validate(HIZ.name, &HIZ.source()).unwrap_or_else(|e| panic!("{e}"));
         let [depth, visibility, level0_out] = &LEVEL0_ENTRIES;
         assert_binding(&module, "hiz_depth", depth);
         assert_binding(&module, "hiz_visibility", visibility);

@@ -8,8 +8,8 @@ use wgpu::{BindGroup, Buffer, BufferUsages, Device};
 
 use super::pipelines::Layouts;
 use crate::bind::buffer_entry;
-use crate::cull::CullOutput;
-use crate::gigabuffer::Gigabuffer;
+use crate::render::passes::cull::CullOutput;
+use crate::residency::Gigabuffer;
 use render_model::quad_raster::{ArgsParams, PageArgs};
 use voxel_core::formats::DataKind;
 

@@ -1,6 +1,7 @@
-// Geometry passes by vertex pulling (no vertex buffers): greedy PackedQuads and smooth
-// BlockVertex quads into the G-buffer (opaque), and PackedQuads forward-shaded with blending
-// (transparent). render_common.wgsl comes before this body, FORMATS_WGSL before that.
+// What the surface passes share (G-buffer, transparent, raster far draws): greedy PackedQuads
+// and smooth BlockVertex quads pulled by index (no vertex buffers), their bindings, the
+// G-buffer texels and the forward-lit colour of a surface point. render_common.wgsl comes
+// before this body, FORMATS_WGSL before that.
 //
 // Quads: the shared index buffer holds 4q + (0, 1, 2, 0, 2, 3); draws start at index 0 with
 // base_vertex = 4 * (in-page index of the first quad), so vertex_index >> 2 is the quad in the
@@ -104,60 +105,6 @@ fn quad_vertex(vertex: u32, instance: u32, grow: bool) -> SurfaceVaryings {
     return out;
 }
 
-// Opaque quads. Greedy quads meet at T-junctions, where rasterization can leave pinholes: each
-// quad is grown in its own plane by a hair (DILATION_PX of a pixel at its distance, at least
-// MIN_DILATION blocks), so neighbours overlap instead.
-@vertex
-fn vs_quad(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> SurfaceVaryings {
-    return quad_vertex(vertex, instance, true);
-}
-
-// Transparent quads are not grown: overlapping seams would be blended twice.
-@vertex
-fn vs_quad_transparent(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> SurfaceVaryings {
-    return quad_vertex(vertex, instance, false);
-}
-
-// The wireframe view: a surface point and where it lies in its quad (0..1 on both axes).
-struct WireVaryings {
-    @builtin(position) position: vec4<f32>,
-    @location(0) @interpolate(flat) block: u32,
-    @location(1) ao: f32,
-    @location(2) normal: vec3<f32>,
-    @location(3) in_quad: vec2<f32>,
-}
-
-// Corner k of a quad, in the quad's own 0..1 coordinates (corners run around the quad).
-fn corner_in_quad(k: u32) -> vec2<f32> {
-    return array<vec2<f32>, 4>(vec2(0.0, 0.0), vec2(1.0, 0.0), vec2(1.0, 1.0), vec2(0.0, 1.0))[k & 3u];
-}
-
-fn wire(surface: SurfaceVaryings, corner: u32) -> WireVaryings {
-    var out: WireVaryings;
-    out.position = surface.position;
-    out.block = surface.block;
-    out.ao = surface.ao;
-    out.normal = surface.normal;
-    out.in_quad = corner_in_quad(corner);
-    return out;
-}
-
-@vertex
-fn vs_quad_wire(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> WireVaryings {
-    return wire(quad_vertex(vertex, instance, false), quad_corner(vertex));
-}
-
-@vertex
-fn vs_smooth_wire(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> WireVaryings {
-    let slot = array<u32, 6>(0u, 1u, 2u, 0u, 2u, 3u)[vertex % 6u];
-    return wire(smooth_vertex(vertex, instance), slot);
-}
-
-@vertex
-fn vs_smooth(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> SurfaceVaryings {
-    return smooth_vertex(vertex, instance);
-}
-
 // Vertex `vertex % 6` of smooth quad `vertex / 6` of the draw `instance`.
 fn smooth_vertex(vertex: u32, instance: u32) -> SurfaceVaryings {
     let draw = smooth_draws[instance];
@@ -204,40 +151,4 @@ fn transparent_colour(block: u32, ao: f32, normal: vec3<f32>) -> vec4<f32> {
     let srgba = material_srgba(m);
     let colour = shade(srgb_to_linear(srgba.rgb), normal, ao, material_emission(m));
     return vec4<f32>(colour, srgba.a);
-}
-
-@fragment
-fn fs_gbuffer(in: SurfaceVaryings) -> GBufferOut {
-    return gbuffer_texels(in.block, in.ao, in.normal);
-}
-
-// The wireframe view: only the pixels within about one pixel of the quad's edges are drawn.
-@fragment
-fn fs_gbuffer_wire(in: WireVaryings) -> GBufferOut {
-    let pixels = min(in.in_quad, 1.0 - in.in_quad) / max(fwidth(in.in_quad), vec2<f32>(1e-6));
-    if min(pixels.x, pixels.y) > 1.0 {
-        discard;
-    }
-    return gbuffer_texels(in.block, in.ao, in.normal);
-}
-
-// Transparent quads: lit here and blended over the lit opaque image with the palette alpha.
-@fragment
-fn fs_transparent(in: SurfaceVaryings) -> @location(0) vec4<f32> {
-    return transparent_colour(in.block, in.ao, in.normal);
-}
-
-// fs_transparent for the meshed quads, which also hides them behind the opaque visibility
-// buffer (splatted far blocks and compute-rasterised quads are not in the depth attachment).
-@fragment
-fn fs_transparent_over_visibility(in: SurfaceVaryings) -> @location(0) vec4<f32> {
-    if (frame.flags & FRAME_SPLAT) != 0u {
-        let pixel = vec2<u32>(floor(in.position.xy));
-        let word = opaque_visibility[pixel.y * frame.width + pixel.x];
-        // Reversed-Z: the opaque surface is nearer when its depth is greater.
-        if word.y != 0u && bitcast<f32>(word.y) > in.position.z {
-            discard;
-        }
-    }
-    return transparent_colour(in.block, in.ao, in.normal);
 }

@@ -1,5 +1,5 @@
-//! The compute splat of far-drawn nodes (see the [module docs](super) for the format and the
-//! bounds): its pipelines, its visibility buffers, and recording one splat per cull record.
+//! The compute splat of far-drawn nodes (see [`far`](crate::render::far) for the format and
+//! the bounds): its pipelines, its visibility buffers, and recording one splat per cull record.
 //!
 //! Per frame: [`FarSplat::clear`] empties both visibility buffers and the range; after each cull
 //! record that appended to the far list, [`FarSplat::record`] runs `far_args` (one thread: the
@@ -11,10 +11,12 @@ use wgpu::{
     BufferUsages, CommandEncoder, ComputePipeline, Device, ShaderStages,
 };
 
+use voxel_core::formats::DataKind;
+
+use super::cull::CullFrame;
+use super::frame::{FrameCtx, Phase, Recorder};
 use crate::bind::{BindGroupCache, buffer_entry};
-use crate::cull::CullFrame;
-use crate::render::error::RenderError;
-use crate::shaders::{FAR_ARGS, SPLAT};
+use crate::shaders::{FAR_ARGS, FAR_SPLAT};
 
 /// Invocations per workgroup of `splat` (`SPLAT_WORKGROUP`).
 pub const SPLAT_WORKGROUP: u32 = 64;
@@ -113,14 +115,14 @@ fn pipeline(
 impl FarSplat {
     /// The splat for `width x height` pixels on `device`, which must have the 64-bit atomics
     /// (`GpuCapabilities::int64_atomics`; the caller checks). The visibility buffers take 8
-    /// bytes per pixel each, refused with [`RenderError::FarDrawsUnavailable`] past `max_bytes`
+    /// bytes per pixel each, refused with [`VisibilityTooLarge`] past `max_bytes`
     /// (the device's storage binding limit).
     pub fn new(
         device: &Device,
         width: u32,
         height: u32,
         max_bytes: u64,
-    ) -> Result<FarSplat, RenderError> {
+    ) -> Result<FarSplat, VisibilityTooLarge> {
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("splat frame"),
             entries: &[BindGroupLayoutEntry {
@@ -151,7 +153,7 @@ impl FarSplat {
             label: Some("far args"),
             entries: &[storage(0, false), storage(1, false), storage(2, true)],
         });
-        let splat_module = SPLAT.create_module(device);
+        let splat_module = FAR_SPLAT.create_module(device);
         let args_module = FAR_ARGS.create_module(device);
         let splat = pipeline(
             device,
@@ -191,7 +193,12 @@ impl FarSplat {
     }
 
     /// Resizes the visibility buffers.
-    pub fn resize(&mut self, width: u32, height: u32, max_bytes: u64) -> Result<(), RenderError> {
+    pub fn resize(
+        &mut self,
+        width: u32,
+        height: u32,
+        max_bytes: u64,
+    ) -> Result<(), VisibilityTooLarge> {
         (self.visibility, self.transparent) =
             visibility_buffers(&self.device, width, height, max_bytes)?;
         (self.width, self.height) = (width, height);
@@ -255,6 +262,31 @@ impl FarSplat {
         pass.dispatch_workgroups_indirect(&self.range, 0);
     }
 
+    /// Records the splat of the far nodes `phase`'s cull listed in `frame` in the renderer's
+    /// frame, timed as `far splat` (`far splat late`); nothing before draw blocks are resident.
+    pub fn record_phase(
+        &self,
+        ctx: &FrameCtx<'_>,
+        rec: &mut Recorder<'_, '_>,
+        phase: Phase,
+        frame: &CullFrame,
+    ) {
+        let residency = ctx.residency;
+        let Some(blocks) = residency.gigabuffer().page(DataKind::DrawBlocks, 0) else {
+            return;
+        };
+        let inputs = SplatInputs {
+            frame_uniforms: &ctx.shared.frame_uniforms,
+            table: residency.table().buffer(),
+            nodes: residency.nodes().buffer(),
+            blocks,
+            frame,
+        };
+        rec.step(phase.label("far splat", "far splat late"), true, |rec| {
+            self.record_in(rec.compute(), &inputs);
+        });
+    }
+
     fn splat_group(&self, inputs: &SplatInputs<'_>) -> BindGroup {
         let buffers = [
             inputs.table,
@@ -279,18 +311,51 @@ impl FarSplat {
     }
 }
 
+/// A visibility buffer larger than one storage binding.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct VisibilityTooLarge {
+    /// Screen width, pixels.
+    pub width: u32,
+    /// Screen height, pixels.
+    pub height: u32,
+    /// Bytes the buffer takes.
+    pub bytes: u64,
+    /// The device's storage binding limit.
+    pub max_bytes: u64,
+}
+
+impl std::fmt::Display for VisibilityTooLarge {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let VisibilityTooLarge {
+            width,
+            height,
+            bytes,
+            max_bytes,
+        } = self;
+        write!(
+            f,
+            "a {width}x{height} visibility buffer takes {bytes} bytes, above the device's \
+             storage binding limit of {max_bytes}"
+        )
+    }
+}
+
+impl std::error::Error for VisibilityTooLarge {}
+
 fn visibility_buffers(
     device: &Device,
     width: u32,
     height: u32,
     max_bytes: u64,
-) -> Result<(Buffer, Buffer), RenderError> {
+) -> Result<(Buffer, Buffer), VisibilityTooLarge> {
     let bytes = u64::from(width) * u64::from(height) * 8;
     if bytes > max_bytes {
-        return Err(RenderError::FarDrawsUnavailable(format!(
-            "a {width}x{height} visibility buffer takes {bytes} bytes, above the device's \
-             storage binding limit of {max_bytes}"
-        )));
+        return Err(VisibilityTooLarge {
+            width,
+            height,
+            bytes,
+            max_bytes,
+        });
     }
     let buffer = |label| {
         device.create_buffer(&wgpu::BufferDescriptor {

@@ -1,7 +1,7 @@
 //! Far draws: nodes whose cells are small on screen drawn from their surface blocks
 //! ([`DrawBlock`], 4 bytes each) instead of their quads.
 //!
-//! The cull pass decides which nodes are far-drawn ([`cull::lod`](crate::cull::lod) states
+//! The cull pass decides which nodes are far-drawn ([`cull::lod`](render_model::cull::lod) states
 //! the rule) and lists them, `(slot, skirt sides)` per node, in the frame's far list. Every far
 //! path draws each listed block as its exact cube, so a far-drawn node shows the same surface
 //! as its quads would (the same level of detail, the same error), shaded from the same palette
@@ -11,9 +11,9 @@
 //!
 //! | path | how | needs |
 //! | ---- | --- | ----- |
-//! | [`FarPath::Splat`] | compute: one workgroup per node; per block, the pixel centres inside its projected bounds are intersected with the cube; hits go to a 64-bit visibility buffer by `atomicMax(depth << 32 \| payload)` ([`splat`]) | `SHADER_INT64_ATOMIC_MIN_MAX` |
-//! | [`FarPath::Sprite`] | raster: one screen-space quad per block bounding its projection, the ray-box test in the fragment shader, `frag_depth` (conservative depth keeps the early depth test where `SHADER_EARLY_DEPTH_TEST` is enabled) ([`raster`]) | nothing beyond the renderer's |
-//! | [`FarPath::CameraQuads`] | raster: the (at most 3) faces of each block that look at the eye, as the meshers' quads with per-corner AO; faces the hiding mask covers are skipped except towards the node's border, where the neighbour may be drawn at another level ([`raster`]) | nothing beyond the renderer's |
+//! | [`FarPath::Splat`] | compute: one workgroup per node; per block, the pixel centres inside its projected bounds are intersected with the cube; hits go to a 64-bit visibility buffer by `atomicMax(depth << 32 \| payload)` ([`far_splat`](super::passes::far_splat)) | `SHADER_INT64_ATOMIC_MIN_MAX` |
+//! | [`FarPath::Sprite`] | raster: one screen-space quad per block bounding its projection, the ray-box test in the fragment shader, `frag_depth` (conservative depth keeps the early depth test where `SHADER_EARLY_DEPTH_TEST` is enabled) ([`far_raster`](super::passes::far_raster)) | nothing beyond the renderer's |
+//! | [`FarPath::CameraQuads`] | raster: the (at most 3) faces of each block that look at the eye, as the meshers' quads with per-corner AO; faces the hiding mask covers are skipped except towards the node's border, where the neighbour may be drawn at another level ([`far_raster`](super::passes::far_raster)) | nothing beyond the renderer's |
 //!
 //! Which is fastest depends on the GPU: compute-heavy parts with few raster units (the H100)
 //! favour the splat, consumer GPUs the raster forms; BENCHMARKS.md has the measured figures.
@@ -37,9 +37,6 @@
 //! 500 M blocks; 128 MiB on lavapipe).
 //!
 //! [`DrawBlock`]: voxel_core::formats::DrawBlock
-
-pub mod raster;
-pub mod splat;
 
 use std::fmt;
 

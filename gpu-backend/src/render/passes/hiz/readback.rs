@@ -2,8 +2,8 @@
 
 use wgpu::{Device, Queue};
 
+use super::DepthPyramid;
 use super::error::HizError;
-use super::pyramid::DepthPyramid;
 use crate::readback::{ReadbackError, read_buffer};
 
 impl DepthPyramid {

@@ -1,7 +1,7 @@
-// Full-screen passes of the deferred renderer, each as a fragment pass (full-screen triangle)
-// and as a compute pass (8 x 8 pixels per workgroup), the same per-pixel function either way:
-// lighting (G-buffer and visibility buffers to linear HDR) and tonemap (HDR to the sRGB
-// output). render_common.wgsl comes before this body.
+// The lighting pass, as a fragment pass (full-screen triangle) and as a compute pass (8 x 8
+// pixels per workgroup), the same per-pixel function either way: the G-buffer and the
+// visibility buffers to linear HDR. render_common.wgsl and fullscreen.wgsl come before this
+// body.
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(1) var<storage, read> materials: array<GpuMaterial>;
@@ -10,16 +10,13 @@
 @group(1) @binding(1) var gbuffer_normal: texture_2d<u32>;
 @group(1) @binding(2) var gbuffer_depth: texture_depth_2d;
 
-@group(1) @binding(3) var hdr: texture_2d<f32>;
-
 // The far draws' visibility buffers (render::far): per pixel, x = payload, y = reversed-Z
 // depth bits (0 = nothing); read only when FRAME_SPLAT is set.
 @group(1) @binding(4) var<storage, read> visibility: array<vec2<u32>>;
 @group(1) @binding(5) var<storage, read> transparent: array<vec2<u32>>;
 
-// The compute passes' outputs.
+// The compute pass's output.
 @group(1) @binding(6) var hdr_out: texture_storage_2d<rgba16float, write>;
-@group(1) @binding(7) var output_out: texture_storage_2d<rgba8unorm, write>;
 
 // A splat payload (render::far): block id, face, AO in 255ths of 3.
 struct Splat {
@@ -75,47 +72,14 @@ fn lit_pixel(p: vec2<u32>) -> vec3<f32> {
     return colour;
 }
 
-// ACES on the exposed colour (linear, 0..=1).
-fn tonemapped(p: vec2<u32>) -> vec3<f32> {
-    let c = textureLoad(hdr, vec2<i32>(p), 0).rgb;
-    return aces(c * frame.lighting.exposure);
-}
-
-// The sRGB transfer function, linear 0..=1 to encoded 0..=1 (what an *Srgb target does).
-fn linear_to_srgb(c: vec3<f32>) -> vec3<f32> {
-    return select(1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055, c * 12.92, c <= vec3<f32>(0.0031308));
-}
-
-// One triangle covering the screen.
-@vertex
-fn vs_fullscreen(@builtin(vertex_index) vertex: u32) -> @builtin(position) vec4<f32> {
-    let x = f32((vertex << 1u) & 2u);
-    let y = f32(vertex & 2u);
-    return vec4<f32>(x * 2.0 - 1.0, y * 2.0 - 1.0, 0.0, 1.0);
-}
-
 @fragment
 fn fs_lighting(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     return vec4<f32>(lit_pixel(vec2<u32>(position.xy)), 1.0);
-}
-
-@fragment
-fn fs_tonemap(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
-    // The output target is *Srgb: the hardware encodes.
-    return vec4<f32>(tonemapped(vec2<u32>(position.xy)), 1.0);
 }
 
 @compute @workgroup_size(8, 8)
 fn cs_lighting(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x < frame.width && id.y < frame.height {
         textureStore(hdr_out, id.xy, vec4<f32>(lit_pixel(id.xy), 1.0));
-    }
-}
-
-@compute @workgroup_size(8, 8)
-fn cs_tonemap(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x < frame.width && id.y < frame.height {
-        // A storage texture cannot be *Srgb: encode here.
-        textureStore(output_out, id.xy, vec4<f32>(linear_to_srgb(tonemapped(id.xy)), 1.0));
     }
 }

@@ -3,11 +3,21 @@
 
 use wgpu::{BindGroupLayout, CommandEncoder, Device, RenderPipeline, TextureFormat, TextureView};
 
-use super::format::SurfaceEncoding;
+use super::fullscreen::fullscreen_pass;
 use crate::shaders::PRESENT;
 
+/// Where the sRGB transfer function is applied on the way to the swapchain image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SurfaceEncoding {
+    /// The swapchain format is sRGB: the hardware encodes on write.
+    Hardware,
+    /// The swapchain format is a plain unorm format that the compositor reads as sRGB: the
+    /// present shader encodes (`fs_present_encode`).
+    Shader,
+}
+
 /// The pipeline that copies a texture into a colour target texel for texel (see
-/// `shaders/present.wgsl`). The source is a float texture of the target's size (the
+/// `present.wgsl`). The source is a float texture of the target's size (the
 /// renderer's `Rgba8UnormSrgb` output); a larger target repeats the source's edge.
 #[derive(Debug)]
 pub struct PresentBlit {
@@ -105,7 +115,7 @@ impl PresentBlit {
                 resource: wgpu::BindingResource::TextureView(source),
             }],
         });
-        let mut pass = crate::fullscreen::fullscreen_pass(encoder, "present", target);
+        let mut pass = fullscreen_pass(encoder, "present", target);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &group, &[]);
         pass.draw(0..3, 0..1);

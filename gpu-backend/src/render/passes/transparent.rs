@@ -1,0 +1,106 @@
+//! The transparent pass (`transparent.wgsl`): the raster far draws' transparent blocks (they
+//! are behind every meshed node), then the transparent greedy quads of the ordered cull's
+//! commands, one multi-draw per quad page, lit forward with the deferred lighting model and
+//! blended into the HDR target over the lit opaque image (depth-tested, not written). The
+//! order (chunks back to front, faces within a chunk unsorted) and its artefacts are
+//! `render_model::transparent`'s.
+//!
+//! Transparent quads are not grown like opaque ones (see the G-buffer pass): an overlap would
+//! be blended twice. Splatted far blocks and compute-rasterised quads are not in the depth
+//! attachment, so `fs_transparent_over_visibility` also hides the quads behind the opaque
+//! visibility buffer.
+
+use wgpu::{BindGroup, BlendState, ColorTargetState, Device, RenderPipeline};
+
+use super::cull::CullOutput;
+use super::far_raster::FarRasterDraw;
+use super::frame::{FrameCtx, Recorder};
+use super::shared::{PipelineDesc, Shared, depth_state, pipeline};
+use super::targets::HDR_FORMAT;
+use crate::shaders::TRANSPARENT;
+
+/// The transparent pass (see the [module docs](self)).
+#[derive(Debug)]
+pub struct TransparentPass {
+    pipeline: RenderPipeline,
+}
+
+impl TransparentPass {
+    /// Compiles the pass's shader and builds its pipeline.
+    pub fn new(device: &Device, shared: &Shared) -> TransparentPass {
+        let module = TRANSPARENT.create_module(device);
+        let pipeline = pipeline(
+            device,
+            PipelineDesc {
+                label: "transparent quads",
+                module: &module,
+                vertex: "vs_quad_transparent",
+                fragment: "fs_transparent_over_visibility",
+                groups: [&shared.frame_layout, &shared.quad_layout],
+                targets: &[Some(ColorTargetState {
+                    format: HDR_FORMAT,
+                    blend: Some(BlendState::ALPHA_BLENDING),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+                depth: depth_state(false),
+                cull_back: true,
+            },
+        );
+        TransparentPass { pipeline }
+    }
+
+    /// Records the pass, timed as `transparent`: the ordered cull's `commands`, and the raster
+    /// far draws' transparent blocks (`far`, with the bind group their commands were recorded
+    /// with) first.
+    pub fn record(
+        &self,
+        ctx: &FrameCtx<'_>,
+        rec: &mut Recorder<'_, '_>,
+        commands: &CullOutput,
+        far: Option<(&FarRasterDraw<'_>, &BindGroup)>,
+    ) {
+        rec.step("transparent", false, |rec| {
+            let t = ctx.targets;
+            let mut pass = rec
+                .encoder()
+                .begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("transparent"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &t.hdr,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Load,
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &t.depth,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Load,
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+            if let Some((far, group)) = far {
+                far.draw_transparent(&mut pass, ctx.frame_group, group);
+            }
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, ctx.frame_group, &[]);
+            pass.set_index_buffer(ctx.shared.quad_indices.slice(..), wgpu::IndexFormat::Uint32);
+            for page in 0..commands.layout().page_count {
+                let group =
+                    ctx.shared
+                        .quad_group(ctx.residency, page, commands.records(), ctx.visibility);
+                if let Some(group) = group {
+                    pass.set_bind_group(1, &group, &[]);
+                    commands.draw_page(&mut pass, page);
+                }
+            }
+        });
+    }
+}

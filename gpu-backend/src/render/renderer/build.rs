@@ -1,0 +1,160 @@
+//! The renderer's passes, built from its configuration: only what the configuration draws
+//! with is created (the compute rasteriser with the compute opaque path, the splat or the
+//! raster far draws with far draws, the depth pyramid with occlusion culling).
+
+use wgpu::Device;
+
+use render_model::cull::{CullConfig, SmoothPages};
+use voxel_core::MaterialPalette;
+use voxel_core::formats::DataKind;
+
+use super::config::{OpaquePath, RendererConfig};
+use crate::device::GpuContext;
+use crate::render::error::RenderError;
+use crate::render::far::{FarChoice, FarPath};
+use crate::render::passes::cull::FrameCulls;
+use crate::render::passes::far_raster::FarRaster;
+use crate::render::passes::far_splat::FarSplat;
+use crate::render::passes::fullscreen::FullscreenPath;
+use crate::render::passes::gbuffer::GbufferPass;
+use crate::render::passes::hiz::DepthPyramid;
+use crate::render::passes::lighting::LightingPass;
+use crate::render::passes::quad_raster::QuadRaster;
+use crate::render::passes::shared::Shared;
+use crate::render::passes::tonemap::TonemapPass;
+use crate::render::passes::transparent::TransparentPass;
+use crate::residency::Residency;
+use render_model::quad_raster::QuadRasterConfig;
+
+/// Every pass of the renderer's frame (in frame order; see
+/// [`Renderer::record_frame`](super::Renderer::record_frame)).
+#[derive(Debug)]
+pub(super) struct Passes {
+    /// The culls of the opaque phases and of the transparent layer.
+    pub(super) culls: FrameCulls,
+    /// The compute rasteriser of opaque quads ([`OpaquePath::Compute`]).
+    pub(super) quad_raster: Option<QuadRaster>,
+    /// The compute splat's visibility buffers and pipelines: when the splat is the far path,
+    /// or the opaque quads are rasterised in compute (which draws into them).
+    pub(super) far_splat: Option<FarSplat>,
+    /// The raster far draws, when the far path is a raster one.
+    pub(super) far_raster: Option<FarRaster>,
+    /// The G-buffer pass.
+    pub(super) gbuffer: GbufferPass,
+    /// The depth pyramid of two-phase occlusion culling.
+    pub(super) hiz: Option<DepthPyramid>,
+    /// The lighting pass.
+    pub(super) lighting: LightingPass,
+    /// The transparent pass.
+    pub(super) transparent: TransparentPass,
+    /// The tonemap pass.
+    pub(super) tonemap: TonemapPass,
+}
+
+impl Passes {
+    /// The passes `config` draws with, the far path chosen and the resources they share.
+    pub(super) fn new(
+        ctx: &GpuContext,
+        config: &RendererConfig,
+        residency: &Residency,
+        palette: &MaterialPalette,
+    ) -> Result<(Passes, FarChoice, Shared), RenderError> {
+        let device = &ctx.device;
+        let gigabuffer = residency.gigabuffer();
+        let cull_config = CullConfig {
+            smooth: Some(SmoothPages::of(
+                gigabuffer.layout(DataKind::SmoothVertices),
+                gigabuffer.layout(DataKind::SmoothQuads),
+            )),
+            ..CullConfig::new(config.chunk_size, config.max_chunks)
+        };
+        let culls = FrameCulls::new(
+            ctx,
+            gigabuffer.layout(DataKind::Quads),
+            &cull_config,
+            config.occlusion,
+        )?;
+        let far_choice = config
+            .far
+            .resolve(&ctx.capabilities)
+            .map_err(RenderError::FarDrawsUnavailable)?;
+        if far_choice.path != FarPath::Off {
+            let blocks = gigabuffer.layout(DataKind::DrawBlocks);
+            if blocks.page_count != 1 {
+                return Err(RenderError::FarDrawsUnavailable(format!(
+                    "the far draws bind the draw-block gigabuffer as one page; {} bytes of \
+                     draw blocks make {} pages of at most {} bytes",
+                    config.gigabuffer.bytes.get(DataKind::DrawBlocks),
+                    blocks.page_count,
+                    ctx.capabilities.max_page_bytes()
+                )));
+            }
+        }
+        let compute_opaque = match config.opaque {
+            OpaquePath::Raster => false,
+            OpaquePath::Compute if !ctx.capabilities.int64_atomics => {
+                return Err(RenderError::MissingFeature(
+                    "SHADER_INT64_ATOMIC_MIN_MAX (the compute opaque path)",
+                ));
+            }
+            OpaquePath::Compute => true,
+            OpaquePath::Auto => ctx.capabilities.int64_atomics,
+        };
+        let far_splat = if far_choice.path == FarPath::Splat || compute_opaque {
+            Some(FarSplat::new(
+                device,
+                config.width,
+                config.height,
+                ctx.capabilities.max_page_bytes(),
+            )?)
+        } else {
+            None
+        };
+        let quad_raster = if compute_opaque {
+            Some(QuadRaster::new(
+                device,
+                &QuadRasterConfig::for_screen(config.width, config.height, 16),
+            )?)
+        } else {
+            None
+        };
+        let shared = Shared::new(device, palette, culls.pass().layout().max_quads_per_draw);
+        let far_raster = far_choice.path.is_raster().then(|| {
+            FarRaster::new(
+                device,
+                &ctx.capabilities,
+                far_choice.path,
+                culls.pass().layout().far_capacity,
+                &shared.frame_layout,
+            )
+        });
+        let hiz = if config.occlusion {
+            Some(DepthPyramid::new(device, config.width, config.height)?)
+        } else {
+            None
+        };
+        let passes = Passes {
+            culls,
+            quad_raster,
+            far_splat,
+            far_raster,
+            gbuffer: GbufferPass::new(device, &shared),
+            hiz,
+            lighting: LightingPass::new(device, &shared, config.fullscreen),
+            transparent: TransparentPass::new(device, &shared),
+            tonemap: TonemapPass::new(device, &shared, config.fullscreen),
+        };
+        Ok((passes, far_choice, shared))
+    }
+
+    /// Rebuilds the full-screen passes for `path`.
+    pub(super) fn set_fullscreen_path(
+        &mut self,
+        device: &Device,
+        shared: &Shared,
+        path: FullscreenPath,
+    ) {
+        self.lighting = LightingPass::new(device, shared, path);
+        self.tonemap = TonemapPass::new(device, shared, path);
+    }
+}
