@@ -1,0 +1,111 @@
+#!/usr/bin/env bash
+# Builds, here, what the GPU machine runs (it has no Rust toolchain and no Vulkan loader), and
+# puts it in the git-ignored folder `.gpu/` at the repository root, which travels to that
+# machine when the run names it in `carry` (64 MiB for everything carried):
+#
+#   .gpu/*.deb               the Vulkan and GL loader packages (../shared/gpu-runtime)
+#   .gpu/<set>/gpu_bench     benches/src/bin/gpu_bench.rs, release, stripped
+#   .gpu/<set>/viewer        the viewer, release, stripped
+#   .gpu/<set>/REV           the commit the binaries were built from (and "+dirty")
+#   with --cpu:  .gpu/<set>/blocky, .gpu/<set>/batch (the criterion bench binaries) and
+#                .gpu/vox/ (the sample models), for scripts/gpu/cpu.sh
+#   with --cull: .gpu/<set>/gpu_cull_scale (the cull pass's scale test), for scripts/gpu/cull.sh
+#
+# <set> is `.` (the binaries straight in .gpu/) unless --into names one, so that two builds
+# can travel side by side and scripts/gpu/frame.sh can run them interleaved:
+#
+#   scripts/gpu/build.sh --rev main --into before   # main's binaries in .gpu/before/
+#   scripts/gpu/build.sh --into after               # this checkout's in .gpu/after/
+#   # then on the GPU machine, carry [".gpu"]:  BUILDS="before after" scripts/gpu/frame.sh
+#
+# --rev REV builds commit REV in a git worktree under target/gpu-worktrees/ (sharing this
+# checkout's target folder, so the dependencies are built once); without it, the working tree
+# as it is. The release profile is the benchmarks' (thin LTO, one code generation unit): a
+# first build takes several minutes on a 2-core machine. NICE (default 10) is the build's
+# niceness. The script prints the size of .gpu/ and fails when it is over the 64 MiB carry
+# limit (two sets of gpu_bench and viewer fit).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+cd "$root"
+
+set_name=.
+rev=
+cpu=0
+cull=0
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --into) set_name=$2; shift 2 ;;
+        --rev) rev=$2; shift 2 ;;
+        --cpu) cpu=1; shift ;;
+        --cull) cull=1; shift ;;
+        -h|--help) sed -n '2,27p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        *) echo "build.sh: unknown argument $1 (try --help)" >&2; exit 2 ;;
+    esac
+done
+case "$set_name" in
+    */*|..) echo "build.sh: --into takes a folder name under .gpu/, not a path" >&2; exit 2 ;;
+esac
+
+limit_mib=64
+runtime=${GPU_RUNTIME:-$root/../shared/gpu-runtime}
+target=${CARGO_TARGET_DIR:-$root/target}
+export CARGO_TARGET_DIR=$target
+dest=$root/.gpu/$set_name
+mkdir -p "$dest"
+
+# The source tree to build: this checkout, or a worktree of --rev.
+src=$root
+if [ -n "$rev" ]; then
+    commit=$(git rev-parse --verify "$rev^{commit}")
+    src=$target/gpu-worktrees/${commit:0:12}
+    if [ ! -e "$src/.git" ]; then
+        git worktree add --detach "$src" "$commit" >&2
+    fi
+fi
+
+build() {
+    (cd "$src" && nice -n "${NICE:-10}" cargo "$@")
+}
+
+echo "build.sh: building gpu_bench and viewer (release) in $src" >&2
+build build --release --locked -p benches --bin gpu_bench -p viewer --bin viewer
+for bin in gpu_bench viewer; do
+    strip -o "$dest/$bin" "$target/release/$bin"
+done
+
+if [ "$cpu" = 1 ]; then
+    echo "build.sh: building the blocky and batch benches (release)" >&2
+    # The bench binaries' paths come from cargo's JSON messages (their names carry a hash).
+    build bench --locked -p benches --bench blocky --bench batch --no-run --message-format=json \
+        | grep -o '"executable":"[^"]*"' | cut -d'"' -f4 | while read -r exe; do
+            name=$(basename "$exe" | sed 's/-[0-9a-f]*$//')
+            strip -o "$dest/$name" "$exe"
+        done
+    mkdir -p "$root/.gpu/vox"
+    cp "$root"/../shared/data/vox/*.vox "$root/.gpu/vox/"
+fi
+
+if [ "$cull" = 1 ]; then
+    echo "build.sh: building the gpu_cull_scale test (release)" >&2
+    build test --release --locked -p gpu-backend --test gpu_cull_scale --no-run --message-format=json \
+        | grep -o '"executable":"[^"]*"' | cut -d'"' -f4 | while read -r exe; do
+            strip -o "$dest/gpu_cull_scale" "$exe"
+        done
+fi
+
+# Which commit the binaries are, for the runner's summary.
+(
+    cd "$src"
+    printf '%s%s\n' "$(git rev-parse --short=12 HEAD)" \
+        "$(git diff --quiet HEAD -- . ':!.gpu' || echo +dirty)"
+) > "$dest/REV"
+
+cp "$runtime"/*.deb "$root/.gpu/"
+
+kib=$(du -sk "$root/.gpu" | cut -f1)
+echo "build.sh: $dest: $(cat "$dest/REV"); .gpu/ holds $((kib / 1024)) MiB (carry limit $limit_mib MiB)" >&2
+du -ah "$root/.gpu" | sort -k2 >&2
+if [ "$kib" -gt $((limit_mib * 1024)) ]; then
+    echo "build.sh: .gpu/ is over $limit_mib MiB: remove a set (rm -r .gpu/<set>) before carrying it" >&2
+    exit 1
+fi

@@ -1,0 +1,113 @@
+#!/usr/bin/env bash
+# The CPU figures BENCHMARKS.md takes from the GPU machine's CPU (16 cores, quieter than the
+# 2-core development machine): the blocky bench's interleaved table (the bars against the
+# peers, AO on against off) and the batch bench (1, 2 and all threads). Run there from the
+# repository root with `.gpu/` carried, built here by `scripts/gpu/build.sh --cpu`. Logs go
+# under $OUT (a fresh target/gpu-runs/<UTC time>/ when unset); the tables come last on stdout.
+#
+# Usage: scripts/gpu/cpu.sh [blocky] [batch]          (default: both)
+#
+# Environment:
+#   BUILDS  the sets of binaries under .gpu/ to run, in turn (default "."), as frame.sh's
+#   ROUNDS  how often the list runs (default 1; the builds' order flips each round)
+#   SECS    wall seconds the blocky bench spends on each input and round (default 3)
+#   CORE    the core the blocky bench is pinned to (default 3; `taskset`)
+#   INPUTS  parts of the blocky input names to run (BLOCKY_INPUTS; default: every input)
+#   TINY=1  a dry run: one input, 5 rounds; the batch bench's interleaved rounds only
+#
+# The blocky bench runs with `BLOCKY_CRITERION=0` (its interleaved timing only: every mesher
+# in turn, in a shuffled order, each input; see benches/benches/blocky.rs) on the sample
+# models copied to .gpu/vox. The batch bench runs as
+# `batch --bench --warm-up-time 2 --measurement-time 6`.
+#
+# Dry run here:  scripts/gpu/build.sh --cpu && TINY=1 scripts/gpu/cpu.sh
+set -uo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+cd "$root"
+
+sets=("$@")
+[ ${#sets[@]} -eq 0 ] && sets=(blocky batch)
+read -r -a builds <<< "${BUILDS:-.}"
+rounds=${ROUNDS:-1}
+out=${OUT:-$root/target/gpu-runs/$(date -u +%Y%m%dT%H%M%SZ)}
+mkdir -p "$out"
+export CRITERION_HOME=$out/criterion
+
+pin=()
+if command -v taskset >/dev/null && [ "$(nproc)" -gt "${CORE:-3}" ]; then
+    pin=(taskset -c "${CORE:-3}")
+fi
+if [ "${TINY:-0}" = 1 ]; then
+    blocky_env=(BLOCKY_INPUTS="${INPUTS:-sphere}" BLOCKY_INTERLEAVED_ROUNDS=5 BLOCKY_INTERLEAVED_SECONDS=1)
+    batch_args=(--bench nothing-matches)
+    batch_env=(BATCH_INTERLEAVED_ROUNDS=3)
+else
+    blocky_env=(BLOCKY_INTERLEAVED_SECONDS="${SECS:-3}")
+    [ -n "${INPUTS:-}" ] && blocky_env+=(BLOCKY_INPUTS="$INPUTS")
+    batch_args=(--bench --warm-up-time 2 --measurement-time 6)
+    batch_env=()
+fi
+
+label() { [ "$1" = . ] && echo default || echo "$1"; }
+
+{
+    echo "date: $(date -u +%Y-%m-%dT%H:%M:%SZ)"
+    echo "cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores${pin:+, blocky pinned to core ${CORE:-3}}"
+    for b in "${builds[@]}"; do echo "build $b: $(cat ".gpu/$b/REV" 2>/dev/null || echo '?')"; done
+} > "$out/machine.txt"
+
+run_one() {
+    local set=$1 b=$2 r=$3
+    local log="$out/$set.$(label "$b").r$r.log"
+    local cmd
+    case "$set" in
+        blocky) cmd=(env BLOCKY_CRITERION=0 BLOCKY_VOX_DIR="$root/.gpu/vox" "${blocky_env[@]}"
+                     "${pin[@]}" ".gpu/$b/blocky" --bench) ;;
+        batch) cmd=(env "${batch_env[@]}" ".gpu/$b/batch" "${batch_args[@]}") ;;
+        *) echo "cpu.sh: unknown set $set (blocky, batch)" >&2; exit 2 ;;
+    esac
+    if [ ! -x ".gpu/$b/$set" ]; then
+        echo "cpu.sh: .gpu/$b/$set is missing (scripts/gpu/build.sh --cpu)" >&2
+        exit 2
+    fi
+    echo "cpu.sh: round $r, $(label "$b"): ${cmd[*]}" >&2
+    local started=$SECONDS
+    if "${cmd[@]}" > "$log" 2>&1; then
+        echo "cpu.sh:   done in $((SECONDS - started)) s" >&2
+    else
+        echo "cpu.sh:   FAILED (exit $?), see $log:" >&2
+        tail -5 "$log" >&2
+    fi
+}
+
+for ((r = 1; r <= rounds; r++)); do
+    order=("${builds[@]}")
+    if ((r % 2 == 0)); then
+        order=()
+        for ((i = ${#builds[@]} - 1; i >= 0; i--)); do order+=("${builds[i]}"); done
+    fi
+    for set in "${sets[@]}"; do
+        for b in "${order[@]}"; do
+            run_one "$set" "$b" "$r"
+        done
+    done
+done
+
+{
+    echo
+    cat "$out/machine.txt"
+    echo "results: $out"
+    for f in "$out"/blocky.*.log; do
+        [ -e "$f" ] || continue
+        echo
+        echo "${f##*/}:"
+        # The bench's last table (every input's ratios) and the inputs below a bar.
+        sed -n '/^| input | rounds |/,$p' "$f"
+    done
+    for f in "$out"/batch.*.log; do
+        [ -e "$f" ] || continue
+        echo
+        echo "${f##*/}:"
+        grep -E '^batch (input|interleaved)|^batch/.*time:|time: +\[' "$f"
+    done
+} | tee "$out/summary.md"
