@@ -7,8 +7,9 @@
 #   .gpu/<set>/gpu_bench     benches/src/bin/gpu_bench.rs, release, stripped
 #   .gpu/<set>/viewer        the viewer, release, stripped
 #   .gpu/<set>/REV           the commit the binaries were built from (and "+dirty")
-#   with --cpu:  .gpu/<set>/blocky, .gpu/<set>/batch (the criterion bench binaries) and
-#                .gpu/vox/ (the sample models), for scripts/gpu/cpu.sh
+#   with --cpu:  .gpu/<set>/blocky, .gpu/<set>/batch (the criterion bench binaries),
+#                .gpu/<set>/profile_blocky (benches/examples) and .gpu/vox/ (the sample
+#                models), for scripts/gpu/cpu.sh
 #   with --cull: .gpu/<set>/gpu_cull_scale (the cull pass's scale test), for scripts/gpu/cull.sh
 #
 # <set> is `.` (the binaries straight in .gpu/) unless --into names one, so that two builds
@@ -81,6 +82,8 @@ if [ "$cpu" = 1 ]; then
             name=$(basename "$exe" | sed 's/-[0-9a-f]*$//')
             strip -o "$dest/$name" "$exe"
         done
+    build build --release --locked -p benches --example profile_blocky
+    strip -o "$dest/profile_blocky" "$target/release/examples/profile_blocky"
     mkdir -p "$root/.gpu/vox"
     cp "$root"/../shared/data/vox/*.vox "$root/.gpu/vox/"
 fi

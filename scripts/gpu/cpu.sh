@@ -5,7 +5,13 @@
 # repository root with `.gpu/` carried, built here by `scripts/gpu/build.sh --cpu`. Logs go
 # under $OUT (a fresh target/gpu-runs/<UTC time>/ when unset); the tables come last on stdout.
 #
-# Usage: scripts/gpu/cpu.sh [blocky] [batch]          (default: both)
+# Usage: scripts/gpu/cpu.sh [blocky] [batch] [aopair]     (default: blocky batch)
+#
+#   blocky  the blocky bench's interleaved table, every input at 32^3 and 62^3
+#   batch   the batch bench
+#   aopair  AO on against AO off on small chunks, a row of chunks at a time
+#           (`profile_blocky <input> ao-pair 300 <edge>`, edges 8 and 16): the terrain area,
+#           foliage, the shaded and plain Menger sponges L4, `monu1`, `monu10`
 #
 # Environment:
 #   BUILDS  the sets of binaries under .gpu/ to run, in turn (default "."), as frame.sh's
@@ -56,17 +62,31 @@ label() { [ "$1" = . ] && echo default || echo "$1"; }
     for b in "${builds[@]}"; do echo "build $b: $(cat ".gpu/$b/REV" 2>/dev/null || echo '?')"; done
 } > "$out/machine.txt"
 
+# `ao-pair` on the small-chunk inputs, one after another, in one log.
+aopair() {
+    local b=$1 edge input
+    local inputs=("terrain area" foliage "menger L4" "menger shaded L4" vox/monu1 vox/monu10)
+    local meshes=300 edges=(8 16)
+    if [ "${TINY:-0}" = 1 ]; then inputs=(foliage vox/monu1); meshes=20 edges=(8); fi
+    for edge in "${edges[@]}"; do
+        for input in "${inputs[@]}"; do
+            BLOCKY_VOX_DIR="$root/.gpu/vox" "${pin[@]}" ".gpu/$b/profile_blocky" "$input" ao-pair "$meshes" "$edge" || return
+        done
+    done
+}
+
 run_one() {
     local set=$1 b=$2 r=$3
     local log="$out/$set.$(label "$b").r$r.log"
-    local cmd
+    local cmd bin=$set
     case "$set" in
+        aopair) cmd=(aopair "$b"); bin=profile_blocky ;;
         blocky) cmd=(env BLOCKY_CRITERION=0 BLOCKY_VOX_DIR="$root/.gpu/vox" "${blocky_env[@]}"
                      "${pin[@]}" ".gpu/$b/blocky" --bench) ;;
         batch) cmd=(env "${batch_env[@]}" ".gpu/$b/batch" "${batch_args[@]}") ;;
         *) echo "cpu.sh: unknown set $set (blocky, batch)" >&2; exit 2 ;;
     esac
-    if [ ! -x ".gpu/$b/$set" ]; then
+    if [ ! -x ".gpu/$b/$bin" ]; then
         echo "cpu.sh: .gpu/$b/$set is missing (scripts/gpu/build.sh --cpu)" >&2
         exit 2
     fi
@@ -103,6 +123,12 @@ done
         echo "${f##*/}:"
         # The bench's last table (every input's ratios) and the inputs below a bar.
         sed -n '/^| input | rounds |/,$p' "$f"
+    done
+    for f in "$out"/aopair.*.log; do
+        [ -e "$f" ] || continue
+        echo
+        echo "${f##*/}:"
+        grep 'ao-pair:' "$f"
     done
     for f in "$out"/batch.*.log; do
         [ -e "$f" ] || continue
