@@ -4,8 +4,9 @@
 # machine when the run names it in `carry` (64 MiB for everything carried):
 #
 #   .gpu/*.deb               the Vulkan and GL loader packages (../shared/gpu-runtime)
-#   .gpu/<set>/gpu_bench     benches/src/bin/gpu_bench.rs, release, stripped
-#   .gpu/<set>/viewer        the viewer, release, stripped
+#   .gpu/<set>/gpu_bench     benches/src/bin/gpu_bench.rs, release, without debug info
+#                            (symbols kept, for backtraces and profilers)
+#   .gpu/<set>/viewer        the viewer, the same
 #   .gpu/<set>/REV           the commit the binaries were built from (and "+dirty")
 #   with --cpu:  .gpu/<set>/blocky, .gpu/<set>/batch (the criterion bench binaries),
 #                .gpu/<set>/profile_blocky (benches/examples) and .gpu/vox/ (the sample
@@ -68,46 +69,53 @@ build() {
     (cd "$src" && nice -n "${NICE:-10}" cargo "$@")
 }
 
-echo "build.sh: building gpu_bench and viewer (release) in $src" >&2
-build build --release --locked -p benches --bin gpu_bench -p viewer --bin viewer
-for bin in gpu_bench viewer; do
-    strip -o "$dest/$bin" "$target/release/$bin"
-done
-
 if [ "$cpu" = 1 ]; then
     echo "build.sh: building the blocky and batch benches (release)" >&2
-    # The bench binaries' paths come from cargo's JSON messages (their names carry a hash).
-    build bench --locked -p benches --bench blocky --bench batch --no-run --message-format=json \
-        | grep -o '"executable":"[^"]*"' | cut -d'"' -f4 | while read -r exe; do
+    # Built with the release profile (as `cargo bench` would with the bench profile, which
+    # inherits it unchanged but keeps dependencies of its own: a second full build). Their
+    # paths come from cargo's JSON messages (the names carry a hash); the package's binaries
+    # that cargo builds beside them (with the dev-dependencies' features) are not taken.
+    build build --release --locked -p benches --bench blocky --bench batch --message-format=json \
+        | grep -o '"executable":"[^"]*/deps/\(blocky\|batch\)-[0-9a-f]*"' | cut -d'"' -f4 \
+        | while read -r exe; do
             name=$(basename "$exe" | sed 's/-[0-9a-f]*$//')
-            strip -o "$dest/$name" "$exe"
+            strip --strip-debug -o "$dest/$name" "$exe"
         done
     build build --release --locked -p benches --example profile_blocky
-    strip -o "$dest/profile_blocky" "$target/release/examples/profile_blocky"
+    strip --strip-debug -o "$dest/profile_blocky" "$target/release/examples/profile_blocky"
     mkdir -p "$root/.gpu/vox"
     cp "$root"/../shared/data/vox/*.vox "$root/.gpu/vox/"
 fi
 
 if [ "$cull" = 1 ]; then
     echo "build.sh: building the gpu_cull_scale test (release)" >&2
-    build test --release --locked -p gpu-backend --test gpu_cull_scale --no-run --message-format=json \
-        | grep -o '"executable":"[^"]*"' | cut -d'"' -f4 | while read -r exe; do
-            strip -o "$dest/gpu_cull_scale" "$exe"
+    build build --release --locked -p gpu-backend --test gpu_cull_scale --message-format=json \
+        | grep -o '"executable":"[^"]*/deps/gpu_cull_scale-[0-9a-f]*"' | cut -d'"' -f4 \
+        | while read -r exe; do
+            strip --strip-debug -o "$dest/gpu_cull_scale" "$exe"
         done
 fi
+
+# Last, so that target/release/gpu_bench is this build's and not the one cargo builds beside
+# the benches with their dev-dependencies' features (which it would uplift there too).
+echo "build.sh: building gpu_bench and viewer (release) in $src" >&2
+build build --release --locked -p benches --bin gpu_bench -p viewer --bin viewer
+for bin in gpu_bench viewer; do
+    strip --strip-debug -o "$dest/$bin" "$target/release/$bin"
+done
 
 # Which commit the binaries are, for the runner's summary.
 (
     cd "$src"
     printf '%s%s\n' "$(git rev-parse --short=12 HEAD)" \
-        "$(git diff --quiet HEAD -- . ':!.gpu' || echo +dirty)"
+        "$(git diff --quiet HEAD -- . ':!scripts' ':!*.md' || echo +dirty)"
 ) > "$dest/REV"
 
 cp "$runtime"/*.deb "$root/.gpu/"
 
 kib=$(du -sk "$root/.gpu" | cut -f1)
 echo "build.sh: $dest: $(cat "$dest/REV"); .gpu/ holds $((kib / 1024)) MiB (carry limit $limit_mib MiB)" >&2
-du -ah "$root/.gpu" | sort -k2 >&2
+du -sh "$root"/.gpu/* >&2
 if [ "$kib" -gt $((limit_mib * 1024)) ]; then
     echo "build.sh: .gpu/ is over $limit_mib MiB: remove a set (rm -r .gpu/<set>) before carrying it" >&2
     exit 1

@@ -182,7 +182,7 @@ summary() {
     echo "| configuration | build | round | budget | far | far px | screen | occlusion | opaque | GPU total µs | CPU thread µs | MAE | > 8/255 |"
     echo "| --- | --- | ---: | --- | --- | ---: | --- | --- | --- | ---: | ---: | ---: | ---: |"
     for f in "$out"/*.md; do
-        [ -e "$f" ] || continue
+        [ -e "$f" ] && [ "${f##*/}" != summary.md ] || continue
         local stem=${f##*/}; stem=${stem%.md}
         local r=${stem##*.r}; stem=${stem%.r*}
         local b=${stem##*.} name=${stem%.*}
