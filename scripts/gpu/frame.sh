@@ -133,13 +133,14 @@ done
 
 label() { [ "$1" = . ] && echo default || echo "$1"; }
 
-# One configuration with one build: its files are <name>.<build>.r<round>.{md,json,log}.
+# One configuration with one build: its files are <tag>.<build>.r<round>.{md,json,log}, the
+# tag being the configuration's name (with -2, -3, ... for its repeats within a round).
 run_one() {
-    local name=$1 b=$2 r=$3
+    local name=$1 tag=$2 b=$3 r=$4
     local spec=${config[$name]}
     local bin=${spec%%|*} rest=${spec#*|}
     local env=${rest%%|*} args=${rest#*|}
-    local base="$out/$name.$(label "$b").r$r"
+    local base="$out/$tag.$(label "$b").r$r"
     local cmd
     if [ "$bin" = gpu_bench ]; then
         # shellcheck disable=SC2086  # the arguments are words on purpose
@@ -165,11 +166,16 @@ for ((r = 1; r <= rounds; r++)); do
         order=()
         for ((i = ${#builds[@]} - 1; i >= 0; i--)); do order+=("${builds[i]}"); done
     fi
+    declare -A repeats=()
     for name in "${names[@]}"; do
+        repeats[$name]=$((${repeats[$name]:-0} + 1))
+        tag=$name
+        [ "${repeats[$name]}" -gt 1 ] && tag=$name-${repeats[$name]}
         for b in "${order[@]}"; do
-            run_one "$name" "$b" "$r"
+            run_one "$name" "$tag" "$b" "$r"
         done
     done
+    unset repeats
 done
 
 # The summary: every gpu_bench row (from its Markdown tables) and every flight (from its
