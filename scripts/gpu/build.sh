@@ -9,8 +9,8 @@
 #   .gpu/<set>/viewer        the viewer, the same
 #   .gpu/<set>/REV           the commit the binaries were built from (and "+dirty")
 #   with --cpu:  .gpu/<set>/blocky, .gpu/<set>/batch (the criterion bench binaries),
-#                .gpu/<set>/profile_blocky (benches/examples) and .gpu/vox/ (the sample
-#                models), for scripts/gpu/cpu.sh
+#                .gpu/<set>/profile_blocky (benches/examples), .gpu/<set>/voxmesh and
+#                .gpu/vox/ (the sample models), for scripts/gpu/cpu.sh
 #   with --cull: .gpu/<set>/gpu_cull_scale (the cull pass's scale test), for scripts/gpu/cull.sh
 #
 # <set> is `.` (the binaries straight in .gpu/) unless --into names one, so that two builds
@@ -83,6 +83,8 @@ if [ "$cpu" = 1 ]; then
         done
     build build --release --locked -p benches --example profile_blocky
     strip --strip-debug -o "$dest/profile_blocky" "$target/release/examples/profile_blocky"
+    build build --release --locked -p voxmesh --bin voxmesh
+    strip --strip-debug -o "$dest/voxmesh" "$target/release/voxmesh"
     mkdir -p "$root/.gpu/vox"
     cp "$root"/../shared/data/vox/*.vox "$root/.gpu/vox/"
 fi

@@ -12,6 +12,7 @@
 #   aopair  AO on against AO off on small chunks, a row of chunks at a time
 #           (`profile_blocky <input> ao-pair 300 <edge>`, edges 8 and 16): the terrain area,
 #           foliage, the shaded and plain Menger sponges L4, `monu1`, `monu10`
+#   voxmesh scripts/voxmesh-bench.sh with the carried voxmesh (1 and 16 threads)
 #
 # Environment:
 #   BUILDS  the sets of binaries under .gpu/ to run, in turn (default "."), as frame.sh's
@@ -81,6 +82,13 @@ run_one() {
     local cmd bin=$set
     case "$set" in
         aopair) cmd=(aopair "$b"); bin=profile_blocky ;;
+        voxmesh)
+            cmd=(env VOXMESH=".gpu/$b/voxmesh" DIR="$out/voxmesh.$(label "$b").r$r")
+            if [ "${TINY:-0}" = 1 ]; then
+                cmd+=(REPEAT=1 scripts/voxmesh-bench.sh terrain:7:64)
+            else
+                cmd+=(scripts/voxmesh-bench.sh)
+            fi ;;
         blocky) cmd=(env BLOCKY_CRITERION=0 BLOCKY_VOX_DIR="$root/.gpu/vox" "${blocky_env[@]}"
                      "${pin[@]}" ".gpu/$b/blocky" --bench) ;;
         batch) cmd=(env "${batch_env[@]}" ".gpu/$b/batch" "${batch_args[@]}") ;;
@@ -129,6 +137,12 @@ done
         echo
         echo "${f##*/}:"
         grep 'ao-pair:' "$f"
+    done
+    for f in "$out"/voxmesh.*.log; do
+        [ -e "$f" ] || continue
+        echo
+        echo "${f##*/}:"
+        sed -n '/^machine:/,$p' "$f"
     done
     for f in "$out"/batch.*.log; do
         [ -e "$f" ] || continue
