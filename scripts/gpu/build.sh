@@ -12,6 +12,8 @@
 #                .gpu/<set>/profile_blocky (benches/examples), .gpu/<set>/voxmesh and
 #                .gpu/vox/ (the sample models), for scripts/gpu/cpu.sh
 #   with --cull: .gpu/<set>/gpu_cull_scale (the cull pass's scale test), for scripts/gpu/cull.sh
+#   with --valgrind: .gpu/tools/valgrind_*.deb (`apt-get download valgrind`, Debian 12's), for
+#                scripts/gpu/frame.sh callgrind, which unpacks it under /tmp there
 #
 # <set> is `.` (the binaries straight in .gpu/) unless --into names one, so that two builds
 # can travel side by side and scripts/gpu/frame.sh can run them interleaved:
@@ -34,13 +36,15 @@ set_name=.
 rev=
 cpu=0
 cull=0
+valgrind=0
 while [ $# -gt 0 ]; do
     case "$1" in
         --into) set_name=$2; shift 2 ;;
         --rev) rev=$2; shift 2 ;;
         --cpu) cpu=1; shift ;;
         --cull) cull=1; shift ;;
-        -h|--help) sed -n '2,27p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        --valgrind) valgrind=1; shift ;;
+        -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
         *) echo "build.sh: unknown argument $1 (try --help)" >&2; exit 2 ;;
     esac
 done
@@ -114,6 +118,10 @@ done
 ) > "$dest/REV"
 
 cp "$runtime"/*.deb "$root/.gpu/"
+if [ "$valgrind" = 1 ]; then
+    mkdir -p "$root/.gpu/tools"
+    (cd "$root/.gpu/tools" && apt-get download valgrind >&2)
+fi
 
 kib=$(du -sk "$root/.gpu" | cut -f1)
 echo "build.sh: $dest: $(cat "$dest/REV"); .gpu/ holds $((kib / 1024)) MiB (carry limit $limit_mib MiB)" >&2

@@ -18,7 +18,11 @@
 #                4 px, occlusion on and off
 #   nodesize     16^3 against 8^3 nodes at 1.5 and 2 px, both opaque paths
 #   cpu          CPU time per frame: 1024^2, 4096^2 and 16384^2, 60 frames, no reference
-#   validation   4096^2 with wgpu's indirect-call validation off and on, 50 frames
+#   validation   4096^2 with wgpu's indirect-call validation off and on, 60 frames
+#   callgrind    instructions per frame of recording and submitting (`record_frame`,
+#                `CommandEncoder::finish`, `Queue::submit`) on the driver: gpu_bench at 256^2
+#                under callgrind for 10 and for 30 frames, the difference over 20; needs
+#                valgrind in .gpu/tools/ (scripts/gpu/build.sh --valgrind), or on the PATH
 #   flight       the viewer's `--flight 30` with its defaults (`--opaque auto`)
 #   flightpaths  the same with `--opaque compute` and with `--opaque raster`
 #   all          every set above
@@ -68,11 +72,11 @@ done
 
 # Sizes: the real ones, or TINY's.
 if [ "$tiny" = 1 ]; then
-    s1024=64 s4096=128 s16384=256 frames_few=3 frames=3 frames_cpu=3
+    s256=32 s1024=64 s4096=128 s16384=256 frames_few=3 frames=3 frames_cpu=3
     screen=(--width 320 --height 180)
     flight=(--flight 1 --radius 256 --width 320 --height 180)
 else
-    s1024=1024 s4096=4096 s16384=16384 frames_few=10 frames=20 frames_cpu=60
+    s256=256 s1024=1024 s4096=4096 s16384=16384 frames_few=10 frames=20 frames_cpu=60
     screen=()
     flight=(--flight 30)
 fi
@@ -94,6 +98,7 @@ declare -A config=(
     [cpu-16384]="gpu_bench||--side $s16384 --top-level 8 $common --opaque compute --frames $frames_cpu --reference off"
     [validation-off]="gpu_bench|WGPU_VALIDATION_INDIRECT_CALL=0|--side $s4096 $common --opaque compute --frames $frames_cpu --reference off"
     [validation-on]="gpu_bench|WGPU_VALIDATION_INDIRECT_CALL=1|--side $s4096 $common --opaque compute --frames $frames_cpu --reference off"
+    [callgrind]="callgrind||--side $s256 $common --opaque compute --occlusion on --reference off"
     [flight]="viewer||${flight[*]}"
     [flight-compute]="viewer||${flight[*]} --opaque compute"
     [flight-raster]="viewer||${flight[*]} --opaque raster"
@@ -112,11 +117,12 @@ for s in "${sets[@]}"; do
         nodesize) names+=(nodesize-16 nodesize-8) ;;
         cpu) names+=(cpu-1024 cpu-4096 cpu-16384) ;;
         validation) names+=(validation-off validation-on validation-off validation-on) ;;
+        callgrind) names+=(callgrind) ;;
         flight) names+=(flight) ;;
         flightpaths) names+=(flight-compute flight-raster) ;;
         all) names+=(headline paths distance-1024 distance-16384 distance-1024 distance-16384
                      budgets farpx farpaths nodesize-16 nodesize-8 cpu-1024 cpu-4096 cpu-16384
-                     validation-off validation-on validation-off validation-on
+                     validation-off validation-on validation-off validation-on callgrind
                      flight flight-compute flight-raster) ;;
         *) echo "frame.sh: unknown set $s (see the header of $0)" >&2; exit 2 ;;
     esac
@@ -133,6 +139,30 @@ done
 
 label() { [ "$1" = . ] && echo default || echo "$1"; }
 
+# valgrind: the carried Debian package unpacked under /tmp (not onto /), else the PATH's.
+valgrind_cmd() {
+    local debs=(.gpu/tools/valgrind_*.deb)
+    if [ -e "${debs[0]}" ]; then
+        [ -x /tmp/valgrind/usr/bin/valgrind ] || dpkg -x "${debs[0]}" /tmp/valgrind
+        echo "env VALGRIND_LIB=/tmp/valgrind/usr/libexec/valgrind /tmp/valgrind/usr/bin/valgrind"
+    elif command -v valgrind >/dev/null; then
+        echo valgrind
+    fi
+}
+
+# Callgrind over `frames` frames of gpu_bench `args`: the instructions it collected.
+callgrind_run() {
+    local b=$1 args=$2 frames=$3 base=$4 vg
+    vg=$(valgrind_cmd)
+    [ -n "$vg" ] || { echo "frame.sh: no valgrind (scripts/gpu/build.sh --valgrind)" >&2; return 1; }
+    # shellcheck disable=SC2086
+    $vg --tool=callgrind --callgrind-out-file="$base.f$frames.cg" \
+        --toggle-collect='*Renderer*record_frame*' --toggle-collect='*CommandEncoder*finish*' \
+        --toggle-collect='*Queue*submit*' ".gpu/$b/gpu_bench" $args "${screen[@]}" \
+        --frames "$frames" >> "$base.log" 2>&1 || return 1
+    sed -n 's/^totals: *\([0-9]*\).*/\1/p' "$base.f$frames.cg"
+}
+
 # One configuration with one build: its files are <tag>.<build>.r<round>.{md,json,log}, the
 # tag being the configuration's name (with -2, -3, ... for its repeats within a round).
 run_one() {
@@ -142,6 +172,20 @@ run_one() {
     local env=${rest%%|*} args=${rest#*|}
     local base="$out/$tag.$(label "$b").r$r"
     local cmd
+    if [ "$bin" = callgrind ]; then
+        local few=10 many=30
+        [ "$tiny" = 1 ] && few=1 many=2
+        echo "frame.sh: round $r, $(label "$b"): callgrind of .gpu/$b/gpu_bench $args, $few and $many frames" >&2
+        : > "$base.log"
+        local a z
+        if a=$(callgrind_run "$b" "$args" "$few" "$base") && z=$(callgrind_run "$b" "$args" "$many" "$base"); then
+            echo "$(((z - a) / (many - few)))" > "$base.ipf"
+            echo "frame.sh:   $(cat "$base.ipf") instructions a frame" >&2
+        else
+            echo "frame.sh:   FAILED, see $base.log" >&2
+        fi
+        return
+    fi
     if [ "$bin" = gpu_bench ]; then
         # shellcheck disable=SC2086  # the arguments are words on purpose
         cmd=(".gpu/$b/gpu_bench" $args "${screen[@]}" --out "$base.md" --json "$base.json")
@@ -225,6 +269,17 @@ summary() {
                     print pre " | " row[i] " | " gpu[i] " | " cpu[i] " | " mae[i] " | " off[i] " |"
             }' "$f"
     done
+    local ipf=("$out"/*.ipf)
+    if [ -e "${ipf[0]}" ]; then
+        echo
+        echo "| configuration | build | round | instructions a frame (record_frame, finish, submit) |"
+        echo "| --- | --- | ---: | ---: |"
+        for f in "${ipf[@]}"; do
+            local stem=${f##*/}; stem=${stem%.ipf}
+            local r=${stem##*.r}; stem=${stem%.r*}
+            echo "| ${stem%.*} | ${stem##*.} | $r | $(cat "$f") |"
+        done
+    fi
     local flights=("$out"/flight*.log)
     if [ -e "${flights[0]}" ]; then
         echo
