@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The cull pass at scale (BENCHMARKS.md, "GPU cull"): 400,000 resident 8^3 chunks culled into
+# The cull pass at scale (BENCHMARKS.md, "GPU: cull pass"): 400,000 resident 8^3 chunks culled into
 # multi-draw-indirect commands, GPU time of the whole `CullPass::record` (median of 20 frames)
 # and its check against the CPU reference. Run on the GPU machine from the repository root
 # with `.gpu/` carried, built here by `scripts/gpu/build.sh --cull`; BUILDS as frame.sh's.
