@@ -2,8 +2,9 @@
 # The CPU figures BENCHMARKS.md takes from the GPU machine's CPU (16 cores, quieter than the
 # 2-core development machine): the blocky bench's interleaved table (the bars against the
 # peers, AO on against off) and the batch bench (1, 2 and all threads). Run there from the
-# repository root with `.gpu/` carried, built here by `scripts/gpu/build.sh --cpu`. Logs go
-# under $OUT (a fresh target/gpu-runs/<UTC time>/ when unset); the tables come last on stdout.
+# repository root with `.gpu/` carried, built here by `scripts/gpu/build.sh --cpu`. Logs go to
+# target/gpu-runs/<UTC time>-cpu/, or with OUT set into $OUT/cpu-runs.tar.gz beside
+# $OUT/cpu-summary.md (as frame.sh's); the tables come last on stdout.
 #
 # Usage: scripts/gpu/cpu.sh [blocky] [batch] [aopair]     (default: blocky batch)
 #
@@ -36,8 +37,9 @@ sets=("$@")
 [ ${#sets[@]} -eq 0 ] && sets=(blocky batch)
 read -r -a builds <<< "${BUILDS:-.}"
 rounds=${ROUNDS:-1}
-out=${OUT:-$root/target/gpu-runs/$(date -u +%Y%m%dT%H%M%SZ)}
-mkdir -p "$out"
+# shellcheck source=scripts/gpu/common.sh
+. scripts/gpu/common.sh
+out=$(results_dir cpu)
 export CRITERION_HOME=$out/criterion
 
 pin=()
@@ -151,3 +153,4 @@ done
         grep -E '^batch (input|interleaved)|^batch/.*time:|time: +\[' "$f"
     done
 } | tee "$out/summary.md"
+results_pack cpu "$out"

@@ -3,20 +3,19 @@
 # multi-draw-indirect commands, GPU time of the whole `CullPass::record` (median of 20 frames)
 # and its check against the CPU reference. Run on the GPU machine from the repository root
 # with `.gpu/` carried, built here by `scripts/gpu/build.sh --cull`; BUILDS as frame.sh's.
-# The log goes under $OUT (a fresh target/gpu-runs/<UTC time>/ when unset).
+# The log goes to target/gpu-runs/<UTC time>-cull/, or with OUT set into $OUT (as frame.sh's).
 #
 # Dry run here, on lavapipe (it only proves the sizes work there):
 #   scripts/gpu/build.sh --cull && LOADER=off scripts/gpu/cull.sh
 set -uo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$root"
-# shellcheck source=scripts/gpu/loader.sh
-. scripts/gpu/loader.sh
+# shellcheck source=scripts/gpu/common.sh
+. scripts/gpu/common.sh
 gpu_loader
 
 read -r -a builds <<< "${BUILDS:-.}"
-out=${OUT:-$root/target/gpu-runs/$(date -u +%Y%m%dT%H%M%SZ)}
-mkdir -p "$out"
+out=$(results_dir cull)
 status=0
 for b in "${builds[@]}"; do
     name=$([ "$b" = . ] && echo default || echo "$b")
@@ -27,8 +26,11 @@ for b in "${builds[@]}"; do
     fi
     echo "cull.sh: $name ($(cat ".gpu/$b/REV" 2>/dev/null || echo '?'))" >&2
     ".gpu/$b/gpu_cull_scale" --ignored --nocapture --test-threads=1 > "$log" 2>&1 || status=1
-    echo
-    echo "$name:"
-    grep -v -E '^(running|test result|$)' "$log"
+    {
+        echo
+        echo "$name:"
+        grep -v -E '^(running|test result|error: XDG_RUNTIME_DIR|$)' "$log"
+    } | tee -a "$out/summary.md"
 done
+results_pack cull "$out"
 exit $status

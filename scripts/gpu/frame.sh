@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The GPU figures of BENCHMARKS.md, regenerated: run on the GPU machine, from the repository
 # root, with `.gpu/` carried (built here by scripts/gpu/build.sh). Each run's tables, JSON and
-# log go under $OUT (a fresh target/gpu-runs/<UTC time>/ when unset); a summary table comes
-# last on stdout.
+# log go to target/gpu-runs/<UTC time>-frame/, or with OUT set (the device tool's folder) into
+# $OUT/frame-runs.tar.gz beside $OUT/frame-summary.md; the summary table comes last on stdout.
 #
 # Usage: scripts/gpu/frame.sh [SET ...]            (default: headline flight)
 #
@@ -33,7 +33,7 @@
 #           run on one machine (build them with scripts/gpu/build.sh --into before|after)
 #   ROUNDS  how often the whole list is run (default 1); the builds' order flips each round,
 #           so that neither always runs first
-#   OUT     where the results go
+#   OUT     where the results are packed (above)
 #   LOADER  auto (default: unpack .gpu/*.deb onto / and use the NVIDIA ICD when that ICD file
 #           exists), on, or off (use the machine's own Vulkan loader and drivers)
 #   TINY=1  a dry run at sizes lavapipe draws in seconds (sides 64 to 256, 320 x 180, 3 frames,
@@ -54,11 +54,10 @@ sets=("$@")
 read -r -a builds <<< "${BUILDS:-.}"
 rounds=${ROUNDS:-1}
 tiny=${TINY:-0}
-out=${OUT:-$root/target/gpu-runs/$(date -u +%Y%m%dT%H%M%SZ)}
-mkdir -p "$out"
 
-# shellcheck source=scripts/gpu/loader.sh
-. scripts/gpu/loader.sh
+# shellcheck source=scripts/gpu/common.sh
+. scripts/gpu/common.sh
+out=$(results_dir frame)
 gpu_loader
 
 for b in "${builds[@]}"; do
@@ -228,9 +227,12 @@ summary() {
     echo
     cat "$out/machine.txt"
     echo "results: $out"
-    echo
-    echo "| configuration | build | round | budget | far | far px | screen | occlusion | opaque | GPU total µs | CPU thread µs | MAE | > 8/255 |"
-    echo "| --- | --- | ---: | --- | --- | ---: | --- | --- | --- | ---: | ---: | ---: | ---: |"
+    local tables=("$out"/*.md)
+    [ -e "${tables[0]}" ] && [ "${tables[*]}" != "$out/summary.md" ] && {
+        echo
+        echo "| configuration | build | round | budget | far | far px | screen | occlusion | opaque | GPU total µs | CPU thread µs | MAE | > 8/255 |"
+        echo "| --- | --- | ---: | --- | --- | ---: | --- | --- | --- | ---: | ---: | ---: | ---: |"
+    }
     for f in "$out"/*.md; do
         [ -e "$f" ] && [ "${f##*/}" != summary.md ] || continue
         local stem=${f##*/}; stem=${stem%.md}
@@ -341,6 +343,6 @@ if [ ${#builds[@]} -gt 1 ]; then
         }' | tee -a "$out/summary.md"
 fi
 
-if [ -n "${OUT:-}" ]; then
-    echo "frame.sh: results in $out" >&2
-fi
+# The callgrind profiles are large and their totals are in the logs.
+rm -f "$out"/*.cg
+results_pack frame "$out"
