@@ -40,7 +40,8 @@
 #           a 1 s flight over a 256-block radius): checks the flags and the summary, never the
 #           figures
 #
-# Dry run here, on lavapipe (Debian's mesa-vulkan-drivers; about a minute after the build):
+# Dry run here, on lavapipe (Debian's mesa-vulkan-drivers; a few minutes after the build; the
+# callgrind set alone takes several more):
 #   scripts/gpu/build.sh && TINY=1 LOADER=off scripts/gpu/frame.sh all
 # On the GPU machine (the device's command line; carry [".gpu"]):
 #   scripts/gpu/frame.sh headline flight
