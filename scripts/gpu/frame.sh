@@ -36,7 +36,7 @@
 #   OUT     where the results are packed (above)
 #   LOADER  auto (default: unpack .gpu/*.deb onto / and use the NVIDIA ICD when that ICD file
 #           exists), on, or off (use the machine's own Vulkan loader and drivers)
-#   TINY=1  a dry run at sizes lavapipe draws in seconds (sides 64 to 256, 320 x 180, 3 frames,
+#   TINY=1  a dry run at sizes lavapipe draws in seconds (sides 32 to 256, 320 x 180, 3 frames,
 #           a 1 s flight over a 256-block radius): checks the flags and the summary, never the
 #           figures
 #
