@@ -516,9 +516,8 @@ fn interleaved_timing<S: Shape<3, Coord = u32>>(
     // AO on against AO off in rounds of their own, our four greedy entries only: in the mixed
     // round three of our five entries (visible faces and both greedy entries with AO) run the
     // AO passes, so their code is more often still in the instruction caches when an AO entry
-    // runs than the AO-off code is when an AO-off entry runs (with cold data and caches, AO
-    // off meshes the inputs that showed it slower there as fast or faster: see BENCHMARKS.md).
-    // Here each side runs as often as the other. The mixed round's AO ratios stay in its log.
+    // runs than the AO-off code is when an AO-off entry runs, which favours AO on. Here each
+    // side runs as often as the other. The mixed round's AO ratios stay in its log.
     let ao_round = ours_greedy(prep).into();
     let label = format!("{} (AO round)", prep.input.name);
     let ao = interleaved::report(&label, ao_round, rounds, seconds);

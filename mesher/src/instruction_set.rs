@@ -8,12 +8,10 @@
 //! feature detection. Without the `std` feature there is no detection: the portable copy runs,
 //! compiled for whatever target features the build enables.
 //!
-//! **No AVX-512 copy.** An x86-64-v4 set once wrote lines of single faces 8 quads per 512-bit
-//! register. Measured on the sample MagicaVoxel models it gained nothing (T-Rex, chr_knight,
-//! ff1, maze, monu10, snow: from 2 % faster to 18 % slower than the AVX2 copy, best of two
-//! interleaved runs, greedy with AO off); only the synthetic checkerboard gained (28 %). And it
-//! was unsafe code that the tests could not run on the many machines without AVX-512. So it
-//! went (BENCHMARKS.md, "AVX-512 dropped").
+//! **No AVX-512 copy.** Writing lines of single faces 8 quads per 512-bit register gains only
+//! on inputs made of single faces (a checkerboard), not on real models, whose lines hold few
+//! faces; and it would be unsafe code that the tests cannot run on the many machines without
+//! AVX-512 (BENCHMARKS.md, the blocky mesher's "tried and not kept").
 
 /// The instruction set a [`GreedyMesher`](crate::blocky::GreedyMesher) runs on. Every set
 /// gives the same quads, bit for bit; only the speed differs.

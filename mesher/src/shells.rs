@@ -130,8 +130,8 @@ fn shell_run_has_side(r: ShellRun, face: u32) -> bool {
         #[cfg(target_endian = "little")]
         {
             // Built as one word: writing the 8 fields to memory one by one and reading them
-            // back as a word to push it stalls store forwarding (measured: two thirds of the
-            // extraction time on random chunks).
+            // back as a word to push it stalls store forwarding, once per run, which on chunks
+            // of many short runs (random fills) costs more than the extraction itself.
             let word = u64::from(x)
                 | u64::from(z) << 8
                 | u64::from(y) << 16

@@ -71,13 +71,12 @@ pub struct Ratios {
 /// and the bars' ratios, and returns the ratios.
 ///
 /// Each round runs the meshers in a new order (a seeded shuffle), so each one runs after every
-/// other one about equally often. In one fixed order the meshers that ran right after other
-/// meshers' work (a peer's buffers, caches and branch history) were timed cold and those that
-/// ran after a sibling on the same input (`fast_mesh` on prebuilt masks after `fast_mesh` with
-/// masks, our `u16` entries after our `PaddedChunk` ones) warm: on terrain 32^3 our first two
-/// entries in a round took about 1.2x as long as in the third and later places, whichever they
-/// were.
-/// (Only moving the start of the same cycle left that as it was.)
+/// other one about equally often. In one fixed order the meshers that run right after other
+/// meshers' work (a peer's buffers, caches and branch history) are timed cold and those that
+/// run after a sibling on the same input (`fast_mesh` on prebuilt masks after `fast_mesh` with
+/// masks, our `u16` entries after our `PaddedChunk` ones) warm, and on a short mesh (terrain
+/// 32^3) that difference is as large as the margins the bars ask for. (Only moving the start of
+/// the same cycle would leave that as it is.)
 pub fn report(input: &str, mut timed: Vec<Timed<'_>>, rounds: usize, budget: Duration) -> Ratios {
     let n = timed.len();
     let mut samples = vec![Vec::with_capacity(rounds); n];

@@ -5,7 +5,7 @@ use super::Measurements;
 use super::cpu::CpuRow;
 
 /// Largest share of pixels off by more than 8/255 that the budget rule accepts: the image bar
-/// the renderer's default budget is held to (`BENCHMARKS.md`, the whole view at bounded cost).
+/// the renderer's default budget is held to (`BENCHMARKS.md`, the headline of the GPU frame).
 pub const MAX_SHARE_OVER_8: f64 = 0.005;
 
 /// Largest mean absolute error (8-bit steps) that the budget rule accepts: the same bar's.

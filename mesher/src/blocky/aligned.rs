@@ -4,9 +4,8 @@
 //! The passes read and write a slice's lines with 32-byte AVX2 loads and stores. In a `Vec` of
 //! plain slices, which the allocator aligns to 16 bytes, half of those cross a cache line
 //! when the buffer lands 16 or 48 bytes past one, and none when it lands on one: where it
-//! lands changes from one mesher, and one process, to the next. Terrain 32^3 (AO off) meshed
-//! 3 % faster with every allocation on a cache line than 16 or 48 bytes past one (an
-//! allocator that placed them so, four runs of each).
+//! lands changes from one mesher, and one process, to the next, and so would the mesher's
+//! speed. On cache lines every load is whole, whatever the allocator does.
 
 use alloc::vec::Vec;
 use core::ops::{Deref, DerefMut};
@@ -63,8 +62,8 @@ struct WordLine([u64; 8]);
 
 /// Words from a cache line on, read as `[u64]`: the occupancy columns that
 /// [`GreedyMesher::mesh_u16`](super::GreedyMesher::mesh_u16) builds, written with 32-byte
-/// stores. (A `Vec<u64>` lands 16 bytes past a cache line as often as on one, and an array's
-/// columns then took 2 % to 10 % longer.) Scratch that keeps its capacity between chunks.
+/// stores. (A `Vec<u64>` lands 16 bytes past a cache line as often as on one, and then half
+/// of those stores split across two lines.) Scratch that keeps its capacity between chunks.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Words {
     lines: Vec<WordLine>,

@@ -48,19 +48,16 @@ use super::bits::{buried, masked, ones, runs_equal, runs_reach, transpose8, tran
 /// solid run (two ends), as in the walls and floors of built models, are meshed faster keyed
 /// however many voxels they expose.
 ///
-/// Measured chunk by chunk (x86-64-v3, every chunk of the bench inputs meshed both ways, the
-/// minimum of 29 rounds of 20 meshes each way): at 32^3 and 62^3, the sample models `monu1`
-/// and `monu10` (about 2 run ends a row) are up to 58 % slower from the masks even at 5 to 12
-/// exposed voxels a row, while foliage, terrain, random fills and the shaded Menger sponge
-/// (3.3 to 31 run ends a row, 4.5 exposed voxels or more) are up to 36 % faster. The terrain
-/// area (the viewer's terrain over 8 x 8 chunks of 32^3) added rolling hillsides: 2.8 to 4.4
-/// run ends and 3.7 to 10 exposed voxels a row, every chunk 8 % to 30 % faster from the masks
-/// (10 rounds of 10 meshes each way); the bounds below, 2.8 and 3.5, take them all and leave
-/// `monu1` and `monu10` keyed but for a few chunks at 2.8 to 3.2 run ends a row (7 % either
-/// way). With this rule every input's total is within 1 % of taking the faster way for each
-/// chunk, but the one-chunk `T-Rex` and `deer` (10 % to 15 %, 1 µs) and `monu10` (3 %). At
-/// 16^3 and 8^3 the two ways are within a few percent of each other on every input; the rule
-/// for them is within 4 % of the faster way per chunk (`T-Rex`: 6.5 %).
+/// The bounds come from meshing every chunk of the bench inputs both ways (x86-64-v3). At
+/// 32^3 and 62^3, built models such as the samples `monu1` and `monu10` (about 2 run ends a
+/// row) mesh slower from the masks even with many exposed voxels a row, while foliage,
+/// terrain, random fills and the shaded Menger sponge (3.3 run ends a row and more) mesh
+/// faster from them, and so do the rolling hillsides of the terrain area (the viewer's
+/// terrain over 8 x 8 chunks of 32^3: 2.8 to 4.4 run ends and 3.7 exposed voxels a row or
+/// more). The bounds below, 2.8 and 3.5, take the hillsides and leave the built models keyed
+/// but for a few chunks near the bound, where the two ways cost about the same. At 16^3 and
+/// 8^3 the two ways are close on every input, and the looser rule there follows the same
+/// split.
 #[inline(always)]
 const fn masks_pay(p: usize, sample: &Exposure) -> bool {
     let (rows, voxels, ends) = (sample.rows, sample.voxels, sample.run_ends);
@@ -76,12 +73,11 @@ const fn masks_pay(p: usize, sample: &Exposure) -> bool {
     }
 }
 
-/// What the transposes of one B slice into layout C cost, in ±X faces keyed one by one
-/// (callgrind, x86-64-v3: two 64 x 64 bit transposes with their gathers, about 1,500
-/// instructions, against 25 to 50 a keyed ±X face with its line), compared with the run
-/// ends the exposure pass counts. At 32^3 and below the two are one transpose
-/// ([`transpose_pair_into`]); halving the bound there changed no bench input by more than
-/// 0.1 % (callgrind), so it is kept.
+/// What the transposes of one B slice into layout C cost, in ±X faces keyed one by one (two
+/// 64 x 64 bit transposes with their gathers, x86-64-v3, against a keyed ±X face with its
+/// line), compared with the run ends the exposure pass counts. At 32^3 and below the two are
+/// one transpose ([`transpose_pair_into`]), but halving the bound there makes no measurable
+/// difference, so one bound serves every size.
 pub(crate) const TRANSPOSE_IN_FACES: u32 = 40;
 
 /// Whether layout C pays for a chunk of padded edge `p` with `run_ends` opaque-run ends (±X
@@ -519,9 +515,8 @@ fn lane_bits<const N: usize>(lane: impl Fn(usize) -> core::arch::x86_64::__m256i
 
 /// Layout C from layout A, as [`transpose_into`], of two masks at once, for a chunk of 8^3
 /// (padded edge 10): the 8 x 8 bits of each B slice's voxels a word, a row a byte, one
-/// [`transpose8`] each. (Taken for every 8^3 chunk with masks, layout C through
-/// [`transpose_pair_into`]'s 64 x 64 matrices, zeroed and transposed whole, cost foliage at
-/// 8^3 7 % more instructions with AO off, and this way 4 % fewer.) Every line `1..9` of
+/// [`transpose8`] each. (Through [`transpose_pair_into`]'s 64 x 64 matrices, zeroed and
+/// transposed whole, an 8^3 chunk would pay for 64 lines where it has 8.) Every line `1..9` of
 /// slices `1..9` is written, of B slices with an exposed row or not (nothing reads the
 /// others).
 #[inline(always)]

@@ -135,11 +135,12 @@ impl<'a> Quads<'a> {
 
     /// Appends the 1 x 1 quad of `line` with word 1 `key` for every set bit `b` (at least 1)
     /// of `bits`: the bulk path of lines whose faces share a key. It writes to the output
-    /// directly, not through the buffer: on a checkerboard (715 k quads) the buffer's copy
-    /// cost 19 % more time. One capacity check for the line, then per quad a bit scan, one
-    /// add on both words at once and one 8-byte store. In `key << 32 | first`, subtracting
-    /// `1 << shift` and adding `b << shift` leaves `key` in the high half: word 0 of every
-    /// face fits in its 32 bits, so the sum carries back whatever the subtraction borrowed.
+    /// directly, not through the buffer: on inputs made of such lines (a checkerboard) the
+    /// buffer's copy is a large share of the time. One capacity check for the line, then per
+    /// quad a bit scan, one add on both words at once and one 8-byte store. In
+    /// `key << 32 | first`, subtracting `1 << shift` and adding `b << shift` leaves `key` in
+    /// the high half: word 0 of every face fits in its 32 bits, so the sum carries back
+    /// whatever the subtraction borrowed.
     #[inline(always)]
     pub(crate) fn push_bits(&mut self, mut bits: u64, line: UnitLine, key: u32) {
         let shift = line.shift;
@@ -152,7 +153,7 @@ impl<'a> Quads<'a> {
         let spare = self.out.spare_capacity_mut();
         let count = count.min(spare.len());
         // A counted loop over the spare entries with the bit scan inline: `zip` with
-        // `bits::ones` checks both ends per quad (callgrind: 32 % more on a checkerboard).
+        // `bits::ones` checks both ends per quad.
         for quad in &mut spare[..count] {
             let b = u64::from(bits.trailing_zeros());
             bits &= bits.wrapping_sub(1);
@@ -171,10 +172,9 @@ impl<'a> Quads<'a> {
     ///
     /// A slice of at most [`FLUSHED_AT_ONCE`] quads is appended as that many, a copy of
     /// constant length that compiles to a few vector moves, and the output is then cut back
-    /// to the quads written; only larger slices take a call to `memcpy`. With that call for
-    /// every slice (a few quads each at 8^3) and the masks' copies as calls too (see
-    /// `masks::copy_lines`), the terrain area's 8^3 chunks ran about 1 % more instructions
-    /// (callgrind) and 2 % to 5 % more time with AO off (the GPU machine's CPU).
+    /// to the quads written; only larger slices take a call to `memcpy`. Small chunks (8^3)
+    /// flush a few quads a slice, and `memcpy`'s size dispatch, called for each, costs more
+    /// than the copy and mispredicts (see also `masks::copy_lines`).
     #[inline(always)]
     pub(crate) fn flush(&mut self) {
         let (len, end) = (self.len.min(4096), self.out.len() + self.len);

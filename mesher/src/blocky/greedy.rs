@@ -341,16 +341,13 @@ fn direction_portable<const A: usize, const AO: bool>(
 
 /// [`mesh_direction`] for axis `A` compiled for x86-64 with AVX2, BMI1, BMI2, LZCNT and
 /// POPCNT, a function of its own: inlined with the others into one function, each
-/// direction's loops were register-allocated worse as the mesher grew (an unrelated change
-/// made the keyed pass of the sample models spill twice as much and run 18 % more
-/// instructions). One per axis, not per face direction: the two faces of an axis differ
-/// only in what [`Facing`] holds, and sharing the walk halves its code, which the second
-/// face's walk then finds in the instruction cache. But one per AO setting, as two
-/// functions: a row of chunks meshed with AO off runs as many code lines either way, but
-/// with the AO-on code out of its functions it missed the simulated instruction cache 11 %
-/// less often (terrain area, 8^3) and AO off at 8^3 came closer to AO on (terrain area
-/// 0.97x-0.98x to 0.98x-0.99x, foliage 0.97x-0.99x to 1.00x-1.02x, on the GPU machine's
-/// CPU).
+/// direction's loops are register-allocated worse, and an unrelated change elsewhere can make
+/// them spill. One per axis, not per face direction: the two faces of an axis differ only in
+/// what [`Facing`] holds, and sharing the walk halves its code, which the second face's walk
+/// then finds in the instruction cache. But one per AO setting, as two functions: a row of
+/// chunks meshed with AO off runs as many code lines either way, and with the AO-on code out
+/// of its functions those lines miss the instruction cache less often, which matters most for
+/// small chunks (8^3), whose meshes are short.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
 #[inline(never)]
@@ -457,8 +454,7 @@ fn mesh_chunk(
     // With AO off a one-id chunk keys nothing; an id the classes do not know takes the
     // keyed path, which names it. A chunk in which no voxel has a face ends here (with AO
     // on the walks find that out, slice by slice). (The opaque layouts, a few words, are
-    // taken twice: held across the scan they cost terrain 32^3 0.4 % more instructions,
-    // through code layout.)
+    // taken twice: held across the scan they make the compiled code slightly worse.)
     let one = if job.ao || masks.has_transparent {
         None
     } else {

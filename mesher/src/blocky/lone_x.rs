@@ -32,14 +32,11 @@ use super::masks::Slice;
 use super::memo::NeighbourhoodMemo;
 use crate::{BlockClasses, MeshError};
 
-/// The smallest padded edge at which [`lone_x`] runs (with AO on only). Callgrind, and time
-/// on this project's 2-core machine, with and without it:
+/// The smallest padded edge at which [`lone_x`] runs (with AO on only):
 ///
-/// - with AO off the walks' own paths for lone faces cost less (checkerboard 32^3: 17.8 %
-///   fewer instructions and 15 % less time without it; 62^3: 9.7 % and 6 %), and the 17
-///   other inputs measured ran 0.03 % to 3.9 % fewer instructions without its sample;
-/// - below 32^3 its sample and rows cost more than they spare, AO on as well (checkerboard
-///   8^3 10.7 % fewer instructions without it; foliage 8^3 3.2 % and 4 % less time).
+/// - with AO off the walks' own paths for lone faces cost less than its sample and rows,
+///   even on a checkerboard, where every face is a lone one;
+/// - below 32^3 its sample and rows cost more than they spare, AO on as well.
 pub(crate) const ROWS_FROM: usize = 34;
 
 /// Removes, in place, the faces of a slice that `lone_x` emitted: those with no neighbouring

@@ -100,9 +100,7 @@ pub(crate) struct Layouts<'a> {
 /// slice), line `y` of any slab (layout B's slice `y`), bit `x` of any line (layout C's slice).
 ///
 /// Reads lines `0..p` of each slab only: the rest are zero, and in a short chunk nothing
-/// writes them, so reading them fetched cold cache lines (3 a slab at 32^3: on terrain 32^3
-/// with its caches evicted before each mesh, callgrind counts 15 % fewer last-level read
-/// misses without them, and 1.7 % fewer instructions).
+/// writes them, so reading them would fetch cold cache lines (3 a slab at 32^3) for nothing.
 #[inline(always)]
 fn occupied_slices(a: &[Slice], p: usize) -> [u64; 3] {
     let mut any_line = [0u64; 64];
@@ -157,8 +155,8 @@ const SLAB_WORDS: usize = 20;
 /// costs one compare-and-OR over its rows from the first non-air one to the last
 /// ([`row_contains`]). Otherwise its ids are matched 64 at a time into a flat mask (bit `i`
 /// of word `i / 64` for id `i` of the slab) and each row's `P` bits, which start at bit
-/// `P * y`, are cut out of it. Row by row, a 34-id row cost two scans of an odd length each
-/// (about 50 instructions per row and id on terrain; this is about 15).
+/// `P * y`, are cut out of it. Row by row, a 34-id row would cost two scans of an odd length
+/// each, several times the work of its share of the flat match.
 #[inline(always)]
 fn short_transparent<const P: usize>(
     voxels: &[u16],
@@ -371,10 +369,10 @@ impl Masks {
 }
 
 /// Copies lines `0..p` of `from` into `to`. For the padded edges below 64 the length is a
-/// constant, so the copy is a few vector moves in place of a call to `memcpy` (at 8^3 those
-/// calls, 14 a chunk, ran 3 % of the mesher's instructions). Each arm copies word by word
-/// ([`copy_words`]): as `copy_from_slice` in every arm, the compiler merged the arms into one
-/// copy of variable length, and the call came back.
+/// constant, so the copy is a few vector moves in place of a call to `memcpy`, whose size
+/// dispatch costs more than such a short copy (small chunks make many of them). Each arm
+/// copies word by word ([`copy_words`]): with `copy_from_slice` in every arm, the compiler
+/// merges the arms into one copy of variable length, which is the `memcpy` call again.
 #[inline(always)]
 fn copy_lines(to: &mut [u64], from: &[u64], p: usize) {
     match p {

@@ -37,7 +37,8 @@ impl FrontVoxels for [u64; 9] {
 /// The AO split of the last two lines of lone faces met: the bits whose front neighbourhood
 /// equals that of the line's first face, and that face's AO byte, by front voxels and first
 /// bit. Two entries, because periodic slices (a checkerboard's, or stripes) repeat their lines
-/// every other line; a hit saves the 9 bit-plane comparisons (7 % of a checkerboard's time).
+/// every other line; a hit saves the 9 bit-plane comparisons, a large share of the work on
+/// such slices.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct NeighbourhoodMemo<F> {
     /// Front voxels, first bit (64: an empty entry), same-neighbourhood bits, AO byte.

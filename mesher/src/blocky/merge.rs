@@ -16,12 +16,11 @@
 //!
 //! Faces none of whose 4 neighbours has an equal key can only ever be 1 x 1 quads, whatever
 //! order the greedy pass takes (a quad covering one would need an equal neighbour), and
-//! removing them changes no other quad. On terrain they are most faces (73 %), on random fills
+//! removing them changes no other quad. On terrain they are most faces, on random fills
 //! nearly all. So [`greedy`] computes every key first, then writes those *alone* faces as
 //! 1 x 1 quads in one tight loop, and grows quads from the other faces only. (Writing every
-//! face as a quad while keying it and taking back the quads of faces that merge was measured
-//! too: it won 6 % on random fills and lost 7 % on terrain once the keying loop was compiled
-//! for BMI2.)
+//! face as a quad while keying it, then taking back the quads of faces that merge, gains on
+//! random fills but loses on terrain once the keying loop is compiled for BMI2.)
 //!
 //! Where the keys come from is the const parameter `K` of the passes (see `keys::FROM_TABLE`):
 //!
@@ -326,10 +325,9 @@ fn emit_alone<const A: usize, const AO: bool, const K: u8>(
         let mut bits = keys.alone[l];
         if lone_first::<AO, K>() {
             // With AO off most of these lines have one alone face: it is written before the
-            // loop, which then mostly runs no step. From the first face, and over every line
-            // with a face, the loop's end was mispredicted often: this way terrain 32^3 has
-            // 14 % fewer simulated mispredictions with AO off (callgrind), and bar 2 on it
-            // rose from 1.03x-1.05x to 1.13x-1.28x on the GPU machine's CPU.
+            // loop, which then mostly runs no step. A loop over every alone face of the line
+            // would end after a count that changes from line to line, and its end would be
+            // mispredicted often.
             debug_assert!(bits != 0, "line {l} was taken for an alone face");
             out.buf[masked::<4096>(n)] = quad(bits.trailing_zeros() as usize);
             n += 1;

@@ -46,8 +46,7 @@ impl DerefMut for FlatColumns {
 pub(crate) const FLAT_WORDS: usize = 1024;
 
 /// `[f(0), f(1), ..., f(31)]`, written out: the compiler does not unroll a loop of 32 rows
-/// (`core::array::from_fn` or a `for`), and unrolled every row's word and shift is a constant
-/// (callgrind: 12 instructions a row as a loop).
+/// (`core::array::from_fn` or a `for`), and unrolled every row's word and shift is a constant.
 macro_rules! each_of_32 {
     (|$r:ident| $e:expr) => {{
         let f = |$r: usize| $e;
@@ -64,8 +63,8 @@ macro_rules! each_of_32 {
 /// (in `plain_x86`) gives the same columns with AVX2 kernels.
 ///
 /// Rows of 64 ids (62^3 chunks) are one SIMD compare each. Shorter rows (edges 34, 18, 10)
-/// would take the scalar path of [`row_non_air`] row by row, which cost 6 instructions a voxel
-/// at 34 against 0.6 at 64; so the whole array is masked 64 ids at a time into `flat` (bit `i`
+/// would take the scalar path of [`row_non_air`] row by row, many times the work per voxel of
+/// a 64-id compare; so the whole array is masked 64 ids at a time into `flat` (bit `i`
 /// of the array at bit `i % 64` of word `i / 64`), and each row's `p` bits, which start at bit
 /// `p * row`, are cut out of one or two of its words (see [`cut_rows`]).
 ///
@@ -94,8 +93,8 @@ pub(crate) fn build_columns(
 }
 
 /// The columns of an array of edge `P` below 64 on the portable code path: a call of its own,
-/// since inlined into the mesher it made the 62^3 path 0.9 % slower (the mesher's other loops
-/// compiled differently).
+/// since inlined into the mesher it changes how the mesher's other loops compile, and slows
+/// the 62^3 path that never runs it.
 #[inline(never)]
 fn short_columns_portable<const P: usize>(
     voxels: &[u16],

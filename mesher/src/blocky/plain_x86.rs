@@ -7,8 +7,8 @@
 //! non-zero `i16` stays non-zero), compared with zero and turned into 32 air bits by
 //! `vpmovmskb`. The pack works within each 128-bit half of the registers, so the 32 bits come
 //! out in *lane order*: ids 0-7, 16-23, 8-15, 24-31, one byte each. Putting them in id order
-//! with a cross-lane permute per pack was half the kernel's shuffle work, and Intel cores run
-//! both the packs and the permutes on one port: the kernel was bound by that port.
+//! with a cross-lane permute per pack would be half the kernel's shuffle work, and Intel cores
+//! run both the packs and the permutes on one port: the kernel would be bound by that port.
 //!
 //! So [`air_in_lane_order`] stores the bits as they come, two `u32`s per 64 ids, and one pass
 //! ([`to_id_order_non_air`]) swaps the middle two bytes of every `u32` with one in-lane byte
@@ -167,7 +167,8 @@ fn air_in_lane_order(rows: &[[u16; 64]], out: &mut [u64]) {
         [half(0), half(2)]
     };
     let out: &mut [[u32; 2]] = bytemuck::cast_slice_mut(&mut out[..rows.len()]);
-    // Four rows a step: the loop's own counting was a fifth of the kernel's instructions.
+    // Four rows a step: one row a step, the loop's own counting is a large share of the
+    // kernel's instructions.
     let (rows4, rows_rest) = rows.as_chunks::<4>();
     let (out4, out_rest) = out.as_chunks_mut::<4>();
     for (four, rows) in out4.iter_mut().zip(rows4) {

@@ -15,9 +15,10 @@
 //! The merge order is `block-mesh`'s (its `RIGHT_HANDED_Y_UP_CONFIG` grows a quad along its
 //! `u` axis first: z for ±X and ±Y faces, x for ±Z faces, and scans x fastest, then y, then
 //! z), so with AO off both produce exactly the same quads. The ±X faces have their bits along
-//! z, not y, because on terrain their lines then hold more faces each (1,541 lines instead of
-//! 2,751 for the same 4,057 faces on the 62^3 bench chunk), and the per-line work is a large
-//! part of the cost; `block-mesh` scans them z first, so their quads start bit-major.
+//! z, not y, because on terrain their lines then hold more faces each (on the 62^3 bench
+//! terrain chunk, little more than half as many lines for the same faces), and the per-line
+//! work is a large part of the cost; `block-mesh` scans them z first, so their quads start
+//! bit-major.
 
 use alloc::vec::Vec;
 
@@ -220,8 +221,8 @@ fn emit<const A: usize, const AO: bool>(
 fn isolated_faces(faces: &Slice, rows: u64) -> bool {
     // Line l - 1 has no face: l is the first line with one. A slice may have none (transparent
     // voxels that face only their own id): then the mask turns l = 64 into line 0, which holds
-    // no face (padding), and the answer is false. (Returning early for such slices instead moved
-    // meshing with AO off by up to 1 % in callgrind, through code layout.)
+    // no face (padding), and the answer is false. (A separate early return for such slices
+    // only changes the code layout.)
     let l = rows.trailing_zeros() as usize & 63;
     let f = faces[l];
     if !many(f) || f & ((f << 1) | (f >> 1) | faces[masked::<64>(l + 1)]) != 0 {

@@ -51,8 +51,8 @@
 //! grid: no gaps and no double faces (tested in `tests/tests/smooth_seams.rs` by meshing
 //! neighbouring chunks and the region they cover). Unlike `fast-surface-nets`, the packed mesh
 //! has no vertices that no quad uses (surface cells on the grid's outer layers whose crossing
-//! edges all belong to a neighbour): about 6% fewer vertices on a chunk that the surface
-//! crosses often. The unquantized output ([`SmoothMeshF32`]) keeps them, in
+//! edges all belong to a neighbour): a few percent fewer vertices on a chunk that the
+//! surface crosses often. The unquantized output ([`SmoothMeshF32`]) keeps them, in
 //! `fast-surface-nets`' order, so that the two can be compared vertex for vertex.
 //!
 //! # Output and bytes
@@ -74,7 +74,7 @@
 //! - **u32**, 16 B per quad: past 65,536 vertices.
 //!
 //! So a chunk costs 16 B per vertex + 6 B per quad: on a closed surface (about one vertex per
-//! quad) about 22 B per quad, 22.1-22.8 B on the benchmark inputs (`BENCHMARKS.md`).
+//! quad) about 22 B per quad (the benchmark inputs' figures: `BENCHMARKS.md`, SurfaceNets).
 //! [`SmoothMeshF32`] is the unquantized output for tests and tools.
 //!
 //! # How it is fast
@@ -88,8 +88,7 @@
 //!   branches; normals are packed in the same lanes.
 //! - Quads are made per z slice after its vertices, one pass per axis, with a table instead
 //!   of branches for the winding and diagonal. Few branches depend on the data, so few are
-//!   mispredicted (callgrind's model: about 7,000 per mesh on the 34^3 sine benchmark, where
-//!   `fast-surface-nets` has about 84,000).
+//!   mispredicted, where `fast-surface-nets` branches per cell and per edge.
 //!
 //! # NoCubes: smoothing blocky data
 //!

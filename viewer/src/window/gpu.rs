@@ -235,10 +235,12 @@ impl GpuWindow {
     /// edited by the user); records its times into `stats`. `Ok(Err(reason))` when the
     /// swapchain gave no image this time.
     ///
-    /// The pass times are collected right after the present, which waits for the GPU: frames
-    /// do not overlap, so the figures are each frame's own (a viewer for measuring, not a
-    /// throughput-tuned loop). The CPU frame time runs from the acquired image to the present
-    /// and includes the streaming work of the frame (uploads, frees, plans).
+    /// Frames overlap by one: after this frame is submitted and presented, the CPU waits for
+    /// the GPU to finish the frame before it (so one frame stays in flight while the next is
+    /// prepared) and collects that frame's pass times, so the overlay's GPU figures are each
+    /// frame's own, one frame late. Reading the cull counters for the overlay waits for this
+    /// frame too, a few times a second. The CPU frame time runs from the acquired image to the
+    /// present and includes the streaming work of the frame (uploads, frees, plans).
     pub fn draw(
         &mut self,
         camera: &Camera,
