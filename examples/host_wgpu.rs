@@ -26,7 +26,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         required_limits: required_limits(),
         ..Default::default()
     }))?;
-    let size = wgpu::Extent3d { width: W, height: H, depth_or_array_layers: 1 };
+    let size = wgpu::Extent3d {
+        width: W,
+        height: H,
+        depth_or_array_layers: 1,
+    };
     let target = |format, usage| {
         let (dimension, view_formats) = (wgpu::TextureDimension::D2, &[][..]);
         let (label, mip_level_count, sample_count) = (None, 1, 1);
@@ -51,12 +55,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut renderer = Renderer::new(&ctx, &RendererConfig::new(W, H, ChunkSize::S16), &palette)?;
     let (position, width, height, face) = ([0, 0, 0], 16, 16, FaceDirection::PosY);
     let (ao, block) = ([3, 3, 3, 3], BlockId(1));
-    let floor =
-        [PackedQuad::encode(&PackedQuadFields { position, width, height, face, ao, block })?];
+    let floor = [PackedQuad::encode(&PackedQuadFields {
+        position,
+        width,
+        height,
+        face,
+        ao,
+        block,
+    })?];
     let mut layers = ChunkLayersData::default();
     layers.opaque_quads[usize::from(face.index())] = &floor;
     let coord = ChunkCoord::new(0, 0, 0);
-    renderer.upload_chunk(&ChunkMeshData { coord, lod: 0, layers })?;
+    renderer.upload_chunk(&ChunkMeshData {
+        coord,
+        lod: 0,
+        layers,
+    })?;
     let eye = WorldPos::new(8, 6, 24);
     let camera = Camera::new(eye, glam::DVec3::splat(0.5), 0.0, -0.4, 1.0);
     renderer.set_camera(&camera);
@@ -64,11 +78,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Draw into the host's targets, depth converted to its projection (reversed-Z, infinite).
     let (f, near) = (1.0 / (camera.fov_y as f32 / 2.0).tan(), camera.near as f32);
     let aspect = W as f32 / H as f32;
-    let projection =
-        [[f / aspect, 0., 0., 0.], [0., f, 0., 0.], [0., 0., 0., -1.], [0., 0., near, 0.]];
+    let projection = [
+        [f / aspect, 0., 0., 0.],
+        [0., f, 0., 0.],
+        [0., 0., 0., -1.],
+        [0., 0., near, 0.],
+    ];
     let compare = wgpu::CompareFunction::Greater;
-    let depth = Some(HostDepth { texture: &depth, projection, compare });
-    let targets = HostTargets { colour: &colour, depth };
+    let depth = Some(HostDepth {
+        texture: &depth,
+        projection,
+        compare,
+    });
+    let targets = HostTargets {
+        colour: &colour,
+        depth,
+    };
     let mut encoder = device.create_command_encoder(&Default::default());
     HostPass::new(&ctx).record(&ctx, &mut renderer, &mut encoder, &targets)?;
     queue.submit([encoder.finish()]);
@@ -76,6 +101,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // What the renderer drew (its own readback of the frame it composited).
     let image = renderer.read_image()?;
     let drawn = image.depth.iter().filter(|&&d| d > 0.0).count();
-    println!("the backend drew {drawn} of {} pixels into the host's targets", W * H);
-    (drawn > 0).then_some(()).ok_or_else(|| "nothing drawn".into())
+    println!(
+        "the backend drew {drawn} of {} pixels into the host's targets",
+        W * H
+    );
+    (drawn > 0)
+        .then_some(())
+        .ok_or_else(|| "nothing drawn".into())
 }

@@ -13,7 +13,9 @@ use voxel_core::{ChunkSize, PaddedChunk};
 
 fn main() -> Result<(), Box<dyn Error>> {
     let mut args = std::env::args_os().skip(1).map(PathBuf::from);
-    let input = args.next().ok_or("usage: vox_to_quads MODEL.vox [OUT.bin]")?;
+    let input = args
+        .next()
+        .ok_or("usage: vox_to_quads MODEL.vox [OUT.bin]")?;
     let output = args.next();
 
     // Load: voxels in 32^3 chunks, block id i = the file's colour index i.
