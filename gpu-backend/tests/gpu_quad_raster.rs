@@ -40,11 +40,12 @@ use gpu_backend::render::passes::quad_raster::{QuadRaster, QuadRasterError, Quad
 use gpu_backend::test_support::headless_or_skip;
 use gpu_quad_raster_support::{Frame, Rig, assert_close, bit_exact, compare, device, report};
 use render_model::camera::{Camera, Eye};
+use render_model::frame::FrameUniforms;
 use render_model::cull::LodParams;
 use render_model::cull::lod::{focal_px, selected};
 use render_model::quad_raster::QuadRasterConfig;
 use voxel_core::formats::{PackedQuad, PackedQuadFields};
-use voxel_core::{BlockId, ChunkCoord, ChunkSize, FaceDirection};
+use voxel_core::{BlockId, ChunkCoord, ChunkSize, FaceDirection, WorldPos};
 
 /// `GPU_TEST_SEED` if set, else the test's `default`; printed.
 fn seed(default: u64) -> u64 {
@@ -674,19 +675,23 @@ fn more_commands_than_one_dispatch_dimension() {
         .write_buffer(rig.output.args(), 0, bytemuck::cast_slice(&args));
     ctx.queue
         .write_buffer(rig.output.counts(), 0, bytemuck::cast_slice(&counts));
-    let camera = {
-        let chunk = ChunkCoord::new(0, 0, 0);
-        let offset = [-4.0, 0.5, 0.5];
-        let yaw = std::f64::consts::FRAC_PI_2;
-        let pitch = 0.0;
-        let fov_y = 1.0;
-        let near = 0.1;
-        let eye = Eye { chunk, offset };
-        let camera = Camera::at_eye(eye, ChunkSize::S16, yaw, pitch, fov_y)
-            .expect("the eye is inside the i32 world");
-        Camera { near, ..camera }
+    let camera = Camera {
+        near: 0.1,
+        ..Camera::new(
+            WorldPos::new(-4, 0, 0),
+            glam::DVec3::new(0.0, 0.5, 0.5),
+            std::f64::consts::FRAC_PI_2,
+            0.0,
+            1.0,
+        )
     };
-    let uniforms = rig.uniforms_of(&camera);
+    // The records written above are relative to chunk 0: the eye is placed from there, 4
+    // blocks behind the chunk's -X side (the camera itself would split it into chunk -1).
+    let uniforms = FrameUniforms {
+        camera_offset: [-4.0, 0.5, 0.5],
+        camera_chunk: [0; 3],
+        ..rig.uniforms_of(&camera)
+    };
     ctx.queue
         .write_buffer(&rig.uniforms, 0, bytemuck::bytes_of(&uniforms));
     let mut encoder = ctx.device.create_command_encoder(&Default::default());

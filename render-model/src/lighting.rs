@@ -16,7 +16,7 @@
 //!
 //! Albedo is the palette's sRGB colour decoded to linear ([`srgb_to_linear`]). The sky (no
 //! geometry) is `sky_colour`, tonemapped the same way. There are no shadows: the deferred pass
-//! has no shadow map yet.
+//! has no shadow map.
 
 use bytemuck::{Pod, Zeroable};
 

@@ -32,7 +32,7 @@ pub struct ChunkRanges {
     /// Smooth quads (indices relative to `smooth_vertices.offset`), in the smooth-quad
     /// gigabuffer: its words (`DataKind::SmoothQuads` elements), in the form
     /// `smooth_quad_form`, holding `smooth_quad_count` quads. `MeshedChunkInfo` has no field
-    /// for it yet.
+    /// for it.
     pub smooth_quads: LayerRange,
     /// Number of smooth quads.
     pub smooth_quad_count: u32,
@@ -91,7 +91,7 @@ pub struct ChunkMeshData<'a> {
     pub coord: ChunkCoord,
     /// Level of detail, `0..=15`: the chunk's voxels are `2^lod` blocks wide.
     pub lod: u32,
-    /// Its packed layers. Clutter is stored but not drawn yet.
+    /// Its packed layers. Clutter is stored; no pass draws it.
     pub layers: ChunkLayersData<'a>,
 }
 

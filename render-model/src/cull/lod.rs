@@ -12,8 +12,8 @@
 //! cell is that far from the near corner on all three at once). So level `k` **errs by
 //! `e_k = sqrt(3) (2^k - 1)` blocks** (level 0 by nothing). Any displacement of length `e`
 //! projects to at most `e f / d` pixels, whatever its direction, so this is the bound the
-//! budget needs; the per-axis `2^k - 1` alone understates it (measured: the 4096^2 view at
-//! 1 px had 0.61 % of its pixels off by more than 8/255 with it, BENCHMARKS.md).
+//! budget needs; the per-axis `2^k - 1` alone understates it (the 4096^2 view at 1 px missed
+//! the image-error bar with it; BENCHMARKS.md has the budget sweep).
 //!
 //! # The rule
 //!

@@ -21,8 +21,8 @@
 //!
 //! **Clears.** The colour targets are never cleared: lighting reads them only where the depth
 //! says this frame drew there (depth > 0, nearer than the visibility buffer). A clear is a
-//! full-screen fill, which costs about 0.6 ms on GPUs with few raster units (the H100), a third
-//! of the frame budget; only the depth is cleared, by the early phase. On the compute opaque
+//! full-screen fill, slow on GPUs with few raster units (the H100 and H200); only the depth is
+//! cleared, by the early phase. On the compute opaque
 //! path with no smooth layer and no raster far draws nothing is rasterised: the pass only
 //! clears the depth, which stays clear until a pass draws, so it is skipped then.
 

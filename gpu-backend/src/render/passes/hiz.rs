@@ -33,10 +33,10 @@
 //! of a (depth view, visibility buffer) pair and cached (up to 4 pairs, compared by identity:
 //! pass the same `TextureView` and `Buffer` objects each frame, not fresh views).
 //!
-//! **Cost, reasoned (not measured).** At 1920 x 1080 level 0 reads 8.3 MB of depth (+16.6 MB
-//! of visibility words when given) and writes 2.1 MB; the other nine levels read 2.8 MB and
-//! write 0.7 MB: about 14 MB without and 30 MB with a visibility buffer, some 5-10 µs of
-//! H100 bandwidth. Reads are coalesced (neighbouring invocations read neighbouring pixel
+//! **Cost.** At 1920 x 1080 level 0 reads 8.3 MB of depth (+16.6 MB of visibility words when
+//! given) and writes 2.1 MB; the other nine levels read 2.8 MB and write 0.7 MB: about 14 MB
+//! without and 30 MB with a visibility buffer (BENCHMARKS.md has the pass's measured time).
+//! Reads are coalesced (neighbouring invocations read neighbouring pixel
 //! pairs). The last levels (15 x 8 texels and smaller at 1080p) are far too small to fill a
 //! GPU; they go to the tail's single workgroup, as AMD's single-pass downsampler does for its
 //! last levels.

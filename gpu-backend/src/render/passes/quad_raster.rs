@@ -100,10 +100,8 @@
 //! the tile counter never passes the capacity. Quad pages not yet created hold no quads, so no
 //! command names them.
 //!
-//! **Cost.** Measured: nothing yet; this rasteriser has not been timed on any GPU. What
-//! motivates it is measured for the raster path only: `BENCHMARKS.md` has the G-buffer pass
-//! geometry-bound at about 0.26 G quads/s on the H200. *Reasoned from the code (not measured):*
-//! per quad, one 8-byte read, the setup (2 corners, 8 matrix-vector products for the box, a
+//! **Cost.** `BENCHMARKS.md` has this pass and the G-buffer raster pass measured side by side
+//! on the GPU machine, whose few raster units bound the raster pass by geometry. Per quad, one 8-byte read, the setup (2 corners, 8 matrix-vector products for the box, a
 //! near clip), a 6-step workgroup scan per batch of 64 (12 barriers) and a compare-and-swap per
 //! batch with big quads; per pixel centre tested, the binary search (6 shared loads) or the
 //! tile's bounds, the ray (3 multiply-adds per component), one division for `t`, 2 multiplies
@@ -113,10 +111,10 @@
 //! tests print both counts ([`QuadRasterStats::tested_pixels`], [`QuadRasterStats::hits`]).
 //! Atomics to one pixel from several quads serialise only where quads overlap on screen
 //! (overdraw), as in the far splat. A record is `4 + pages` dispatches, 2 of them of one
-//! workgroup. Whether this beats the raster pass on a given GPU is for the renderer's
-//! benchmarks to show.
+//! workgroup. Whether this beats the raster pass depends on the GPU's raster units: the
+//! renderer measures both on its device (`OpaquePath::Auto`).
 //!
-//! **Precision.** All in camera-relative `f32` (see [`camera`](super::camera)): no large
+//! **Precision.** All in camera-relative `f32` (see [`render_model::camera`]): no large
 //! coordinate is ever an `f32`. A GPU that fuses multiply-adds may decide a pixel centre within
 //! about 2^-16 of the magnitudes involved of a (grown) edge or of the near plane differently
 //! from the CPU twin ([`PixelSample::ambiguous`]), and its depth bits and AO byte may differ by

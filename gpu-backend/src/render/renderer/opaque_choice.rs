@@ -2,8 +2,8 @@
 //! the raster pass and with the compute rasteriser, alternately, and the faster kept.
 //!
 //! Which path wins is the GPU's: consumer GPUs rasterise far faster than the compute parts of
-//! the GPU machine (H100/H200), where the raster pass reaches about 0.26 G quads/s. So the
-//! choice is measured on the device, at the caller's view, with GPU timestamps; without
+//! the GPU machine (H100/H200), whose few raster units bound the raster pass by geometry. So
+//! the choice is measured on the device, at the caller's view, with GPU timestamps; without
 //! timestamps or without the compute rasteriser the raster path stays, and the choice says why.
 
 use std::fmt;
