@@ -95,7 +95,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         depth,
     };
     let mut encoder = device.create_command_encoder(&Default::default());
-    HostPass::new(&ctx).record(&ctx, &mut renderer, &mut encoder, &targets)?;
+    HostPass::new(&ctx)?.record(&ctx, &mut renderer, &mut encoder, &targets)?;
     queue.submit([encoder.finish()]);
 
     // What the renderer drew (its own readback of the frame it composited).

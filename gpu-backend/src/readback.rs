@@ -29,12 +29,16 @@ pub fn read_buffer(
     if size == 0 {
         return Ok(Vec::new());
     }
-    let staging = device.create_buffer(&BufferDescriptor {
-        label: Some("readback"),
-        size,
-        usage: BufferUsages::MAP_READ | BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let staging = crate::device::alloc::create_buffer(
+        device,
+        &BufferDescriptor {
+            label: Some("readback"),
+            size,
+            usage: BufferUsages::MAP_READ | BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        },
+    )
+    .map_err(|e| ReadbackError(e.to_string()))?;
     let mut encoder = device.create_command_encoder(&CommandEncoderDescriptor {
         label: Some("readback"),
     });

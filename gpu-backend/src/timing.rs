@@ -59,6 +59,7 @@ use wgpu::{
     SubmissionIndex,
 };
 
+use crate::device::alloc::AllocError;
 use crate::device::{GpuCapabilities, GpuContext, TimingPath};
 use crate::pass_chain::PassChain;
 
@@ -166,8 +167,9 @@ pub struct GpuTimer {
 
 impl GpuTimer {
     /// A timer for up to `max_scopes` scopes per frame (at most 2048: two queries each, 4096
-    /// per query set), on the path `ctx.capabilities.timing` chose.
-    pub fn new(ctx: &GpuContext, max_scopes: u32) -> GpuTimer {
+    /// per query set), on the path `ctx.capabilities.timing` chose. Errors when the device
+    /// refuses the resolve or readback buffers.
+    pub fn new(ctx: &GpuContext, max_scopes: u32) -> Result<GpuTimer, AllocError> {
         GpuTimer::with_capabilities(&ctx.device, &ctx.queue, &ctx.capabilities, max_scopes)
     }
 
@@ -177,7 +179,7 @@ impl GpuTimer {
         queue: &Queue,
         capabilities: &GpuCapabilities,
         max_scopes: u32,
-    ) -> GpuTimer {
+    ) -> Result<GpuTimer, AllocError> {
         let max_scopes = max_scopes.clamp(1, wgpu::QUERY_SET_MAX_QUERIES / 2);
         let timestamps = match capabilities.timing {
             TimingPath::GpuTimestamps {
@@ -188,23 +190,29 @@ impl GpuTimer {
                 let queries = 2 * max_scopes;
                 let bytes = u64::from(queries) * wgpu::QUERY_SIZE as u64;
                 let buffer = |label: &str, usage: BufferUsages| {
-                    device.create_buffer(&BufferDescriptor {
-                        label: Some(label),
-                        size: bytes,
-                        usage,
-                        mapped_at_creation: false,
-                    })
+                    crate::device::alloc::create_buffer(
+                        device,
+                        &BufferDescriptor {
+                            label: Some(label),
+                            size: bytes,
+                            usage,
+                            mapped_at_creation: false,
+                        },
+                    )
                 };
                 Some(Timestamps {
-                    query_set: device.create_query_set(&wgpu::QuerySetDescriptor {
-                        label: Some("gpu timer"),
-                        ty: wgpu::QueryType::Timestamp,
-                        count: queries,
-                    }),
+                    query_set: crate::device::alloc::create_query_set(
+                        device,
+                        &wgpu::QuerySetDescriptor {
+                            label: Some("gpu timer"),
+                            ty: wgpu::QueryType::Timestamp,
+                            count: queries,
+                        },
+                    )?,
                     resolve: buffer(
                         "gpu timer resolve",
                         BufferUsages::QUERY_RESOLVE | BufferUsages::COPY_SRC,
-                    ),
+                    )?,
                     readbacks: (0..FRAMES_IN_FLIGHT)
                         .map(|_| {
                             buffer(
@@ -212,7 +220,7 @@ impl GpuTimer {
                                 BufferUsages::MAP_READ | BufferUsages::COPY_DST,
                             )
                         })
-                        .collect(),
+                        .collect::<Result<_, _>>()?,
                     next_readback: 0,
                     period_ns,
                     inside_encoders,
@@ -221,7 +229,7 @@ impl GpuTimer {
             }
             TimingPath::Cpu => None,
         };
-        GpuTimer {
+        Ok(GpuTimer {
             device: device.clone(),
             queue: queue.clone(),
             timestamps,
@@ -231,7 +239,7 @@ impl GpuTimer {
             untimed: 0,
             dropped: 0,
             error: None,
-        }
+        })
     }
 
     /// Where this timer's figures come from.

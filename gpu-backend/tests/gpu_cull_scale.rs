@@ -100,7 +100,7 @@ fn cull_400k_chunks() {
         [4.37, 4.11, 4.73],
         view_projection,
     );
-    let mut timer = GpuTimer::new(&ctx, 4);
+    let mut timer = GpuTimer::new(&ctx, 4).expect("timer");
     let mut gpu_ns = Vec::new();
     let mut record_ns = Vec::new();
     for _ in 0..FRAMES {

@@ -443,7 +443,7 @@ fn the_timed_build_is_timed() {
     let (w, h) = (64, 48);
     let pyramid = DepthPyramid::new(&ctx.device, w, h).expect("pyramid");
     let (_t, view) = depth_target(ctx, w, h);
-    let mut timer = GpuTimer::new(ctx, 4);
+    let mut timer = GpuTimer::new(ctx, 4).expect("timer");
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
     match timer.compute_pass_writes("hiz") {
         Some(writes) => {

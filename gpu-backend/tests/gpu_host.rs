@@ -252,6 +252,7 @@ fn draw_into_host(
         }),
     };
     HostPass::new(ctx)
+        .expect("host pass")
         .record(ctx, &mut renderer, &mut encoder, &targets)
         .expect("recorded");
     ctx.queue.submit([encoder.finish()]);
@@ -319,7 +320,7 @@ fn targets_of_another_size_or_kind_are_refused() {
         return;
     };
     let mut renderer = renderer_with_quads(&ctx);
-    let mut pass = HostPass::new(&ctx);
+    let mut pass = HostPass::new(&ctx).expect("host pass");
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
     let wide = host_texture(&ctx, TextureFormat::Rgba8UnormSrgb, W + 1);
     let targets = HostTargets {

@@ -40,9 +40,9 @@ use gpu_backend::render::passes::quad_raster::{QuadRaster, QuadRasterError, Quad
 use gpu_backend::test_support::headless_or_skip;
 use gpu_quad_raster_support::{Frame, Rig, assert_close, bit_exact, compare, device, report};
 use render_model::camera::{Camera, Eye};
-use render_model::frame::FrameUniforms;
 use render_model::cull::LodParams;
 use render_model::cull::lod::{focal_px, selected};
+use render_model::frame::FrameUniforms;
 use render_model::quad_raster::QuadRasterConfig;
 use voxel_core::formats::{PackedQuad, PackedQuadFields};
 use voxel_core::{BlockId, ChunkCoord, ChunkSize, FaceDirection, WorldPos};
@@ -669,7 +669,7 @@ fn more_commands_than_one_dispatch_dimension() {
     let mut counts = vec![0u32; gpu_quad_raster_support::PAGES as usize + 1];
     counts[0] = COMMANDS;
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    rig.gigabuffer.flush(&mut encoder);
+    rig.gigabuffer.flush(&mut encoder).expect("flush");
     ctx.queue.submit([encoder.finish()]);
     ctx.queue
         .write_buffer(rig.output.args(), 0, bytemuck::cast_slice(&args));

@@ -238,7 +238,7 @@ fn timestamps_time_dispatched_passes() {
         "adapter {}, period {period_ns} ns",
         ctx.capabilities.adapter
     );
-    let mut timer = GpuTimer::new(&ctx, 16);
+    let mut timer = GpuTimer::new(&ctx, 16).expect("timer");
     assert_eq!(timer.source(), TimingSource::GpuTimestamps);
     let (times, wall) = time_frame(&ctx, &mut timer);
     let labels: Vec<&str> = times.iter().map(|t| t.label.as_str()).collect();
@@ -294,7 +294,7 @@ fn timestamps_without_encoder_writes_use_empty_passes() {
         inside_passes: false,
         period_ns: ctx.queue.get_timestamp_period(),
     };
-    let mut timer = GpuTimer::with_capabilities(&ctx.device, &ctx.queue, &caps, 4);
+    let mut timer = GpuTimer::with_capabilities(&ctx.device, &ctx.queue, &caps, 4).expect("timer");
     let (times, wall) = time_frame(&ctx, &mut timer);
     assert_eq!(times.len(), 4);
     if timestamps_follow_compute(&ctx) {
@@ -323,7 +323,7 @@ fn cpu_fallback_returns_wall_times() {
         return;
     };
     assert_eq!(ctx.capabilities.timing, TimingPath::Cpu);
-    let mut timer = GpuTimer::new(&ctx, 16);
+    let mut timer = GpuTimer::new(&ctx, 16).expect("timer");
     assert_eq!(timer.source(), TimingSource::CpuWallClock);
     assert!(timer.compute_pass_writes("x").is_none());
     assert!(timer.render_pass_writes("x").is_none());
@@ -367,7 +367,7 @@ fn frames_in_flight_are_collected_oldest_first_and_overflow_drops_the_oldest() {
         return;
     };
     let busy = Busy::new(&ctx, &[LIGHT]);
-    let mut timer = GpuTimer::new(&ctx, 16);
+    let mut timer = GpuTimer::new(&ctx, 16).expect("timer");
     let frames: Vec<Vec<String>> = (0..FRAMES_IN_FLIGHT)
         .map(|f| queued_frame(&ctx, &mut timer, &busy, f))
         .collect();
@@ -506,7 +506,7 @@ fn chained_steps_share_one_compute_pass_when_timestamps_fit_inside_passes() {
             inside_passes,
             period_ns,
         };
-        GpuTimer::with_capabilities(&ctx.device, &ctx.queue, &caps, 8)
+        GpuTimer::with_capabilities(&ctx.device, &ctx.queue, &caps, 8).expect("timer")
     };
     let mut timers = vec![
         ("encoder timestamps", with(true, false), 3),
@@ -521,7 +521,8 @@ fn chained_steps_share_one_compute_pass_when_timestamps_fit_inside_passes() {
                     ..ctx.capabilities.clone()
                 },
                 8,
-            ),
+            )
+            .expect("timer"),
             3,
         ),
     ];

@@ -42,7 +42,9 @@ pub fn load(
         view.update(camera)?;
         let (status, next) = view.status();
         if status.settled() && next.is_none() {
-            view.renderer_mut().flush_uploads();
+            view.renderer_mut()
+                .flush_uploads()
+                .map_err(StreamError::Renderer)?;
             progress(&status);
             return Ok(());
         }

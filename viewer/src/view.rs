@@ -55,11 +55,16 @@ impl StreamedView {
         self.current.update(camera)?;
         if !self.current.ready() {
             // Nothing of it is drawn yet, so no frame flushes its uploads.
-            self.current.renderer_mut().flush_uploads();
+            self.current
+                .renderer_mut()
+                .flush_uploads()
+                .map_err(StreamError::Renderer)?;
         }
         if let Some(next) = &mut self.next {
             next.update(camera)?;
-            next.renderer_mut().flush_uploads();
+            next.renderer_mut()
+                .flush_uploads()
+                .map_err(StreamError::Renderer)?;
             if next.ready() {
                 self.current = self.next.take().expect("checked above");
                 if let Some(choice) = &self.opaque_choice {

@@ -13,7 +13,9 @@
 
 use wgpu::{Adapter, Device, Features, Instance, Limits, Queue};
 
-use super::{DeviceError, DeviceOptions, GpuCapabilities, GpuContext, probe, summarize};
+use super::{
+    DeviceError, DeviceHealth, DeviceOptions, GpuCapabilities, GpuContext, probe, summarize,
+};
 use crate::shaders::{ALL_SHADERS, FORMAT_PARITY};
 
 impl GpuContext {
@@ -37,12 +39,14 @@ impl GpuContext {
             });
         }
         let capabilities: GpuCapabilities = probe(&adapter, &device, &queue, adapter.features());
+        // The host's device keeps the host's lost and uncaptured-error handlers.
         Ok(GpuContext {
             instance,
             adapter,
             device,
             queue,
             capabilities,
+            health: DeviceHealth::unwatched(),
         })
     }
 }

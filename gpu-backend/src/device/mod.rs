@@ -29,7 +29,9 @@
 //! limit named.
 
 mod adopt;
+pub mod alloc;
 mod error;
+mod health;
 
 use std::fmt;
 
@@ -40,6 +42,7 @@ use wgpu::{
 
 pub use adopt::{optional_features, required_limits};
 pub use error::DeviceError;
+pub use health::{DeviceFault, DeviceHealth};
 
 /// How the context is created. `Default` is the configuration for real use: Vulkan, the
 /// high-performance adapter, every optional feature the adapter has.
@@ -195,6 +198,9 @@ pub struct GpuContext {
     pub queue: Queue,
     /// What the device can do, and the fallbacks chosen.
     pub capabilities: GpuCapabilities,
+    /// The device's first fault outside any error scope (loss, an uncaught error), recorded
+    /// instead of wgpu's default panic.
+    pub health: DeviceHealth,
 }
 
 impl GpuContext {
@@ -240,12 +246,14 @@ impl GpuContext {
                 }
             })?;
         let capabilities = probe(&adapter, &device, &queue, adapter_features);
+        let health = DeviceHealth::watch(&device);
         Ok(GpuContext {
             instance,
             adapter,
             device,
             queue,
             capabilities,
+            health,
         })
     }
 }

@@ -5,10 +5,12 @@ use std::fmt;
 use render_model::cull::CullError;
 use render_model::cull::lod::BadLodSetting;
 
-use super::passes::far_splat::VisibilityTooLarge;
+use super::passes::far_splat::SplatError;
 use super::passes::hiz::HizError;
 use super::passes::quad_raster::QuadRasterError;
-use super::passes::targets::BadSize;
+use super::passes::targets::TargetsError;
+use crate::device::DeviceFault;
+use crate::device::alloc::AllocError;
 use crate::readback::ReadbackError;
 use crate::residency::ResidencyError;
 use crate::timing::TimerError;
@@ -49,6 +51,11 @@ pub enum RenderError {
     Hiz(HizError),
     /// The compute quad rasteriser refused its device, configuration or inputs.
     QuadRaster(QuadRasterError),
+    /// The device refused a buffer or texture (out of memory, or past a limit).
+    Alloc(AllocError),
+    /// The device is lost, or reported an error outside any error scope: nothing more can be
+    /// drawn with it.
+    Device(DeviceFault),
 }
 
 impl fmt::Display for RenderError {
@@ -72,6 +79,8 @@ impl fmt::Display for RenderError {
             RenderError::FarDrawsUnavailable(why) => write!(f, "far draws unavailable: {why}"),
             RenderError::Hiz(e) => write!(f, "depth pyramid: {e}"),
             RenderError::QuadRaster(e) => write!(f, "quad rasteriser: {e}"),
+            RenderError::Alloc(e) => write!(f, "{e}"),
+            RenderError::Device(e) => write!(f, "{e}"),
         }
     }
 }
@@ -95,19 +104,27 @@ from_error!(TimerError, Timer);
 from_error!(BadLodSetting, Lod);
 from_error!(QuadRasterError, QuadRaster);
 from_error!(HizError, Hiz);
+from_error!(AllocError, Alloc);
+from_error!(DeviceFault, Device);
 
-impl From<BadSize> for RenderError {
-    fn from(e: BadSize) -> Self {
-        RenderError::BadSize {
-            width: e.width,
-            height: e.height,
-            max: e.max,
+impl From<TargetsError> for RenderError {
+    fn from(e: TargetsError) -> Self {
+        match e {
+            TargetsError::BadSize(e) => RenderError::BadSize {
+                width: e.width,
+                height: e.height,
+                max: e.max,
+            },
+            TargetsError::Alloc(e) => RenderError::Alloc(e),
         }
     }
 }
 
-impl From<VisibilityTooLarge> for RenderError {
-    fn from(e: VisibilityTooLarge) -> Self {
-        RenderError::FarDrawsUnavailable(e.to_string())
+impl From<SplatError> for RenderError {
+    fn from(e: SplatError) -> Self {
+        match e {
+            SplatError::TooLarge(e) => RenderError::FarDrawsUnavailable(e.to_string()),
+            SplatError::Alloc(e) => RenderError::Alloc(e),
+        }
     }
 }

@@ -33,6 +33,7 @@ use wgpu::{
 
 use super::{RenderError, Renderer};
 use crate::device::GpuContext;
+use crate::device::alloc::{self, AllocError};
 use crate::shaders::ShaderSpec;
 
 /// The composite shader (`shaders/host_composite.wgsl`).
@@ -89,6 +90,8 @@ pub enum HostError {
     },
     /// The renderer failed to record its frame.
     Render(RenderError),
+    /// The device refused the pass's uniform buffer.
+    Alloc(AllocError),
 }
 
 impl fmt::Display for HostError {
@@ -109,6 +112,7 @@ impl fmt::Display for HostError {
                 reason,
             } => write!(f, "the host's {target} target ({format:?}) {reason}"),
             HostError::Render(e) => write!(f, "the renderer failed: {e}"),
+            HostError::Alloc(e) => write!(f, "the host pass: {e}"),
         }
     }
 }
@@ -148,7 +152,7 @@ pub struct HostPass {
 
 impl HostPass {
     /// The pass on the context's device (the renderer's, i.e. the host's).
-    pub fn new(ctx: &GpuContext) -> HostPass {
+    pub fn new(ctx: &GpuContext) -> Result<HostPass, HostError> {
         let device = &ctx.device;
         let texture = |binding, sample_type| wgpu::BindGroupLayoutEntry {
             binding,
@@ -177,17 +181,21 @@ impl HostPass {
                 },
             ],
         });
-        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("host composite uniforms"),
-            size: size_of::<HostUniforms>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        HostPass {
+        let uniforms = alloc::create_buffer(
+            device,
+            &wgpu::BufferDescriptor {
+                label: Some("host composite uniforms"),
+                size: size_of::<HostUniforms>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            },
+        )
+        .map_err(HostError::Alloc)?;
+        Ok(HostPass {
             layout,
             uniforms,
             pipelines: HashMap::new(),
-        }
+        })
     }
 
     /// Records `renderer`'s frame into `encoder`, then draws its output into `targets`

@@ -21,6 +21,7 @@ use render_model::cull::NodeRecord;
 use voxel_core::formats::{ChunkDrawInfo, ChunkKind, MeshedChunkInfo};
 use wgpu::{Buffer, BufferDescriptor, BufferUsages, Device, Queue};
 
+use crate::device::alloc::AllocError;
 use crate::dirty_ranges::DirtySlots;
 
 /// A record type a [`GpuTable`] can hold.
@@ -97,7 +98,7 @@ pub type FarChunkTable = GpuTable<ChunkDrawInfo>;
 pub struct TableSlot(pub u32);
 
 /// Why a table operation failed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum TableError {
     /// Every slot is in use.
@@ -116,6 +117,8 @@ pub enum TableError {
         /// The device's limit for one storage binding.
         max_bytes: u64,
     },
+    /// The device refused the table's buffer.
+    Alloc(AllocError),
 }
 
 impl fmt::Display for TableError {
@@ -132,11 +135,18 @@ impl fmt::Display for TableError {
                 "a chunk table of {capacity} slots takes {bytes} bytes, above the binding limit \
                  of {max_bytes}"
             ),
+            TableError::Alloc(e) => write!(f, "chunk table: {e}"),
         }
     }
 }
 
 impl std::error::Error for TableError {}
+
+impl From<AllocError> for TableError {
+    fn from(e: AllocError) -> Self {
+        TableError::Alloc(e)
+    }
+}
 
 /// What one flush wrote.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -176,12 +186,15 @@ impl<T: TableEntry> GpuTable<T> {
                 max_bytes: max_binding_bytes,
             });
         }
-        let buffer = device.create_buffer(&BufferDescriptor {
-            label: Some(T::LABEL),
-            size: bytes,
-            usage: BufferUsages::STORAGE | BufferUsages::COPY_DST | BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
+        let buffer = crate::device::alloc::create_buffer(
+            device,
+            &BufferDescriptor {
+                label: Some(T::LABEL),
+                size: bytes,
+                usage: BufferUsages::STORAGE | BufferUsages::COPY_DST | BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            },
+        )?;
         Ok(GpuTable {
             buffer,
             records: vec![T::VACANT; capacity as usize],

@@ -237,11 +237,17 @@ impl Residency {
     }
 
     /// Records the pending gigabuffer copies into `encoder` and writes the changed table slots
-    /// through `queue`: what the passes of a frame read comes first in its submission.
-    pub fn flush(&mut self, encoder: &mut CommandEncoder, queue: &Queue) {
-        self.gigabuffer.flush(encoder);
+    /// through `queue`: what the passes of a frame read comes first in its submission. When the
+    /// device refuses the staging buffer, nothing is sent and the uploads stay pending.
+    pub fn flush(
+        &mut self,
+        encoder: &mut CommandEncoder,
+        queue: &Queue,
+    ) -> Result<(), ResidencyError> {
+        self.gigabuffer.flush(encoder)?;
         self.table.flush(queue);
         self.nodes.flush(queue);
+        Ok(())
     }
 }
 

@@ -90,7 +90,7 @@ pub fn flush_and_submit(
         .create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("flush"),
         });
-    let stats = gigabuffer.flush(&mut encoder);
+    let stats = gigabuffer.flush(&mut encoder).expect("flush");
     ctx.queue.submit([encoder.finish()]);
     stats
 }

@@ -176,7 +176,7 @@ impl<'a> Rig<'a> {
         ctx.queue
             .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
-        self.gigabuffer.flush(&mut encoder);
+        self.gigabuffer.flush(&mut encoder).expect("flush");
         self.table.flush(&ctx.queue);
         encoder.clear_buffer(&self.visibility, 0, None);
         self.raster.clear_stats(&mut encoder);

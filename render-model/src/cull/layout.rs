@@ -348,6 +348,9 @@ pub enum CullError {
     OutputMismatch,
     /// A record asked for occlusion culling without the visibility bits and depth pyramid.
     OcclusionInputsMissing,
+    /// The device refused one of the pass's buffers (out of memory, or past a limit), in
+    /// its words.
+    Gpu(String),
     /// Staged uniforms (`UniformSource::Staged`) that cannot be copied: the buffer lacks
     /// `COPY_SRC`, the offset is not a multiple of 4, or the uniforms run past its end.
     StagedUniformsUnusable {
@@ -407,9 +410,12 @@ impl fmt::Display for CullError {
                 buffer_size,
             } => write!(
                 f,
-                "staged cull uniforms at offset {offset} of a {buffer_size}-byte buffer cannot                  be copied: the buffer needs COPY_SRC usage, the offset a multiple of 4, and                  {} bytes from it",
+                "staged cull uniforms at offset {offset} of a {buffer_size}-byte buffer cannot \
+                 be copied: the buffer needs COPY_SRC usage, the offset a multiple of 4, and \
+                 {} bytes from it",
                 size_of::<CullUniforms>()
             ),
+            CullError::Gpu(message) => write!(f, "cull pass: {message}"),
             CullError::OutputMismatch => {
                 write!(
                     f,

@@ -17,7 +17,6 @@ mod output;
 pub use frame_culls::{FrameCullParams, FrameCulls, PreparedFrame};
 pub use output::{CullFrame, CullOutput, CullReadback};
 
-use wgpu::util::DeviceExt;
 use wgpu::{
     BindGroupLayout, BindGroupLayoutEntry, BindingType, Buffer, BufferBindingType, BufferUsages,
     CommandEncoder, ComputePipeline, Device, ShaderStages,
@@ -272,20 +271,27 @@ impl CullPass {
                 max_bytes: max_binding_bytes,
             });
         }
-        let no_nodes = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("cull: no node records"),
-            size: node_bytes,
-            usage: BufferUsages::STORAGE,
-            mapped_at_creation: false,
-        });
-        let no_visible = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("cull: no visibility bits"),
-            size: 16,
-            usage: BufferUsages::STORAGE,
-            mapped_at_creation: false,
-        });
-        let no_pyramid = device
-            .create_texture(&wgpu::TextureDescriptor {
+        let no_nodes = crate::device::alloc::create_buffer(
+            device,
+            &wgpu::BufferDescriptor {
+                label: Some("cull: no node records"),
+                size: node_bytes,
+                usage: BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            },
+        )?;
+        let no_visible = crate::device::alloc::create_buffer(
+            device,
+            &wgpu::BufferDescriptor {
+                label: Some("cull: no visibility bits"),
+                size: 16,
+                usage: BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            },
+        )?;
+        let no_pyramid = crate::device::alloc::create_texture(
+            device,
+            &wgpu::TextureDescriptor {
                 label: Some("cull: no depth pyramid"),
                 size: wgpu::Extent3d {
                     width: 1,
@@ -298,8 +304,9 @@ impl CullPass {
                 format: wgpu::TextureFormat::R32Float,
                 usage: wgpu::TextureUsages::TEXTURE_BINDING,
                 view_formats: &[],
-            })
-            .create_view(&Default::default());
+            },
+        )?
+        .create_view(&Default::default());
         Ok(CullPass {
             device: device.clone(),
             pipeline,
@@ -484,13 +491,14 @@ impl CullPass {
         match inputs.uniforms {
             UniformSource::Own => {
                 let uniforms = self.uniforms(request);
-                let staging = self
-                    .device
-                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                let staging = crate::device::alloc::create_buffer_init(
+                    &self.device,
+                    &wgpu::util::BufferInitDescriptor {
                         label: Some("cull uniforms staging"),
                         contents: bytemuck::bytes_of(&uniforms),
                         usage: BufferUsages::COPY_SRC,
-                    });
+                    },
+                )?;
                 encoder.copy_buffer_to_buffer(&staging, 0, &output.uniforms, 0, size);
             }
             UniformSource::Staged { buffer, offset } => {

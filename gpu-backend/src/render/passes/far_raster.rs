@@ -27,6 +27,7 @@ use super::frame::FrameCtx;
 use super::shared::{PipelineDesc, depth_state, pipeline};
 use super::targets::{ALBEDO_FORMAT, HDR_FORMAT, NORMAL_FORMAT};
 use crate::bind::{BindGroupCache, buffer_entry};
+use crate::device::alloc::AllocError;
 use crate::device::{GpuCapabilities, MultiDrawPath};
 use crate::render::far::FarPath;
 use crate::shaders::{FAR_ARGS, FAR_DRAW_ARGS, FAR_RASTER, FAR_RASTER_CONSERVATIVE};
@@ -191,7 +192,7 @@ impl FarRaster {
         path: FarPath,
         capacity: u32,
         frame_layout: &BindGroupLayout,
-    ) -> FarRaster {
+    ) -> Result<FarRaster, AllocError> {
         let vertices_per_block = match path {
             FarPath::Sprite => 6,
             FarPath::CameraQuads => 18,
@@ -311,15 +312,18 @@ impl FarRaster {
         );
         let capacity = capacity.max(1);
         let buffer = |label, size, usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage,
-                mapped_at_creation: false,
-            })
+            crate::device::alloc::create_buffer(
+                device,
+                &wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size,
+                    usage,
+                    mapped_at_creation: false,
+                },
+            )
         };
         let indirect = BufferUsages::STORAGE | BufferUsages::INDIRECT | BufferUsages::COPY_DST;
-        FarRaster {
+        Ok(FarRaster {
             device: device.clone(),
             path,
             multi_draw: capabilities.multi_draw,
@@ -333,16 +337,16 @@ impl FarRaster {
             args_layout,
             args_phase,
             args_all,
-            range: buffer("far raster range", 32, indirect),
+            range: buffer("far raster range", 32, indirect)?,
             args: buffer(
                 "far draw args",
                 u64::from(capacity) * DRAW_ARGS_BYTES,
                 indirect,
-            ),
-            count: buffer("far draw count", 16, indirect),
+            )?,
+            count: buffer("far draw count", 16, indirect)?,
             capacity,
             bind_cache: BindGroupCache::default(),
-        }
+        })
     }
 
     /// The path drawn.

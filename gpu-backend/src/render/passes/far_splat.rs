@@ -16,6 +16,7 @@ use voxel_core::formats::DataKind;
 use super::cull::CullFrame;
 use super::frame::{FrameCtx, Phase, Recorder};
 use crate::bind::{BindGroupCache, buffer_entry};
+use crate::device::alloc::AllocError;
 use crate::shaders::{FAR_ARGS, FAR_SPLAT};
 
 /// Invocations per workgroup of `splat` (`SPLAT_WORKGROUP`).
@@ -115,14 +116,14 @@ fn pipeline(
 impl FarSplat {
     /// The splat for `width x height` pixels on `device`, which must have the 64-bit atomics
     /// (`GpuCapabilities::int64_atomics`; the caller checks). The visibility buffers take 8
-    /// bytes per pixel each, refused with [`VisibilityTooLarge`] past `max_bytes`
+    /// bytes per pixel each, refused with [`SplatError::TooLarge`] past `max_bytes`
     /// (the device's storage binding limit).
     pub fn new(
         device: &Device,
         width: u32,
         height: u32,
         max_bytes: u64,
-    ) -> Result<FarSplat, VisibilityTooLarge> {
+    ) -> Result<FarSplat, SplatError> {
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("splat frame"),
             entries: &[BindGroupLayoutEntry {
@@ -170,12 +171,15 @@ impl FarSplat {
             "far_args",
         );
         let (visibility, transparent) = visibility_buffers(device, width, height, max_bytes)?;
-        let range = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("splat range"),
-            size: 32,
-            usage: BufferUsages::STORAGE | BufferUsages::INDIRECT | BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let range = crate::device::alloc::create_buffer(
+            device,
+            &wgpu::BufferDescriptor {
+                label: Some("splat range"),
+                size: 32,
+                usage: BufferUsages::STORAGE | BufferUsages::INDIRECT | BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            },
+        )?;
         Ok(FarSplat {
             device: device.clone(),
             frame_layout,
@@ -193,12 +197,7 @@ impl FarSplat {
     }
 
     /// Resizes the visibility buffers.
-    pub fn resize(
-        &mut self,
-        width: u32,
-        height: u32,
-        max_bytes: u64,
-    ) -> Result<(), VisibilityTooLarge> {
+    pub fn resize(&mut self, width: u32, height: u32, max_bytes: u64) -> Result<(), SplatError> {
         (self.visibility, self.transparent) =
             visibility_buffers(&self.device, width, height, max_bytes)?;
         (self.width, self.height) = (width, height);
@@ -342,31 +341,60 @@ impl std::fmt::Display for VisibilityTooLarge {
 
 impl std::error::Error for VisibilityTooLarge {}
 
+/// Why the splat's buffers could not be made.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum SplatError {
+    /// A visibility buffer would be larger than one storage binding.
+    TooLarge(VisibilityTooLarge),
+    /// The device refused a buffer.
+    Alloc(AllocError),
+}
+
+impl std::fmt::Display for SplatError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SplatError::TooLarge(e) => write!(f, "{e}"),
+            SplatError::Alloc(e) => write!(f, "far splat: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for SplatError {}
+
+impl From<AllocError> for SplatError {
+    fn from(e: AllocError) -> Self {
+        SplatError::Alloc(e)
+    }
+}
+
 fn visibility_buffers(
     device: &Device,
     width: u32,
     height: u32,
     max_bytes: u64,
-) -> Result<(Buffer, Buffer), VisibilityTooLarge> {
+) -> Result<(Buffer, Buffer), SplatError> {
     let bytes = u64::from(width) * u64::from(height) * 8;
     if bytes > max_bytes {
-        return Err(VisibilityTooLarge {
+        return Err(SplatError::TooLarge(VisibilityTooLarge {
             width,
             height,
             bytes,
             max_bytes,
-        });
+        }));
     }
     let buffer = |label| {
-        device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some(label),
-            size: bytes,
-            usage: BufferUsages::STORAGE | BufferUsages::COPY_DST | BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        })
+        crate::device::alloc::create_buffer(
+            device,
+            &wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage: BufferUsages::STORAGE | BufferUsages::COPY_DST | BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            },
+        )
     };
     Ok((
-        buffer("far visibility"),
-        buffer("far transparent visibility"),
+        buffer("far visibility")?,
+        buffer("far transparent visibility")?,
     ))
 }

@@ -82,6 +82,7 @@ use wgpu::{
 use bindings::{LEVEL0_ENTRIES, PYRAMID_SAMPLED, REDUCE_ENTRIES, TAIL_ENTRIES, layout};
 
 use super::frame::{FrameCtx, Recorder};
+use crate::device::alloc::AllocError;
 use crate::shaders::HIZ;
 use render_model::hiz::{check_screen, level_sizes};
 
@@ -137,22 +138,25 @@ impl DepthPyramid {
         let limits = device.limits();
         check_screen(width, height, limits.max_texture_dimension_2d)?;
         let sizes = level_sizes(width, height)?;
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("hiz pyramid"),
-            size: wgpu::Extent3d {
-                width: sizes[0].0,
-                height: sizes[0].1,
-                depth_or_array_layers: 1,
+        let texture = crate::device::alloc::create_texture(
+            device,
+            &wgpu::TextureDescriptor {
+                label: Some("hiz pyramid"),
+                size: wgpu::Extent3d {
+                    width: sizes[0].0,
+                    height: sizes[0].1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: sizes.len() as u32,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: PYRAMID_FORMAT,
+                usage: TextureUsages::TEXTURE_BINDING
+                    | TextureUsages::STORAGE_BINDING
+                    | TextureUsages::COPY_SRC,
+                view_formats: &[],
             },
-            mip_level_count: sizes.len() as u32,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: PYRAMID_FORMAT,
-            usage: TextureUsages::TEXTURE_BINDING
-                | TextureUsages::STORAGE_BINDING
-                | TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
+        )?;
         let mip = |m: u32| {
             texture.create_view(&wgpu::TextureViewDescriptor {
                 label: Some("hiz level"),
@@ -184,8 +188,10 @@ impl DepthPyramid {
         let reduce_pipeline = pipeline("hiz_reduce", &reduce_layout);
         let tail_layout = layout(device, "hiz tail", &TAIL_ENTRIES);
         let tail_pipeline = pipeline("hiz_tail", &tail_layout);
-        let tail = tail_source(&sizes)
-            .map(|source| (source, tail_group(device, &tail_layout, &mips, source)));
+        let tail = match tail_source(&sizes) {
+            Some(source) => Some((source, tail_group(device, &tail_layout, &mips, source)?)),
+            None => None,
+        };
         let reduce_groups = mips
             .windows(2)
             .map(|pair| {
@@ -205,12 +211,15 @@ impl DepthPyramid {
                 })
             })
             .collect();
-        let dummy_visibility = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hiz no visibility"),
-            size: 8,
-            usage: BufferUsages::STORAGE,
-            mapped_at_creation: false,
-        });
+        let dummy_visibility = crate::device::alloc::create_buffer(
+            device,
+            &wgpu::BufferDescriptor {
+                label: Some("hiz no visibility"),
+                size: 8,
+                usage: BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            },
+        )?;
         let all_mips = texture.create_view(&wgpu::TextureViewDescriptor {
             label: Some("hiz pyramid"),
             ..Default::default()
@@ -499,26 +508,29 @@ fn tail_group(
     layout: &BindGroupLayout,
     mips: &[TextureView],
     source: usize,
-) -> BindGroup {
+) -> Result<BindGroup, AllocError> {
     let below = &mips[source + 1..];
     debug_assert!(
         below.len() <= TAIL_LEVELS,
         "the tail starts four levels from the end"
     );
-    let stand_ins = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("hiz tail stand-ins"),
-        size: wgpu::Extent3d {
-            width: 1,
-            height: 1,
-            depth_or_array_layers: TAIL_LEVELS as u32,
+    let stand_ins = crate::device::alloc::create_texture(
+        device,
+        &wgpu::TextureDescriptor {
+            label: Some("hiz tail stand-ins"),
+            size: wgpu::Extent3d {
+                width: 1,
+                height: 1,
+                depth_or_array_layers: TAIL_LEVELS as u32,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: PYRAMID_FORMAT,
+            usage: TextureUsages::STORAGE_BINDING,
+            view_formats: &[],
         },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: PYRAMID_FORMAT,
-        usage: TextureUsages::STORAGE_BINDING,
-        view_formats: &[],
-    });
+    )?;
     let outputs: Vec<TextureView> = (0..TAIL_LEVELS)
         .map(|step| {
             below.get(step).cloned().unwrap_or_else(|| {
@@ -545,9 +557,9 @@ fn tail_group(
                 resource: BindingResource::TextureView(view),
             }),
     );
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
+    Ok(device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("hiz tail"),
         layout,
         entries: &entries,
-    })
+    }))
 }

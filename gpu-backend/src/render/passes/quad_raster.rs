@@ -206,26 +206,29 @@ impl QuadRaster {
         let layouts = Layouts::new(device);
         let pipelines = Pipelines::new(device, &layouts);
         let buffer = |label, size, usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage,
-                mapped_at_creation: false,
-            })
+            crate::device::alloc::create_buffer(
+                device,
+                &wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size,
+                    usage,
+                    mapped_at_creation: false,
+                },
+            )
         };
         let storage = BufferUsages::STORAGE;
         let state = buffer(
             "quad raster state",
             u64::from(STATE_WORDS) * 4,
             storage | BufferUsages::COPY_DST | BufferUsages::COPY_SRC,
-        );
-        let bigs = buffer("quad raster big quads", config.big_bytes(), storage);
-        let tiles = buffer("quad raster tiles", config.tile_bytes(), storage);
+        )?;
+        let bigs = buffer("quad raster big quads", config.big_bytes(), storage)?;
+        let tiles = buffer("quad raster tiles", config.tile_bytes(), storage)?;
         let tile_dispatch = buffer(
             "quad raster tile dispatch",
             16,
             storage | BufferUsages::INDIRECT,
-        );
+        )?;
         let lists = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("quad raster lists"),
             layout: &layouts.lists,
@@ -278,8 +281,7 @@ impl QuadRaster {
             label: Some("quad raster"),
             timestamp_writes: None,
         });
-        self.record_checked(&mut pass, inputs);
-        Ok(())
+        self.record_checked(&mut pass, inputs)
     }
 
     /// [`record`](Self::record) into an open compute pass (of a
@@ -296,8 +298,7 @@ impl QuadRaster {
         inputs: &QuadRasterInputs<'_>,
     ) -> Result<(), QuadRasterError> {
         self.check(inputs)?;
-        self.record_checked(pass, inputs);
-        Ok(())
+        self.record_checked(pass, inputs)
     }
 
     /// Records `phase`'s rasterisation of `commands` into `visibility` in the renderer's frame,
@@ -324,7 +325,11 @@ impl QuadRaster {
     }
 
     /// [`record_in`](Self::record_in) after its checks.
-    fn record_checked(&self, pass: &mut wgpu::ComputePass<'_>, inputs: &QuadRasterInputs<'_>) {
+    fn record_checked(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        inputs: &QuadRasterInputs<'_>,
+    ) -> Result<(), QuadRasterError> {
         let maker = Maker {
             device: &self.device,
             layouts: &self.layouts,
@@ -338,7 +343,7 @@ impl QuadRaster {
             .frame(&maker, inputs.frame_uniforms, inputs.visibility)
             .group
             .clone();
-        let output = cache.output(&maker, inputs.commands, inputs.quads);
+        let output = cache.output(&maker, inputs.commands, inputs.quads)?;
         let page_count = inputs.commands.layout().page_count;
         pass.set_pipeline(&self.pipelines.page_args);
         pass.set_bind_group(0, &output.args_group, &[]);
@@ -360,6 +365,7 @@ impl QuadRaster {
         pass.set_bind_group(0, &frame, &[]);
         pass.set_bind_group(1, &self.lists, &[]);
         pass.dispatch_workgroups_indirect(&self.tile_dispatch, 0);
+        Ok(())
     }
 
     fn check(&self, inputs: &QuadRasterInputs<'_>) -> Result<(), QuadRasterError> {

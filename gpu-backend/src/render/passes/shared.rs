@@ -10,7 +10,6 @@
 //!
 //! The full-screen passes' groups 1 are their own (`lighting`, `tonemap`).
 
-use wgpu::util::DeviceExt;
 use wgpu::{
     BindGroup, BindGroupLayout, BindGroupLayoutEntry, BindingType, Buffer, BufferBindingType,
     BufferUsages, ColorTargetState, CompareFunction, DepthStencilState, Device, RenderPipeline,
@@ -24,6 +23,7 @@ use voxel_core::formats::DataKind;
 
 use super::targets::DEPTH_FORMAT;
 use crate::bind::{BindGroupCache, buffer_entry};
+use crate::device::alloc::AllocError;
 use crate::residency::Residency;
 
 /// The resources every pass of the renderer shares (see the [module docs](self)).
@@ -51,7 +51,11 @@ pub struct Shared {
 impl Shared {
     /// The shared resources on `device`: layouts, the frame uniforms, `palette`'s materials and
     /// a quad index buffer of `max_quads_per_draw` quads.
-    pub fn new(device: &Device, palette: &MaterialPalette, max_quads_per_draw: u32) -> Shared {
+    pub fn new(
+        device: &Device,
+        palette: &MaterialPalette,
+        max_quads_per_draw: u32,
+    ) -> Result<Shared, AllocError> {
         let vertex = ShaderStages::VERTEX;
         let all = ShaderStages::VERTEX | ShaderStages::FRAGMENT | ShaderStages::COMPUTE;
         let storage = BufferBindingType::Storage { read_only: true };
@@ -82,25 +86,34 @@ impl Shared {
             ],
         );
         let indices = render_model::cull::quad_indices(max_quads_per_draw);
-        let quad_indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("quad indices"),
-            contents: bytemuck::cast_slice(&indices),
-            usage: BufferUsages::INDEX,
-        });
-        let no_visibility = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("no far visibility"),
-            size: 16,
-            usage: BufferUsages::STORAGE,
-            mapped_at_creation: false,
-        });
-        let (materials, material_count) = material_buffer(device, palette);
-        let frame_uniforms = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("frame uniforms"),
-            size: size_of::<FrameUniforms>() as u64,
-            usage: BufferUsages::UNIFORM | BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        Shared {
+        let quad_indices = crate::device::alloc::create_buffer_init(
+            device,
+            &wgpu::util::BufferInitDescriptor {
+                label: Some("quad indices"),
+                contents: bytemuck::cast_slice(&indices),
+                usage: BufferUsages::INDEX,
+            },
+        )?;
+        let no_visibility = crate::device::alloc::create_buffer(
+            device,
+            &wgpu::BufferDescriptor {
+                label: Some("no far visibility"),
+                size: 16,
+                usage: BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            },
+        )?;
+        let (materials, material_count) = material_buffer(device, palette)?;
+        let frame_uniforms = crate::device::alloc::create_buffer(
+            device,
+            &wgpu::BufferDescriptor {
+                label: Some("frame uniforms"),
+                size: size_of::<FrameUniforms>() as u64,
+                usage: BufferUsages::UNIFORM | BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            },
+        )?;
+        Ok(Shared {
             device: device.clone(),
             frame_layout,
             quad_layout,
@@ -111,12 +124,13 @@ impl Shared {
             quad_indices,
             no_visibility,
             bind_cache: BindGroupCache::default(),
-        }
+        })
     }
 
-    /// Replaces the material palette.
-    pub fn set_palette(&mut self, palette: &MaterialPalette) {
-        (self.materials, self.material_count) = material_buffer(&self.device, palette);
+    /// Replaces the material palette (kept as it was when the device refuses the new one).
+    pub fn set_palette(&mut self, palette: &MaterialPalette) -> Result<(), AllocError> {
+        (self.materials, self.material_count) = material_buffer(&self.device, palette)?;
+        Ok(())
     }
 
     /// Materials uploaded (larger block ids read entry 0).
@@ -199,14 +213,20 @@ impl Shared {
 }
 
 /// The palette as a storage buffer, and its entry count.
-fn material_buffer(device: &Device, palette: &MaterialPalette) -> (Buffer, u32) {
+fn material_buffer(
+    device: &Device,
+    palette: &MaterialPalette,
+) -> Result<(Buffer, u32), AllocError> {
     let materials = gpu_materials(palette);
-    let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("materials"),
-        contents: bytemuck::cast_slice(&materials),
-        usage: BufferUsages::STORAGE,
-    });
-    (buffer, materials.len() as u32)
+    let buffer = crate::device::alloc::create_buffer_init(
+        device,
+        &wgpu::util::BufferInitDescriptor {
+            label: Some("materials"),
+            contents: bytemuck::cast_slice(&materials),
+            usage: BufferUsages::STORAGE,
+        },
+    )?;
+    Ok((buffer, materials.len() as u32))
 }
 
 /// A whole-buffer binding of `ty` at `binding`, seen by `visibility`.

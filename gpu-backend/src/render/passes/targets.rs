@@ -14,6 +14,7 @@
 
 use wgpu::{Device, Extent3d, Queue, Texture, TextureFormat, TextureUsages, TextureView};
 
+use crate::device::alloc::AllocError;
 use crate::readback::{ReadbackError, read_buffer};
 
 /// G-buffer albedo + AO.
@@ -38,6 +39,21 @@ pub struct BadSize {
     pub height: u32,
     /// The device's largest 2D texture edge.
     pub max: u32,
+}
+
+/// Why the targets could not be made.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum TargetsError {
+    /// The size is zero or past the device's texture limit.
+    BadSize(BadSize),
+    /// The device refused a texture.
+    Alloc(AllocError),
+}
+
+impl From<AllocError> for TargetsError {
+    fn from(e: AllocError) -> Self {
+        TargetsError::Alloc(e)
+    }
 }
 
 /// The textures of one output size.
@@ -66,45 +82,49 @@ pub struct RenderTargets {
 }
 
 impl RenderTargets {
-    /// Textures for `width x height`, or [`BadSize`] past the device's texture limit.
-    pub fn new(device: &Device, width: u32, height: u32) -> Result<RenderTargets, BadSize> {
+    /// Textures for `width x height`; [`TargetsError::BadSize`] past the device's texture
+    /// limit.
+    pub fn new(device: &Device, width: u32, height: u32) -> Result<RenderTargets, TargetsError> {
         let max = device.limits().max_texture_dimension_2d;
         if width == 0 || height == 0 || width > max || height > max {
-            return Err(BadSize { width, height, max });
+            return Err(TargetsError::BadSize(BadSize { width, height, max }));
         }
         let texture = |label: &str, format: TextureFormat, usage: TextureUsages| {
             let srgb_view = [OUTPUT_FORMAT];
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
+            crate::device::alloc::create_texture(
+                device,
+                &wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: Extent3d {
+                        width,
+                        height,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage,
+                    view_formats: if format == OUTPUT_STORAGE_FORMAT {
+                        &srgb_view
+                    } else {
+                        &[]
+                    },
                 },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: if format == OUTPUT_STORAGE_FORMAT {
-                    &srgb_view
-                } else {
-                    &[]
-                },
-            })
+            )
         };
         let attachment = TextureUsages::RENDER_ATTACHMENT | TextureUsages::TEXTURE_BINDING;
         let view = |t: &Texture| t.create_view(&Default::default());
-        let albedo = texture("gbuffer albedo", ALBEDO_FORMAT, attachment);
-        let normal = texture("gbuffer normal", NORMAL_FORMAT, attachment);
-        let depth_texture = texture("depth", DEPTH_FORMAT, attachment | TextureUsages::COPY_SRC);
+        let albedo = texture("gbuffer albedo", ALBEDO_FORMAT, attachment)?;
+        let normal = texture("gbuffer normal", NORMAL_FORMAT, attachment)?;
+        let depth_texture = texture("depth", DEPTH_FORMAT, attachment | TextureUsages::COPY_SRC)?;
         let storable = attachment | TextureUsages::STORAGE_BINDING;
-        let hdr = texture("hdr", HDR_FORMAT, storable);
+        let hdr = texture("hdr", HDR_FORMAT, storable)?;
         let output_texture = texture(
             "output",
             OUTPUT_STORAGE_FORMAT,
             storable | TextureUsages::COPY_SRC,
-        );
+        )?;
         // The sRGB view is never a storage binding (sRGB formats cannot be).
         let srgb = output_texture.create_view(&wgpu::TextureViewDescriptor {
             format: Some(OUTPUT_FORMAT),
@@ -150,12 +170,16 @@ fn read_texture(
     let row = width * 4;
     let padded_row =
         row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("texture readback"),
-        size: u64::from(padded_row) * u64::from(height),
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
+    let buffer = crate::device::alloc::create_buffer(
+        device,
+        &wgpu::BufferDescriptor {
+            label: Some("texture readback"),
+            size: u64::from(padded_row) * u64::from(height),
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        },
+    )
+    .map_err(|e| ReadbackError(e.to_string()))?;
     let mut encoder = device.create_command_encoder(&Default::default());
     encoder.copy_texture_to_buffer(
         wgpu::TexelCopyTextureInfo {

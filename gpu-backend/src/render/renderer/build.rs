@@ -118,16 +118,18 @@ impl Passes {
         } else {
             None
         };
-        let shared = Shared::new(device, palette, culls.pass().layout().max_quads_per_draw);
-        let far_raster = far_choice.path.is_raster().then(|| {
-            FarRaster::new(
+        let shared = Shared::new(device, palette, culls.pass().layout().max_quads_per_draw)?;
+        let far_raster = if far_choice.path.is_raster() {
+            Some(FarRaster::new(
                 device,
                 &ctx.capabilities,
                 far_choice.path,
                 culls.pass().layout().far_capacity,
                 &shared.frame_layout,
-            )
-        });
+            )?)
+        } else {
+            None
+        };
         let hiz = if config.occlusion {
             Some(DepthPyramid::new(device, config.width, config.height)?)
         } else {

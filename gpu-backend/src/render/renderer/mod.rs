@@ -24,7 +24,7 @@ use super::far::FarChoice;
 use super::passes::fullscreen::FullscreenPath;
 use super::passes::shared::Shared;
 use super::passes::targets::{FrameImage, RenderTargets, read_output};
-use crate::device::GpuContext;
+use crate::device::{DeviceHealth, GpuContext};
 use crate::residency::{ChunkHandle, Gigabuffer, Residency, ResidencyConfig};
 use crate::timing::GpuTimer;
 use build::Passes;
@@ -61,6 +61,8 @@ pub struct Renderer {
     timer: GpuTimer,
     /// The device's largest storage binding (the visibility buffers' limit).
     max_page_bytes: u64,
+    /// The device's faults: a frame of a lost device is refused by name.
+    health: DeviceHealth,
 }
 
 impl Renderer {
@@ -117,15 +119,16 @@ impl Renderer {
             shared,
             passes,
             far_choice,
-            timer: GpuTimer::new(ctx, 16),
+            timer: GpuTimer::new(ctx, 16)?,
             max_page_bytes: ctx.capabilities.max_page_bytes(),
+            health: ctx.health.clone(),
             config: config.clone(),
         })
     }
 
-    /// Replaces the material palette.
-    pub fn set_palette(&mut self, palette: &MaterialPalette) {
-        self.shared.set_palette(palette);
+    /// Replaces the material palette (kept as it was when the device refuses the new one).
+    pub fn set_palette(&mut self, palette: &MaterialPalette) -> Result<(), RenderError> {
+        Ok(self.shared.set_palette(palette)?)
     }
 
     /// Sets the camera of the next frames. The level-of-detail anchor follows it with the
@@ -320,10 +323,11 @@ impl Renderer {
     /// Sends the pending uploads (gigabuffer copies, chunk and node records) to the GPU now,
     /// in a submission of their own, without drawing: for a renderer that streams chunks in
     /// while nothing of it is shown (a recorded frame starts with the same flush).
-    pub fn flush_uploads(&mut self) {
+    pub fn flush_uploads(&mut self) -> Result<(), RenderError> {
         let mut encoder = self.device.create_command_encoder(&Default::default());
-        self.residency.flush(&mut encoder, &self.queue);
+        self.residency.flush(&mut encoder, &self.queue)?;
         self.queue.submit([encoder.finish()]);
+        Ok(())
     }
 
     /// Frees a resident chunk: its space and table slot. A stale or foreign handle is an

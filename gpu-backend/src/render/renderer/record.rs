@@ -80,7 +80,8 @@ impl Renderer {
     /// compute full-screen passes the frame is one compute pass up to lighting, the transparent
     /// pass, and the tonemap's pass.
     pub fn record_frame(&mut self, encoder: &mut CommandEncoder) -> Result<(), RenderError> {
-        self.residency.flush(encoder, &self.queue);
+        self.health.check()?;
+        self.residency.flush(encoder, &self.queue)?;
         let (width, height) = (self.targets.width, self.targets.height);
         let shape = FrameShape {
             width,

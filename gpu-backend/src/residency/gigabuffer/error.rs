@@ -6,6 +6,7 @@ use render_model::pages::PageLayoutError;
 use voxel_core::formats::DataKind;
 
 use super::ChunkHandle;
+use crate::device::alloc::AllocError;
 
 /// Why a gigabuffer operation failed.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -58,6 +59,8 @@ pub enum GigabufferError {
     },
     /// The handle's chunk was freed already (or it belongs to another gigabuffer).
     StaleHandle(ChunkHandle),
+    /// The device refused the staging buffer of a flush (the frame's uploads stay queued).
+    Staging(AllocError),
     /// A smooth quad names a vertex past the chunk's smooth vertices.
     SmoothIndexOutOfRange {
         /// Quad index.
@@ -119,6 +122,7 @@ impl fmt::Display for GigabufferError {
             GigabufferError::StaleHandle(h) => {
                 write!(f, "chunk handle {h:?} is stale (freed already)")
             }
+            GigabufferError::Staging(e) => write!(f, "gigabuffer uploads: {e}"),
             GigabufferError::SmoothIndexOutOfRange {
                 quad,
                 index,

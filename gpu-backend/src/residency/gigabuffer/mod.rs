@@ -353,13 +353,15 @@ impl Gigabuffer {
     /// Records the frame's pending uploads into `encoder` (one staging buffer, one copy per
     /// contiguous run). Call once per frame before the passes that read the gigabuffer, in
     /// the same encoder.
-    pub fn flush(&mut self, encoder: &mut CommandEncoder) -> FlushStats {
+    pub fn flush(&mut self, encoder: &mut CommandEncoder) -> Result<FlushStats, GigabufferError> {
         let pools = &self.pools;
-        self.staging.record(&self.device, encoder, |kind, page| {
-            pools[kind.index()]
-                .page(page)
-                .expect("copies are only queued into created pages")
-        })
+        self.staging
+            .record(&self.device, encoder, |kind, page| {
+                pools[kind.index()]
+                    .page(page)
+                    .expect("copies are only queued into created pages")
+            })
+            .map_err(GigabufferError::Staging)
     }
 
     /// Bytes waiting for the next flush.

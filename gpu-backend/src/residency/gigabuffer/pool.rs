@@ -1,11 +1,12 @@
 //! One kind's pages: a wgpu buffer and an `offset-allocator` per page, created on demand.
 
 use offset_allocator::{Allocation, Allocator};
-use wgpu::{Buffer, BufferDescriptor, BufferUsages, Device, ErrorFilter};
+use wgpu::{Buffer, BufferDescriptor, BufferUsages, Device};
 
 use render_model::pages::PageLayout;
 
 use super::GigabufferError;
+use crate::device::alloc;
 
 /// One page: a storage buffer bound whole, and the allocator of its elements.
 #[derive(Debug)]
@@ -133,26 +134,28 @@ impl Pool {
         let capacity = self.layout.capacity_of(page);
         let bytes = self.layout.page_bytes(page);
         let label = format!("gigabuffer {kind} page {page}");
-        let oom = device.push_error_scope(ErrorFilter::OutOfMemory);
-        let validation = device.push_error_scope(ErrorFilter::Validation);
-        let buffer = device.create_buffer(&BufferDescriptor {
-            label: Some(&label),
-            size: bytes,
-            usage: PAGE_USAGES,
-            mapped_at_creation: false,
-        });
-        let errors = [
-            pollster::block_on(validation.pop()),
-            pollster::block_on(oom.pop()),
-        ];
-        if let Some(error) = errors.into_iter().flatten().next() {
-            return Err(GigabufferError::PageCreation {
-                kind,
-                page,
-                bytes,
-                message: error.to_string(),
-            });
+        let refused = |message: String| GigabufferError::PageCreation {
+            kind,
+            page,
+            bytes,
+            message,
+        };
+        #[cfg(feature = "test-support")]
+        if let Some(limit) = crate::test_support::page_refused(bytes) {
+            return Err(refused(format!(
+                "injected for a test: the pages of this process would pass {limit} bytes"
+            )));
         }
+        let buffer = alloc::create_buffer(
+            device,
+            &BufferDescriptor {
+                label: Some(&label),
+                size: bytes,
+                usage: PAGE_USAGES,
+                mapped_at_creation: false,
+            },
+        )
+        .map_err(|e| refused(e.message))?;
         // Nodes are bounded by free regions + allocations <= 2 * capacity + 1.
         let max_allocs = self
             .max_allocs

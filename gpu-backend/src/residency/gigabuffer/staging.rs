@@ -15,6 +15,8 @@ use wgpu::{Buffer, BufferDescriptor, BufferUsages, CommandEncoder, Device};
 
 use voxel_core::formats::DataKind;
 
+use crate::device::alloc::AllocError;
+
 /// A copy waiting for the next flush: `size` bytes from `src` in the arena to `dst` in page
 /// `page` of `kind`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -82,16 +84,17 @@ impl StagingQueue {
     }
 
     /// Records every pending copy into `encoder` through one staging buffer and empties the
-    /// queue (keeping its capacity). `destination(kind, page)` returns the page's buffer.
+    /// queue (keeping its capacity). `destination(kind, page)` returns the page's buffer. When
+    /// the device refuses the staging buffer nothing is recorded and the copies stay queued.
     pub fn record<'a>(
         &mut self,
         device: &Device,
         encoder: &mut CommandEncoder,
         destination: impl Fn(DataKind, u32) -> &'a Buffer,
-    ) -> FlushStats {
+    ) -> Result<FlushStats, AllocError> {
         if self.copies.is_empty() {
             self.arena.clear();
-            return FlushStats::default();
+            return Ok(FlushStats::default());
         }
         // Every element size is a multiple of 4, so the arena length already is; the padding
         // only guards the copy-size rule should that ever change.
@@ -100,12 +103,15 @@ impl StagingQueue {
             .len()
             .next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT as usize);
         self.arena.resize(size, 0);
-        let staging = device.create_buffer(&BufferDescriptor {
-            label: Some("gigabuffer staging"),
-            size: size as u64,
-            usage: BufferUsages::COPY_SRC,
-            mapped_at_creation: true,
-        });
+        let staging = crate::device::alloc::create_buffer(
+            device,
+            &BufferDescriptor {
+                label: Some("gigabuffer staging"),
+                size: size as u64,
+                usage: BufferUsages::COPY_SRC,
+                mapped_at_creation: true,
+            },
+        )?;
         staging
             .slice(..)
             .get_mapped_range_mut()
@@ -126,7 +132,7 @@ impl StagingQueue {
         }
         self.arena.clear();
         self.copies.clear();
-        stats
+        Ok(stats)
     }
 }
 

@@ -3,7 +3,6 @@
 //! transparent list, prepared together so that their uniforms share one staging buffer with
 //! the frame's.
 
-use wgpu::util::DeviceExt;
 use wgpu::{Buffer, BufferUsages, CommandEncoder, TextureView};
 
 use render_model::cull::{CullConfig, CullError, CullLayer, CullParams, CullView};
@@ -70,12 +69,15 @@ impl FrameCulls {
         let late = if occlusion {
             Some(LateCull {
                 commands: pass.create_output("opaque late")?,
-                visible: ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("visibility bits"),
-                    size: u64::from(config.table_capacity.div_ceil(32).max(1)) * 4,
-                    usage: BufferUsages::STORAGE,
-                    mapped_at_creation: false,
-                }),
+                visible: crate::device::alloc::create_buffer(
+                    &ctx.device,
+                    &wgpu::BufferDescriptor {
+                        label: Some("visibility bits"),
+                        size: u64::from(config.table_capacity.div_ceil(32).max(1)) * 4,
+                        usage: BufferUsages::STORAGE,
+                        mapped_at_creation: false,
+                    },
+                )?,
             })
         } else {
             None
@@ -203,13 +205,14 @@ impl FrameCulls {
             offsets.push(bytes.len() as u64);
             bytes.extend_from_slice(bytemuck::bytes_of(&self.pass.uniforms(record)));
         }
-        let staging = ctx
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        let staging = crate::device::alloc::create_buffer_init(
+            ctx.device,
+            &wgpu::util::BufferInitDescriptor {
                 label: Some("frame uniforms staging"),
                 contents: &bytes,
                 usage: BufferUsages::COPY_SRC,
-            });
+            },
+        )?;
         let frame_bytes = size_of::<FrameUniforms>() as u64;
         encoder.copy_buffer_to_buffer(&staging, 0, &ctx.shared.frame_uniforms, 0, frame_bytes);
         let mut prepared = Vec::with_capacity(records.len());

@@ -37,13 +37,23 @@ impl OutputFactory<'_> {
         }
     }
 
-    fn buffer(&self, label: &str, suffix: &str, size: u64, usage: BufferUsages) -> Buffer {
-        self.device.create_buffer(&BufferDescriptor {
-            label: Some(&format!("{label} cull {suffix}")),
-            size,
-            usage,
-            mapped_at_creation: false,
-        })
+    fn buffer(
+        &self,
+        label: &str,
+        suffix: &str,
+        size: u64,
+        usage: BufferUsages,
+    ) -> Result<Buffer, CullError> {
+        crate::device::alloc::create_buffer(
+            self.device,
+            &BufferDescriptor {
+                label: Some(&format!("{label} cull {suffix}")),
+                size,
+                usage,
+                mapped_at_creation: false,
+            },
+        )
+        .map_err(CullError::from)
     }
 
     pub fn output(&self, label: &str) -> Result<CullOutput, CullError> {
@@ -62,30 +72,35 @@ impl OutputFactory<'_> {
         let readable = BufferUsages::STORAGE | BufferUsages::COPY_SRC | BufferUsages::COPY_DST;
         let indirect = readable | BufferUsages::INDIRECT;
         Ok(CullOutput {
-            args: self.buffer(label, "args", args_bytes, indirect),
-            records: self.buffer(label, "records", records_bytes, readable),
+            args: self.buffer(label, "args", args_bytes, indirect)?,
+            records: self.buffer(label, "records", records_bytes, readable)?,
             counts: self.buffer(
                 label,
                 "counts",
                 u64::from(layout.page_count + 1) * 4,
                 indirect,
-            ),
+            )?,
             uniforms: self.buffer(
                 label,
                 "uniforms",
                 size_of::<CullUniforms>() as u64,
                 BufferUsages::UNIFORM | BufferUsages::COPY_DST,
-            ),
-            order_counts: self.buffer(label, "order counts", order_bytes, readable),
-            order_cursors: self.buffer(label, "order cursors", order_bytes, BufferUsages::STORAGE),
-            smooth_args: self.buffer(label, "smooth args", smooth_args, indirect),
-            smooth_records: self.buffer(label, "smooth records", smooth_records, readable),
+            )?,
+            order_counts: self.buffer(label, "order counts", order_bytes, readable)?,
+            order_cursors: self.buffer(
+                label,
+                "order cursors",
+                order_bytes,
+                BufferUsages::STORAGE,
+            )?,
+            smooth_args: self.buffer(label, "smooth args", smooth_args, indirect)?,
+            smooth_records: self.buffer(label, "smooth records", smooth_records, readable)?,
             smooth_counts: self.buffer(
                 label,
                 "smooth counts",
                 u64::from(layout.smooth_pairs.max(1)) * 4,
                 indirect,
-            ),
+            )?,
             layout: *layout,
             multi_draw: self.multi_draw,
         })
@@ -95,15 +110,15 @@ impl OutputFactory<'_> {
         let far_bytes = self.check("far list", u64::from(self.layout.far_capacity) * 8)?;
         let readable = BufferUsages::STORAGE | BufferUsages::COPY_SRC | BufferUsages::COPY_DST;
         Ok(CullFrame {
-            far_list: self.buffer(label, "far list", far_bytes, readable),
-            transparent_list: self.buffer(label, "transparent list", far_bytes / 2, readable),
+            far_list: self.buffer(label, "far list", far_bytes, readable)?,
+            transparent_list: self.buffer(label, "transparent list", far_bytes / 2, readable)?,
             list_args: self.buffer(
                 label,
                 "transparent list dispatch",
                 16,
                 BufferUsages::STORAGE | BufferUsages::INDIRECT,
-            ),
-            stats: self.buffer(label, "stats", u64::from(STAT_COUNT) * 4, readable),
+            )?,
+            stats: self.buffer(label, "stats", u64::from(STAT_COUNT) * 4, readable)?,
             far_capacity: self.layout.far_capacity,
         })
     }

@@ -4,6 +4,7 @@ use std::fmt;
 
 use render_model::hiz::ScreenError;
 
+use crate::device::alloc::AllocError;
 use crate::readback::ReadbackError;
 
 /// An error of the depth pyramid: each names the problem, none is a panic.
@@ -42,6 +43,8 @@ pub enum HizError {
     },
     /// Reading the levels back failed.
     Readback(ReadbackError),
+    /// The device refused the pyramid's texture or a buffer.
+    Alloc(AllocError),
 }
 
 impl fmt::Display for HizError {
@@ -77,6 +80,7 @@ impl fmt::Display for HizError {
                  storage binding limit of {max}"
             ),
             HizError::Readback(e) => write!(f, "depth pyramid: {e}"),
+            HizError::Alloc(e) => write!(f, "depth pyramid: {e}"),
         }
     }
 }
@@ -86,6 +90,12 @@ impl std::error::Error for HizError {}
 impl From<ScreenError> for HizError {
     fn from(e: ScreenError) -> Self {
         HizError::Screen(e)
+    }
+}
+
+impl From<AllocError> for HizError {
+    fn from(e: AllocError) -> Self {
+        HizError::Alloc(e)
     }
 }
 

@@ -20,12 +20,15 @@ impl DepthPyramid {
             places.push((total, row));
             total += row * u64::from(h);
         }
-        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("hiz levels readback"),
-            size: total,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
+        let buffer = crate::device::alloc::create_buffer(
+            device,
+            &wgpu::BufferDescriptor {
+                label: Some("hiz levels readback"),
+                size: total,
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            },
+        )?;
         let mut encoder = device.create_command_encoder(&Default::default());
         for (m, (&(w, h), &(offset, row))) in self.level_sizes().iter().zip(&places).enumerate() {
             encoder.copy_texture_to_buffer(

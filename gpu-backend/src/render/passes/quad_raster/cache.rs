@@ -3,11 +3,11 @@
 //! identity (wgpu's `Buffer` equality), so pass the same buffer objects each frame. A quad page
 //! created after its output's entry was made, or replaced, is picked up on the next record.
 
-use wgpu::util::DeviceExt;
 use wgpu::{BindGroup, Buffer, BufferUsages, Device};
 
 use super::pipelines::Layouts;
 use crate::bind::buffer_entry;
+use crate::device::alloc::AllocError;
 use crate::render::passes::cull::CullOutput;
 use crate::residency::Gigabuffer;
 use render_model::quad_raster::{ArgsParams, PageArgs};
@@ -101,13 +101,14 @@ impl Cache {
         &self.frames[at]
     }
 
-    /// The entry of `output`, with every created quad page of `quads` bound.
+    /// The entry of `output`, with every created quad page of `quads` bound; errors when the
+    /// device refuses a new entry's buffers.
     pub fn output(
         &mut self,
         maker: &Maker<'_>,
         output: &CullOutput,
         quads: &Gigabuffer,
-    ) -> &OutputEntry {
+    ) -> Result<&OutputEntry, AllocError> {
         let found = self.outputs.iter().position(|o| {
             &o.args == output.args()
                 && &o.records == output.records()
@@ -115,7 +116,7 @@ impl Cache {
         });
         let at = match found {
             Some(at) => at,
-            None => push(&mut self.outputs, new_output(maker, output)),
+            None => push(&mut self.outputs, new_output(maker, output)?),
         };
         let entry = &mut self.outputs[at];
         for (page, slot) in entry.pages.iter_mut().enumerate() {
@@ -146,32 +147,36 @@ impl Cache {
             });
             *slot = Some((buffer.clone(), group));
         }
-        &self.outputs[at]
+        Ok(&self.outputs[at])
     }
 }
 
-fn new_output(maker: &Maker<'_>, output: &CullOutput) -> OutputEntry {
+fn new_output(maker: &Maker<'_>, output: &CullOutput) -> Result<OutputEntry, AllocError> {
     let layout = output.layout();
     let pages = layout.page_count.max(1);
-    let page_args = maker.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("quad raster page args"),
-        size: u64::from(pages) * maker.stride,
-        usage: BufferUsages::STORAGE | BufferUsages::INDIRECT,
-        mapped_at_creation: false,
-    });
+    let page_args = crate::device::alloc::create_buffer(
+        maker.device,
+        &wgpu::BufferDescriptor {
+            label: Some("quad raster page args"),
+            size: u64::from(pages) * maker.stride,
+            usage: BufferUsages::STORAGE | BufferUsages::INDIRECT,
+            mapped_at_creation: false,
+        },
+    )?;
     let params = ArgsParams {
         page_count: layout.page_count,
         commands_per_page: layout.commands_per_page,
         page_stride: (maker.stride / 4) as u32,
         tile_capacity: maker.tile_capacity,
     };
-    let params = maker
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+    let params = crate::device::alloc::create_buffer_init(
+        maker.device,
+        &wgpu::util::BufferInitDescriptor {
             label: Some("quad raster args params"),
             contents: bytemuck::bytes_of(&params),
             usage: BufferUsages::UNIFORM,
-        });
+        },
+    )?;
     let args_group = maker.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("quad raster args"),
         layout: &maker.layouts.args,
@@ -183,12 +188,12 @@ fn new_output(maker: &Maker<'_>, output: &CullOutput) -> OutputEntry {
             buffer_entry(4, maker.tile_dispatch),
         ],
     });
-    OutputEntry {
+    Ok(OutputEntry {
         args: output.args().clone(),
         records: output.records().clone(),
         counts: output.counts().clone(),
         page_args,
         args_group,
         pages: (0..layout.page_count).map(|_| None).collect(),
-    }
+    })
 }

@@ -2,6 +2,8 @@
 
 use std::fmt;
 
+use crate::device::alloc::AllocError;
+
 /// An error of [`QuadRaster`](super::QuadRaster): each names the problem, none is a panic.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum QuadRasterError {
@@ -43,6 +45,8 @@ pub enum QuadRasterError {
         /// The cull output's `commands_per_page`.
         commands_per_page: u32,
     },
+    /// The device refused one of the rasteriser's buffers.
+    Alloc(AllocError),
 }
 
 impl fmt::Display for QuadRasterError {
@@ -79,8 +83,15 @@ impl fmt::Display for QuadRasterError {
                 "{commands_per_page} command slots per page exceed one indirect dispatch \
                  (65535 x 65535 workgroups)"
             ),
+            QuadRasterError::Alloc(e) => write!(f, "{e}"),
         }
     }
 }
 
 impl std::error::Error for QuadRasterError {}
+
+impl From<AllocError> for QuadRasterError {
+    fn from(e: AllocError) -> Self {
+        QuadRasterError::Alloc(e)
+    }
+}
