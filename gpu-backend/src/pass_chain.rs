@@ -67,7 +67,8 @@ impl<'e> PassChain<'e> {
         self.encoder
     }
 
-    /// Compute passes this chain has opened so far (for tests of how work is grouped).
+    /// Compute passes this chain has opened so far: how the frame's work is grouped (fewer
+    /// passes cost the CPU less).
     pub fn passes_opened(&self) -> u32 {
         self.opened
     }

@@ -486,6 +486,7 @@ impl DepthPyramid {
     }
 
     /// Level-0 bind groups held now (at most 4): for tests of the cache.
+    #[cfg(feature = "test-support")]
     pub fn cached_inputs(&self) -> usize {
         self.inputs
             .lock()

@@ -264,6 +264,7 @@ impl QuadRaster {
     }
 
     /// Cached bind groups: (frame pairs, cull outputs), each at most 4 (tests of the cache).
+    #[cfg(feature = "test-support")]
     pub fn cached(&self) -> (usize, usize) {
         self.cache.lock().unwrap_or_else(|e| e.into_inner()).sizes()
     }

@@ -65,6 +65,7 @@ fn push<T>(list: &mut Vec<T>, entry: T) -> usize {
 
 impl Cache {
     /// Entries held (frame pairs, outputs): for tests of the cache.
+    #[cfg(feature = "test-support")]
     pub fn sizes(&self) -> (usize, usize) {
         (self.frames.len(), self.outputs.len())
     }
