@@ -8,14 +8,14 @@ use std::ops::Range;
 
 /// The set of slots changed since the last flush.
 #[derive(Clone, Debug, Default)]
-pub struct DirtySlots {
+pub(crate) struct DirtySlots {
     marked: Vec<bool>,
     slots: Vec<u32>,
 }
 
 impl DirtySlots {
     /// Marks `slot` as changed.
-    pub fn mark(&mut self, slot: u32) {
+    pub(crate) fn mark(&mut self, slot: u32) {
         let i = slot as usize;
         if i >= self.marked.len() {
             self.marked.resize(i + 1, false);
@@ -27,12 +27,12 @@ impl DirtySlots {
     }
 
     /// Number of distinct dirty slots.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.slots.len()
     }
 
     /// The dirty slots as sorted, disjoint, non-adjacent ranges; clears the set.
-    pub fn take_ranges(&mut self) -> Vec<Range<u32>> {
+    pub(crate) fn take_ranges(&mut self) -> Vec<Range<u32>> {
         self.slots.sort_unstable();
         let mut ranges: Vec<Range<u32>> = Vec::new();
         for &slot in &self.slots {

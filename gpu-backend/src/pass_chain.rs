@@ -74,6 +74,16 @@ impl<'e> PassChain<'e> {
     }
 }
 
+impl std::fmt::Debug for PassChain<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PassChain")
+            .field("label", &self.label)
+            .field("open", &self.pass.is_some())
+            .field("opened", &self.opened)
+            .finish_non_exhaustive()
+    }
+}
+
 impl Drop for PassChain<'_> {
     fn drop(&mut self) {
         // Ends the open pass, unlocking the encoder.

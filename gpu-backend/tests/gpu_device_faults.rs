@@ -16,8 +16,12 @@ fn palette() -> MaterialPalette {
 }
 
 fn renderer(ctx: &GpuContext) -> Renderer {
-    Renderer::new(ctx, &RendererConfig::new(16, 16, ChunkSize::S16), &palette())
-        .expect("renderer")
+    Renderer::new(
+        ctx,
+        &RendererConfig::new(16, 16, ChunkSize::S16),
+        &palette(),
+    )
+    .expect("renderer")
 }
 
 /// A buffer past the device's largest is refused with its label and size, and the device

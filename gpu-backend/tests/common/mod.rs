@@ -10,15 +10,15 @@ use voxel_core::formats::DataKind;
 use voxel_core::formats::LayerRange;
 
 /// The seed of every randomised GPU test unless `GPU_TEST_SEED` is set ([`Rng::test_seed`]).
-pub const DEFAULT_SEED: u64 = 0x5EED_2026_0001;
+pub(crate) const DEFAULT_SEED: u64 = 0x5EED_2026_0001;
 
 /// SplitMix64: small, seedable, good enough for test inputs.
 #[derive(Clone, Debug)]
-pub struct Rng(u64);
+pub(crate) struct Rng(u64);
 
 impl Rng {
     /// A generator with this seed.
-    pub fn new(seed: u64) -> Rng {
+    pub(crate) fn new(seed: u64) -> Rng {
         Rng(seed)
     }
 
@@ -30,7 +30,7 @@ impl Rng {
     /// # Panics
     ///
     /// When `GPU_TEST_SEED` is neither a `u64` nor `random`.
-    pub fn test_seed() -> u64 {
+    pub(crate) fn test_seed() -> u64 {
         Rng::test_seed_or(DEFAULT_SEED)
     }
 
@@ -40,7 +40,7 @@ impl Rng {
     /// # Panics
     ///
     /// When `GPU_TEST_SEED` is neither a `u64` nor `random`.
-    pub fn test_seed_or(default: u64) -> u64 {
+    pub(crate) fn test_seed_or(default: u64) -> u64 {
         let seed = match std::env::var("GPU_TEST_SEED") {
             Err(_) => default,
             Ok(text) if text == "random" => std::time::SystemTime::now()
@@ -54,7 +54,7 @@ impl Rng {
         seed
     }
 
-    pub fn next_u64(&mut self) -> u64 {
+    pub(crate) fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
@@ -62,16 +62,16 @@ impl Rng {
         z ^ (z >> 31)
     }
 
-    pub fn next_u32(&mut self) -> u32 {
+    pub(crate) fn next_u32(&mut self) -> u32 {
         (self.next_u64() >> 32) as u32
     }
 
     /// Uniform in `0..n` (n > 0), bias negligible for test sizes.
-    pub fn below(&mut self, n: u32) -> u32 {
+    pub(crate) fn below(&mut self, n: u32) -> u32 {
         ((u64::from(self.next_u32()) * u64::from(n)) >> 32) as u32
     }
 
-    pub fn bytes<T: bytemuck::Pod + bytemuck::Zeroable>(&mut self, n: usize) -> Vec<T> {
+    pub(crate) fn bytes<T: bytemuck::Pod + bytemuck::Zeroable>(&mut self, n: usize) -> Vec<T> {
         let mut out = vec![T::zeroed(); n];
         for byte in bytemuck::cast_slice_mut::<T, u8>(&mut out) {
             *byte = self.next_u64() as u8;
@@ -81,7 +81,7 @@ impl Rng {
 }
 
 /// Records the gigabuffer's pending uploads and submits them.
-pub fn flush_and_submit(
+pub(crate) fn flush_and_submit(
     ctx: &GpuContext,
     gigabuffer: &mut Gigabuffer,
 ) -> gpu_backend::residency::FlushStats {
@@ -96,7 +96,7 @@ pub fn flush_and_submit(
 }
 
 /// The bytes of a global range of `kind`, read from the page that holds it.
-pub fn read_range(
+pub(crate) fn read_range(
     ctx: &GpuContext,
     gigabuffer: &Gigabuffer,
     kind: DataKind,

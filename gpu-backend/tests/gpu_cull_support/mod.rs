@@ -16,13 +16,13 @@ use voxel_core::formats::{FaceLayerRange, MeshedChunkInfo};
 use crate::common::Rng;
 
 /// Uniform `f32` in `lo..hi`.
-pub fn uniform(rng: &mut Rng, lo: f32, hi: f32) -> f32 {
+pub(crate) fn uniform(rng: &mut Rng, lo: f32, hi: f32) -> f32 {
     lo + (hi - lo) * (rng.next_u32() >> 8) as f32 / (1u32 << 24) as f32
 }
 
 /// A column-major, camera-relative view-projection: eye at the origin looking along
 /// (yaw, pitch), vertical field of view `fov_y`, wgpu depth 0..1.
-pub fn view_projection(
+pub(crate) fn view_projection(
     yaw: f64,
     pitch: f64,
     fov_y: f64,
@@ -71,7 +71,7 @@ pub fn view_projection(
 }
 
 /// A random perspective camera at `chunk` (random offset inside it, random direction).
-pub fn random_camera(rng: &mut Rng, chunk: ChunkCoord, edge: f32) -> CullView {
+pub(crate) fn random_camera(rng: &mut Rng, chunk: ChunkCoord, edge: f32) -> CullView {
     let offset = [0; 3].map(|_| uniform(rng, 0.0, edge));
     let yaw = f64::from(uniform(rng, -3.2, 3.2));
     let pitch = f64::from(uniform(rng, -1.4, 1.4));
@@ -88,7 +88,7 @@ pub fn random_camera(rng: &mut Rng, chunk: ChunkCoord, edge: f32) -> CullView {
 
 /// True when some decision about `info` (frustum planes, face directions) lies within a small
 /// margin of its boundary, computed in `f64` from the same `f32` inputs.
-pub fn near_a_boundary(info: &MeshedChunkInfo, camera: &CullView, edge: u32) -> bool {
+pub(crate) fn near_a_boundary(info: &MeshedChunkInfo, camera: &CullView, edge: u32) -> bool {
     let cam = [camera.chunk.x, camera.chunk.y, camera.chunk.z];
     let c: [f64; 3] = std::array::from_fn(|i| {
         let rel = info.chunk[i].wrapping_sub(cam[i]);
@@ -113,7 +113,7 @@ pub fn near_a_boundary(info: &MeshedChunkInfo, camera: &CullView, edge: u32) -> 
 
 /// What a random table holds, besides the table itself.
 #[derive(Debug, Default)]
-pub struct Scene {
+pub(crate) struct Scene {
     /// Every slot's record, as the table holds it (vacant ones included).
     pub records: Vec<MeshedChunkInfo>,
     /// Slots holding malformed ranges on purpose.
@@ -162,7 +162,7 @@ fn random_counts(rng: &mut Rng, max: u32) -> [u32; 6] {
 /// chunks in every direction, so around and behind the camera; coordinates wrap in `i32`), a
 /// few far-away ones, a few malformed ones, and vacant slots; coordinates and boxes are re-drawn
 /// until no decision is within the margin of [`near_a_boundary`] for any of `cameras`.
-pub fn random_scene(
+pub(crate) fn random_scene(
     rng: &mut Rng,
     table: &mut MeshedChunkTable,
     layout: &CullLayout,
@@ -279,13 +279,13 @@ pub fn random_scene(
 }
 
 /// A command with its position-dependent `first_instance` cleared, for order-free comparison.
-pub fn unordered(mut c: Command) -> Command {
+pub(crate) fn unordered(mut c: Command) -> Command {
     c.args.first_instance = 0;
     c
 }
 
 /// Sorted, `first_instance`-free commands of one page.
-pub fn sorted(commands: &[Command]) -> Vec<Command> {
+pub(crate) fn sorted(commands: &[Command]) -> Vec<Command> {
     let mut v: Vec<_> = commands.iter().copied().map(unordered).collect();
     v.sort_by_key(|c| {
         (
@@ -301,7 +301,7 @@ pub fn sorted(commands: &[Command]) -> Vec<Command> {
 /// Checks a GPU readback against the CPU reference: counts, malformed count, every written
 /// command's `first_instance` equal to its own index, the command lists (args and records)
 /// equal as sets, and (`zeroed`) every slot past the count zero.
-pub fn assert_matches(
+pub(crate) fn assert_matches(
     gpu: &CullReadback,
     cpu: &CullReference,
     layout: &CullLayout,
@@ -339,13 +339,13 @@ pub fn assert_matches(
 }
 
 /// The chunk coordinates (camera-relative, level 0) of every command.
-pub fn visible_chunks(commands: &[Vec<Command>]) -> std::collections::BTreeSet<[i32; 3]> {
+pub(crate) fn visible_chunks(commands: &[Vec<Command>]) -> std::collections::BTreeSet<[i32; 3]> {
     commands.iter().flatten().map(|c| c.record.chunk).collect()
 }
 
 /// The face directions drawn for the chunk of `info` in `cpu`-style commands: the group a
 /// command's `base_vertex` starts.
-pub fn faces_drawn(
+pub(crate) fn faces_drawn(
     commands: &[Command],
     info: &MeshedChunkInfo,
     layer: CullLayer,
@@ -372,15 +372,15 @@ pub fn faces_drawn(
 }
 
 /// Flushes the table and submits nothing else.
-pub fn flush(ctx: &GpuContext, table: &mut MeshedChunkTable) {
+pub(crate) fn flush(ctx: &GpuContext, table: &mut MeshedChunkTable) {
     table.flush(&ctx.queue);
 }
 
 /// The reference decision of one chunk (re-exported for tests that hand-check cases).
-pub use render_model::cull::ChunkCull;
+pub(crate) use render_model::cull::ChunkCull;
 
 /// [`cull_chunk`] with the camera and layer first, for brevity.
-pub fn decide(
+pub(crate) fn decide(
     camera: &CullView,
     layer: CullLayer,
     layout: &CullLayout,

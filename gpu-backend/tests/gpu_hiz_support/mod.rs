@@ -28,12 +28,12 @@ fn fs(@builtin(position) p: vec4<f32>) -> @builtin(frag_depth) f32 {
 ";
 
 /// The depth-fill pipeline.
-pub struct Fill {
+pub(crate) struct Fill {
     pipeline: wgpu::RenderPipeline,
 }
 
 impl Fill {
-    pub fn new(device: &wgpu::Device) -> Fill {
+    pub(crate) fn new(device: &wgpu::Device) -> Fill {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("depth fill"),
             source: wgpu::ShaderSource::Wgsl(FILL_WGSL.into()),
@@ -69,7 +69,13 @@ impl Fill {
     }
 
     /// Renders `values` (`width x height`, row-major) into `view`.
-    pub fn run(&self, ctx: &GpuContext, view: &wgpu::TextureView, width: u32, values: &[f32]) {
+    pub(crate) fn run(
+        &self,
+        ctx: &GpuContext,
+        view: &wgpu::TextureView,
+        width: u32,
+        values: &[f32],
+    ) {
         let device = &ctx.device;
         let depths = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("depth values"),
@@ -122,7 +128,7 @@ impl Fill {
 
 /// A `Depth32Float` texture like the renderer's (`RENDER_ATTACHMENT | TEXTURE_BINDING |
 /// COPY_SRC`) and its view.
-pub fn depth_target(
+pub(crate) fn depth_target(
     ctx: &GpuContext,
     width: u32,
     height: u32,
@@ -148,7 +154,7 @@ pub fn depth_target(
 }
 
 /// The depth texture's values, row-major.
-pub fn read_depth(ctx: &GpuContext, texture: &wgpu::Texture) -> Vec<f32> {
+pub(crate) fn read_depth(ctx: &GpuContext, texture: &wgpu::Texture) -> Vec<f32> {
     let (width, height) = (texture.width(), texture.height());
     let row = (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
         * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
@@ -186,7 +192,7 @@ pub fn read_depth(ctx: &GpuContext, texture: &wgpu::Texture) -> Vec<f32> {
 }
 
 /// A visibility buffer holding `words` (`STORAGE | COPY_DST`).
-pub fn visibility_buffer(ctx: &GpuContext, words: &[u64]) -> wgpu::Buffer {
+pub(crate) fn visibility_buffer(ctx: &GpuContext, words: &[u64]) -> wgpu::Buffer {
     ctx.device
         .create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("visibility"),
@@ -196,13 +202,13 @@ pub fn visibility_buffer(ctx: &GpuContext, words: &[u64]) -> wgpu::Buffer {
 }
 
 /// A reversed-Z depth in `(0, 1]`, in steps of 2^-24 (exact in `f32`).
-pub fn unit_depth(rng: &mut Rng) -> f32 {
+pub(crate) fn unit_depth(rng: &mut Rng) -> f32 {
     (1 + rng.below(1 << 24)) as f32 / (1 << 24) as f32
 }
 
 /// A random depth image: blocks of `tile` pixels (1 = noise) of sky (one in six) or a depth,
 /// so that whole rectangles can be behind or in front of everything.
-pub fn random_depth(rng: &mut Rng, width: u32, height: u32, tile: u32) -> Vec<f32> {
+pub(crate) fn random_depth(rng: &mut Rng, width: u32, height: u32, tile: u32) -> Vec<f32> {
     let tiles_x = width.div_ceil(tile);
     let tiles: Vec<f32> = (0..tiles_x * height.div_ceil(tile))
         .map(|_| {
@@ -220,7 +226,7 @@ pub fn random_depth(rng: &mut Rng, width: u32, height: u32, tile: u32) -> Vec<f3
 
 /// Splats on about a third of the pixels, nearer or farther than the depth there, with
 /// random payloads; zero (nothing) elsewhere.
-pub fn random_visibility(rng: &mut Rng, depth: &[f32]) -> Vec<u64> {
+pub(crate) fn random_visibility(rng: &mut Rng, depth: &[f32]) -> Vec<u64> {
     depth
         .iter()
         .map(|&d| {
@@ -238,7 +244,7 @@ pub fn random_visibility(rng: &mut Rng, depth: &[f32]) -> Vec<u64> {
 }
 
 /// Asserts that `got` equals `want` level by level, texel by texel.
-pub fn assert_levels_equal(got: &[Vec<f32>], want: &[Vec<f32>], what: &str) {
+pub(crate) fn assert_levels_equal(got: &[Vec<f32>], want: &[Vec<f32>], what: &str) {
     assert_eq!(got.len(), want.len(), "{what}: level count");
     for (m, (g, w)) in got.iter().zip(want).enumerate() {
         assert_eq!(g.len(), w.len(), "{what}: level {m} length");
@@ -259,7 +265,7 @@ pub fn assert_levels_equal(got: &[Vec<f32>], want: &[Vec<f32>], what: &str) {
 /// `hiz_probe.wgsl`'s query, 32 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct Query {
+pub(crate) struct Query {
     pub rect_min: [f32; 2],
     pub rect_max: [f32; 2],
     pub nearest_depth: f32,
@@ -269,7 +275,7 @@ pub struct Query {
 /// `hiz_probe.wgsl`'s answer, 32 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct Answer {
+pub(crate) struct Answer {
     pub visible: u32,
     pub level: u32,
     pub farthest_bits: u32,
@@ -279,7 +285,7 @@ pub struct Answer {
 }
 
 /// Runs `queries` through `hiz_probe` against `pyramid`.
-pub fn probe(ctx: &GpuContext, pyramid: &DepthPyramid, queries: &[Query]) -> Vec<Answer> {
+pub(crate) fn probe(ctx: &GpuContext, pyramid: &DepthPyramid, queries: &[Query]) -> Vec<Answer> {
     let device = &ctx.device;
     let storage = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
         binding,
@@ -354,7 +360,7 @@ pub fn probe(ctx: &GpuContext, pyramid: &DepthPyramid, queries: &[Query]) -> Vec
 }
 
 /// A random rectangle on (or around, or far off) a `width x height` screen.
-pub fn random_rect(rng: &mut Rng, width: u32, height: u32) -> ([f32; 2], [f32; 2]) {
+pub(crate) fn random_rect(rng: &mut Rng, width: u32, height: u32) -> ([f32; 2], [f32; 2]) {
     let (w, h) = (width as f32, height as f32);
     let coordinate = |rng: &mut Rng, size: f32| {
         let unit = rng.below(1 << 20) as f32 / (1 << 20) as f32;

@@ -9,7 +9,7 @@ use gpu_backend::render::RenderTargets;
 /// One pixel of the G-buffer.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct GTexel {
+pub(crate) struct GTexel {
     /// The octahedral normal (`oct32_encode`).
     pub oct: u32,
     /// The block id.
@@ -54,7 +54,7 @@ fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::Bi
 }
 
 /// The G-buffer texels of `targets`, row-major (blocks until the GPU is done).
-pub fn read_gbuffer(ctx: &GpuContext, targets: &RenderTargets) -> Vec<GTexel> {
+pub(crate) fn read_gbuffer(ctx: &GpuContext, targets: &RenderTargets) -> Vec<GTexel> {
     let device = &ctx.device;
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("gbuffer readback"),
@@ -134,7 +134,7 @@ pub fn read_gbuffer(ctx: &GpuContext, targets: &RenderTargets) -> Vec<GTexel> {
 
 /// The face (`FaceDirection` index: +X, -X, +Y, -Y, +Z, -Z) whose normal an `oct32_encode`d
 /// normal is closest to.
-pub fn oct_face(oct: u32) -> u32 {
+pub(crate) fn oct_face(oct: u32) -> u32 {
     let x = f32::from((oct & 0xffff) as u16 as i16) / 32767.0;
     let y = f32::from((oct >> 16) as u16 as i16) / 32767.0;
     let z = 1.0 - x.abs() - y.abs();

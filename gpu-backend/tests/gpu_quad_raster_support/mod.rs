@@ -4,8 +4,8 @@
 
 #![allow(dead_code, reason = "each test binary uses a different subset")]
 
-pub mod gbuffer;
-pub mod terrain;
+pub(crate) mod gbuffer;
+pub(crate) mod terrain;
 
 use render_model::cull::{CullConfig, CullLayer, CullParams, DrawRecord, LodParams};
 
@@ -26,14 +26,14 @@ use voxel_core::formats::{FaceLayerRange, MeshedChunkInfo, PackedQuad};
 use voxel_core::{ChunkSize, FaceDirection};
 
 /// Quads per gigabuffer page: small, so scenes span several pages.
-pub const PAGE_QUADS: u32 = 1024;
+pub(crate) const PAGE_QUADS: u32 = 1024;
 /// Pages of the quad gigabuffer.
-pub const PAGES: u32 = 16;
+pub(crate) const PAGES: u32 = 16;
 /// Table slots.
-pub const TABLE: u32 = 1024;
+pub(crate) const TABLE: u32 = 1024;
 
 /// Everything a rasterisation needs, on one device.
-pub struct Rig<'a> {
+pub(crate) struct Rig<'a> {
     pub ctx: &'a GpuContext,
     pub gigabuffer: Gigabuffer,
     pub table: MeshedChunkTable,
@@ -49,7 +49,7 @@ pub struct Rig<'a> {
 }
 
 /// One rasterisation read back.
-pub struct Frame {
+pub(crate) struct Frame {
     pub uniforms: FrameUniforms,
     pub visibility: Vec<u64>,
     pub stats: QuadRasterStats,
@@ -61,7 +61,12 @@ pub struct Frame {
 
 impl<'a> Rig<'a> {
     /// A rig for a `width x height` screen with chunks of edge 16.
-    pub fn new(ctx: &'a GpuContext, width: u32, height: u32, config: &QuadRasterConfig) -> Rig<'a> {
+    pub(crate) fn new(
+        ctx: &'a GpuContext,
+        width: u32,
+        height: u32,
+        config: &QuadRasterConfig,
+    ) -> Rig<'a> {
         let device = &ctx.device;
         let gigabuffer = Gigabuffer::new(
             device,
@@ -118,7 +123,7 @@ impl<'a> Rig<'a> {
 
     /// Uploads node `coord` of `level` with `quads` (any order: grouped by face here) and
     /// inserts its record, whose box is the whole node.
-    pub fn upload(&mut self, coord: [i32; 3], level: u32, quads: &[PackedQuad]) {
+    pub(crate) fn upload(&mut self, coord: [i32; 3], level: u32, quads: &[PackedQuad]) {
         let mut by_face: [Vec<PackedQuad>; 6] = Default::default();
         for q in quads {
             by_face[(q.face_ao_block & 7) as usize].push(*q);
@@ -152,7 +157,7 @@ impl<'a> Rig<'a> {
     }
 
     /// The frame uniforms of `camera` on this rig's screen.
-    pub fn uniforms_of(&self, camera: &Camera) -> FrameUniforms {
+    pub(crate) fn uniforms_of(&self, camera: &Camera) -> FrameUniforms {
         FrameUniforms::new(
             camera,
             &Lighting::default(),
@@ -170,7 +175,12 @@ impl<'a> Rig<'a> {
 
     /// Culls the table for `camera` (level selection by `lod`, level 0 only without), clears the
     /// visibility buffer and the statistics, rasterises `records` times, and reads back.
-    pub fn render(&mut self, camera: &Camera, lod: Option<LodParams>, records: u32) -> Frame {
+    pub(crate) fn render(
+        &mut self,
+        camera: &Camera,
+        lod: Option<LodParams>,
+        records: u32,
+    ) -> Frame {
         let ctx = self.ctx;
         let uniforms = self.uniforms_of(camera);
         ctx.queue
@@ -246,7 +256,7 @@ impl<'a> Rig<'a> {
 }
 
 /// The depth of a visibility word.
-pub fn depth(v: u64) -> f32 {
+pub(crate) fn depth(v: u64) -> f32 {
     f32::from_bits((v >> 32) as u32)
 }
 
@@ -254,11 +264,11 @@ pub fn depth(v: u64) -> f32 {
 /// pixel: 2^-16. The depth is `near / (plane / dir)`; a fused multiply-add in the ray or a
 /// division rounded differently moves it by a few units in the last place, more where the ray
 /// grazes the plane (the division amplifies the ray's rounding by `|dir| / |dir[normal]|`).
-pub const DEPTH_TOLERANCE: f32 = 1.0 / 65536.0;
+pub(crate) const DEPTH_TOLERANCE: f32 = 1.0 / 65536.0;
 
 /// How a GPU image compares with the CPU reference.
 #[derive(Debug, Default)]
-pub struct Comparison {
+pub(crate) struct Comparison {
     /// Pixels equal bit for bit.
     pub exact: usize,
     /// Pixels where some quad hits (CPU), or the GPU wrote something.
@@ -300,7 +310,7 @@ fn same_surface(a: u64, b: u64) -> (bool, bool, u32) {
 /// - the GPU wrote the word of a quad that hits or ambiguously hits the pixel on the CPU, with
 ///   the same block and face, its depth within [`DEPTH_TOLERANCE`] and its AO within one 255th,
 ///   and no quad that certainly hits the pixel is nearer by more than the depth tolerance.
-pub fn compare(frame: &Frame, gpu: &[u64]) -> Comparison {
+pub(crate) fn compare(frame: &Frame, gpu: &[u64]) -> Comparison {
     let f = &frame.uniforms;
     let (w, h) = (f.width as usize, f.height as usize);
     // Per pixel: (candidate word, certain hit, hit) of every quad that hits or nearly hits.
@@ -373,13 +383,13 @@ pub fn compare(frame: &Frame, gpu: &[u64]) -> Comparison {
 }
 
 /// `face` as the index the packed formats use.
-pub fn face_index(face: FaceDirection) -> u32 {
+pub(crate) fn face_index(face: FaceDirection) -> u32 {
     u32::from(face.index())
 }
 
 /// A device with 64-bit atomics, or `None` (printed) where the machine has no adapter or the
 /// adapter lacks them outside CI.
-pub fn device(options: &DeviceOptions) -> Option<GpuContext> {
+pub(crate) fn device(options: &DeviceOptions) -> Option<GpuContext> {
     let ctx = headless_or_skip(options)?;
     if !ctx.capabilities.int64_atomics {
         assert!(
@@ -396,7 +406,7 @@ pub fn device(options: &DeviceOptions) -> Option<GpuContext> {
     Some(ctx)
 }
 
-pub fn report(what: &str, frame: &Frame, c: &Comparison) {
+pub(crate) fn report(what: &str, frame: &Frame, c: &Comparison) {
     println!(
         "{what}: {} commands, {} quads, {} visible, {} big, {} tiles, {} pixels covered, {} \
          exact, {} tolerated ({} same surface, depth within {} ulps), {} ambiguous (quad, pixel) \
@@ -419,12 +429,12 @@ pub fn report(what: &str, frame: &Frame, c: &Comparison) {
 
 /// True on lavapipe, which rounds every operation as the CPU twin does (no fused multiply-adds,
 /// correctly rounded divisions): there the image must be equal bit for bit.
-pub fn bit_exact(ctx: &GpuContext) -> bool {
+pub(crate) fn bit_exact(ctx: &GpuContext) -> bool {
     ctx.capabilities.adapter.name.starts_with("llvmpipe")
 }
 
 /// Asserts the comparison's bounds: no mismatch, few tolerated pixels (none when `exact`).
-pub fn assert_close(what: &str, frame: &Frame, c: &Comparison, exact: bool) {
+pub(crate) fn assert_close(what: &str, frame: &Frame, c: &Comparison, exact: bool) {
     report(what, frame, c);
     assert!(
         !exact || c.tolerated == 0,

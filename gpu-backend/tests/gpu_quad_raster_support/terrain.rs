@@ -20,7 +20,7 @@ fn hash(mut v: u64) -> u64 {
 
 /// Height in cells (1..=`max`) of column `(x, z)` of the level's cell grid: plateaus of 4 x 4
 /// columns with a few single-column bumps, so tops merge into rectangles of several sizes.
-pub fn height(seed: u64, level: u32, x: i32, z: i32, max: u32) -> u32 {
+pub(crate) fn height(seed: u64, level: u32, x: i32, z: i32, max: u32) -> u32 {
     let key = |a: i32, b: i32, salt: u64| {
         hash(seed ^ salt ^ (u64::from(a as u32) << 32 | u64::from(b as u32)) ^ u64::from(level))
     };
@@ -50,7 +50,7 @@ fn quad(
 
 /// The quads of node `(cx, cz)` (chunk row y = 0) at `level` of the terrain `seed`, heights
 /// 1..=`max` cells.
-pub fn node_quads(seed: u64, level: u32, cx: i32, cz: i32, max: u32) -> Vec<PackedQuad> {
+pub(crate) fn node_quads(seed: u64, level: u32, cx: i32, cz: i32, max: u32) -> Vec<PackedQuad> {
     let h = |x: i32, z: i32| height(seed, level, cx * EDGE + x, cz * EDGE + z, max);
     let mut out = Vec::new();
     // Tops: greedy rectangles of equal height.

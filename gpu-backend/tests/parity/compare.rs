@@ -6,7 +6,7 @@ use super::expected::Word;
 use super::harness::UNWRITTEN;
 
 /// How far apart two f32 are in units in the last place (0 for +0 and -0).
-pub fn ulp_distance(a: f32, b: f32) -> u64 {
+pub(crate) fn ulp_distance(a: f32, b: f32) -> u64 {
     fn ordered(x: f32) -> i64 {
         let bits = i64::from(x.to_bits() as i32);
         if bits < 0 {
@@ -20,7 +20,7 @@ pub fn ulp_distance(a: f32, b: f32) -> u64 {
 
 /// What a comparison found.
 #[derive(Debug, Default)]
-pub struct Outcome {
+pub(crate) struct Outcome {
     /// Mismatching words, with a description of the first few.
     pub mismatches: usize,
     pub report: String,
@@ -31,7 +31,7 @@ pub struct Outcome {
 /// Compares `got` with `expected` (both `stride` words per element). Exact words must be equal
 /// bit for bit; normal components within `normal_ulps`. `describe(i)` prints element `i`'s
 /// input for the report.
-pub fn compare(
+pub(crate) fn compare(
     got: &[u32],
     expected: &[Word],
     stride: usize,

@@ -10,7 +10,7 @@ use voxel_core::formats::{
 
 /// One expected output word.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Word {
+pub(crate) enum Word {
     /// Equal bit for bit (integers, i32 and f32 bit patterns, bools as 0 / 1).
     Exact(u32),
     /// A component of a normalized octahedral normal: equal within a few ulp (the GPU may
@@ -38,14 +38,14 @@ fn normal(out: &mut Vec<Word>, n: [f32; 3]) {
     out.extend(n.map(Word::Normal));
 }
 
-pub fn draw_block(x: &DrawBlock, out: &mut Vec<Word>) {
+pub(crate) fn draw_block(x: &DrawBlock, out: &mut Vec<Word>) {
     let d = x.decode();
     out.push(u(d.flags.bits().into()));
     out.extend(d.position.map(u));
     out.push(u(d.block.0.into()));
 }
 
-pub fn packed_quad(x: &PackedQuad, out: &mut Vec<Word>) {
+pub(crate) fn packed_quad(x: &PackedQuad, out: &mut Vec<Word>) {
     let d = x.decode().expect("parity inputs are valid quads");
     out.extend(d.position.map(u));
     out.push(u(d.width));
@@ -67,7 +67,7 @@ fn face(face: FaceDirection, out: &mut Vec<Word>) {
     out.push(b(face.is_positive()));
 }
 
-pub fn block_vertex(x: &BlockVertex, extent: UnormExtent, out: &mut Vec<Word>) {
+pub(crate) fn block_vertex(x: &BlockVertex, extent: UnormExtent, out: &mut Vec<Word>) {
     let d = x.decode(extent);
     out.extend(d.position.to_array().map(f));
     normal(out, d.normal.to_array());
@@ -76,7 +76,7 @@ pub fn block_vertex(x: &BlockVertex, extent: UnormExtent, out: &mut Vec<Word>) {
     out.push(u(d.extra.into()));
 }
 
-pub fn clutter_unit(x: &ClutterUnit, extent: UnormExtent, out: &mut Vec<Word>) {
+pub(crate) fn clutter_unit(x: &ClutterUnit, extent: UnormExtent, out: &mut Vec<Word>) {
     let d = x.decode(extent);
     out.extend(d.position.to_array().map(f));
     normal(out, d.normal.to_array());
@@ -88,7 +88,7 @@ pub fn clutter_unit(x: &ClutterUnit, extent: UnormExtent, out: &mut Vec<Word>) {
     out.extend(d.tint.map(|c| f(unorm8_decode(c))));
 }
 
-pub fn chunk_draw_info(x: &ChunkDrawInfo, out: &mut Vec<Word>) {
+pub(crate) fn chunk_draw_info(x: &ChunkDrawInfo, out: &mut Vec<Word>) {
     let d = x.decode().expect("parity inputs are valid draw infos");
     out.extend([d.chunk.x, d.chunk.y, d.chunk.z].map(i));
     out.push(u(d.kind as u32));
@@ -107,7 +107,7 @@ fn face_layer_range(r: &FaceLayerRange, out: &mut Vec<Word>) {
     out.push(u(r.total() as u32));
 }
 
-pub fn meshed_chunk_info(x: &MeshedChunkInfo, out: &mut Vec<Word>) {
+pub(crate) fn meshed_chunk_info(x: &MeshedChunkInfo, out: &mut Vec<Word>) {
     let d = x
         .decode()
         .expect("parity inputs are valid meshed chunk infos");
@@ -125,7 +125,7 @@ pub fn meshed_chunk_info(x: &MeshedChunkInfo, out: &mut Vec<Word>) {
     out.push(u(0));
 }
 
-pub fn chunk_draw_indirect(x: &ChunkDrawIndirect, out: &mut Vec<Word>) {
+pub(crate) fn chunk_draw_indirect(x: &ChunkDrawIndirect, out: &mut Vec<Word>) {
     let d = x.decode();
     out.push(u(d.index_count));
     out.push(u(d.instance_count));
@@ -136,16 +136,16 @@ pub fn chunk_draw_indirect(x: &ChunkDrawIndirect, out: &mut Vec<Word>) {
 }
 
 /// `oct16_decode` of the low 16 bits.
-pub fn oct16(code: &u32, out: &mut Vec<Word>) {
+pub(crate) fn oct16(code: &u32, out: &mut Vec<Word>) {
     normal(out, oct16_decode(*code as u16).to_array());
 }
 
-pub fn oct32(code: &u32, out: &mut Vec<Word>) {
+pub(crate) fn oct32(code: &u32, out: &mut Vec<Word>) {
     normal(out, oct32_decode(*code).to_array());
 }
 
 /// `unorm16_decode(low 16 bits, extent)`, `unorm8_decode(low 8 bits)`.
-pub fn unorm(code: &u32, extent: UnormExtent, out: &mut Vec<Word>) {
+pub(crate) fn unorm(code: &u32, extent: UnormExtent, out: &mut Vec<Word>) {
     out.push(f(unorm16_decode(*code as u16, extent)));
     out.push(f(unorm8_decode(*code as u8)));
 }

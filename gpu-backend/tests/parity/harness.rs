@@ -8,10 +8,10 @@ use wgpu::util::{BufferInitDescriptor, DeviceExt};
 
 /// Written into every output word before the dispatch, so a word the shader never writes
 /// shows up (zero would hide behind fields whose value is 0).
-pub const UNWRITTEN: u32 = 0xdead_beef;
+pub(crate) const UNWRITTEN: u32 = 0xdead_beef;
 
 /// A context with the parity shader module.
-pub struct Harness {
+pub(crate) struct Harness {
     pub ctx: GpuContext,
     module: wgpu::ShaderModule,
 }
@@ -19,7 +19,7 @@ pub struct Harness {
 /// One entry point: its name, the binding of its input array, its output stride in words, and
 /// whether it reads the `params` uniform (the unorm extent).
 #[derive(Clone, Copy, Debug)]
-pub struct Entry {
+pub(crate) struct Entry {
     pub name: &'static str,
     pub binding: u32,
     pub stride: usize,
@@ -27,13 +27,13 @@ pub struct Entry {
 }
 
 impl Harness {
-    pub fn new(ctx: GpuContext, shader: &ShaderSpec) -> Harness {
+    pub(crate) fn new(ctx: GpuContext, shader: &ShaderSpec) -> Harness {
         let module = shader.create_module(&ctx.device);
         Harness { ctx, module }
     }
 
     /// A module from any source on the same device (for deliberately broken copies).
-    pub fn module(&self, label: &str, source: &str) -> wgpu::ShaderModule {
+    pub(crate) fn module(&self, label: &str, source: &str) -> wgpu::ShaderModule {
         self.ctx
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -44,12 +44,12 @@ impl Harness {
 
     /// Decodes `count` elements of `input` (their bytes) with `entry` of the parity shader;
     /// returns `count * entry.stride` words.
-    pub fn run(&self, entry: Entry, input: &[u8], count: usize, extent: f32) -> Vec<u32> {
+    pub(crate) fn run(&self, entry: Entry, input: &[u8], count: usize, extent: f32) -> Vec<u32> {
         self.run_module(&self.module, entry, input, count, extent)
     }
 
     /// [`run`](Self::run) with another module that has the same entry points.
-    pub fn run_module(
+    pub(crate) fn run_module(
         &self,
         module: &wgpu::ShaderModule,
         entry: Entry,

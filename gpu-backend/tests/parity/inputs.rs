@@ -13,7 +13,7 @@ use voxel_core::formats::{
 use crate::common::Rng;
 
 /// Random values per format.
-pub const RANDOM: usize = 4096;
+pub(crate) const RANDOM: usize = 4096;
 
 /// Random bit patterns, all valid.
 fn raw<T: bytemuck::Pod>(rng: &mut Rng, edges: Vec<T>) -> Vec<T> {
@@ -29,11 +29,11 @@ fn zero_and_ones<T: bytemuck::Pod>() -> Vec<T> {
     vec![T::zeroed(), ones]
 }
 
-pub fn draw_blocks(rng: &mut Rng) -> Vec<DrawBlock> {
+pub(crate) fn draw_blocks(rng: &mut Rng) -> Vec<DrawBlock> {
     raw(rng, zero_and_ones())
 }
 
-pub fn block_vertices(rng: &mut Rng) -> Vec<BlockVertex> {
+pub(crate) fn block_vertices(rng: &mut Rng) -> Vec<BlockVertex> {
     let mut edges = zero_and_ones::<BlockVertex>();
     // Normal codes at the square's corners and axes, including the most negative code.
     for normal in [
@@ -50,15 +50,15 @@ pub fn block_vertices(rng: &mut Rng) -> Vec<BlockVertex> {
     raw(rng, edges)
 }
 
-pub fn clutter_units(rng: &mut Rng) -> Vec<ClutterUnit> {
+pub(crate) fn clutter_units(rng: &mut Rng) -> Vec<ClutterUnit> {
     raw(rng, zero_and_ones())
 }
 
-pub fn chunk_draw_indirects(rng: &mut Rng) -> Vec<ChunkDrawIndirect> {
+pub(crate) fn chunk_draw_indirects(rng: &mut Rng) -> Vec<ChunkDrawIndirect> {
     raw(rng, zero_and_ones())
 }
 
-pub fn packed_quads(rng: &mut Rng) -> Vec<PackedQuad> {
+pub(crate) fn packed_quads(rng: &mut Rng) -> Vec<PackedQuad> {
     // Every face with all-zero and all-maximum fields.
     let mut v: Vec<PackedQuad> = (0..6)
         .flat_map(|face| {
@@ -100,7 +100,7 @@ fn sentinel(rng: &mut Rng) -> i32 {
     }
 }
 
-pub fn chunk_draw_infos(rng: &mut Rng) -> Vec<ChunkDrawInfo> {
+pub(crate) fn chunk_draw_infos(rng: &mut Rng) -> Vec<ChunkDrawInfo> {
     let mut v = vec![
         ChunkDrawInfo {
             chunk: [0; 3],
@@ -177,7 +177,7 @@ fn layer_range(rng: &mut Rng) -> LayerRange {
     }
 }
 
-pub fn meshed_chunk_infos(rng: &mut Rng) -> Vec<MeshedChunkInfo> {
+pub(crate) fn meshed_chunk_infos(rng: &mut Rng) -> Vec<MeshedChunkInfo> {
     let zero = MeshedChunkInfo::default();
     let full = FaceLayerRange {
         offset: 0,
@@ -220,14 +220,14 @@ pub fn meshed_chunk_infos(rng: &mut Rng) -> Vec<MeshedChunkInfo> {
 }
 
 /// Every 16-bit code, with random upper bits (the decoders must ignore them).
-pub fn all_u16_codes(rng: &mut Rng) -> Vec<u32> {
+pub(crate) fn all_u16_codes(rng: &mut Rng) -> Vec<u32> {
     (0..=u32::from(u16::MAX))
         .map(|c| c | rng.next_u32() << 16)
         .collect()
 }
 
 /// Random 32-bit oct32 codes plus the square's corners and axes.
-pub fn oct32_codes(rng: &mut Rng) -> Vec<u32> {
+pub(crate) fn oct32_codes(rng: &mut Rng) -> Vec<u32> {
     let mut v = vec![
         0,
         0x7fff_7fff,

@@ -18,30 +18,30 @@ pub(crate) struct Axis<const A: usize>;
 
 impl<const A: usize> Axis<A> {
     /// Layout index (0 = A, 1 = B, 2 = C).
-    pub const LAYOUT: usize = [2, 1, 0][A];
+    pub(super) const LAYOUT: usize = [2, 1, 0][A];
     /// The axes (0 = x, 1 = y, 2 = z) of the slice, line and bit coordinates.
-    pub const AXES: [u32; 3] = [[0, 1, 2], [1, 2, 0], [2, 1, 0]][A];
+    pub(super) const AXES: [u32; 3] = [[0, 1, 2], [1, 2, 0], [2, 1, 0]][A];
     /// Bit offset, in `PackedQuad` word 0, of the slice coordinate.
-    pub const SHIFT_N: u32 = PackedQuad::POSITION_SHIFTS[Self::AXES[0] as usize];
+    pub(super) const SHIFT_N: u32 = PackedQuad::POSITION_SHIFTS[Self::AXES[0] as usize];
     /// Bit offset in word 0 of the line coordinate.
-    pub const SHIFT_L: u32 = PackedQuad::POSITION_SHIFTS[Self::AXES[1] as usize];
+    pub(super) const SHIFT_L: u32 = PackedQuad::POSITION_SHIFTS[Self::AXES[1] as usize];
     /// Bit offset in word 0 of the bit coordinate.
-    pub const SHIFT_B: u32 = PackedQuad::POSITION_SHIFTS[Self::AXES[2] as usize];
+    pub(super) const SHIFT_B: u32 = PackedQuad::POSITION_SHIFTS[Self::AXES[2] as usize];
     /// Bit offset in word 0 of the quad's extent along lines: its height (the bits run along
     /// every face's width axis).
-    pub const SIZE_SHIFT_L: u32 = PackedQuad::HEIGHT_SHIFT;
+    pub(super) const SIZE_SHIFT_L: u32 = PackedQuad::HEIGHT_SHIFT;
     /// Bit offset in word 0 of the quad's extent along bits: its width.
-    pub const SIZE_SHIFT_B: u32 = PackedQuad::WIDTH_SHIFT;
+    pub(super) const SIZE_SHIFT_B: u32 = PackedQuad::WIDTH_SHIFT;
     /// Grow quads along lines first (`block-mesh`'s order for the ±Y faces; the others grow
     /// along bits first).
-    pub const LINES_FIRST: bool = A == 1;
+    pub(super) const LINES_FIRST: bool = A == 1;
     /// Start quads at the lowest bit, then the lowest line (`block-mesh`'s scan order for the
     /// ±X faces, whose bits run along z); the others start at the lowest line, then bit.
-    pub const BIT_MAJOR: bool = A == 0;
+    pub(super) const BIT_MAJOR: bool = A == 0;
 
     /// Voxel index strides of a step in slice, line and bit, for padded edge `p`.
     #[inline(always)]
-    pub fn strides(p: usize) -> [usize; 3] {
+    pub(super) fn strides(p: usize) -> [usize; 3] {
         Self::AXES.map(|a| p.pow(a))
     }
 }
@@ -62,7 +62,7 @@ pub(crate) struct Facing {
 impl Facing {
     /// Face direction `direction` (0 to 5; see `FaceDirection::ALL`).
     #[inline(always)]
-    pub const fn of(direction: usize) -> Facing {
+    pub(super) const fn of(direction: usize) -> Facing {
         Facing {
             direction,
             positive: direction.is_multiple_of(2),
@@ -73,7 +73,7 @@ impl Facing {
 
     /// The front slice of slice `n`.
     #[inline(always)]
-    pub fn front(self, n: usize) -> usize {
+    pub(super) fn front(self, n: usize) -> usize {
         if self.positive { n + 1 } else { n - 1 }
     }
 }

@@ -149,7 +149,7 @@ impl EqualIds {
     /// ([`masks_pay`]), an exposed row holds an id that is not below the classes' bound
     /// (keying names it), or the inputs do not fit together.
     #[inline(always)]
-    pub fn build(&mut self, chunk: &ChunkIds<'_>) -> bool {
+    pub(super) fn build(&mut self, chunk: &ChunkIds<'_>) -> bool {
         let Some((last, ys)) = self.prepare(chunk) else {
             return false;
         };
@@ -170,7 +170,7 @@ impl EqualIds {
     /// hold AVX2 vectors, the portable kernel.)
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
-    pub fn build_x86_v3(&mut self, chunk: &ChunkIds<'_>) -> bool {
+    pub(super) fn build_x86_v3(&mut self, chunk: &ChunkIds<'_>) -> bool {
         #[cfg(target_feature = "sse2")]
         {
             use core::arch::x86_64::{_mm256_set1_epi16, _mm256_setzero_si256, _mm256_testz_si256};
@@ -260,7 +260,7 @@ impl EqualIds {
 
     /// Drops layout C, so that the ±X faces are keyed (to test both ways on one chunk).
     #[cfg(test)]
-    pub fn drop_layout_c(&mut self) {
+    pub(super) fn drop_layout_c(&mut self) {
         self.has_c = false;
     }
 
@@ -277,7 +277,7 @@ impl EqualIds {
 
     /// The ±X faces (layout C) are merged by these masks; otherwise they are keyed.
     #[inline(always)]
-    pub fn has_layout_c(&self) -> bool {
+    pub(super) fn has_layout_c(&self) -> bool {
         self.has_c
     }
 
@@ -286,7 +286,7 @@ impl EqualIds {
     /// of the one at bit `b + 1`. Meaningful only where the voxel shows a face; 0 past the
     /// chunk. Layout B's line `z` of slice `y` is layout A's line `y` of slice `z`.
     #[inline(always)]
-    pub fn along(&self, layout: usize, n: usize, l: usize) -> u64 {
+    pub(super) fn along(&self, layout: usize, n: usize, l: usize) -> u64 {
         match layout {
             0 => line(&self.next_x_a, n, l),
             1 => line(&self.next_x_a, l, n),
@@ -298,7 +298,7 @@ impl EqualIds {
     /// voxel at line `l`, bit `b` has the id of the one at line `l + 1` (as
     /// [`along`](Self::along)).
     #[inline(always)]
-    pub fn across(&self, layout: usize, n: usize, l: usize) -> u64 {
+    pub(super) fn across(&self, layout: usize, n: usize, l: usize) -> u64 {
         match layout {
             0 => line(&self.next_y_a, n, l),
             1 => line(&self.next_z_a, l, n),

@@ -200,7 +200,7 @@ fn short_transparent<const P: usize>(
 impl Masks {
     /// [`build_with`](Self::build_with) the portable transpose, for the tests.
     #[cfg(test)]
-    pub fn build(
+    pub(super) fn build(
         &mut self,
         p: usize,
         voxels: &[u16],
@@ -218,7 +218,7 @@ impl Masks {
     /// for its instruction set. Returns [`Content::Empty`] or [`Content::Buried`] without
     /// building anything when the columns already say there is no face.
     #[inline(always)]
-    pub fn build_with(
+    pub(super) fn build_with(
         &mut self,
         p: usize,
         voxels: &[u16],
@@ -347,7 +347,7 @@ impl Masks {
 
     /// The opaque mask in all three layouts; `columns` are the input columns (layout A when the
     /// chunk is 62^3 and has no transparent voxel).
-    pub fn opaque<'a>(&'a self, columns: &'a [u64]) -> Layouts<'a> {
+    pub(super) fn opaque<'a>(&'a self, columns: &'a [u64]) -> Layouts<'a> {
         let a: &[Slice] = if self.opaque_is_columns {
             bytemuck::cast_slice(columns)
         } else {
@@ -360,7 +360,7 @@ impl Masks {
     }
 
     /// The transparent mask in all three layouts, if any voxel is transparent.
-    pub fn transparent(&self) -> Option<Layouts<'_>> {
+    pub(super) fn transparent(&self) -> Option<Layouts<'_>> {
         self.has_transparent.then_some(Layouts {
             by: [&self.trans_a, &self.trans_b, &self.trans_c],
             occupied: self.occupied[1],

@@ -14,20 +14,20 @@ use voxel_core::{
 };
 
 mod reference;
-pub use reference::*;
+pub(crate) use reference::*;
 
 /// Block ids of the test palette.
-pub const STONE: u16 = 1;
-pub const DIRT: u16 = 2;
-pub const WATER: u16 = 3;
-pub const GLASS: u16 = 4;
-pub const GRASS: u16 = 5;
-pub const SAND: u16 = 6;
+pub(crate) const STONE: u16 = 1;
+pub(crate) const DIRT: u16 = 2;
+pub(crate) const WATER: u16 = 3;
+pub(crate) const GLASS: u16 = 4;
+pub(crate) const GRASS: u16 = 5;
+pub(crate) const SAND: u16 = 6;
 /// Not in the palette.
-pub const UNKNOWN: u16 = 40;
+pub(crate) const UNKNOWN: u16 = 40;
 
 /// A palette with opaque, clutter-bearing and two transparent materials.
-pub fn palette(with_transparent: bool) -> MaterialPalette {
+pub(crate) fn palette(with_transparent: bool) -> MaterialPalette {
     let mut p = MaterialPalette::new();
     let t = |m: Material| {
         if with_transparent {
@@ -48,11 +48,11 @@ pub fn palette(with_transparent: bool) -> MaterialPalette {
 }
 
 /// The deterministic generator of the chunks' contents.
-pub use voxel_scene::rng::Rng;
+pub(crate) use voxel_scene::rng::Rng;
 
 /// How a random chunk is filled.
 #[derive(Clone, Copy, Debug)]
-pub enum Fill {
+pub(crate) enum Fill {
     /// Each voxel independently: air with probability `air_percent`, else one of `ids`.
     Noise { air_percent: u64 },
     /// Boxes of random ids dropped into air: large flat faces, so quads merge.
@@ -77,7 +77,7 @@ pub enum Fill {
 }
 
 /// A random padded chunk of `size`; `air_border` leaves the one-voxel border air.
-pub fn random_chunk(
+pub(crate) fn random_chunk(
     size: ChunkSize,
     seed: u64,
     fill: Fill,
@@ -212,7 +212,7 @@ fn window(
 /// Checks a mesh against the reference: same unit faces (position, direction, id, AO) per
 /// layer, no overlap, and (through `expand`) equal ids and AO within every quad, since each
 /// covered face takes the quad's id and AO and must match the reference face there.
-pub fn assert_matches_reference(
+pub(crate) fn assert_matches_reference(
     mesh: &BlockyMesh,
     padded: &PaddedChunk,
     classes: &BlockClasses,
@@ -244,7 +244,7 @@ fn assert_faces_eq(got: &[UnitFace], want: &[UnitFace], what: &str) {
 /// Signed volume enclosed by a layer's quads: the sum of `det(a, b, c) / 6` over the two
 /// counter-clockwise triangles `(0, 1, 2)`, `(0, 2, 3)` of each quad's `corners()`
 /// (divergence theorem). Exact in integers: returns six times the volume.
-pub fn six_times_volume(layer: &mesher::QuadLayer) -> i64 {
+pub(crate) fn six_times_volume(layer: &mesher::QuadLayer) -> i64 {
     let mut six_v = 0i64;
     for q in layer.iter() {
         let c = q.decode().unwrap().corners().map(|c| c.map(i64::from));
@@ -257,7 +257,7 @@ pub fn six_times_volume(layer: &mesher::QuadLayer) -> i64 {
 }
 
 /// Opaque voxels of the chunk interior.
-pub fn opaque_voxels(padded: &PaddedChunk, classes: &BlockClasses) -> i64 {
+pub(crate) fn opaque_voxels(padded: &PaddedChunk, classes: &BlockClasses) -> i64 {
     let e = padded.size().edge() as i64;
     let mut n = 0;
     for z in 1..=e {
@@ -275,7 +275,7 @@ pub fn opaque_voxels(padded: &PaddedChunk, classes: &BlockClasses) -> i64 {
 /// `u` while cells are visible, unvisited and of equal key, then along `v` while whole rows
 /// are. `u` is z for ±X and ±Y faces and x for ±Z faces (its `RIGHT_HANDED_Y_UP_CONFIG`).
 /// Returns the quad count per layer (opaque, transparent).
-pub fn reference_greedy_count(
+pub(crate) fn reference_greedy_count(
     padded: &PaddedChunk,
     classes: &BlockClasses,
     ao: bool,
@@ -287,10 +287,10 @@ pub fn reference_greedy_count(
 /// A quad as the faces it covers: direction, lowest voxel (padded coordinates), extent along
 /// x, y and z (1 along the normal), id and corner AO. Sorted lists of these compare two
 /// meshes quad by quad, whatever their order and their width and height axes.
-pub type QuadCells = (u8, [u32; 3], [u32; 3], u16, [u8; 4]);
+pub(crate) type QuadCells = (u8, [u32; 3], [u32; 3], u16, [u8; 4]);
 
 /// The quads of [`reference_greedy_count`]'s algorithm per layer (opaque, transparent), sorted.
-pub fn reference_greedy_quads(
+pub(crate) fn reference_greedy_quads(
     padded: &PaddedChunk,
     classes: &BlockClasses,
     ao: bool,
@@ -303,7 +303,7 @@ pub fn reference_greedy_quads(
 }
 
 /// A mesh layer's quads as [`QuadCells`], sorted.
-pub fn quad_cells(layer: &mesher::QuadLayer) -> Vec<QuadCells> {
+pub(crate) fn quad_cells(layer: &mesher::QuadLayer) -> Vec<QuadCells> {
     let mut out = Vec::new();
     for quads in &layer.faces {
         for q in quads {
@@ -382,12 +382,12 @@ fn greedy_quads(faces: &[UnitFace], padded: &PaddedChunk) -> Vec<QuadCells> {
 }
 
 /// Chunk sizes as a proptest strategy.
-pub fn sizes() -> impl proptest::strategy::Strategy<Value = ChunkSize> {
+pub(crate) fn sizes() -> impl proptest::strategy::Strategy<Value = ChunkSize> {
     proptest::sample::select(ChunkSize::ALL.to_vec())
 }
 
 /// Fill kinds as a proptest strategy.
-pub fn fills() -> impl proptest::strategy::Strategy<Value = Fill> {
+pub(crate) fn fills() -> impl proptest::strategy::Strategy<Value = Fill> {
     use proptest::prelude::*;
     prop_oneof![
         (0u64..=100).prop_map(|air_percent| Fill::Noise { air_percent }),

@@ -15,7 +15,7 @@ use voxel_core::{BlockId, FaceDirection, PaddedChunk};
 
 /// One unit face, as the reference sees it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct UnitFace {
+pub(crate) struct UnitFace {
     /// Padded position of the voxel.
     pub pos: [u32; 3],
     pub face: u8,
@@ -24,7 +24,7 @@ pub struct UnitFace {
 }
 
 /// Reads a padded voxel; out of the box is air.
-pub fn voxel(padded: &PaddedChunk, pos: [i64; 3]) -> u16 {
+pub(crate) fn voxel(padded: &PaddedChunk, pos: [i64; 3]) -> u16 {
     let p = padded.padded_edge() as i64;
     if pos.iter().any(|&a| a < 0 || a >= p) {
         return 0;
@@ -37,12 +37,12 @@ pub fn voxel(padded: &PaddedChunk, pos: [i64; 3]) -> u16 {
 
 /// Opaque for the purpose of hiding faces and occluding corners: not air and not transparent
 /// (unknown ids count as opaque, as the meshers treat them).
-pub fn solid(classes: &BlockClasses, id: u16) -> bool {
+pub(crate) fn solid(classes: &BlockClasses, id: u16) -> bool {
     id != 0 && !classes.is_transparent(BlockId(id))
 }
 
 /// The reference visibility rule.
-pub fn face_visible(classes: &BlockClasses, id: u16, neighbour: u16) -> bool {
+pub(crate) fn face_visible(classes: &BlockClasses, id: u16, neighbour: u16) -> bool {
     if id == 0 {
         return false;
     }
@@ -65,7 +65,7 @@ fn unit(axis: usize, k: i64) -> [i64; 3] {
 
 /// The corner `(du, dv)` steps of `corners()` for a face (read back from voxel-core itself on a
 /// unit quad, so the reference follows the documented corner order).
-pub fn corner_steps(face: FaceDirection) -> [(i64, i64); 4] {
+pub(crate) fn corner_steps(face: FaceDirection) -> [(i64, i64); 4] {
     let fields = PackedQuadFields {
         position: [0; 3],
         width: 1,
@@ -90,7 +90,7 @@ pub fn corner_steps(face: FaceDirection) -> [(i64, i64); 4] {
 }
 
 /// The reference AO of the face of voxel `pos` facing `face`.
-pub fn reference_ao(
+pub(crate) fn reference_ao(
     padded: &PaddedChunk,
     classes: &BlockClasses,
     pos: [i64; 3],
@@ -115,7 +115,7 @@ pub fn reference_ao(
 
 /// Every visible unit face of the chunk interior, split into (opaque, transparent), by brute
 /// force over every voxel and direction.
-pub fn reference_faces(
+pub(crate) fn reference_faces(
     padded: &PaddedChunk,
     classes: &BlockClasses,
     ao: bool,
@@ -158,7 +158,7 @@ pub fn reference_faces(
 
 /// Expands quads into unit faces, reading each covered voxel's id and AO from the quad, and
 /// checks on the way that a quad sits in its own direction group and stays in the chunk.
-pub fn expand(quads: &[PackedQuad], face_index: usize, e: u32) -> Vec<UnitFace> {
+pub(crate) fn expand(quads: &[PackedQuad], face_index: usize, e: u32) -> Vec<UnitFace> {
     let mut out = Vec::new();
     for q in quads {
         let f = q.decode().expect("every emitted quad decodes");
@@ -189,7 +189,7 @@ pub fn expand(quads: &[PackedQuad], face_index: usize, e: u32) -> Vec<UnitFace> 
 }
 
 /// All unit faces covered by a layer, sorted, failing if two quads cover the same face.
-pub fn covered(layer: &mesher::QuadLayer, e: u32) -> Vec<UnitFace> {
+pub(crate) fn covered(layer: &mesher::QuadLayer, e: u32) -> Vec<UnitFace> {
     let mut all = Vec::new();
     for (d, quads) in layer.faces.iter().enumerate() {
         all.extend(expand(quads, d, e));

@@ -12,7 +12,7 @@ use mesher::smooth::GridShape;
 /// Directed edges of `triangles` (after mapping each vertex through `key`, which welds
 /// vertices with equal keys) that have no opposite edge to pair with: 0 for a closed,
 /// consistently oriented surface. Edges whose ends weld together are skipped.
-pub fn open_edges<K: Copy + Eq + Hash>(
+pub(crate) fn open_edges<K: Copy + Eq + Hash>(
     triangles: impl IntoIterator<Item = [u32; 3]>,
     key: impl Fn(u32) -> K,
 ) -> usize {
@@ -33,7 +33,7 @@ pub fn open_edges<K: Copy + Eq + Hash>(
 
 /// Welds points closer than `tol` (on every axis), which must be much smaller than the
 /// distance between points that are meant to differ: returns a representative id per point.
-pub fn weld(points: &[[f32; 3]], tol: f32) -> Vec<usize> {
+pub(crate) fn weld(points: &[[f32; 3]], tol: f32) -> Vec<usize> {
     let cell = |p: [f32; 3]| p.map(|a| (a / (4.0 * tol)).floor() as i64);
     let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
     let mut ids = Vec::with_capacity(points.len());
@@ -61,7 +61,7 @@ pub fn weld(points: &[[f32; 3]], tol: f32) -> Vec<usize> {
 }
 
 /// Samples `f` at every point of `shape`, at sample coordinates plus `origin`.
-pub fn sample(shape: GridShape, origin: [f32; 3], f: impl Fn([f32; 3]) -> f32) -> Vec<f32> {
+pub(crate) fn sample(shape: GridShape, origin: [f32; 3], f: impl Fn([f32; 3]) -> f32) -> Vec<f32> {
     (0..shape.sample_count())
         .map(|i| {
             let c = shape.coords(i);
@@ -71,7 +71,7 @@ pub fn sample(shape: GridShape, origin: [f32; 3], f: impl Fn([f32; 3]) -> f32) -
 }
 
 /// Signed distance to a sphere.
-pub fn sphere(centre: [f32; 3], radius: f32) -> impl Fn([f32; 3]) -> f32 {
+pub(crate) fn sphere(centre: [f32; 3], radius: f32) -> impl Fn([f32; 3]) -> f32 {
     move |p| {
         let d: f32 = (0..3).map(|a| (p[a] - centre[a]).powi(2)).sum();
         d.sqrt() - radius
@@ -79,13 +79,13 @@ pub fn sphere(centre: [f32; 3], radius: f32) -> impl Fn([f32; 3]) -> f32 {
 }
 
 /// A periodic field whose zero set is a connected lattice of tubes (many handles).
-pub fn sine(frequency: f32) -> impl Fn([f32; 3]) -> f32 {
+pub(crate) fn sine(frequency: f32) -> impl Fn([f32; 3]) -> f32 {
     move |p| p.iter().map(|&a| (a * frequency).sin()).sum()
 }
 
 /// One unit face of a greedy quad: the chunk-local voxel it belongs to, its direction index
 /// (`FaceDirection::index`) and its 4 corners, counter-clockwise from outside.
-pub struct UnitFace {
+pub(crate) struct UnitFace {
     /// The voxel whose face it is.
     pub voxel: [u32; 3],
     /// Its direction.
@@ -95,7 +95,7 @@ pub struct UnitFace {
 }
 
 /// Splits every quad of `quads` into its unit faces.
-pub fn unit_faces(quads: &QuadLayer) -> Vec<UnitFace> {
+pub(crate) fn unit_faces(quads: &QuadLayer) -> Vec<UnitFace> {
     let mut faces = Vec::new();
     for q in quads.iter() {
         let f = q.decode().expect("a valid quad");

@@ -5,21 +5,21 @@ use proptest::prelude::*;
 use voxel_core::{BlockId, ChunkSize, Material, MaterialClass, MaterialPalette, PaddedChunk};
 
 /// The test palette's ids.
-pub const STONE: BlockId = BlockId(1);
-pub const DIRT: BlockId = BlockId(2);
-pub const GRASS: BlockId = BlockId(3);
-pub const SAND: BlockId = BlockId(4);
-pub const LAMP: BlockId = BlockId(5);
-pub const WATER: BlockId = BlockId(6);
-pub const GLASS: BlockId = BlockId(7);
-pub const GLOW_GLASS: BlockId = BlockId(8);
-pub const MOSS: BlockId = BlockId(9);
-pub const GLOW_SAND: BlockId = BlockId(10);
+pub(crate) const STONE: BlockId = BlockId(1);
+pub(crate) const DIRT: BlockId = BlockId(2);
+pub(crate) const GRASS: BlockId = BlockId(3);
+pub(crate) const SAND: BlockId = BlockId(4);
+pub(crate) const LAMP: BlockId = BlockId(5);
+pub(crate) const WATER: BlockId = BlockId(6);
+pub(crate) const GLASS: BlockId = BlockId(7);
+pub(crate) const GLOW_GLASS: BlockId = BlockId(8);
+pub(crate) const MOSS: BlockId = BlockId(9);
+pub(crate) const GLOW_SAND: BlockId = BlockId(10);
 /// An id the palette does not know.
-pub const UNKNOWN: BlockId = BlockId(500);
+pub(crate) const UNKNOWN: BlockId = BlockId(500);
 
 /// Every known non-air id of [`palette`].
-pub const IDS: [BlockId; 10] = [
+pub(crate) const IDS: [BlockId; 10] = [
     STONE, DIRT, GRASS, SAND, LAMP, WATER, GLASS, GLOW_GLASS, MOSS, GLOW_SAND,
 ];
 
@@ -29,7 +29,7 @@ fn glowing(m: Material) -> Material {
 
 /// Air plus two opaque, two clutter-bearing (one emissive), two smoothable (one emissive), one
 /// emissive opaque and three transparent (one emissive) materials.
-pub fn palette() -> MaterialPalette {
+pub(crate) fn palette() -> MaterialPalette {
     let mut p = MaterialPalette::new();
     let add = |p: &mut MaterialPalette, m: Material| p.push(m).unwrap();
     assert_eq!(add(&mut p, Material::opaque(128, 128, 128)), STONE);
@@ -51,11 +51,11 @@ pub fn palette() -> MaterialPalette {
 }
 
 /// A small deterministic generator for building test chunks from a proptest seed.
-pub struct Rng(pub u64);
+pub(crate) struct Rng(pub u64);
 
 impl Rng {
     /// SplitMix64.
-    pub fn next(&mut self) -> u64 {
+    pub(crate) fn next(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -64,14 +64,14 @@ impl Rng {
     }
 
     /// Uniform in `0..n`.
-    pub fn below(&mut self, n: u64) -> u64 {
+    pub(crate) fn below(&mut self, n: u64) -> u64 {
         self.next() % n
     }
 }
 
 /// How a random chunk is built.
 #[derive(Clone, Debug)]
-pub struct ChunkSpec {
+pub(crate) struct ChunkSpec {
     pub size: ChunkSize,
     pub seed: u64,
     /// Percent of cells that are not air.
@@ -85,7 +85,7 @@ pub struct ChunkSpec {
 
 impl ChunkSpec {
     /// The padded chunk: every padded voxel (border included) drawn per `cell`^3 cube.
-    pub fn build(&self) -> PaddedChunk {
+    pub(crate) fn build(&self) -> PaddedChunk {
         let p = self.size.padded_edge() as u32;
         let cells = p.div_ceil(self.cell) as usize;
         let mut rng = Rng(self.seed);
@@ -107,13 +107,13 @@ impl ChunkSpec {
 }
 
 /// Every chunk size.
-pub fn size() -> impl Strategy<Value = ChunkSize> {
+pub(crate) fn size() -> impl Strategy<Value = ChunkSize> {
     prop::sample::select(ChunkSize::ALL.to_vec())
 }
 
 /// Random chunks of every size: voxel noise and blocky cells, sparse to full, from all the
 /// palette's ids or from subsets (opaque only, one transparent id with opaque ones).
-pub fn chunk_spec() -> impl Strategy<Value = ChunkSpec> {
+pub(crate) fn chunk_spec() -> impl Strategy<Value = ChunkSpec> {
     let ids = prop_oneof![
         Just(IDS.to_vec()),
         Just(vec![STONE, GRASS, SAND]),
@@ -138,7 +138,7 @@ pub fn chunk_spec() -> impl Strategy<Value = ChunkSpec> {
 }
 
 /// The face directions in `FaceDirection::ALL` order, as offsets.
-pub const DIRS: [[i32; 3]; 6] = [
+pub(crate) const DIRS: [[i32; 3]; 6] = [
     [1, 0, 0],
     [-1, 0, 0],
     [0, 1, 0],
@@ -150,7 +150,7 @@ pub const DIRS: [[i32; 3]; 6] = [
 /// Reference: which faces of chunk-local voxel `(x, y, z)` are visible, by the plain rules
 /// (air shows nothing; a neighbour that is neither air nor transparent hides, unknown ids
 /// included; a transparent voxel shows no face to an equal id).
-pub fn faces_of(chunk: &PaddedChunk, palette: &MaterialPalette, pos: [u32; 3]) -> [bool; 6] {
+pub(crate) fn faces_of(chunk: &PaddedChunk, palette: &MaterialPalette, pos: [u32; 3]) -> [bool; 6] {
     let at = |p: [i32; 3]| chunk.get(p[0] as u32, p[1] as u32, p[2] as u32).unwrap();
     let padded = pos.map(|a| a as i32 + 1);
     let id = at(padded);
@@ -167,12 +167,12 @@ pub fn faces_of(chunk: &PaddedChunk, palette: &MaterialPalette, pos: [u32; 3]) -
 }
 
 /// Every chunk-local position, z slowest.
-pub fn positions(size: ChunkSize) -> impl Iterator<Item = [u32; 3]> {
+pub(crate) fn positions(size: ChunkSize) -> impl Iterator<Item = [u32; 3]> {
     let e = size.edge();
     (0..e).flat_map(move |z| (0..e).flat_map(move |y| (0..e).map(move |x| [x, y, z])))
 }
 
 /// The chunk-local voxel's id.
-pub fn id_at(chunk: &PaddedChunk, pos: [u32; 3]) -> BlockId {
+pub(crate) fn id_at(chunk: &PaddedChunk, pos: [u32; 3]) -> BlockId {
     chunk.get(pos[0] + 1, pos[1] + 1, pos[2] + 1).unwrap()
 }

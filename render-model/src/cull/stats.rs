@@ -5,7 +5,7 @@ pub const STAT_COUNT: u32 = 32;
 /// First word of the per-level selected counts.
 const STAT_LEVELS: usize = 16;
 /// Levels counted.
-pub const STAT_LEVEL_COUNT: usize = 16;
+pub(super) const STAT_LEVEL_COUNT: usize = 16;
 
 /// One frame's cull counters (opaque layer records; the transparent quads from every record).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

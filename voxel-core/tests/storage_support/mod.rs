@@ -10,14 +10,14 @@ use voxel_core::{BlockId, ChunkSize, LocalPos};
 
 /// xorshift64*: deterministic, good enough to scatter test edits.
 #[derive(Clone, Debug)]
-pub struct Rng(pub u64);
+pub(crate) struct Rng(pub u64);
 
 impl Rng {
-    pub fn new(seed: u64) -> Self {
+    pub(crate) fn new(seed: u64) -> Self {
         Rng(seed | 1)
     }
 
-    pub fn next_u64(&mut self) -> u64 {
+    pub(crate) fn next_u64(&mut self) -> u64 {
         self.0 ^= self.0 >> 12;
         self.0 ^= self.0 << 25;
         self.0 ^= self.0 >> 27;
@@ -25,11 +25,11 @@ impl Rng {
     }
 
     /// Uniform in `0..n` (n > 0).
-    pub fn below(&mut self, n: u64) -> u64 {
+    pub(crate) fn below(&mut self, n: u64) -> u64 {
         self.next_u64() % n
     }
 
-    pub fn local(&mut self, size: ChunkSize) -> LocalPos {
+    pub(crate) fn local(&mut self, size: ChunkSize) -> LocalPos {
         let e = u64::from(size.edge());
         LocalPos {
             x: self.below(e) as u8,
@@ -41,7 +41,7 @@ impl Rng {
 
 /// One edit of a random script.
 #[derive(Clone, Copy, Debug)]
-pub enum Op {
+pub(crate) enum Op {
     Set(LocalPos, BlockId),
     Fill(BlockId),
     /// Set every voxel of the box `min..=max` (may be the whole chunk: collapses to uniform).
@@ -50,7 +50,7 @@ pub enum Op {
 
 /// An id from a pool of `pool` ids: `0` (air) and `1..pool`, spread over the u16 range when the
 /// pool is large.
-pub fn pool_id(rng: &mut Rng, pool: u64) -> BlockId {
+pub(crate) fn pool_id(rng: &mut Rng, pool: u64) -> BlockId {
     let k = rng.below(pool);
     if pool > 64 {
         BlockId((k * 65_521 / pool.max(1)) as u16 + (k as u16 & 1))
@@ -60,7 +60,7 @@ pub fn pool_id(rng: &mut Rng, pool: u64) -> BlockId {
 }
 
 /// A script of `n` edits with ids from a pool of `pool` ids.
-pub fn script(seed: u64, size: ChunkSize, pool: u64, n: usize) -> Vec<Op> {
+pub(crate) fn script(seed: u64, size: ChunkSize, pool: u64, n: usize) -> Vec<Op> {
     let mut rng = Rng::new(seed);
     (0..n)
         .map(|_| match rng.below(1000) {
@@ -95,7 +95,7 @@ pub fn script(seed: u64, size: ChunkSize, pool: u64, n: usize) -> Vec<Op> {
 }
 
 /// Applies `op` to `s`; returns the old ids of every voxel it set, in order.
-pub fn apply<S: VoxelStorage>(s: &mut S, op: Op, olds: &mut Vec<BlockId>) {
+pub(crate) fn apply<S: VoxelStorage>(s: &mut S, op: Op, olds: &mut Vec<BlockId>) {
     olds.clear();
     match op {
         Op::Set(pos, id) => olds.push(s.set(pos, id).expect("position in range")),
@@ -114,7 +114,7 @@ pub fn apply<S: VoxelStorage>(s: &mut S, op: Op, olds: &mut Vec<BlockId>) {
 }
 
 /// Every voxel of `s` in linear order, read with `get`.
-pub fn voxels_by_get<S: VoxelStorage>(s: &S) -> Vec<BlockId> {
+pub(crate) fn voxels_by_get<S: VoxelStorage>(s: &S) -> Vec<BlockId> {
     let size = s.size();
     let e = size.edge();
     let mut out = Vec::with_capacity(size.volume());
@@ -129,7 +129,7 @@ pub fn voxels_by_get<S: VoxelStorage>(s: &S) -> Vec<BlockId> {
 }
 
 /// The occupancy mask of row `(y, z)`, recounted voxel by voxel.
-pub fn brute_mask<S: VoxelStorage>(s: &S, y: u32, z: u32) -> u64 {
+pub(crate) fn brute_mask<S: VoxelStorage>(s: &S, y: u32, z: u32) -> u64 {
     let size = s.size();
     (0..size.edge()).fold(0, |m, x| {
         let id = s.get(LocalPos::new(x, y, z, size).unwrap()).unwrap();
@@ -138,7 +138,7 @@ pub fn brute_mask<S: VoxelStorage>(s: &S, y: u32, z: u32) -> u64 {
 }
 
 /// Checks masks, the non-air count, rows and the iterator of `s` against voxel-by-voxel reads.
-pub fn check_consistent<S: VoxelStorage>(s: &S) -> Result<(), String> {
+pub(crate) fn check_consistent<S: VoxelStorage>(s: &S) -> Result<(), String> {
     let size = s.size();
     let e = size.edge();
     let voxels = voxels_by_get(s);
@@ -175,7 +175,7 @@ pub fn check_consistent<S: VoxelStorage>(s: &S) -> Result<(), String> {
 }
 
 /// The narrowest width that holds `distinct` ids.
-pub fn smallest_bits(distinct: usize) -> u8 {
+pub(crate) fn smallest_bits(distinct: usize) -> u8 {
     match distinct {
         1 => 0,
         2 => 1,
@@ -187,7 +187,7 @@ pub fn smallest_bits(distinct: usize) -> u8 {
 }
 
 /// Distinct ids of a voxel list.
-pub fn distinct(voxels: &[BlockId]) -> usize {
+pub(crate) fn distinct(voxels: &[BlockId]) -> usize {
     let mut v = voxels.to_vec();
     v.sort_unstable();
     v.dedup();
@@ -223,7 +223,7 @@ fn value_noise(x: i64, z: i64, scale: i64, salt: u64) -> f64 {
 
 /// Heightmap terrain with layered materials, ore specks and caves: at most 16 distinct ids
 /// (air, stone, dirt, grass, sand, water, bedrock, 3 ores, gravel, clay, snow).
-pub fn terrain_chunk(size: ChunkSize, origin: [i64; 3], seed: u64) -> DenseChunk {
+pub(crate) fn terrain_chunk(size: ChunkSize, origin: [i64; 3], seed: u64) -> DenseChunk {
     let e = i64::from(size.edge());
     DenseChunk::from_fn(size, |p| {
         let (x, y, z) = (
@@ -265,7 +265,10 @@ pub fn terrain_chunk(size: ChunkSize, origin: [i64; 3], seed: u64) -> DenseChunk
 }
 
 /// Applies a script to a dense and a palette chunk side by side; returns both.
-pub fn run_script(size: ChunkSize, ops: &[Op]) -> Result<(DenseChunk, PaletteChunk), String> {
+pub(crate) fn run_script(
+    size: ChunkSize,
+    ops: &[Op],
+) -> Result<(DenseChunk, PaletteChunk), String> {
     let mut dense = DenseChunk::new(size);
     let mut palette = PaletteChunk::new(size);
     let (mut a, mut b) = (Vec::new(), Vec::new());

@@ -7,19 +7,19 @@
 
 /// Names one live entry of a [`HandleTable`]: slot index and generation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct Handle {
+pub(super) struct Handle {
     index: u32,
     generation: u32,
 }
 
 impl Handle {
     /// The slot index (dense, reused after a free with a new generation).
-    pub fn index(self) -> u32 {
+    pub(super) fn index(self) -> u32 {
         self.index
     }
 
     /// The generation the handle was issued with.
-    pub fn generation(self) -> u32 {
+    pub(super) fn generation(self) -> u32 {
         self.generation
     }
 }
@@ -32,7 +32,7 @@ struct Slot<T> {
 
 /// A slot map with generation checks.
 #[derive(Debug)]
-pub struct HandleTable<T> {
+pub(super) struct HandleTable<T> {
     slots: Vec<Slot<T>>,
     free: Vec<u32>,
     live: usize,
@@ -50,7 +50,7 @@ impl<T> Default for HandleTable<T> {
 
 impl<T> HandleTable<T> {
     /// Stores `value` and returns its handle, or `None` when all `u32` slot indices are used.
-    pub fn insert(&mut self, value: T) -> Option<Handle> {
+    pub(super) fn insert(&mut self, value: T) -> Option<Handle> {
         let index = match self.free.pop() {
             Some(index) => index,
             None => {
@@ -72,7 +72,7 @@ impl<T> HandleTable<T> {
     }
 
     /// The entry of a live handle.
-    pub fn get(&self, handle: Handle) -> Option<&T> {
+    pub(super) fn get(&self, handle: Handle) -> Option<&T> {
         let slot = self.slots.get(handle.index as usize)?;
         if slot.generation == handle.generation {
             slot.value.as_ref()
@@ -82,12 +82,12 @@ impl<T> HandleTable<T> {
     }
 
     /// True while `handle`'s entry exists.
-    pub fn contains(&self, handle: Handle) -> bool {
+    pub(super) fn contains(&self, handle: Handle) -> bool {
         self.get(handle).is_some()
     }
 
     /// Removes and returns the entry of a live handle; `None` for a stale or foreign one.
-    pub fn remove(&mut self, handle: Handle) -> Option<T> {
+    pub(super) fn remove(&mut self, handle: Handle) -> Option<T> {
         let slot = self.slots.get_mut(handle.index as usize)?;
         if slot.generation != handle.generation {
             return None;
@@ -104,7 +104,7 @@ impl<T> HandleTable<T> {
     }
 
     /// Number of live entries.
-    pub fn len(&self) -> usize {
+    pub(super) fn len(&self) -> usize {
         self.live
     }
 }

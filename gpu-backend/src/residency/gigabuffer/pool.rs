@@ -54,7 +54,7 @@ pub(crate) const PAGE_USAGES: BufferUsages = BufferUsages::STORAGE
 
 impl Pool {
     /// A pool without pages; `max_allocs` bounds the allocator nodes of each page.
-    pub fn new(layout: PageLayout, max_allocs: u32) -> Pool {
+    pub(super) fn new(layout: PageLayout, max_allocs: u32) -> Pool {
         Pool {
             layout,
             pages: Vec::new(),
@@ -66,7 +66,7 @@ impl Pool {
 
     /// `count` (>= 1) contiguous elements in one page. Tries the existing pages in order, then
     /// creates the next page. Returns whether a page was created.
-    pub fn allocate(
+    pub(super) fn allocate(
         &mut self,
         device: &Device,
         count: u32,
@@ -169,7 +169,7 @@ impl Pool {
     }
 
     /// Returns an allocation to its page.
-    pub fn free(&mut self, allocation: PoolAllocation) {
+    pub(super) fn free(&mut self, allocation: PoolAllocation) {
         self.used_elements -= u64::from(allocation.count);
         self.allocations -= 1;
         self.pages[allocation.page as usize]
@@ -178,27 +178,27 @@ impl Pool {
     }
 
     /// The buffer of page `page`, if created.
-    pub fn page(&self, page: u32) -> Option<&Buffer> {
+    pub(super) fn page(&self, page: u32) -> Option<&Buffer> {
         self.pages.get(page as usize).map(|p| &p.buffer)
     }
 
     /// Pages created so far.
-    pub fn pages_created(&self) -> u32 {
+    pub(super) fn pages_created(&self) -> u32 {
         self.pages.len() as u32
     }
 
     /// Elements in live allocations.
-    pub fn used_elements(&self) -> u64 {
+    pub(super) fn used_elements(&self) -> u64 {
         self.used_elements
     }
 
     /// Live allocations.
-    pub fn allocations(&self) -> u64 {
+    pub(super) fn allocations(&self) -> u64 {
         self.allocations
     }
 
     /// Bytes of the pages created so far.
-    pub fn reserved_bytes(&self) -> u64 {
+    pub(super) fn reserved_bytes(&self) -> u64 {
         (0..self.pages_created())
             .map(|p| self.layout.page_bytes(p))
             .sum()

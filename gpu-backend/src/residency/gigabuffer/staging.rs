@@ -47,7 +47,7 @@ pub(crate) struct StagingQueue {
 impl StagingQueue {
     /// Queues `data` for byte offset `dst` of page `page` of `kind`. Merges with the previous
     /// copy when both the arena and the destination continue it.
-    pub fn push(&mut self, kind: DataKind, page: u32, dst: u64, data: &[u8]) {
+    pub(super) fn push(&mut self, kind: DataKind, page: u32, dst: u64, data: &[u8]) {
         if data.is_empty() {
             return;
         }
@@ -73,20 +73,20 @@ impl StagingQueue {
     }
 
     /// Bytes waiting.
-    pub fn pending_bytes(&self) -> u64 {
+    pub(super) fn pending_bytes(&self) -> u64 {
         self.arena.len() as u64
     }
 
     /// The copies waiting.
     #[cfg(test)]
-    pub fn pending_copies(&self) -> &[PendingCopy] {
+    pub(super) fn pending_copies(&self) -> &[PendingCopy] {
         &self.copies
     }
 
     /// Records every pending copy into `encoder` through one staging buffer and empties the
     /// queue (keeping its capacity). `destination(kind, page)` returns the page's buffer. When
     /// the device refuses the staging buffer nothing is recorded and the copies stay queued.
-    pub fn record<'a>(
+    pub(super) fn record<'a>(
         &mut self,
         device: &Device,
         encoder: &mut CommandEncoder,

@@ -11,9 +11,9 @@ use render_model::cull::{
 };
 
 /// wgpu's `DrawIndirectArgs` (16 bytes): the smooth draws' stride.
-pub const DRAW_ARGS_BYTES: u64 = 16;
+pub(super) const DRAW_ARGS_BYTES: u64 = 16;
 /// A smooth draw's record (`render::SmoothDraw`), 32 bytes.
-pub const SMOOTH_RECORD_BYTES: u64 = 32;
+pub(super) const SMOOTH_RECORD_BYTES: u64 = 32;
 
 /// Creates the buffers of outputs and frames, checking each against the binding limit.
 pub(super) struct OutputFactory<'a> {
@@ -56,7 +56,7 @@ impl OutputFactory<'_> {
         .map_err(CullError::from)
     }
 
-    pub fn output(&self, label: &str) -> Result<CullOutput, CullError> {
+    pub(super) fn output(&self, label: &str) -> Result<CullOutput, CullError> {
         let layout = &self.layout;
         let total = layout.total_commands();
         let args_bytes = self.check("args", total * size_of::<DrawIndexedArgs>() as u64)?;
@@ -106,7 +106,7 @@ impl OutputFactory<'_> {
         })
     }
 
-    pub fn frame(&self, label: &str) -> Result<CullFrame, CullError> {
+    pub(super) fn frame(&self, label: &str) -> Result<CullFrame, CullError> {
         let far_bytes = self.check("far list", u64::from(self.layout.far_capacity) * 8)?;
         let readable = BufferUsages::STORAGE | BufferUsages::COPY_SRC | BufferUsages::COPY_DST;
         Ok(CullFrame {

@@ -66,12 +66,12 @@ fn push<T>(list: &mut Vec<T>, entry: T) -> usize {
 impl Cache {
     /// Entries held (frame pairs, outputs): for tests of the cache.
     #[cfg(feature = "test-support")]
-    pub fn sizes(&self) -> (usize, usize) {
+    pub(super) fn sizes(&self) -> (usize, usize) {
         (self.frames.len(), self.outputs.len())
     }
 
     /// The frame group of (`uniforms`, `visibility`).
-    pub fn frame(
+    pub(super) fn frame(
         &mut self,
         maker: &Maker<'_>,
         uniforms: &Buffer,
@@ -104,7 +104,7 @@ impl Cache {
 
     /// The entry of `output`, with every created quad page of `quads` bound; errors when the
     /// device refuses a new entry's buffers.
-    pub fn output(
+    pub(super) fn output(
         &mut self,
         maker: &Maker<'_>,
         output: &CullOutput,

@@ -107,7 +107,7 @@ fn pipeline(
 }
 
 impl Layouts {
-    pub fn new(device: &Device) -> Layouts {
+    pub(super) fn new(device: &Device) -> Layouts {
         Layouts {
             frame: layout(device, "quad raster frame", &FRAME_ENTRIES),
             lists: layout(device, "quad raster lists", &LIST_ENTRIES),
@@ -119,7 +119,7 @@ impl Layouts {
 
 impl Pipelines {
     /// The pipelines; the device must have the 64-bit atomics (the caller checks).
-    pub fn new(device: &Device, layouts: &Layouts) -> Pipelines {
+    pub(super) fn new(device: &Device, layouts: &Layouts) -> Pipelines {
         let raster = QUAD_RASTER.create_module(device);
         let args = QUAD_RASTER_ARGS.create_module(device);
         Pipelines {
