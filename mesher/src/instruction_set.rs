@@ -73,17 +73,6 @@ fn x86_v3_supported() -> bool {
     ))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_detected_set_is_supported_and_baseline_always_is() {
-        assert!(InstructionSet::detect().is_supported());
-        assert!(InstructionSet::Baseline.is_supported());
-    }
-}
-
 /// For the tests of the x86-64-v3 code: true when this CPU runs it; otherwise prints
 /// `skipped: <test>: ...` (the workspace's loud skip) and returns false, and under `CI=true`
 /// fails instead, so the library's only unsafe SIMD path cannot go untested on an x86-64 CI
@@ -103,4 +92,15 @@ pub(crate) fn x86_v3_or_skip(what: &str) -> bool {
     );
     std::eprintln!("skipped: {test}: {reason}");
     false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_detected_set_is_supported_and_baseline_always_is() {
+        assert!(InstructionSet::detect().is_supported());
+        assert!(InstructionSet::Baseline.is_supported());
+    }
 }
