@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Builds every fuzz target the way `cargo +nightly fuzz build` does (cargo-fuzz 0.13 with its
+# Builds every fuzz target the way `cargo fuzz build` does (with the nightly pinned in
+# fuzz/rust-toolchain.toml) (cargo-fuzz 0.13 with its
 # defaults: release with debug assertions, libFuzzer's coverage instrumentation, compare
 # tracing, AddressSanitizer, `--cfg fuzzing`), without needing cargo-fuzz installed, and with
-# warnings as errors. The test command runs it; `cargo +nightly fuzz run <target>` reuses
+# warnings as errors. The test command runs it; `cargo fuzz run <target>` reuses
 # nothing of it (cargo-fuzz builds into fuzz/target/ itself).
 set -euo pipefail
 cd "$(dirname "$0")/../fuzz"
@@ -19,5 +20,8 @@ flags=(
     -Coverflow-checks
     -Dwarnings
 )
-RUSTFLAGS="${flags[*]}" cargo +nightly build --release --bins --locked \
+# The pinned nightly of fuzz/rust-toolchain.toml (named, so an override elsewhere cannot
+# pick another).
+toolchain=$(sed -n 's/^channel = "\(.*\)"$/\1/p' rust-toolchain.toml)
+RUSTFLAGS="${flags[*]}" cargo "+$toolchain" build --release --bins --locked \
     --target x86_64-unknown-linux-gnu --target-dir target/ci-build

@@ -8,7 +8,8 @@
 #   - a C++ compiler (g++), which libfuzzer-sys needs to build libFuzzer when the test command
 #     builds the fuzz targets;
 #   - the bare-metal target used to check that voxel-core builds without std;
-#   - the nightly toolchain (rustup, minimal profile) the fuzz targets are built with.
+#   - the nightly toolchain the fuzz targets are built with (rustup, minimal profile; the
+#     date pinned in fuzz/rust-toolchain.toml).
 # Safe to run again: it installs only what is missing.
 set -euo pipefail
 
@@ -56,10 +57,12 @@ if command -v rustup >/dev/null 2>&1; then
     for component in clippy rustfmt; do
         rustup component list --installed | grep -q "^$component" || rustup component add "$component" >/dev/null
     done
-    # The fuzz targets are built with nightly (scripts/build-fuzz.sh).
-    if ! rustup toolchain list | grep -q '^nightly'; then
-        echo "setup: installing the nightly toolchain (fuzz target build)"
-        rustup toolchain install nightly --profile minimal >/dev/null
+    # The fuzz targets are built with the nightly pinned in fuzz/rust-toolchain.toml
+    # (scripts/build-fuzz.sh).
+    nightly=$(sed -n 's/^channel = "\(.*\)"$/\1/p' "$(dirname "$0")/../fuzz/rust-toolchain.toml")
+    if ! rustup toolchain list | grep -q "^$nightly"; then
+        echo "setup: installing $nightly (fuzz target build)"
+        rustup toolchain install "$nightly" --profile minimal >/dev/null
     fi
 fi
 echo "setup: ok"

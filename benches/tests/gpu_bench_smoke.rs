@@ -4,7 +4,7 @@
 //! the resident bytes are reported, and the image shows terrain.
 
 use benches::gpu_bench::{
-    BenchConfig, SceneSummary, bench_camera, budget_params, run, selected_by_any,
+    BenchConfig, SceneSummary, bench_camera, budget_params, image_error, run, selected_by_any,
 };
 use benches::gpu_scene::{LodTerrain, node_draw_block_words, node_quads};
 use gpu_backend::DeviceOptions;
@@ -13,6 +13,14 @@ use gpu_backend::render::{FullscreenPath, OpaquePath};
 use gpu_backend::test_support::headless_or_skip;
 use voxel_core::ChunkSize;
 
+/// The faults it catches, beyond a run that fails: a budget run whose frame is far from full
+/// detail, which the old check (`share_over_8 <= 1.0`, true of every image) let through;
+/// planted (each run's error measured against the reference turned upside down), it failed
+/// with "budget 1 px, far cells 0.0: ImageErrorReport { mean_abs: 59.66.., share_over_8:
+/// 0.929.. }". And an opaque path that draws a different frame at a few pixels, whose mean
+/// error against full detail stays within the old bound of 0.5; planted (every 50th pixel of
+/// the compute path's frame moved by 20 levels), it failed on the share of pixels off,
+/// 0.022 against 0.043, while the means differed by 0.45.
 #[test]
 fn small_lod_terrain_runs() {
     let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
@@ -48,10 +56,12 @@ fn small_lod_terrain_runs() {
         );
         assert!(compute.passes.iter().any(|p| p.label == "quad raster"));
         assert_eq!(raster.drawn.mesh_quads, compute.drawn.mesh_quads);
-        // The same picture: the two paths differ only at a few quad-edge pixels.
+        // The same picture: the two paths differ only at a few quad-edge pixels, so against
+        // full detail their errors agree, in mean and in the share of pixels off.
         let (a, b) = (raster.image_error.unwrap(), compute.image_error.unwrap());
         assert!(
-            (a.mean_abs - b.mean_abs).abs() < 0.5,
+            (a.mean_abs - b.mean_abs).abs() < 0.5
+                && (a.share_over_8 - b.share_over_8).abs() <= 0.01,
             "raster {a:?} against compute {b:?}"
         );
     }
@@ -65,7 +75,14 @@ fn small_lod_terrain_runs() {
     assert!(runs[0].image_error.is_none());
     for run in &runs[1..5] {
         let error = run.image_error.expect("measured against full detail");
-        assert!(error.mean_abs.is_finite() && error.share_over_8 <= 1.0);
+        // The error bound of the budget rule (`lod_view.rs`): a mean of at most 2.5 and at
+        // most 5% of the pixels off per pixel of budget.
+        let b = f64::from(run.budget_px.expect("a budget run"));
+        assert!(
+            error.mean_abs <= 2.5 * b && error.share_over_8 <= 0.05 * b,
+            "budget {b} px, far cells {:?}: {error:?}",
+            run.far_cell_px
+        );
         for pass in ["cull", "gbuffer", "hiz", "cull late", "lighting", "tonemap"] {
             assert!(
                 run.passes.iter().any(|p| p.label == pass),
@@ -127,6 +144,28 @@ fn small_lod_terrain_runs() {
     let bottom_row = &image.rgba[(image.height as usize - 1) * image.width as usize * 4..];
     let ground = bottom_row.chunks(4).filter(|p| *p != sky).count();
     assert!(ground > image.width as usize / 2, "{ground} ground pixels");
+
+    // The two opaque paths draw the same frame, compared pixel by pixel.
+    let last_frame = |opaque| {
+        let one = BenchConfig {
+            budgets: vec![8.0],
+            far_cell_px: vec![4.0],
+            reference: false,
+            opaque: vec![opaque],
+            ..config.clone()
+        };
+        let (_, images, _) = run(&ctx, &terrain, &one, &mut SceneSummary::default()).unwrap();
+        images.last.expect("a frame").rgba
+    };
+    let (raster, compute) = (
+        last_frame(OpaquePath::Raster),
+        last_frame(OpaquePath::Compute),
+    );
+    let error = image_error(&compute, &raster).expect("frames of one size");
+    assert!(
+        error.share_over_8 <= 0.01 && error.mean_abs <= 0.5,
+        "the compute path's frame against the raster path's: {error:?}"
+    );
 
     let bad = BenchConfig {
         far: Vec::new(),

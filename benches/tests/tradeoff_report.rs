@@ -24,18 +24,37 @@ fn has_numeric_row(text: &str) -> bool {
     })
 }
 
+/// The report measured on the terrain and one small sample model (`chr_knight.vox` of the
+/// shared samples): every section has numbers. Without the samples it says so (`skipped:`
+/// for the model's rows, a failure under `CI=true`); a sample folder without the model is a
+/// failure that names it.
+///
+/// The fault it catches: a missing sample model dropped without a word, so the report's
+/// model rows go untested while the test passes. Planted (the test asking for
+/// `chr_knight_gone.vox`), the test failed with "the sample folder ... has no
+/// chr_knight_gone.vox"; before, it passed on the terrain alone.
 #[test]
 fn tiny_report_has_every_section_with_numbers() {
     let mut config = Config::tiny();
     config.gpu_json = Some(
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/data/gpu_bench_h100_budgets.json"),
     );
-    // One small sample model when the shared data sits beside the checkout.
-    if let Some(dir) = benches::mesh_inputs::vox_dir() {
-        let knight = dir.join("chr_knight.vox");
-        if knight.exists() {
+    // One small sample model, from the shared data beside the checkout.
+    let model = "chr_knight.vox";
+    match benches::mesh_inputs::vox_dir() {
+        Some(dir) => {
+            let knight = dir.join(model);
+            assert!(
+                knight.is_file(),
+                "the sample folder {} has no {model}",
+                dir.display()
+            );
             config.vox_files.push(knight);
         }
+        None => gpu_backend::test_support::skip(&format!(
+            "no sample data (../shared/data/vox beside the checkout): the report's rows of \
+             {model} are not measured"
+        )),
     }
     let m = measure(&config, &|_| {}).expect("measurements");
     // Three modes at one chunk size, per input.

@@ -186,13 +186,6 @@ fn colour_index_zero_is_refused() {
 }
 
 #[test]
-fn repeated_voxel_positions_are_refused() {
-    let mut w = VoxWriter::new();
-    w.model([3, 3, 3], &[[1, 1, 1, 5], [0, 0, 0, 2], [1, 1, 1, 6]]);
-    refused(&w.bytes(), &["model 0", "voxel 2", "(1, 1, 1)", "repeats"]);
-}
-
-#[test]
 fn files_without_a_model_are_refused() {
     refused(&VoxWriter::new().bytes(), &["no model"]);
     let mut w = VoxWriter::new();
@@ -388,6 +381,16 @@ fn bad_materials_are_refused() {
         (&[("_type", "_emit"), ("_emit", "NaN")][..], "_emit"),
         (&[("_type", "_emit"), ("_flux", "inf")][..], "_flux"),
         (&[("_rough", "rough")][..], "_rough"),
+        // Each value finite, their product not: no infinite light reaches a renderer or a
+        // glTF file (where it would be written as `null`).
+        (
+            &[("_type", "_emit"), ("_emit", "2"), ("_flux", "3e38")][..],
+            "2 x (1 + 300000000000000000000000000000000000000)",
+        ),
+        (
+            &[("_type", "_blend"), ("_emit", "3e38"), ("_flux", "4")][..],
+            "emission",
+        ),
     ] {
         let mut w = VoxWriter::new();
         w.model([1, 1, 1], &[[0, 0, 0, 1]]).matl(9, properties);

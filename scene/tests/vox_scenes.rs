@@ -217,6 +217,31 @@ fn overlapping_models_keep_the_later_voxel_and_count_the_overlap() {
     assert!(scene.report.notes().join(" ").contains("overlap"));
 }
 
+/// MagicaVoxel fills a model's dense grid in file order, so of two voxels at one position the
+/// later one is drawn; the note gives the count.
+#[test]
+fn repeated_voxels_keep_the_later_one_and_are_counted() {
+    let mut w = VoxWriter::new();
+    w.model(
+        [3, 3, 3],
+        &[[1, 1, 1, 5], [0, 0, 0, 2], [1, 1, 1, 6], [1, 1, 1, 9]],
+    );
+    let scene = load(&w.bytes());
+    assert_eq!(
+        voxels(&scene),
+        BTreeMap::from([([0, 0, -1], 2), ([1, 1, -2], 9)]),
+        "the last voxel at (1, 1, 1) wins"
+    );
+    assert_eq!(scene.voxel_count, 2);
+    assert_eq!(scene.report.repeated_voxels, 2);
+    assert_eq!(scene.report.overwritten_voxels, 0);
+    let notes = scene.report.notes().join(" ");
+    assert!(
+        notes.contains("2 voxels repeat a position") && notes.contains("later one"),
+        "{notes}"
+    );
+}
+
 #[test]
 fn unknown_chunks_are_skipped_and_reported() {
     let mut w = VoxWriter::new();

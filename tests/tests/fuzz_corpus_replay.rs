@@ -1,10 +1,13 @@
 //! Replays the committed fuzz corpora through the fuzz target bodies, so `cargo test` (stable, no
 //! libFuzzer) keeps every input that fuzzing found interesting, and every crash it found, fixed.
 //!
-//! For each target `T`, every file of `fuzz/corpus/T/` (which must exist and not be empty) and,
-//! when the folder exists, of `fuzz/artifacts/T/` is run through `bodies::T`,
-//! `mesher_bodies::T` or `vox_body::vox_loader`, the same function the fuzz target `T` runs
-//! (`fuzz/bodies.rs`, `fuzz/mesher_bodies/` and `fuzz/vox_body.rs` are included by both).
+//! The targets replayed are the files of `fuzz/fuzz_targets/`, listed when the test runs, so a
+//! new target cannot be left out: one without a body in [`TARGETS`] fails the test. For each
+//! target `T`, every file of `fuzz/corpus/T/` (which must exist and not be empty) and, when
+//! the folder exists, of `fuzz/artifacts/T/` is run through `bodies::T`, `mesher_bodies::T`,
+//! `vox_body::vox_loader` or `vox_gltf_body::vox_gltf`, the same function the fuzz target `T`
+//! runs (`fuzz/bodies.rs`, `fuzz/mesher_bodies/`, `fuzz/vox_body.rs` and
+//! `fuzz/vox_gltf_body.rs` are included by both).
 //!
 //! The seed inputs (`seed-*` files: small valid encodings of every format, and malformed ones)
 //! are built by [`seeds`]. `seed_corpus_is_current` checks that the committed files match them;
@@ -19,6 +22,8 @@ mod mesher_bodies;
 mod fuzz_mesher_seeds;
 #[path = "../../fuzz/vox_body.rs"]
 mod vox_body;
+#[path = "../../fuzz/vox_gltf_body.rs"]
+mod vox_gltf_body;
 #[path = "../../scene/tests/support/writer.rs"]
 mod vox_writer;
 
@@ -38,8 +43,9 @@ use voxel_core::{BlockId, ChunkCoord, ChunkSize, LocalPos, VoxelStorage};
 /// A fuzz target: its name (the corpus folder) and its body.
 type Target = (&'static str, fn(&[u8]));
 
-/// Every fuzz target, in the order of `fuzz/Cargo.toml`.
-const TARGETS: [Target; 16] = [
+/// The body of every fuzz target, in the order of `fuzz/Cargo.toml`. The list of targets
+/// replayed is `fuzz/fuzz_targets/` (see [`targets_on_disk`]); this only maps names to bodies.
+const TARGETS: [Target; 17] = [
     ("chunk_codec", bodies::chunk_codec),
     ("draw_block", bodies::draw_block),
     ("packed_quad", bodies::packed_quad),
@@ -56,6 +62,7 @@ const TARGETS: [Target; 16] = [
     ("place_clutter", mesher_bodies::place_clutter),
     ("lod", mesher_bodies::lod),
     ("vox_loader", vox_body::vox_loader),
+    ("vox_gltf", vox_gltf_body::vox_gltf),
 ];
 
 fn fuzz_dir() -> PathBuf {
@@ -90,25 +97,38 @@ fn run_all(body: fn(&[u8]), files: &[PathBuf]) -> (usize, Vec<String>) {
     (files.len(), failures)
 }
 
-/// Replays `fuzz/corpus/<target>/` (required, non-empty) and `fuzz/artifacts/<target>/` (if
-/// present).
-fn replay(target: &str) {
-    let (_, body) = TARGETS
+/// The fuzz targets, one per file of `fuzz/fuzz_targets/` (named like the file), sorted.
+fn targets_on_disk() -> Vec<String> {
+    let dir = fuzz_dir().join("fuzz_targets");
+    let mut names: Vec<String> = files_in(&dir)
+        .unwrap_or_else(|| panic!("missing {}", dir.display()))
         .iter()
-        .find(|(name, _)| *name == target)
-        .expect("known target");
+        .filter(|p| p.extension().is_some_and(|e| e == "rs"))
+        .map(|p| {
+            p.file_stem()
+                .expect("a file name")
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    names.sort();
+    names
+}
+
+/// Replays `fuzz/corpus/<target>/` (required, non-empty) and `fuzz/artifacts/<target>/` (if
+/// present) through `body`; returns the failures.
+fn replay(target: &str, body: fn(&[u8])) -> Vec<String> {
     let corpus_dir = fuzz_dir().join("corpus").join(target);
-    let corpus = files_in(&corpus_dir)
-        .unwrap_or_else(|| panic!("missing corpus folder {}", corpus_dir.display()));
-    assert!(
-        !corpus.is_empty(),
-        "corpus folder {} is empty",
-        corpus_dir.display()
-    );
-    let (corpus_runs, mut failures) = run_all(*body, &corpus);
+    let Some(corpus) = files_in(&corpus_dir) else {
+        return vec![format!("missing corpus folder {}", corpus_dir.display())];
+    };
+    if corpus.is_empty() {
+        return vec![format!("corpus folder {} is empty", corpus_dir.display())];
+    }
+    let (corpus_runs, mut failures) = run_all(body, &corpus);
     let artifacts_dir = fuzz_dir().join("artifacts").join(target);
     let (artifact_runs, artifact_failures) = match files_in(&artifacts_dir) {
-        Some(files) => run_all(*body, &files),
+        Some(files) => run_all(body, &files),
         None => (0, Vec::new()),
     };
     failures.extend(artifact_failures);
@@ -116,50 +136,67 @@ fn replay(target: &str) {
         "fuzz replay {target}: {corpus_runs} corpus inputs, {artifact_runs} artifacts, {} failed",
         failures.len()
     );
+    failures
+}
+
+/// Every target of `fuzz/fuzz_targets/` replays its corpus and artifacts (the targets side by
+/// side, on threads). A target file without a body in [`TARGETS`], or whose wrapper does not
+/// call the body of its name, fails here.
+///
+/// The fault it catches: a new target that the replay does not know. Planted (a copy of
+/// `fuzz_targets/vox_loader.rs` as `fuzz_targets/zz_planted.rs`), this test failed with
+/// "fuzz/fuzz_targets/zz_planted.rs has no body in TARGETS".
+#[test]
+fn every_fuzz_target_replays_its_corpus() {
+    let names = targets_on_disk();
+    assert!(!names.is_empty(), "no fuzz targets found");
+    let mut jobs = Vec::new();
+    let mut failures = Vec::new();
+    for name in &names {
+        let Some(&(_, body)) = TARGETS.iter().find(|(t, _)| t == name) else {
+            failures.push(format!(
+                "fuzz/fuzz_targets/{name}.rs has no body in TARGETS (add it there and give it \
+                 a corpus)"
+            ));
+            continue;
+        };
+        let wrapper =
+            std::fs::read_to_string(fuzz_dir().join("fuzz_targets").join(format!("{name}.rs")))
+                .expect("the target's source");
+        if !wrapper.contains(&format!("::{name}(data)")) {
+            failures.push(format!(
+                "fuzz/fuzz_targets/{name}.rs does not call the body named {name}"
+            ));
+        }
+        jobs.push((name.clone(), body));
+    }
+    // A target the replay does not know fails at once, before the long replays.
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    let replayed: Vec<Vec<String>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = jobs
+            .iter()
+            .map(|(name, body)| scope.spawn(move || replay(name, *body)))
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| {
+                h.join()
+                    .unwrap_or_else(|_| vec!["a replay thread panicked".into()])
+            })
+            .collect()
+    });
+    failures.extend(replayed.into_iter().flatten());
     assert!(
         failures.is_empty(),
-        "{target}: {} of {} inputs failed:\n{}",
+        "{} of {} targets' replays failed:\n{}",
         failures.len(),
-        corpus_runs + artifact_runs,
+        names.len(),
         failures.join("\n")
     );
 }
 
-/// One test per target, named like the target.
-macro_rules! replay_tests {
-    ($($target:ident),* $(,)?) => {
-        mod replay {
-            $(
-                #[test]
-                fn $target() {
-                    super::replay(stringify!($target));
-                }
-            )*
-        }
-    };
-}
-
-replay_tests!(
-    chunk_codec,
-    draw_block,
-    packed_quad,
-    block_vertex,
-    clutter_unit,
-    chunk_draw_info,
-    meshed_chunk_info,
-    chunk_draw_indirect,
-    compact_quad,
-    blocky_mesh,
-    smooth_density,
-    vertical_shells,
-    surface_blocks,
-    place_clutter,
-    lod,
-    vox_loader,
-);
-
 #[test]
-fn every_target_has_a_replay_test_and_a_fuzz_target() {
+fn every_body_has_a_fuzz_target() {
     for (name, _) in TARGETS {
         let target = fuzz_dir().join("fuzz_targets").join(format!("{name}.rs"));
         assert!(target.is_file(), "missing {}", target.display());
@@ -168,7 +205,7 @@ fn every_target_has_a_replay_test_and_a_fuzz_target() {
     assert_eq!(
         declared.matches("[[bin]]").count(),
         TARGETS.len(),
-        "fuzz/Cargo.toml declares a target this test does not replay"
+        "fuzz/Cargo.toml declares a target this test does not know"
     );
 }
 
@@ -198,6 +235,7 @@ fn seeds() -> Vec<(&'static str, Seeds)> {
         ("place_clutter", fuzz_mesher_seeds::clutter_seeds()),
         ("lod", fuzz_mesher_seeds::lod_seeds()),
         ("vox_loader", vox_loader_seeds()),
+        ("vox_gltf", vox_gltf_seeds()),
     ]
 }
 
@@ -882,6 +920,45 @@ fn smooth_density_seeds() -> Seeds {
     ]
 }
 
+/// Inputs of `vox_gltf`: a flags byte (see `fuzz/vox_gltf_body.rs`) and a `.vox` file: each
+/// valid `vox_loader` seed in greedy mode, and the two-model scene in every mode, with ambient
+/// occlusion, at level 1 and at the largest scale; plus a file whose emission overflows
+/// (refused by the loader, so it returns at once).
+fn vox_gltf_seeds() -> Seeds {
+    use vox_writer::{VoxWriter, two_model_scene};
+    let mut seeds: Seeds = Vec::new();
+    for (name, bytes) in vox_loader_seeds() {
+        if let Some(rest) = name.strip_prefix("valid-") {
+            let mut input = vec![1u8];
+            input.extend(bytes);
+            seeds.push((Box::leak(format!("greedy-{rest}").into_boxed_str()), input));
+        }
+    }
+    for (name, flags) in [
+        ("faces", 0u8),
+        ("smooth", 2),
+        ("faces-ao", 4),
+        ("greedy-lod1", 9),
+        ("smooth-ao-lod1", 14),
+        ("greedy-scale-million", 0x21),
+    ] {
+        let mut input = vec![flags];
+        input.extend(two_model_scene().bytes());
+        seeds.push((
+            Box::leak(format!("two-models-{name}").into_boxed_str()),
+            input,
+        ));
+    }
+    let mut blinding = VoxWriter::new();
+    blinding
+        .model([1, 1, 1], &[[0, 0, 0, 1]])
+        .matl(1, &[("_type", "_emit"), ("_emit", "2"), ("_flux", "3e38")]);
+    let mut input = vec![1u8];
+    input.extend(blinding.bytes());
+    seeds.push(("refused-overflowing-emission", input));
+    seeds
+}
+
 /// `.vox` files for `vox_loader`, built by the test writer of `voxel-scene`: valid scenes with
 /// transforms, hidden nodes and layers, animations and every material chunk, and one file per
 /// kind of malformation the loader refuses.
@@ -929,6 +1006,13 @@ fn vox_loader_seeds() -> Seeds {
         })
         .chunk(b"rOBJ", vec![0, 0, 0, 0]);
     seeds.push(("valid-materials-and-skipped-chunks", materials.bytes()));
+
+    let mut repeated = VoxWriter::new();
+    repeated.model([2, 2, 2], &[[1, 0, 1, 3], [0, 0, 0, 1], [1, 0, 1, 4]]);
+    seeds.push(("valid-repeated-voxel", repeated.bytes()));
+    let mut blinding = one_voxel();
+    blinding.matl(1, &[("_type", "_emit"), ("_emit", "2"), ("_flux", "3e38")]);
+    seeds.push(("bad-emission-overflow", blinding.bytes()));
 
     let valid = two_model_scene().bytes();
     seeds.push(("bad-truncated-half", valid[..valid.len() / 2].to_vec()));

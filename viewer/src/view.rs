@@ -9,15 +9,17 @@
 //!                                             one has committed, then it is dropped
 //! ```
 //!
-//! So a change never shows a hole or a half-switched terrain; the price is a second copy of
-//! the view's nodes on the GPU while the new one loads.
+//! So a change never shows a hole or a half-switched terrain. Both streamers share one node
+//! memory ([`NodeMemory`], the settings' `memory_bytes`): the new one loads in what the old
+//! one leaves, at a raised budget if the view does not fit twice, and once it is swapped in
+//! (the old one's nodes given back) it plans at the asked budget again.
 
 use gpu_backend::GpuContext;
 use gpu_backend::render::{OpaqueChoice, OpaquePath, Renderer};
 use render_model::camera::Camera;
 
 use crate::controls::Controls;
-use crate::stream::{StreamError, StreamSettings, StreamStatus, Streamer};
+use crate::stream::{NodeMemory, StreamError, StreamSettings, StreamStatus, Streamer};
 
 /// Frames per opaque path that `--opaque auto` draws to choose (see
 /// [`StreamedView::choose_opaque_path`]).
@@ -28,6 +30,8 @@ pub struct StreamedView {
     current: Streamer,
     next: Option<Streamer>,
     size: (u32, u32),
+    /// The node memory both streamers share.
+    memory: NodeMemory,
     /// The opaque path measured with `--opaque auto`, kept for replacement renderers.
     opaque_choice: Option<OpaqueChoice>,
 }
@@ -40,10 +44,12 @@ impl StreamedView {
         width: u32,
         height: u32,
     ) -> Result<StreamedView, StreamError> {
+        let memory = NodeMemory::new(settings.memory_bytes);
         Ok(StreamedView {
-            current: Streamer::new(ctx, settings, width, height)?,
+            current: Streamer::with_memory(ctx, settings, width, height, memory.clone())?,
             next: None,
             size: (width, height),
+            memory,
             opaque_choice: None,
         })
     }
@@ -67,6 +73,8 @@ impl StreamedView {
                 .map_err(StreamError::Renderer)?;
             if next.ready() {
                 self.current = self.next.take().expect("checked above");
+                // The old streamer's nodes went back to the shared memory with it.
+                self.current.retry_asked_budget();
                 if let Some(choice) = &self.opaque_choice {
                     self.current
                         .renderer_mut()
@@ -124,6 +132,11 @@ impl StreamedView {
         self.next.as_ref()
     }
 
+    /// The node memory both streamers share.
+    pub fn memory(&self) -> &NodeMemory {
+        &self.memory
+    }
+
     /// The drawing renderer.
     pub fn renderer(&self) -> &Renderer {
         self.current.renderer()
@@ -159,7 +172,11 @@ impl StreamedView {
             self.next = None;
         } else if self.controls().needs_restream(controls) {
             let (width, height) = self.size;
-            self.next = Some(Streamer::new(ctx, &settings, width, height)?);
+            // A replaced replacement gives its nodes back to the shared memory when dropped.
+            let memory = self.memory.clone();
+            self.next = Some(Streamer::with_memory(
+                ctx, &settings, width, height, memory,
+            )?);
         }
         if controls.budget_px != self.current.settings().budget_px {
             self.current.set_budget(controls.budget_px)?;

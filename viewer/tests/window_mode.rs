@@ -10,7 +10,11 @@ mod support;
 
 use std::time::Instant;
 
-use support::{Xvfb, have_adapter, run_viewer, text, xvfb_or_skip};
+use support::{Xvfb, have_adapter, read_png, run_viewer, text, xvfb_or_skip};
+use viewer::gpu_view::render_scene;
+use viewer::lighting::Lighting;
+use viewer::scene::terrain_scene;
+use voxel_core::ChunkSize;
 
 /// Runs the viewer in a window on a fresh Xvfb with `args` (after `--window --chunks 1`) and
 /// returns its `window:` line; `None` when skipped (no Xvfb or no adapter, outside CI).
@@ -78,12 +82,31 @@ fn window_mode_follows_a_resize() {
     assert!(rest.starts_with("120x72 on "), "not resized: {line:?}");
 }
 
+/// Without a display, or with `--headless`, the viewer writes the frame of the GPU renderer:
+/// the PNG is the reference frame rendered here in the test process (`render_scene` on the
+/// same scene, camera and lighting), pixel for pixel.
+///
+/// The fault it catches: a PNG that is not the rendered frame (rows written bottom-up, the
+/// channels swapped, a blank buffer), which a check of the file's magic bytes or size lets
+/// through. Planted (`write_png` given the rows bottom-up), this test failed with
+/// "no-display: 30.08% of the pixels differ from the reference by more than 16".
 #[test]
 fn without_a_display_or_with_headless_the_viewer_writes_a_png() {
     if !have_adapter() {
         return;
     }
     let dir = std::env::temp_dir().join(format!("viewer-window-mode-{}", std::process::id()));
+    // What `--chunks 1` shows: terrain seed 1, one chunk of 32^3 by 2 high, its suggested view.
+    let scene = terrain_scene(1, ChunkSize::S32, 1, 2, 1);
+    let reference = render_scene(
+        &scene,
+        &scene.suggested_view,
+        &Lighting::default(),
+        (48, 32),
+        false,
+    )
+    .expect("the reference frame")
+    .rgba;
     for (case, display, extra) in [
         ("no-display", None, None),
         ("headless", Some(":9999"), Some("--headless")),
@@ -106,6 +129,7 @@ fn without_a_display_or_with_headless_the_viewer_writes_a_png() {
         );
         let bytes = std::fs::read(&out).unwrap_or_else(|e| panic!("{case}: {e}"));
         assert!(bytes.starts_with(b"\x89PNG"), "{case}: not a PNG");
+        support::assert_shows(&read_png(&out), &reference, 0.0, case);
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

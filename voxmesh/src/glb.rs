@@ -16,10 +16,64 @@ use json::validation::USize64;
 
 use crate::Error;
 use crate::geometry::{Geometry, Primitive};
+use crate::mesh::ChunkOutput;
 use crate::pbr::PbrMaterial;
 
 /// The extension named when a material emits more than its colour.
 const EMISSIVE_STRENGTH: &str = "KHR_materials_emissive_strength";
+
+/// Bytes a `.glb` can hold at most: its header stores the length in 32 bits.
+pub const MAX_GLB_BYTES: u64 = u32::MAX as u64;
+
+/// Bytes of a blocky quad in the binary chunk: 4 vertices of position and normal (`f32` x 3
+/// each) and colour (`u16` x 4), and 6 `u32` indices.
+const QUAD_BYTES: u64 = 4 * (12 + 12 + 8) + 6 * 4;
+/// Bytes of a vertex (as above) and of a triangle's indices.
+const VERTEX_BYTES: u64 = 12 + 12 + 8;
+const TRIANGLE_BYTES: u64 = 3 * 4;
+
+/// The fewest bytes a `.glb` of `chunks` can take: exact for the binary chunk of blocky quads
+/// (each is 4 vertices and 6 indices), a lower bound for smooth surfaces (each vertex a
+/// triangle uses is written at least once); the JSON and the headers come on top.
+pub fn bytes_needed(chunks: &[ChunkOutput]) -> u64 {
+    let mut bytes = 0u64;
+    let mut used = Vec::new();
+    for chunk in chunks {
+        let quads = chunk.blocky.opaque.len() + chunk.blocky.transparent.len();
+        bytes += quads as u64 * QUAD_BYTES;
+        let smooth = &chunk.smooth;
+        used.clear();
+        used.resize(smooth.vertices().len(), false);
+        for triangle in smooth.triangles() {
+            bytes += TRIANGLE_BYTES;
+            for v in triangle {
+                if let Some(seen) = used.get_mut(v as usize) {
+                    *seen = true;
+                }
+            }
+        }
+        bytes += used.iter().filter(|&&u| u).count() as u64 * VERTEX_BYTES;
+    }
+    bytes
+}
+
+/// Fails when a `.glb` of `chunks` cannot fit `limit` bytes ([`MAX_GLB_BYTES`] for real
+/// runs): checked on the meshed chunks, before the triangles (some 19 times their bytes) are
+/// built.
+pub fn check_fits(chunks: &[ChunkOutput], limit: u64) -> Result<(), Error> {
+    let needed = bytes_needed(chunks);
+    if needed > limit {
+        return Err(too_large(needed, "at least "));
+    }
+    Ok(())
+}
+
+fn too_large(bytes: u64, at_least: &str) -> Error {
+    Error::TooLarge(format!(
+        "the mesh needs {at_least}{bytes} bytes, more than a .glb can hold (4 GiB); use .obj, \
+         a coarser --lod or a smaller input"
+    ))
+}
 
 /// The `.glb` bytes of `geometry`. Fails if it does not fit the format's 32-bit sizes.
 pub fn to_glb(geometry: &Geometry) -> Result<Vec<u8>, Error> {
@@ -85,10 +139,8 @@ pub fn to_glb(geometry: &Geometry) -> Result<Vec<u8>, Error> {
     let json = root.to_vec().expect("the glTF document serialises");
     // Header 12 bytes, two chunk headers of 8, both chunks padded to 4 bytes.
     let total = 12 + 8 + json.len().next_multiple_of(4) + 8 + bin.len().next_multiple_of(4);
-    if u32::try_from(total).is_err() {
-        return Err(Error::TooLarge(format!(
-            "the mesh needs {total} bytes, more than a .glb can hold (4 GiB); use .obj, a coarser --lod or a smaller input"
-        )));
+    if total as u64 > MAX_GLB_BYTES {
+        return Err(too_large(total as u64, ""));
     }
     let glb = gltf::binary::Glb {
         header: gltf::binary::Header {

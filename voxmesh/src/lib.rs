@@ -18,6 +18,7 @@
 //! [`run`] ties the stages together.
 
 pub mod cli;
+pub mod finite;
 pub mod geometry;
 pub mod glb;
 pub mod input;
@@ -61,6 +62,8 @@ pub enum Error {
     Mesh(MeshError),
     /// The output does not fit its format.
     TooLarge(String),
+    /// A number of the output is not finite (which one): glTF and OBJ cannot hold it.
+    NotFinite(String),
     /// Two of the files named on the command line are the same file.
     SameFile(PathBuf),
     /// The worker threads could not be started.
@@ -90,6 +93,7 @@ impl fmt::Display for Error {
             }
             Error::Mesh(e) => write!(f, "meshing failed: {e}"),
             Error::TooLarge(what) => f.write_str(what),
+            Error::NotFinite(what) => write!(f, "cannot write a number that is not finite: {what}"),
             Error::SameFile(path) => write!(
                 f,
                 "{} is named twice (input, output and --stats must be different files)",
@@ -182,6 +186,12 @@ pub fn run(args: &Args, progress: &Progress) -> Result<Summary, Error> {
 }
 
 fn run_here(args: &Args, progress: &Progress) -> Result<Summary, Error> {
+    run_within(args, progress, glb::MAX_GLB_BYTES)
+}
+
+/// [`run`]'s stages on the current pool, with `.glb` outputs limited to `glb_limit` bytes
+/// (the format's limit; the tests use smaller ones).
+fn run_within(args: &Args, progress: &Progress, glb_limit: u64) -> Result<Summary, Error> {
     let started = Instant::now();
     check_distinct(args)?;
     let size = args.chunk_size();
@@ -199,6 +209,9 @@ fn run_here(args: &Args, progress: &Progress) -> Result<Summary, Error> {
     progress.stage("meshing", world.len() as u64);
     let chunks = mesh::mesh_world(&world, &classes, args.mode, args.ao, &|| progress.step())?;
     let meshing_seconds = meshing.elapsed().as_secs_f64();
+    if let Output::Glb(_) = &args.output {
+        glb::check_fits(&chunks, glb_limit)?;
+    }
 
     progress.stage("triangles", chunks.len() as u64);
     let options = GeometryOptions {
@@ -207,11 +220,21 @@ fn run_here(args: &Args, progress: &Progress) -> Result<Summary, Error> {
         ambient_occlusion: args.ao,
     };
     let geometry = geometry::build(&chunks, &scene.materials, &options, &|| progress.step());
+    finite::check(&geometry)?;
 
     progress.stage("writing", 1);
     let mut outputs = Outputs::new();
     let output_bytes = match &args.output {
-        Output::Glb(path) => outputs.write(path, &glb::to_glb(&geometry)?)?,
+        Output::Glb(path) => {
+            let bytes = glb::to_glb(&geometry)?;
+            if bytes.len() as u64 > glb_limit {
+                return Err(Error::TooLarge(format!(
+                    "the mesh needs {} bytes, more than the limit of {glb_limit}",
+                    bytes.len()
+                )));
+            }
+            outputs.write(path, &bytes)?
+        }
         Output::Obj(path) => {
             let mtl_path = path.with_extension("mtl");
             let mtl_name = mtl_path
@@ -266,4 +289,54 @@ fn check_distinct(args: &Args) -> Result<(), Error> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    /// A `.glb` that cannot fit is refused on the meshed chunks, before the triangles are
+    /// built: the run never reaches its "triangles" stage and writes nothing.
+    ///
+    /// The fault it catches: the size checked only on the finished `.glb` (as `to_glb` does),
+    /// after the whole mesh is built. Planted (the early check removed), this test failed:
+    /// the run built the triangles and only the finished file's size refused it ("the mesh
+    /// needs 749896 bytes, more than the limit of 374948").
+    #[test]
+    fn a_glb_too_large_is_refused_before_the_triangles_are_built() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("t.glb");
+        let args =
+            Args::try_parse_from(["voxmesh", "terrain:3:48", "-o", out.to_str().unwrap()]).unwrap();
+        // How much this run needs: its own .glb, written with no limit.
+        let roomy = Progress::new(
+            Instant::now(),
+            std::time::Duration::MAX,
+            Box::new(indicatif::ProgressDrawTarget::hidden),
+        );
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        let summary = pool
+            .install(|| run_within(&args, &roomy, glb::MAX_GLB_BYTES))
+            .unwrap();
+        std::fs::remove_file(&out).unwrap();
+        let progress = Progress::new(
+            Instant::now(),
+            std::time::Duration::MAX,
+            Box::new(indicatif::ProgressDrawTarget::hidden),
+        );
+        let limit = summary.output_bytes / 2;
+        let err = pool
+            .install(|| run_within(&args, &progress, limit))
+            .unwrap_err();
+        assert!(
+            matches!(&err, Error::TooLarge(why) if why.contains("at least")),
+            "{err}"
+        );
+        assert_eq!(progress.stages(), ["meshing"], "{err}");
+        assert!(!out.exists());
+    }
 }

@@ -1,7 +1,7 @@
 //! The progress bar on stderr (`indicatif`): hidden for jobs that finish within
 //! [`SHOW_AFTER`], drawn from then on. indicatif draws nothing when stderr is not a terminal.
 
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock};
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -16,6 +16,8 @@ pub struct Progress {
     show_after: Duration,
     target: Box<dyn Fn() -> ProgressDrawTarget + Send + Sync>,
     shown: OnceLock<()>,
+    /// The stages started, in order.
+    stages: Mutex<Vec<&'static str>>,
 }
 
 impl Progress {
@@ -43,15 +45,28 @@ impl Progress {
             show_after,
             target,
             shown: OnceLock::new(),
+            stages: Mutex::default(),
         }
     }
 
     /// Starts a stage of `steps` steps named `name` (the bar restarts from 0).
     pub fn stage(&self, name: &'static str, steps: u64) {
+        self.stages
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(name);
         self.bar.set_message(name);
         self.bar.set_length(steps);
         self.bar.set_position(0);
         self.show_if_due();
+    }
+
+    /// The names of the stages started so far, in order.
+    pub fn stages(&self) -> Vec<&'static str> {
+        self.stages
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone()
     }
 
     /// One step done.

@@ -77,6 +77,11 @@ fn malformed_vox_files_fail_with_the_problem_named_and_write_nothing() {
     let mut no_model = VoxWriter::new();
     no_model.palette(&[[9, 9, 9, 255]; 256]);
     let valid = support::material_scene().bytes();
+    // Each value finite, the emission they make not: it would be written as `null`.
+    let mut blinding = VoxWriter::new();
+    blinding
+        .model([1, 1, 1], &[[0, 0, 0, 1]])
+        .matl(1, &[("_type", "_emit"), ("_emit", "2"), ("_flux", "3e38")]);
 
     let cases: Vec<(&str, Vec<u8>, Vec<&str>)> = vec![
         (
@@ -108,6 +113,11 @@ fn malformed_vox_files_fail_with_the_problem_named_and_write_nothing() {
             vec!["truncated", "at byte"],
         ),
         ("empty.vox", Vec::new(), vec!["not a MagicaVoxel file"]),
+        (
+            "blinding.vox",
+            blinding.bytes(),
+            vec!["material 1", "emission", "2 x (1 + 3000"],
+        ),
     ];
     for (name, bytes, parts) in cases {
         let input = dir.path().join(name);
@@ -421,4 +431,106 @@ fn smooth_mode_approximates_a_voxelised_sphere_better_than_cubes() {
         err(sv, ball_volume) < 0.05,
         "smooth volume {sv} vs {ball_volume}"
     );
+}
+
+/// Outputs get the mode a plain `File::create` gives them: a new file `0o666` less the
+/// umask (run under three umasks), an existing one keeps its mode.
+///
+/// The fault it catches: writing through a temporary file of the default mode (`0o600`, as
+/// `NamedTempFile::new_in` makes it) and renaming it into place. Planted, this test failed
+/// with "umask 022: out.glb has mode 600, expected 644".
+#[cfg(unix)]
+#[test]
+fn outputs_follow_the_umask() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = support::temp_dir();
+    let input = write_vox(dir.path(), "m.vox", &support::material_scene());
+    let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    let run_under = |umask: &str, args: &[&str]| {
+        // The umask of the voxmesh process alone: a shell sets it and runs voxmesh.
+        let out = std::process::Command::new("sh")
+            .arg("-c")
+            .arg(format!("umask {umask} && exec \"$0\" \"$@\""))
+            .arg(env!("CARGO_BIN_EXE_voxmesh"))
+            .args(args)
+            .output()
+            .expect("sh runs");
+        assert!(out.status.success(), "{}", text(&out.stderr));
+    };
+    for (umask, want) in [("022", 0o644), ("027", 0o640), ("077", 0o600)] {
+        let sub = dir.path().join(format!("umask-{umask}"));
+        std::fs::create_dir(&sub).unwrap();
+        let glb = sub.join("out.glb");
+        let obj = sub.join("out.obj");
+        let stats = sub.join("stats.json");
+        run_under(umask, &[s(&input), "-o", s(&glb), "--stats", s(&stats)]);
+        run_under(umask, &[s(&input), "-o", s(&obj)]);
+        for file in [glb, stats, obj.clone(), obj.with_extension("mtl")] {
+            assert_eq!(
+                mode(&file),
+                want,
+                "umask {umask}: {} has mode {:o}, expected {want:o}",
+                file.file_name().unwrap().to_string_lossy(),
+                mode(&file)
+            );
+        }
+    }
+    // An existing output keeps its own mode, whatever the umask.
+    let existing = dir.path().join("existing.glb");
+    std::fs::write(&existing, b"old").unwrap();
+    std::fs::set_permissions(&existing, std::fs::Permissions::from_mode(0o604)).unwrap();
+    run_under("077", &[s(&input), "-o", s(&existing)]);
+    assert_eq!(mode(&existing), 0o604);
+    assert_ne!(std::fs::read(&existing).unwrap(), b"old");
+}
+
+/// Two voxels of one model at one position: the file is meshed as MagicaVoxel shows it (the
+/// later voxel wins: a 2 x 1 x 1 model of colours 3 and 4, not 3 and 2), and stderr carries a
+/// note with the count.
+#[test]
+fn repeated_voxels_are_meshed_with_the_later_one_and_noted() {
+    let dir = support::temp_dir();
+    let mut w = VoxWriter::new();
+    w.model(
+        [2, 1, 1],
+        &[[0, 0, 0, 2], [1, 0, 0, 3], [0, 0, 0, 5], [0, 0, 0, 4]],
+    );
+    let input = write_vox(dir.path(), "repeated.vox", &w);
+    let out = dir.path().join("repeated.glb");
+    let stats = dir.path().join("stats.json");
+    let (_, stderr) = voxmesh_ok(&[s(&input), "-o", s(&out), "--stats", s(&stats)]);
+    assert!(
+        stderr.contains("voxmesh: note: 2 voxels repeat a position within their model"),
+        "{stderr}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert_eq!(json["input_voxels"], 2);
+    // The voxel at x = 0 has colour 4 (the last of 2, 5, 4), the one at x = 1 colour 3: the
+    // vertices of each half carry that colour (the default palette's, in linear light).
+    let scene =
+        voxel_scene::vox::load_vox_bytes(&w.bytes(), voxel_core::ChunkSize::S16, 16).unwrap();
+    let linear = |index: usize| voxmesh::pbr::linear_rgb(scene.materials[index].colour);
+    let (left, right) = (linear(4), linear(3));
+    assert_ne!(left, linear(5));
+    let primitives = read_glb(&out);
+    let mut seen = [false; 2];
+    for p in &primitives {
+        for (position, colour) in p.positions.iter().zip(&p.colours) {
+            let want = if position[0] < 0.5 {
+                left
+            } else if position[0] > 1.5 {
+                right
+            } else {
+                continue;
+            };
+            let rgb = [colour[0], colour[1], colour[2]];
+            assert!(
+                rgb.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-3),
+                "vertex at {position:?} has colour {rgb:?}, expected {want:?}"
+            );
+            seen[usize::from(position[0] > 1.5)] = true;
+        }
+    }
+    assert_eq!(seen, [true, true]);
 }

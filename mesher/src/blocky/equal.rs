@@ -727,7 +727,7 @@ mod tests {
         let mut portable = EqualIds::default();
         let built = portable.build(&chunk.ids(known_below));
         #[cfg(target_arch = "x86_64")]
-        if crate::InstructionSet::X86V3.is_supported() {
+        if crate::instruction_set::x86_v3_or_skip("EqualIds::build_x86_v3") {
             let mut wide = EqualIds::default();
             #[expect(
                 unsafe_code,

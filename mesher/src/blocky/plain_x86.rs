@@ -282,8 +282,7 @@ mod tests {
     /// stderr.
     #[test]
     fn the_kernel_and_the_id_order_pass_give_each_row_s_occupancy() {
-        if !crate::InstructionSet::X86V3.is_supported() {
-            std::eprintln!("no AVX2 on this CPU: the x86-64-v3 column kernels are never run here");
+        if !crate::instruction_set::x86_v3_or_skip("the x86-64-v3 column kernels") {
             return;
         }
         let values = [
@@ -324,8 +323,7 @@ mod tests {
     /// sub-slice) equal the portable builder's, at every padded edge.
     #[test]
     fn columns_are_the_same_at_every_placement_of_the_array() {
-        if !crate::InstructionSet::X86V3.is_supported() {
-            std::eprintln!("no AVX2 on this CPU: the x86-64-v3 column kernels are never run here");
+        if !crate::instruction_set::x86_v3_or_skip("the x86-64-v3 column kernels") {
             return;
         }
         let mut rng = voxel_scene::rng::Rng::new(23);

@@ -21,8 +21,10 @@ pub(crate) struct RawModel {
     /// Size in file axes (x, y, z with z up), each 1..=256.
     pub size: [u32; 3],
     /// Voxels as `(x, y, z, colour index)`, every one inside `size`, index 1..=255, no two at
-    /// one position.
+    /// one position (of voxels the file gives at one position, the last: see [`voxels`]).
     pub voxels: Vec<[u8; 4]>,
+    /// Voxels of the file that a later voxel at the same position replaced.
+    pub repeated: usize,
 }
 
 /// A material chunk's content.
@@ -152,8 +154,12 @@ pub(crate) fn parse(chunks: &[Chunk<'_>]) -> Result<RawFile, VoxError> {
                     return Err(VoxError::UnpairedModelChunk { chunk: chunk.at });
                 };
                 let model = file.models.len();
-                let voxels = voxels(&mut c, model, size)?;
-                file.models.push(RawModel { size, voxels });
+                let (voxels, repeated) = voxels(&mut c, model, size)?;
+                file.models.push(RawModel {
+                    size,
+                    voxels,
+                    repeated,
+                });
             }
             b"RGBA" => {
                 // 256 colours, or 255: some writers leave out the 256th entry, which no
@@ -233,8 +239,20 @@ fn duplicate(what: String, chunk: ChunkAt) -> VoxError {
     VoxError::Duplicate { what, chunk }
 }
 
-/// An `XYZI` chunk's voxels, checked against the model's `size`.
-fn voxels(c: &mut Cursor<'_>, model: usize, size: [u32; 3]) -> Result<Vec<[u8; 4]>, VoxError> {
+/// An `XYZI` chunk's voxels, checked against the model's `size`, and how many of them a later
+/// voxel at the same position replaced.
+///
+/// A position given twice keeps the later voxel, as MagicaVoxel does: its models are dense
+/// grids filled in file order (MagicaVoxel itself is closed; `ogt_vox`, the open reader
+/// written to match it, stores each voxel of the list into its model's dense grid in file
+/// order, so the later one overwrites; the format text lists voxels without a rule against
+/// repeats). The work and memory are proportional to the voxels listed, not to the model's
+/// box, so a file of many large empty models costs no more than its bytes.
+fn voxels(
+    c: &mut Cursor<'_>,
+    model: usize,
+    size: [u32; 3],
+) -> Result<(Vec<[u8; 4]>, usize), VoxError> {
     let declared = c.u32()?;
     if 4 * u64::from(declared) != c.remaining() as u64 {
         return Err(VoxError::VoxelCountMismatch {
@@ -247,9 +265,10 @@ fn voxels(c: &mut Cursor<'_>, model: usize, size: [u32; 3]) -> Result<Vec<[u8; 4
     let present = declared as usize;
     let bytes = c.take(4 * u64::from(declared))?;
     let [sx, sy, sz] = size.map(|s| s as usize);
-    // One bit per cell of the model's box (at most 256^3 bits, 2 MiB) to find repeats.
-    let mut seen = vec![0u64; (sx * sy * sz).div_ceil(64)];
-    let mut out = Vec::with_capacity(present);
+    // Where each position's voxel is in `out`, to find repeats.
+    let mut at: HashMap<u32, usize> = HashMap::with_capacity(present);
+    let mut out: Vec<[u8; 4]> = Vec::with_capacity(present);
+    let mut repeated = 0;
     for (voxel, v) in bytes.chunks_exact(4).enumerate() {
         let [x, y, z, i]: [u8; 4] = v.try_into().expect("4 bytes");
         let position = [x, y, z];
@@ -268,19 +287,19 @@ fn voxels(c: &mut Cursor<'_>, model: usize, size: [u32; 3]) -> Result<Vec<[u8; 4
                 position,
             });
         }
-        let cell = usize::from(x) + sx * (usize::from(y) + sy * usize::from(z));
-        let (word, bit) = (cell / 64, 1u64 << (cell % 64));
-        if seen[word] & bit != 0 {
-            return Err(VoxError::DuplicateVoxel {
-                model,
-                voxel,
-                position,
-            });
+        let cell = u32::from(x) | u32::from(y) << 8 | u32::from(z) << 16;
+        match at.entry(cell) {
+            Entry::Occupied(slot) => {
+                out[*slot.get()][3] = i;
+                repeated += 1;
+            }
+            Entry::Vacant(slot) => {
+                slot.insert(out.len());
+                out.push([x, y, z, i]);
+            }
         }
-        seen[word] |= bit;
-        out.push([x, y, z, i]);
     }
-    Ok(out)
+    Ok((out, repeated))
 }
 
 /// Adds a material for colour index `index` (0..=255), once per index; id 256 is accepted and
@@ -302,6 +321,7 @@ fn push_material(
             expected: "a colour index from 0 to 256",
         });
     };
+    // At most 256 entries (one per index), so this search stays bounded.
     if file.materials.iter().any(|(i, _, _)| *i == index) {
         return Err(duplicate(format!("material {index}"), at));
     }

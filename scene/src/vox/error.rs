@@ -132,15 +132,6 @@ pub enum VoxError {
         /// The voxel's position (file axes).
         position: [u8; 3],
     },
-    /// Two voxels of one model share a position.
-    DuplicateVoxel {
-        /// Index of the model.
-        model: usize,
-        /// Index of the second voxel in the model's list.
-        voxel: usize,
-        /// The shared position (file axes).
-        position: [u8; 3],
-    },
     /// The file holds no model (no `SIZE`/`XYZI` pair).
     NoModels,
     /// The `PACK` chunk's model count differs from the number of models in the file.
@@ -307,14 +298,6 @@ impl fmt::Display for VoxError {
             } => write!(
                 f,
                 "model {model}: voxel {voxel} at ({x}, {y}, {z}) has colour index 0 (reserved for empty space)"
-            ),
-            E::DuplicateVoxel {
-                model,
-                voxel,
-                position: [x, y, z],
-            } => write!(
-                f,
-                "model {model}: voxel {voxel} at ({x}, {y}, {z}) repeats an earlier voxel's position"
             ),
             E::NoModels => write!(f, "the file holds no model (no 'SIZE' and 'XYZI' chunks)"),
             E::PackCountMismatch {

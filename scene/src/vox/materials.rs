@@ -181,6 +181,24 @@ fn number(
     }
 }
 
+/// Emission `emit * (1 + flux)`, refused by name when the product overflows `f32` (each
+/// factor is finite, but e.g. `_emit 2` with `_flux 3e38` is not): no consumer can draw or
+/// export an infinite light.
+fn emission(emit: f32, flux: Option<f32>, owner: &dyn Fn() -> String) -> Result<f32, VoxError> {
+    let flux = flux.unwrap_or(0.0);
+    let e = emit * (1.0 + flux);
+    if e.is_finite() {
+        Ok(e)
+    } else {
+        Err(VoxError::BadValue {
+            owner: owner(),
+            key: "emission (emit x (1 + _flux))".into(),
+            value: format!("{emit} x (1 + {flux})"),
+            expected: "a product that fits a 32-bit float (at most about 3.4e38)",
+        })
+    }
+}
+
 const FRACTION: (f32, f32) = (0.0, 1.0);
 const SCALE: (f32, f32) = (0.0, f32::INFINITY);
 
@@ -226,8 +244,8 @@ fn from_matl(
         _ => 0.0,
     };
     let emission = match kind {
-        K::Emit => emit.or(weight).unwrap_or(1.0) * (1.0 + flux.unwrap_or(0.0)),
-        K::Blend => emit.unwrap_or(0.0) * (1.0 + flux.unwrap_or(0.0)),
+        K::Emit => emission(emit.or(weight).unwrap_or(1.0), flux, &owner)?,
+        K::Blend => emission(emit.unwrap_or(0.0), flux, &owner)?,
         _ => 0.0,
     };
     let roughness = match kind {
@@ -289,7 +307,7 @@ fn from_matt(
         }
         3 => {
             m.kind = VoxMaterialKind::Emit;
-            m.emission = weight * (1.0 + flux.unwrap_or(0.0));
+            m.emission = emission(weight, flux, &owner)?;
         }
         _ => {}
     }

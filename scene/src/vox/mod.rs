@@ -21,6 +21,10 @@
 //!   is the same as the renderer's [`MaterialPalette`].
 //! - **Overlaps.** Where models overlap, the one drawn later (scene-graph order) wins;
 //!   [`LoadReport::overwritten_voxels`] counts the voxels that were covered.
+//! - **Repeated voxels.** Where one model lists two voxels at one position, the later one in
+//!   the file wins, as in MagicaVoxel (whose models are dense grids filled in file order; see
+//!   `chunks::voxels` for the evidence); [`LoadReport::repeated_voxels`] counts the voxels
+//!   replaced.
 //! - **Other chunks.** MagicaVoxel's renderer settings, palette notes and palette display
 //!   order are skipped; a chunk id nobody knows is skipped too and listed in
 //!   [`LoadReport::unknown_chunks`]. A material for the palette's unused 256th entry (id 256,
@@ -32,8 +36,8 @@
 //! [`VoxError`] that says what is wrong and where (chunk id and byte offset, model index,
 //! voxel position, scene node): a file cut short (in any chunk or header) or with bytes after
 //! `MAIN`; a chunk longer or shorter than its fields; a model size of 0, negative or over 256;
-//! a voxel count that does not match the chunk; a voxel outside its model, with colour index
-//! 0, or repeating a position; no model at all; a `PACK` count that differs from the models;
+//! a voxel count that does not match the chunk; a voxel outside its model or with colour
+//! index 0; no model at all; a `PACK` count that differs from the models;
 //! `SIZE` and `XYZI` chunks out of pairs; a second definition of a node, layer, material,
 //! palette or `PACK`; duplicate dictionary keys; scene nodes referring to missing nodes or
 //! models, a missing root, a node reached twice (cycles included), a graph deeper than
@@ -101,6 +105,9 @@ pub struct LoadReport {
     pub animated: bool,
     /// Voxels covered by a later model at the same position.
     pub overwritten_voxels: usize,
+    /// Voxels of a model replaced by a later voxel of the same model at the same position
+    /// (the later one is drawn).
+    pub repeated_voxels: usize,
     /// Chunks skipped because their id is not known (id and offset).
     pub unknown_chunks: Vec<ChunkAt>,
     /// Material types not known here (colour index and `_type`), drawn as diffuse.
@@ -125,6 +132,13 @@ impl LoadReport {
             notes.push(format!(
                 "{undrawn} of {} models are not drawn (hidden or not in the scene graph)",
                 self.models
+            ));
+        }
+        if self.repeated_voxels > 0 {
+            notes.push(format!(
+                "{} voxels repeat a position within their model; the later one in the file is \
+                 drawn, as in MagicaVoxel",
+                self.repeated_voxels
             ));
         }
         if self.overwritten_voxels > 0 {
@@ -247,6 +261,7 @@ pub fn load_vox_with(bytes: &[u8], options: &VoxOptions) -> Result<VoxScene, Vox
         hidden_by_layer: walk.hidden_by_layer,
         animated: walk.animated,
         overwritten_voxels: overwritten,
+        repeated_voxels: file.models.iter().map(|m| m.repeated).sum(),
         unknown_chunks: file.unknown,
         unknown_material_types,
     };

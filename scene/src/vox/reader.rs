@@ -6,6 +6,9 @@
 //!                          child: id, content bytes n, children bytes (0), content
 //! ```
 
+use std::borrow::Cow;
+use std::collections::HashSet;
+
 use super::error::{ChunkAt, ChunkId, VoxError};
 
 /// One child chunk of `MAIN`: where it is and its content.
@@ -247,24 +250,33 @@ impl<'a> Cursor<'a> {
     /// A `STRING`: a `u32` length and that many bytes (invalid UTF-8 is replaced, since names
     /// are only shown and values that matter are parsed and checked).
     pub fn string(&mut self) -> Result<String, VoxError> {
+        Ok(String::from_utf8_lossy(self.raw_string()?).into_owned())
+    }
+
+    /// A `STRING`'s bytes.
+    fn raw_string(&mut self) -> Result<&'a [u8], VoxError> {
         let n = self.u32()?;
-        Ok(String::from_utf8_lossy(self.take(u64::from(n))?).into_owned())
+        self.take(u64::from(n))
     }
 
     /// A `DICT`: a `u32` count and that many key-value `STRING` pairs; keys must be unique.
+    /// Repeats are found through a hash set of the keys, so a dictionary of `n` keys costs
+    /// `O(n)`, whatever the keys.
     pub fn dict(&mut self) -> Result<Dict, VoxError> {
         let n = self.count(8)?;
         let mut entries: Vec<(String, String)> = Vec::with_capacity(n);
+        // Keys as they are read (invalid UTF-8 replaced), borrowed from the file when valid.
+        let mut keys: HashSet<Cow<'a, str>> = HashSet::with_capacity(n);
         for _ in 0..n {
-            let key = self.string()?;
+            let key = String::from_utf8_lossy(self.raw_string()?);
             let value = self.string()?;
-            if entries.iter().any(|(k, _)| *k == key) {
+            if !keys.insert(key.clone()) {
                 return Err(VoxError::DuplicateKey {
-                    key,
+                    key: key.into_owned(),
                     chunk: self.chunk,
                 });
             }
-            entries.push((key, value));
+            entries.push((key.into_owned(), value));
         }
         Ok(Dict { entries })
     }

@@ -1,13 +1,9 @@
 //! Building nodes in the background: the terrain's padded neighbourhood of a node
 //! ([`Terrain::fill_node`]), meshed ([`NodeMesher::mesh_padded`]), its hidden layers left out
-//! of the upload view; by the [`Builders`] of a streamer, one scratch mesher per worker
-//! thread.
+//! of the upload view; by the [`Builders`](super::builders::Builders) of a streamer, one
+//! scratch mesher per worker thread.
 
 use std::cell::RefCell;
-use std::collections::VecDeque;
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::mpsc::Sender;
-use std::sync::{Arc, Mutex};
 
 use mesher::lod::{NodeMesh, NodeMesher, NodeSettings};
 use mesher::{BlockClasses, MeshSettings};
@@ -18,6 +14,13 @@ use voxel_scene::{NodeContent, Terrain, TerrainBlocks};
 
 use super::selection::NodeKey;
 use super::settings::{Layers, MesherMode, StreamSettings};
+
+/// What the [`Builders`](super::builders::Builders) build nodes with: the terrain's
+/// [`NodeSource`], or a stand-in in the tests of the worker protocol.
+pub trait BuildNode: Send + Sync + 'static {
+    /// Builds node `key`: `Ok(None)` when it draws nothing.
+    fn build(&self, key: NodeKey) -> Result<Option<BuiltNode>, String>;
+}
 
 /// Everything a worker needs to build nodes of one streamed terrain (shared, read-only).
 pub struct NodeSource {
@@ -60,10 +63,12 @@ impl NodeSource {
             layers: settings.layers,
         }
     }
+}
 
+impl BuildNode for NodeSource {
     /// Builds node `key`: `Ok(None)` when it draws nothing (air, buried, or only hidden
     /// layers).
-    pub fn build(&self, key: NodeKey) -> Result<Option<BuiltNode>, String> {
+    fn build(&self, key: NodeKey) -> Result<Option<BuiltNode>, String> {
         thread_local! {
             static SCRATCH: RefCell<(NodeMesher, Option<PaddedChunk>)> =
                 RefCell::new((NodeMesher::new(), None));
@@ -170,74 +175,4 @@ pub struct Finished {
     pub key: NodeKey,
     /// Its upload (`None`: draws nothing), or why it could not be built.
     pub result: Result<Option<BuiltNode>, String>,
-}
-
-/// The workers of one streamer: a rayon pool of its own, which builds the nodes of a shared
-/// queue, nearest first, and sends each to the streamer.
-///
-/// A pool per streamer, with one thread fewer than the machine has cores (at least one): the
-/// frame's thread keeps a core, and a replacement streamer loading behind the drawing one (see
-/// `crate::view`) shares the CPU with it through the scheduler instead of queueing behind it.
-/// The queue is the streamer's to replace: nodes a newer plan no longer wants are taken out
-/// before any worker starts them.
-pub struct Builders {
-    pool: rayon::ThreadPool,
-    queue: Arc<Mutex<VecDeque<NodeKey>>>,
-    working: Arc<AtomicUsize>,
-    source: Arc<NodeSource>,
-    done: Sender<Finished>,
-}
-
-impl Builders {
-    /// Workers building from `source`, sending to `done`.
-    pub fn new(source: Arc<NodeSource>, done: Sender<Finished>) -> Result<Builders, String> {
-        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(cores.saturating_sub(1).max(1))
-            .thread_name(|i| format!("node builder {i}"))
-            .build()
-            .map_err(|e| format!("no node builder threads: {e}"))?;
-        Ok(Builders {
-            pool,
-            queue: Arc::default(),
-            working: Arc::default(),
-            source,
-            done,
-        })
-    }
-
-    /// Empties the queue: the nodes no worker has started.
-    pub fn take_queued(&self) -> Vec<NodeKey> {
-        self.lock().drain(..).collect()
-    }
-
-    /// Queues `keys` (after what is queued) and wakes workers for them.
-    pub fn queue(&self, keys: impl IntoIterator<Item = NodeKey>) {
-        self.lock().extend(keys);
-        let threads = self.pool.current_num_threads();
-        while self.working.load(Ordering::Acquire) < threads && !self.lock().is_empty() {
-            self.working.fetch_add(1, Ordering::AcqRel);
-            let (queue, working) = (Arc::clone(&self.queue), Arc::clone(&self.working));
-            let (source, done) = (Arc::clone(&self.source), self.done.clone());
-            self.pool.spawn(move || {
-                loop {
-                    // A poisoned queue only means another worker panicked: keep its keys.
-                    let key = queue.lock().unwrap_or_else(|e| e.into_inner()).pop_front();
-                    let Some(key) = key else {
-                        break;
-                    };
-                    let result = source.build(key);
-                    if done.send(Finished { key, result }).is_err() {
-                        // The streamer is gone.
-                        break;
-                    }
-                }
-                working.fetch_sub(1, Ordering::AcqRel);
-            });
-        }
-    }
-
-    fn lock(&self) -> std::sync::MutexGuard<'_, VecDeque<NodeKey>> {
-        self.queue.lock().unwrap_or_else(|e| e.into_inner())
-    }
 }

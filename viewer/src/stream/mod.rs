@@ -47,9 +47,22 @@
 //! budget is raised by 2^(1/4) and the plan made again, the rule of
 //! [`memory_plan`](render_model::memory_plan): the farthest detail gives way first, and
 //! what is drawn stays whole. The raised budget stays until another budget is asked for
-//! ([`StreamStatus::memory_floor_px`] reports it).
+//! ([`StreamStatus::memory_floor_px`] reports it). Each frame frees the nodes no plan
+//! selects before it uploads, and an upload that finds no room first frees whatever is
+//! still waiting to be freed and tries again, so the raise is the smallest step that fits.
+//! The node bytes are also counted against a [`NodeMemory`] that the streamers of one view
+//! share (`crate::view`), so a replacement streamer loads in what the drawing one leaves.
+//!
+//! Built meshes waiting for the upload limit are bounded
+//! ([`StreamSettings::max_built_nodes`]): the builders pause at the bound
+//! (`builders.rs`, whose module docs give the worker protocol and why no queued node is left
+//! unbuilt).
 
 mod build;
+mod builders;
+#[cfg(test)]
+mod builders_stress;
+mod memory;
 mod plan;
 pub mod selection;
 pub mod settings;
@@ -60,6 +73,7 @@ use std::fmt;
 
 use gpu_backend::render::RenderError;
 
+pub use memory::NodeMemory;
 pub use selection::NodeKey;
 pub use settings::{Layers, MesherMode, StreamSettings, UploadLimit};
 pub use streamer::{StreamCounters, Streamer};

@@ -151,6 +151,10 @@ pub struct StreamSettings {
     pub max_nodes: u32,
     /// Per-frame upload limit.
     pub upload: UploadLimit,
+    /// Built nodes held on the CPU at most: being built, or waiting for the upload limit.
+    /// The builders pause at this many (back-pressure), so a slow upload or a full GPU never
+    /// piles meshes up in memory.
+    pub max_built_nodes: u32,
 }
 
 impl Default for StreamSettings {
@@ -173,6 +177,10 @@ impl Default for StreamSettings {
             // nodes, some 25,000 of them with something to draw.
             max_nodes: 1 << 16,
             upload: UploadLimit::default(),
+            // A first view uploads up to some 200 nodes a frame here (12 ms at 60 µs a node),
+            // and the terrain's nodes take about 9 KiB: 1024 nodes keep the uploads fed at
+            // about 9 MiB of meshes.
+            max_built_nodes: 1024,
         }
     }
 }
@@ -225,6 +233,9 @@ impl StreamSettings {
         }
         if self.max_nodes == 0 {
             return bad("max nodes 0: at least one node must fit".to_owned());
+        }
+        if self.max_built_nodes == 0 {
+            return bad("max built nodes 0: at least one node must be built at a time".to_owned());
         }
         if self.upload.bytes == 0
             || self.upload.time.is_zero()
@@ -297,6 +308,13 @@ mod tests {
                     ..Default::default()
                 },
                 "memory 10",
+            ),
+            (
+                StreamSettings {
+                    max_built_nodes: 0,
+                    ..Default::default()
+                },
+                "max built nodes 0",
             ),
         ];
         for (settings, named) in cases {

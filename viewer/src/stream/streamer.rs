@@ -16,7 +16,9 @@ use render_model::memory_plan::MAX_PLAN_BUDGET_PX;
 use render_model::resident::ChunkMeshData;
 use voxel_scene::{TERRAIN_TOP, TerrainBlocks};
 
-use super::build::{Builders, BuiltNode, Finished, NodeSource};
+use super::build::{BuiltNode, Finished, NodeSource};
+use super::builders::Builders;
+use super::memory::NodeMemory;
 use super::plan::{self, Plan};
 use super::selection::{Extent, NodeKey};
 use super::settings::StreamSettings;
@@ -77,17 +79,33 @@ pub struct Streamer {
     in_flight: usize,
     /// The budget raised to fit the memory (0 until memory ran out).
     memory_floor_px: f32,
+    /// The view's node memory, shared with a replacement streamer.
+    memory: NodeMemory,
     counters: StreamCounters,
 }
 
 impl Streamer {
-    /// A streamer on `ctx` drawing `width x height` with `settings` (checked first). Nothing
-    /// is resident until [`update`](Self::update) has run a few times.
+    /// A streamer on `ctx` drawing `width x height` with `settings` (checked first), with
+    /// node memory of its own (`settings.memory_bytes`). Nothing is resident until
+    /// [`update`](Self::update) has run a few times.
     pub fn new(
         ctx: &GpuContext,
         settings: &StreamSettings,
         width: u32,
         height: u32,
+    ) -> Result<Streamer, StreamError> {
+        let memory = NodeMemory::new(settings.memory_bytes);
+        Streamer::with_memory(ctx, settings, width, height, memory)
+    }
+
+    /// Like [`new`](Self::new), with node memory shared with other streamers (those of one
+    /// view: `crate::view`).
+    pub fn with_memory(
+        ctx: &GpuContext,
+        settings: &StreamSettings,
+        width: u32,
+        height: u32,
+        memory: NodeMemory,
     ) -> Result<Streamer, StreamError> {
         let settings = settings.clone().validate().map_err(StreamError::Settings)?;
         let far = far_choice(&settings, &ctx.capabilities).map_err(StreamError::Far)?;
@@ -98,7 +116,8 @@ impl Streamer {
         let far_blocks = far.path != gpu_backend::render::far::FarPath::Off;
         let source = Arc::new(NodeSource::new(&settings, &palette, blocks, far_blocks));
         let (finished_sender, finished) = channel();
-        let builders = Builders::new(source, finished_sender).map_err(StreamError::Build)?;
+        let builders = Builders::new(source, finished_sender, settings.max_built_nodes as usize)
+            .map_err(StreamError::Build)?;
         Ok(Streamer {
             renderer,
             extent: Extent {
@@ -118,6 +137,7 @@ impl Streamer {
             to_free: VecDeque::new(),
             in_flight: 0,
             memory_floor_px: 0.0,
+            memory,
             counters: StreamCounters::default(),
         })
     }
@@ -169,6 +189,18 @@ impl Streamer {
         self.settings = checked;
         self.memory_floor_px = 0.0;
         Ok(())
+    }
+
+    /// Drops the budget the memory forced, so the next plan is made at the asked budget again
+    /// (raised anew if it still does not fit): for when memory was given back, e.g. the
+    /// streamer this one replaces is gone.
+    pub fn retry_asked_budget(&mut self) {
+        self.memory_floor_px = 0.0;
+    }
+
+    /// The node memory it shares.
+    pub fn memory(&self) -> &NodeMemory {
+        &self.memory
     }
 
     /// The committed plan's anchor, once there is one.
@@ -227,8 +259,10 @@ impl Streamer {
         self.renderer.set_camera(camera);
         self.receive_plan()?;
         self.receive_finished()?;
-        self.upload()?;
+        // Freeing first: an upload then finds the room that the nodes a new plan dropped
+        // leave, instead of failing and raising the budget a step too far.
         self.free_some()?;
+        self.upload()?;
         self.commit_if_loaded()?;
         self.replan_if_needed(camera);
         if let Some(committed) = &self.committed {
@@ -282,24 +316,33 @@ impl Streamer {
         old
     }
 
-    fn count(&mut self, entry: Option<Entry>, sign: i64) {
+    /// Adds (`sign` 1) or removes (-1) a resident entry from the totals. Every removal is of
+    /// an entry added before (`set_entry` and `remove_entry` count what the map held), so the
+    /// totals never go below zero; the checks say so loudly in debug builds instead of
+    /// wrapping to a huge count.
+    fn count(&mut self, entry: Option<Entry>, sign: i8) {
         if let Some(Entry::Resident(handle)) = entry {
             let bytes = handle.map_or(0, |(_, b)| b);
             let (n, total) = &mut self.resident;
-            *n = n.wrapping_add_signed(sign as isize);
-            *total = total.wrapping_add_signed(sign * bytes as i64);
+            if sign > 0 {
+                *n += 1;
+                *total += bytes;
+            } else {
+                debug_assert!(*n >= 1 && *total >= bytes, "resident totals below zero");
+                *n = n.saturating_sub(1);
+                *total = total.saturating_sub(bytes);
+            }
         }
     }
 
     /// True when the committed or the wanted plan selects `key`.
     fn needed(&self, key: &NodeKey) -> bool {
-        self.committed
-            .as_ref()
-            .is_some_and(|c| c.keys.contains(key))
-            || self
-                .wanted
-                .as_ref()
-                .is_some_and(|w| w.plan.keys.contains(key))
+        Self::needed_by(self.committed.as_deref(), self.wanted.as_ref(), key)
+    }
+
+    fn needed_by(committed: Option<&Plan>, wanted: Option<&Wanted>, key: &NodeKey) -> bool {
+        committed.is_some_and(|c| c.keys.contains(key))
+            || wanted.is_some_and(|w| w.plan.keys.contains(key))
     }
 
     fn receive_plan(&mut self) -> Result<(), StreamError> {
@@ -315,14 +358,34 @@ impl Streamer {
         for &key in &plan.abandoned {
             self.to_free.push_back(key);
         }
+        let plan = Arc::new(plan);
+        self.wanted = Some(Wanted {
+            plan: Arc::clone(&plan),
+            pending: 0,
+        });
         // Queued nodes of the replaced plan that no worker started: forgotten (those this
-        // plan wants are queued again below, in its order).
+        // plan wants are queued again below, in its order). Every queued key is `Loading`
+        // and counted in `in_flight` (queued once, when it had no entry).
         for key in self.builders.take_queued() {
-            if self.entries.get(&key) == Some(&Entry::Loading) {
-                self.remove_entry(&key);
-                self.in_flight -= 1;
-            }
+            let was = self.remove_entry(&key);
+            debug_assert_eq!(was, Some(Entry::Loading), "{key:?} queued");
+            self.in_flight -= 1;
         }
+        // Built nodes of the replaced plan that this one does not want: dropped now, so the
+        // builders get their room back at once.
+        let before = self.uploads.len();
+        let mut dropped = Vec::new();
+        self.uploads.retain(|(key, _)| {
+            let keep = Self::needed_by(self.committed.as_deref(), self.wanted.as_ref(), key);
+            if !keep {
+                dropped.push(*key);
+            }
+            keep
+        });
+        for key in &dropped {
+            self.remove_entry(key);
+        }
+        self.builders.release(before - self.uploads.len());
         let mut pending = 0;
         let mut queue = Vec::new();
         for &key in &plan.load {
@@ -340,10 +403,9 @@ impl Streamer {
         }
         self.in_flight += queue.len();
         self.builders.queue(queue);
-        self.wanted = Some(Wanted {
-            plan: Arc::new(plan),
-            pending,
-        });
+        if let Some(wanted) = &mut self.wanted {
+            wanted.pending = pending;
+        }
         Ok(())
     }
 
@@ -351,13 +413,22 @@ impl Streamer {
         while let Ok(Finished { key, result }) = self.finished.try_recv() {
             self.in_flight -= 1;
             self.counters.built += 1;
-            let built = result.map_err(StreamError::Build)?;
+            let built = match result {
+                Ok(built) => built,
+                Err(why) => {
+                    self.builders.release(1);
+                    return Err(StreamError::Build(why));
+                }
+            };
             if !self.needed(&key) {
+                self.builders.release(1);
                 self.remove_entry(&key);
             } else if let Some(built) = built {
+                // Held against the builders' bound until uploaded or dropped.
                 self.set_entry(key, Entry::Built);
                 self.uploads.push_back((key, built));
             } else {
+                self.builders.release(1);
                 self.mark_resident(key, None);
             }
         }
@@ -374,6 +445,10 @@ impl Streamer {
             && !committed
             && wanted.plan.keys.contains(&key)
         {
+            // `pending` counted each of the plan's keys outside the committed plan that was
+            // not resident, and a key becomes resident once per plan (it stays until no plan
+            // needs it): never below zero.
+            debug_assert!(wanted.pending > 0, "{key:?} made resident twice");
             wanted.pending = wanted.pending.saturating_sub(1);
         }
     }
@@ -387,6 +462,7 @@ impl Streamer {
             let key = *key;
             if !self.needed(&key) {
                 self.uploads.pop_front();
+                self.builders.release(1);
                 self.remove_entry(&key);
                 continue;
             }
@@ -399,6 +475,17 @@ impl Streamer {
             if bytes > 0 && (bytes + size > limit.bytes || started.elapsed() >= time) {
                 break;
             }
+            if !self.memory.try_take(size) {
+                if self.free_unneeded()? {
+                    continue;
+                }
+                let why = format!(
+                    "{} of the view's {} bytes of node memory in use, a node of {size} more",
+                    self.memory.used(),
+                    self.memory.limit()
+                );
+                return self.out_of_memory(why);
+            }
             let data = ChunkMeshData {
                 coord: key.coord,
                 lod: key.level,
@@ -407,13 +494,22 @@ impl Streamer {
             match self.renderer.upload_chunk(&data) {
                 Ok(handle) => {
                     self.uploads.pop_front();
+                    self.builders.release(1);
                     bytes += size;
                     self.counters.uploaded += 1;
                     self.counters.uploaded_bytes += size;
                     self.mark_resident(key, Some((handle, size)));
                 }
-                Err(e) if out_of_room(&e) => return self.out_of_memory(e),
-                Err(e) => return Err(StreamError::Upload(key, e)),
+                Err(e) => {
+                    self.memory.give_back(size);
+                    if !out_of_room(&e) {
+                        return Err(StreamError::Upload(key, e));
+                    }
+                    if self.free_unneeded()? {
+                        continue;
+                    }
+                    return self.out_of_memory(e.to_string());
+                }
             }
         }
         Ok(())
@@ -422,7 +518,7 @@ impl Streamer {
     /// The memory plan's rule (`render_model::memory_plan`): raise the budget by
     /// 2^(1/4) and plan again, so the farthest detail goes first; past its largest budget the
     /// nodes cannot fit at all.
-    fn out_of_memory(&mut self, e: RenderError) -> Result<(), StreamError> {
+    fn out_of_memory(&mut self, e: String) -> Result<(), StreamError> {
         if self.planning.is_some() {
             // A plan is on its way (maybe the raised one already): wait for it.
             return Ok(());
@@ -452,23 +548,40 @@ impl Streamer {
     fn free_some(&mut self) -> Result<(), StreamError> {
         let started = Instant::now();
         while let Some(key) = self.to_free.pop_front() {
-            if self.needed(&key) {
-                continue;
-            }
-            // Loading or built nodes are dropped when they arrive or are reached instead.
-            if let Some(&Entry::Resident(handle)) = self.entries.get(&key) {
-                if let Some((handle, _)) = handle {
-                    self.renderer
-                        .free_chunk(handle)
-                        .map_err(StreamError::Renderer)?;
-                    self.counters.freed += 1;
-                }
-                self.remove_entry(&key);
-            }
+            self.free(key)?;
             // A free costs about 0.3 µs here: a quarter of the upload time frees thousands.
             if started.elapsed() >= self.settings.upload.time / 4 {
                 break;
             }
+        }
+        Ok(())
+    }
+
+    /// Frees every node waiting to be freed, without a time limit (an upload found no room):
+    /// true when that gave memory back, so the upload is worth trying again.
+    fn free_unneeded(&mut self) -> Result<bool, StreamError> {
+        let before = self.counters.freed;
+        while let Some(key) = self.to_free.pop_front() {
+            self.free(key)?;
+        }
+        Ok(self.counters.freed > before)
+    }
+
+    /// Frees `key` unless a plan selects it again.
+    fn free(&mut self, key: NodeKey) -> Result<(), StreamError> {
+        if self.needed(&key) {
+            return Ok(());
+        }
+        // Loading or built nodes are dropped when they arrive or are reached instead.
+        if let Some(&Entry::Resident(handle)) = self.entries.get(&key) {
+            if let Some((handle, bytes)) = handle {
+                self.renderer
+                    .free_chunk(handle)
+                    .map_err(StreamError::Renderer)?;
+                self.memory.give_back(bytes);
+                self.counters.freed += 1;
+            }
+            self.remove_entry(&key);
         }
         Ok(())
     }
@@ -540,6 +653,14 @@ impl Streamer {
             self.committed.clone(),
             self.wanted.as_ref().map(|w| Arc::clone(&w.plan)),
         ));
+    }
+}
+
+impl Drop for Streamer {
+    /// Gives the resident nodes' bytes back to the shared node memory (their renderer goes
+    /// with the streamer).
+    fn drop(&mut self) {
+        self.memory.give_back(self.resident.1);
     }
 }
 

@@ -194,3 +194,35 @@ pub fn read_xwd(path: &Path) -> Option<(u32, u32, Vec<[u8; 3]>)> {
     }
     Some((width, height, pixels))
 }
+
+/// How two RGBA images of one size differ: the largest channel difference, and the share of
+/// pixels with a channel more than `over` apart.
+pub fn image_difference(got: &[u8], want: &[u8], over: u8) -> (u8, f64) {
+    assert_eq!(got.len(), want.len(), "images of different sizes");
+    let mut largest = 0;
+    let mut beyond = 0usize;
+    for (a, b) in got.chunks(4).zip(want.chunks(4)) {
+        let d = a
+            .iter()
+            .zip(b)
+            .map(|(a, b)| a.abs_diff(*b))
+            .max()
+            .unwrap_or(0);
+        largest = largest.max(d);
+        beyond += usize::from(d > over);
+    }
+    (largest, beyond as f64 / (got.len() / 4).max(1) as f64)
+}
+
+/// Fails unless the viewer's PNG shows the reference frame: at most `share` of the pixels
+/// with a channel more than 16 apart (none when `share` is 0).
+pub fn assert_shows(got: &[u8], want: &[u8], share: f64, what: &str) {
+    let (largest, beyond) = image_difference(got, want, 16);
+    assert!(
+        beyond <= share,
+        "{what}: {:.2}% of the pixels differ from the reference by more than 16 (largest \
+         difference {largest}), at most {:.2}% allowed",
+        beyond * 100.0,
+        share * 100.0
+    );
+}
