@@ -9,7 +9,6 @@ use std::time::Duration;
 use gpu_backend::render::OpaquePath;
 use gpu_backend::{DeviceOptions, GpuContext};
 use support::{have_adapter, read_png, run_viewer, text};
-use viewer::gpu_view::render_camera;
 use viewer::headless::{draw_frame, load};
 use viewer::scene::{Terrain, TerrainBlocks, terrain_view};
 use viewer::stream::StreamSettings;
@@ -90,7 +89,7 @@ fn streamed_reference(width: u32, height: u32, radius: u32) -> Vec<u8> {
         ..StreamSettings::default()
     };
     let terrain = Terrain::new(settings.seed, TerrainBlocks::palette().1);
-    let camera = render_camera(&terrain_view(&terrain), settings.chunk);
+    let camera = terrain_view(&terrain);
     let mut view = StreamedView::new(&ctx, &settings, width, height).unwrap();
     load(&mut view, &camera, Duration::from_secs(300), |_| {}).unwrap();
     draw_frame(&ctx, &mut view).unwrap();

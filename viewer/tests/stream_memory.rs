@@ -6,10 +6,9 @@
 
 use std::time::{Duration, Instant};
 
-use gpu_backend::render::RenderCamera;
+use render_model::camera::Camera;
 use gpu_backend::test_support::headless_or_skip;
 use gpu_backend::{DeviceOptions, GpuContext};
-use viewer::gpu_view::render_camera;
 use viewer::headless::load;
 use viewer::scene::{Terrain, TerrainBlocks, terrain_view};
 use viewer::stream::{MesherMode, StreamSettings, UploadLimit};
@@ -33,9 +32,9 @@ fn roomy() -> StreamSettings {
     }
 }
 
-fn camera() -> RenderCamera {
+fn camera() -> Camera {
     let terrain = Terrain::new(1, TerrainBlocks::palette().1);
-    render_camera(&terrain_view(&terrain), ChunkSize::S16)
+    terrain_view(&terrain)
 }
 
 /// The nodes with something to draw once `settings` has loaded its first view.
@@ -109,7 +108,7 @@ fn the_budget_is_raised_to_the_smallest_step_that_fits() {
 /// every frame.
 fn load_checking(
     view: &mut StreamedView,
-    camera: &RenderCamera,
+    camera: &Camera,
     mut each: impl FnMut(&StreamedView),
 ) {
     let started = Instant::now();

@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use support::{Xvfb, have_adapter, read_png, run_viewer, text, xvfb_or_skip};
 use viewer::gpu_view::render_scene;
-use viewer::lighting::Lighting;
+use render_model::lighting::Lighting;
 use viewer::scene::terrain_scene;
 use voxel_core::ChunkSize;
 

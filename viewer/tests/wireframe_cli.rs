@@ -127,9 +127,9 @@ fn box_quads() -> Vec<([[f64; 3]; 4], [f64; 3])> {
     quads
 }
 
-/// The pinhole projection of `viewer::camera::Camera::ray_direction`, inverted: the pixel
+/// The pinhole projection of `render_model::camera::Camera::ray_direction`, inverted: the pixel
 /// coordinates (pixel centres at `i + 0.5`) of world point `p`, `None` behind the eye.
-fn project(camera: &viewer::camera::Camera, p: [f64; 3], (w, h): (u32, u32)) -> Option<[f64; 2]> {
+fn project(camera: &render_model::camera::Camera, p: [f64; 3], (w, h): (u32, u32)) -> Option<[f64; 2]> {
     let eye = glam::DVec3::new(
         f64::from(camera.voxel.x),
         f64::from(camera.voxel.y),
@@ -231,12 +231,13 @@ fn edges_are_drawn_where_the_quads_edges_are() {
     };
     let sky = render(&empty, "sky", false);
     let wire = render(&model, "wire", true);
-    let camera = viewer::camera::Camera {
+    let camera = render_model::camera::Camera {
         voxel: voxel_core::WorldPos::new(20, 14, 12),
         fraction: glam::DVec3::splat(0.5),
         yaw: yaw.to_radians(),
         pitch: pitch.to_radians(),
         fov_y: 50f64.to_radians(),
+        near: render_model::camera::Camera::DEFAULT_NEAR,
     };
     let eye_v = glam::DVec3::from_array(eye);
     let quads = box_quads();

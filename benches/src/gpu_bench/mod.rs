@@ -16,9 +16,7 @@ use std::time::Instant;
 
 use gpu_backend::GpuContext;
 use gpu_backend::render::far::{FarChoice, FarRequest};
-use gpu_backend::render::{
-    FrameImage, FullscreenPath, OpaquePath, RenderError, Renderer, RendererConfig,
-};
+use gpu_backend::render::{FrameImage, FullscreenPath, OpaquePath, RenderError, Renderer, RendererConfig};
 use gpu_backend::residency::GigabufferConfig;
 use mesher::lod::NodeMesh;
 use render_model::camera::Camera;
