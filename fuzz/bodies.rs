@@ -65,10 +65,10 @@ use blocky_reference::{covered, reference_faces, voxel};
 /// and decoded again: 4 ulps at 1.0. Absolute rather than relative because a component that
 /// should be zero can decode as `±4e-8` (the unfold `x - t` is not exact in `f32`) and change
 /// sign on the second trip. Measured over all 65,536 `oct16` codes: at most 0.71 ulp.
-pub const NORMAL_TOLERANCE: f32 = 4.0 * f32::EPSILON;
+pub(crate) const NORMAL_TOLERANCE: f32 = 4.0 * f32::EPSILON;
 
 /// How far from 1 the length of a decoded octahedral normal may be ("a few ulps").
-pub const UNIT_LENGTH_TOLERANCE: f64 = 4.0 * f32::EPSILON as f64;
+pub(crate) const UNIT_LENGTH_TOLERANCE: f64 = 4.0 * f32::EPSILON as f64;
 
 /// The extent used for `BlockVertex` / `ClutterUnit` positions when the input does not carry a
 /// valid one.
@@ -79,7 +79,7 @@ const DEFAULT_EXTENT: UnormExtent = UnormExtent::padded_chunk(ChunkSize::S32);
 // ---------------------------------------------------------------------------------------------
 
 /// `decode_chunk` on arbitrary bytes (the whole input is one encoded chunk).
-pub fn chunk_codec(data: &[u8]) {
+pub(crate) fn chunk_codec(data: &[u8]) {
     let reference = reference_decode(data);
     let chunk = match decode_chunk(data) {
         Ok(chunk) => chunk,
@@ -651,7 +651,7 @@ fn check_oct_bound(direction: Vec3, bits32: bool) {
 // ---------------------------------------------------------------------------------------------
 
 /// `DrawBlock` (4 bytes): every bit pattern decodes and round-trips.
-pub fn draw_block(data: &[u8]) {
+pub(crate) fn draw_block(data: &[u8]) {
     let Some(packed) = read::<DrawBlock>(data) else {
         return;
     };
@@ -683,7 +683,7 @@ pub fn draw_block(data: &[u8]) {
 
 /// `PackedQuad` (8 bytes): decodes exactly when the reserved bits are clear and the face is
 /// `0..6`; then round-trips and its corners span a `width x height` rectangle in the face plane.
-pub fn packed_quad(data: &[u8]) {
+pub(crate) fn packed_quad(data: &[u8]) {
     let Some(packed) = read::<PackedQuad>(data) else {
         return;
     };
@@ -769,7 +769,7 @@ pub fn packed_quad(data: &[u8]) {
 /// `BlockVertex` (16 bytes, every bit pattern decodes). Optional trailing bytes:
 /// `16..20` the position extent (`f32`; invalid or absent: the padded 32^3 chunk), `20..24` a
 /// value to check the unorm16 bound on, `24..36` a direction to check the oct16 bound on.
-pub fn block_vertex(data: &[u8]) {
+pub(crate) fn block_vertex(data: &[u8]) {
     let Some(packed) = read::<BlockVertex>(data) else {
         return;
     };
@@ -810,7 +810,7 @@ pub fn block_vertex(data: &[u8]) {
 /// `20..24` the position extent (`f32`; invalid or absent: the padded 32^3 chunk), `24..28` a
 /// value to check the unorm8 bound on, `28..32` an `oct32` code (no packed format stores one),
 /// `32..44` a direction to check the oct32 bound on.
-pub fn clutter_unit(data: &[u8]) {
+pub(crate) fn clutter_unit(data: &[u8]) {
     let Some(packed) = read::<ClutterUnit>(data) else {
         return;
     };
@@ -867,7 +867,7 @@ pub fn clutter_unit(data: &[u8]) {
 
 /// `ChunkDrawInfo` (24 bytes): decodes exactly when the kind is 0..=2 and both sentinels are
 /// `>= -1`; then round-trips.
-pub fn chunk_draw_info(data: &[u8]) {
+pub(crate) fn chunk_draw_info(data: &[u8]) {
     let Some(packed) = read::<ChunkDrawInfo>(data) else {
         return;
     };
@@ -915,7 +915,7 @@ pub fn chunk_draw_info(data: &[u8]) {
 /// `MeshedChunkInfo` (112 bytes): decodes exactly when lod <= 15, the centre is finite, the
 /// extent finite and `>= 0`, and every range ends within `u32`; then round-trips bit for bit
 /// and every per-face range is contiguous and in bounds.
-pub fn meshed_chunk_info(data: &[u8]) {
+pub(crate) fn meshed_chunk_info(data: &[u8]) {
     let Some(packed) = read::<MeshedChunkInfo>(data) else {
         return;
     };
@@ -969,7 +969,7 @@ pub fn meshed_chunk_info(data: &[u8]) {
 }
 
 /// `ChunkDrawIndirect` (32 bytes): every bit pattern decodes and round-trips.
-pub fn chunk_draw_indirect(data: &[u8]) {
+pub(crate) fn chunk_draw_indirect(data: &[u8]) {
     let Some(packed) = read::<ChunkDrawIndirect>(data) else {
         return;
     };
@@ -1002,7 +1002,7 @@ pub fn chunk_draw_indirect(data: &[u8]) {
 /// `1 <= db <= b`, to the corners of the layout table (form and rotation), and those corners
 /// re-encode to a record that decodes to them; bytes `6..22`, when present, are 4 little-endian
 /// `u32` corners that encode exactly when they fit and then decode back unchanged.
-pub fn compact_quad(data: &[u8]) {
+pub(crate) fn compact_quad(data: &[u8]) {
     let Some(bytes) = read::<[u8; 6]>(data) else {
         return;
     };
@@ -1087,7 +1087,7 @@ const CLASSES: [MaterialClass; 4] = [
 /// - bytes 4..: the padded voxels in storage order (x fastest), repeated cyclically (none: all
 ///   air). A byte below `0xF0` is id `byte % 9` (so ids past the palette are unknown); the rest
 ///   are [`LARGE_IDS`].
-pub struct BlockyInput {
+pub(crate) struct BlockyInput {
     /// The padded chunk.
     pub padded: PaddedChunk,
     /// The palette's classes.
@@ -1099,7 +1099,7 @@ pub struct BlockyInput {
 }
 
 /// Decodes a [`BlockyInput`]; `None` for inputs shorter than the 4 header bytes.
-pub fn blocky_input(data: &[u8]) -> Option<BlockyInput> {
+pub(crate) fn blocky_input(data: &[u8]) -> Option<BlockyInput> {
     let [head, count, c0, c1, voxels @ ..] = data else {
         return None;
     };
@@ -1165,7 +1165,7 @@ pub fn blocky_input(data: &[u8]) -> Option<BlockyInput> {
 ///   smooth quad per owned face between a smoothable and a non-opaque voxel, with every index
 ///   inside the vertex buffer, and the greedy quads of the other blocks (the greedy mesher's
 ///   output less the smoothable blocks' quads), with counts that match its stats.
-pub fn blocky_mesh(data: &[u8]) {
+pub(crate) fn blocky_mesh(data: &[u8]) {
     let Some(input) = blocky_input(data) else {
         return;
     };
@@ -1354,7 +1354,7 @@ fn nocubes_check(padded: &PaddedChunk, classes: &BlockClasses) {
 /// - `i8`: `mesh_i8` equals `mesh_f32` on the densities `q * I8_DENSITY_STEP` exactly, as
 ///   documented;
 /// - a reused mesher gives the same mesh again.
-pub fn smooth_density(data: &[u8]) {
+pub(crate) fn smooth_density(data: &[u8]) {
     let [dx, dy, dz, mode, bytes @ ..] = data else {
         return;
     };

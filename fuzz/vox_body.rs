@@ -98,7 +98,7 @@ fn check_scene(scene: &VoxScene) -> Vec<(i32, i32, i32, u16)> {
 }
 
 /// The `vox_loader` target: see the module docs.
-pub fn vox_loader(data: &[u8]) {
+pub(crate) fn vox_loader(data: &[u8]) {
     let options = VoxOptions::new(ChunkSize::S16, MAX_VOXELS);
     let scene = match load_vox_with(data, &options) {
         Ok(scene) => scene,

@@ -62,7 +62,7 @@ fn vec3s(accessor: &gltf::Accessor<'_>, blob: &[u8]) -> Vec<[f32; 3]> {
 }
 
 /// See the [module docs](self).
-pub fn vox_gltf(data: &[u8]) {
+pub(crate) fn vox_gltf(data: &[u8]) {
     let Some((&flags, vox)) = data.split_first() else {
         return;
     };

@@ -53,6 +53,13 @@ pub struct ThreadCpuTime {
     wall: WallTime,
 }
 
+impl std::fmt::Debug for ThreadCpuTime {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        // criterion's WallTime has no Debug and no state.
+        f.write_str("ThreadCpuTime")
+    }
+}
+
 impl Default for ThreadCpuTime {
     fn default() -> Self {
         ThreadCpuTime { wall: WallTime }

@@ -30,6 +30,7 @@ use voxel_scene::terrain_scene;
 const TERRAIN_TOP: u32 = 40;
 
 /// A terrain meshed at every level of detail, and what making it cost.
+#[derive(Debug)]
 pub struct LodTerrain {
     /// Chunk edge.
     pub size: ChunkSize,

@@ -38,6 +38,7 @@ use crate::inputs::chunks::{
 use voxel_scene::rng::Rng;
 
 /// One bench input: one or more padded chunks and the palette their ids index.
+#[derive(Debug)]
 pub struct MeshInput {
     /// Name used in the bench id, e.g. `terrain 62^3`.
     pub name: String,

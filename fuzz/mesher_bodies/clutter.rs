@@ -51,7 +51,7 @@ fn offset(bits: u64) -> f64 {
 ///   the hash, each unit's position within the stated unorm16 bound of the exact point on the
 ///   top face and inside its block's column, normal +y, kind, scale step, seed, atlas corner
 ///   and size, and tint from its own hash.
-pub fn place_clutter(data: &[u8]) {
+pub(crate) fn place_clutter(data: &[u8]) {
     let Some(params) = data.get(..PARAMS_LEN) else {
         return;
     };

@@ -5,16 +5,16 @@ use mesher::BlockClasses;
 use voxel_core::{BlockId, ChunkSize, Material, MaterialClass, MaterialPalette, PaddedChunk};
 
 /// Bytes before the voxel bytes.
-pub const HEADER_LEN: usize = 8;
+pub(crate) const HEADER_LEN: usize = 8;
 
 /// The ids that voxel bytes `0xF0..=0xFF` stand for (low nibble): ids past any palette, on both
 /// sides of the 64-id boundary of the meshers' cache of known ids and up to the largest `u16`.
-pub const LARGE_IDS: [u16; 16] = [
+pub(crate) const LARGE_IDS: [u16; 16] = [
     63, 64, 65, 69, 70, 71, 100, 255, 256, 1000, 4095, 4096, 30000, 32767, 65534, 65535,
 ];
 
 /// The chunk size of each value of byte 0's low 3 bits.
-pub const SIZES: [ChunkSize; 8] = [
+pub(crate) const SIZES: [ChunkSize; 8] = [
     ChunkSize::S8,
     ChunkSize::S8,
     ChunkSize::S8,
@@ -35,7 +35,7 @@ const CLASSES: [MaterialClass; 4] = [
 
 /// How the voxel bytes fill the padded chunk.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Fill {
+pub(crate) enum Fill {
     /// One byte per voxel.
     Voxels,
     /// One byte per cube of `edge^3` voxels (2 or 4): solid blocks, buried voxels, long runs.
@@ -56,7 +56,7 @@ pub enum Fill {
 /// - bytes 8..: the voxel bytes, repeated cyclically (none: all air). A byte below `0xF0` is id
 ///   `byte % 18` (so ids 16 and 17, and any past the palette, are unknown); the rest are
 ///   [`LARGE_IDS`].
-pub struct ChunkInput {
+pub(crate) struct ChunkInput {
     /// The chunk and its one-voxel border.
     pub padded: PaddedChunk,
     /// Its materials.
@@ -66,7 +66,7 @@ pub struct ChunkInput {
 }
 
 /// The id a voxel byte stands for (see [`ChunkInput`]).
-pub fn voxel_id(byte: u8) -> BlockId {
+pub(crate) fn voxel_id(byte: u8) -> BlockId {
     if byte >= 0xF0 {
         BlockId(LARGE_IDS[usize::from(byte & 15)])
     } else {
@@ -75,7 +75,7 @@ pub fn voxel_id(byte: u8) -> BlockId {
 }
 
 /// Decodes a [`ChunkInput`]; `None` for inputs shorter than [`HEADER_LEN`].
-pub fn chunk_input(data: &[u8]) -> Option<ChunkInput> {
+pub(crate) fn chunk_input(data: &[u8]) -> Option<ChunkInput> {
     let header = data.get(..HEADER_LEN)?;
     let voxels = &data[HEADER_LEN..];
     let size = SIZES[usize::from(header[0] & 7)];

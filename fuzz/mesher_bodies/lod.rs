@@ -90,7 +90,7 @@ fn finer_chunk(padded: &PaddedChunk, k: u32, size: ChunkSize) -> DenseChunk {
 /// - `prepare_lod_border`: the padding of exactly the sides not at the same level is cleared,
 ///   every other voxel kept, the occupancy masks follow the voxels, and the surface blocks of
 ///   the prepared chunk include every non-air voxel on a cleared side.
-pub fn lod(data: &[u8]) {
+pub(crate) fn lod(data: &[u8]) {
     let Some(params) = data.get(..PARAMS_LEN) else {
         return;
     };

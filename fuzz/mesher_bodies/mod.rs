@@ -14,7 +14,7 @@
 #![allow(dead_code, unused_imports)] // Each fuzz target uses one body; the replay test uses them all.
 
 #[path = "input.rs"]
-pub mod input;
+pub(crate) mod input;
 
 #[path = "clutter.rs"]
 mod clutter;
@@ -25,10 +25,10 @@ mod shells;
 #[path = "surface_blocks.rs"]
 mod surface_blocks;
 
-pub use clutter::place_clutter;
-pub use lod::lod;
-pub use shells::vertical_shells;
-pub use surface_blocks::surface_blocks;
+pub(crate) use clutter::place_clutter;
+pub(crate) use lod::lod;
+pub(crate) use shells::vertical_shells;
+pub(crate) use surface_blocks::surface_blocks;
 
 use mesher::BlockClasses;
 use voxel_core::{BlockId, PaddedChunk};
@@ -38,7 +38,11 @@ use voxel_core::{BlockId, PaddedChunk};
 /// neighbour *hides* a face when it is neither air nor transparent (unknown ids hide); the face
 /// of voxel `v` towards `n` is exposed when `v` is not air, `n` does not hide, and `v` is not a
 /// transparent voxel of the same id as `n`.
-pub fn exposed_faces(padded: &PaddedChunk, classes: &BlockClasses, pos: [u32; 3]) -> [bool; 6] {
+pub(crate) fn exposed_faces(
+    padded: &PaddedChunk,
+    classes: &BlockClasses,
+    pos: [u32; 3],
+) -> [bool; 6] {
     let voxels = padded.voxels();
     let p = padded.padded_edge();
     let [x, y, z] = pos.map(|a| a as usize);
@@ -60,19 +64,19 @@ pub fn exposed_faces(padded: &PaddedChunk, classes: &BlockClasses, pos: [u32; 3]
 }
 
 /// The padded voxel at `pos` (inside the padded chunk).
-pub fn id_at(padded: &PaddedChunk, pos: [u32; 3]) -> BlockId {
+pub(crate) fn id_at(padded: &PaddedChunk, pos: [u32; 3]) -> BlockId {
     let p = padded.padded_edge();
     let [x, y, z] = pos.map(|a| a as usize);
     padded.voxels()[x + p * (y + p * z)]
 }
 
 /// True when `id` is neither air nor in the palette.
-pub fn unknown(classes: &BlockClasses, id: BlockId) -> bool {
+pub(crate) fn unknown(classes: &BlockClasses, id: BlockId) -> bool {
     !id.is_air() && classes.class(id).is_none()
 }
 
 /// Every padded position of the chunk's own voxels (`1..=edge` per axis), z slowest, x fastest.
-pub fn chunk_positions(padded: &PaddedChunk) -> impl Iterator<Item = [u32; 3]> {
+pub(crate) fn chunk_positions(padded: &PaddedChunk) -> impl Iterator<Item = [u32; 3]> {
     // Half-open ranges: an inclusive range checks for its end on every step.
     let end = padded.size().edge() + 1;
     (1..end).flat_map(move |z| (1..end).flat_map(move |y| (1..end).map(move |x| [x, y, z])))

@@ -9,7 +9,7 @@ use super::{chunk_positions, exposed_faces, id_at, unknown};
 /// The exposed-face bits (bit `d`: face `FaceDirection::ALL[d]`) of every chunk voxel, index
 /// `(x - 1) + e * ((y - 1) + e * (z - 1))` for padded `(x, y, z)`; 0 for a voxel that is not
 /// exposed.
-pub fn face_bits(padded: &PaddedChunk, classes: &BlockClasses) -> Vec<u8> {
+pub(super) fn face_bits(padded: &PaddedChunk, classes: &BlockClasses) -> Vec<u8> {
     chunk_positions(padded)
         .map(|pos| {
             exposed_faces(padded, classes, pos)
@@ -21,7 +21,7 @@ pub fn face_bits(padded: &PaddedChunk, classes: &BlockClasses) -> Vec<u8> {
 }
 
 /// Index of padded chunk position `pos` in [`face_bits`].
-pub fn chunk_index(padded: &PaddedChunk, pos: [u32; 3]) -> usize {
+pub(super) fn chunk_index(padded: &PaddedChunk, pos: [u32; 3]) -> usize {
     let e = padded.size().edge_usize();
     let [x, y, z] = pos.map(|a| a as usize - 1);
     x + e * (y + e * z)
@@ -29,7 +29,7 @@ pub fn chunk_index(padded: &PaddedChunk, pos: [u32; 3]) -> usize {
 
 /// A chunk of another size than `size` (a small one), to leave a reused buffer's scratch
 /// holding something else first.
-pub fn other_chunk(size: ChunkSize) -> PaddedChunk {
+pub(super) fn other_chunk(size: ChunkSize) -> PaddedChunk {
     let other = if size == ChunkSize::S8 {
         ChunkSize::S16
     } else {
@@ -47,7 +47,7 @@ pub fn other_chunk(size: ChunkSize) -> PaddedChunk {
 /// - otherwise the runs cover every exposed voxel exactly once; each is `1..=edge - y` voxels
 ///   of one id, inside the chunk, maximal (the voxels just below and above are not exposed
 ///   voxels of its id), with `reserved` 0 and `sides` the OR of its voxels' exposed faces.
-pub fn vertical_shells(data: &[u8]) {
+pub(crate) fn vertical_shells(data: &[u8]) {
     let Some(input) = chunk_input(data) else {
         return;
     };

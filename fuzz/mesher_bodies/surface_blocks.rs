@@ -40,7 +40,7 @@ fn output_order(padded: &PaddedChunk) -> Vec<[u32; 3]> {
 ///   smoothable class, `HAS_CLUTTER` for a clutter-bearing block with air above (the border
 ///   included); sub-block ranges list only non-empty sub-blocks, in order, contiguous, and each
 ///   block's packed position lies inside its sub-block.
-pub fn surface_blocks(data: &[u8]) {
+pub(crate) fn surface_blocks(data: &[u8]) {
     let Some(input) = chunk_input(data) else {
         return;
     };

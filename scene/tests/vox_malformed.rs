@@ -438,9 +438,7 @@ fn voxels_leaving_the_world_and_scenes_over_the_limit_are_refused() {
     assert!(matches!(err, VoxError::OutOfWorld { .. }));
 
     let bytes = two_model_scene().bytes();
-    let err = load_vox_bytes(&bytes, ChunkSize::S16, 6)
-        .err()
-        .expect("7 voxels > 6");
+    let err = load_vox_bytes(&bytes, ChunkSize::S16, 6).expect_err("7 voxels > 6");
     assert!(err.to_string().contains("allowed 6 voxels"), "{err}");
 }
 

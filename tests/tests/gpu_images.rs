@@ -280,7 +280,7 @@ mod comparer {
     }
 
     /// `image` moved by `(dx, dy)` pixels, sky where nothing moved in.
-    pub fn moved(image: &Image, dx: i64, dy: i64) -> Image {
+    pub(crate) fn moved(image: &Image, dx: i64, dy: i64) -> Image {
         let (w, h) = (i64::from(image.width), i64::from(image.height));
         let mut out = image.clone();
         for y in 0..h {

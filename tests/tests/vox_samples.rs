@@ -71,9 +71,8 @@ fn a_scene_over_the_voxel_limit_is_refused_with_the_limit_named() {
     let Some(path) = sample_vox_files().into_iter().next() else {
         return;
     };
-    let err = load_vox_file(&path, ChunkSize::S32, 10)
-        .err()
-        .expect("10 voxels is too few for any sample");
+    let err =
+        load_vox_file(&path, ChunkSize::S32, 10).expect_err("10 voxels is too few for any sample");
     assert!(err.to_string().contains("10 voxels"), "{err}");
 }
 

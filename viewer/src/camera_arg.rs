@@ -6,7 +6,7 @@ use voxel_core::WorldPos;
 
 /// `--camera`: an eye position and direction.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CameraArg {
+pub(crate) struct CameraArg {
     /// World position in voxels.
     pub position: DVec3,
     /// Degrees about +y; 0 looks along -z.
@@ -18,7 +18,7 @@ pub struct CameraArg {
 impl CameraArg {
     /// The camera at this position and direction, with vertical field of view `fov_y`
     /// (radians).
-    pub fn camera(&self, fov_y: f64) -> Camera {
+    pub(crate) fn camera(&self, fov_y: f64) -> Camera {
         let floor = self.position.floor();
         Camera {
             voxel: WorldPos::new(floor.x as i32, floor.y as i32, floor.z as i32),
@@ -33,7 +33,7 @@ impl CameraArg {
 
 /// `X,Y,Z,YAW,PITCH`: finite numbers, the position inside the i32 world, the pitch from -90
 /// to 90.
-pub fn parse_camera(text: &str) -> Result<CameraArg, String> {
+pub(crate) fn parse_camera(text: &str) -> Result<CameraArg, String> {
     let values: Vec<f64> = text
         .split(',')
         .map(|part| part.trim().parse::<f64>())
@@ -66,7 +66,7 @@ pub fn parse_camera(text: &str) -> Result<CameraArg, String> {
 }
 
 /// Degrees from 1 to 179, returned in radians.
-pub fn parse_fov(text: &str) -> Result<f64, String> {
+pub(crate) fn parse_fov(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
         Ok(d) if (1.0..=179.0).contains(&d) => Ok(d.to_radians()),
         _ => Err(format!(

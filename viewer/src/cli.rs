@@ -15,7 +15,7 @@ use crate::camera_arg::{CameraArg, parse_camera, parse_fov};
 /// in a window or as a PNG; `--flight` measures a scripted flight.
 #[derive(Parser, Debug)]
 #[command(version, about)]
-pub struct Args {
+pub(crate) struct Args {
     /// Render one frame to a PNG even when a display is available.
     #[arg(long, conflicts_with = "window")]
     pub headless: bool,
@@ -115,7 +115,7 @@ pub struct Args {
 
 impl Args {
     /// The frame size: the flags, else 960 x 540 (1920 x 1080 for a flight).
-    pub fn size(&self) -> (u32, u32) {
+    pub(crate) fn size(&self) -> (u32, u32) {
         let (w, h) = if self.flight.is_some() {
             (1920, 1080)
         } else {
@@ -125,7 +125,7 @@ impl Args {
     }
 
     /// The streamed terrain's settings from the flags.
-    pub fn stream_settings(&self) -> StreamSettings {
+    pub(crate) fn stream_settings(&self) -> StreamSettings {
         StreamSettings {
             seed: self.seed,
             radius: self.radius,
@@ -140,7 +140,7 @@ impl Args {
 }
 
 /// `WIDTHxHEIGHT`, each 1 to 8192.
-pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
+pub(crate) fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let parse = |part: &str| match part.trim().parse::<u32>() {
         Ok(v @ 1..=8192) => Ok(v),
         _ => Err(format!("{part:?} is not a size from 1 to 8192")),

@@ -26,6 +26,7 @@ use crate::stream::{NodeMemory, StreamError, StreamSettings, StreamStatus, Strea
 pub const OPAQUE_TRIAL_FRAMES: usize = 8;
 
 /// The streamer that draws, and the one replacing it (see the [module docs](self)).
+#[derive(Debug)]
 pub struct StreamedView {
     current: Streamer,
     next: Option<Streamer>,

@@ -6,14 +6,13 @@
 
 use std::time::{Duration, Instant};
 
-use render_model::camera::Camera;
 use gpu_backend::test_support::headless_or_skip;
 use gpu_backend::{DeviceOptions, GpuContext};
+use render_model::camera::Camera;
 use viewer::headless::load;
 use viewer::scene::{Terrain, TerrainBlocks, terrain_view};
 use viewer::stream::{MesherMode, StreamSettings, UploadLimit};
 use viewer::view::StreamedView;
-use voxel_core::ChunkSize;
 
 const LOAD: Duration = Duration::from_secs(300);
 const SIZE: (u32, u32) = (96, 54);
@@ -106,11 +105,7 @@ fn the_budget_is_raised_to_the_smallest_step_that_fits() {
 
 /// Streams `view` around `camera` until it settles with no replacement, calling `each` after
 /// every frame.
-fn load_checking(
-    view: &mut StreamedView,
-    camera: &Camera,
-    mut each: impl FnMut(&StreamedView),
-) {
+fn load_checking(view: &mut StreamedView, camera: &Camera, mut each: impl FnMut(&StreamedView)) {
     let started = Instant::now();
     loop {
         view.update(camera).unwrap();

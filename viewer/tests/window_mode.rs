@@ -10,9 +10,9 @@ mod support;
 
 use std::time::Instant;
 
+use render_model::lighting::Lighting;
 use support::{Xvfb, have_adapter, read_png, run_viewer, text, xvfb_or_skip};
 use viewer::gpu_view::render_scene;
-use render_model::lighting::Lighting;
 use viewer::scene::terrain_scene;
 use voxel_core::ChunkSize;
 

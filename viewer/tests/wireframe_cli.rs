@@ -129,7 +129,11 @@ fn box_quads() -> Vec<([[f64; 3]; 4], [f64; 3])> {
 
 /// The pinhole projection of `render_model::camera::Camera::ray_direction`, inverted: the pixel
 /// coordinates (pixel centres at `i + 0.5`) of world point `p`, `None` behind the eye.
-fn project(camera: &render_model::camera::Camera, p: [f64; 3], (w, h): (u32, u32)) -> Option<[f64; 2]> {
+fn project(
+    camera: &render_model::camera::Camera,
+    p: [f64; 3],
+    (w, h): (u32, u32),
+) -> Option<[f64; 2]> {
     let eye = glam::DVec3::new(
         f64::from(camera.voxel.x),
         f64::from(camera.voxel.y),

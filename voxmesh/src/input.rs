@@ -13,6 +13,7 @@ use crate::cli::Input;
 pub const MAX_VOX_VOXELS: usize = 1 << 28;
 
 /// A world to mesh.
+#[derive(Debug)]
 pub struct Scene {
     /// The voxels.
     pub world: WorldMap<PaletteChunk>,

@@ -11,6 +11,7 @@ use rayon::prelude::*;
 use crate::cli::Mode;
 
 /// The mesh of one chunk.
+#[derive(Debug)]
 pub struct ChunkOutput {
     /// The chunk.
     pub coord: ChunkCoord,

@@ -15,7 +15,7 @@ use tempfile::NamedTempFile;
 use crate::Error;
 
 /// Files written so far, waiting to be renamed into place.
-#[derive(Default)]
+#[derive(Debug, Default)]
 pub struct Outputs {
     pending: Vec<(NamedTempFile, PathBuf)>,
 }

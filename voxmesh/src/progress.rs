@@ -20,6 +20,16 @@ pub struct Progress {
     stages: Mutex<Vec<&'static str>>,
 }
 
+impl std::fmt::Debug for Progress {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Progress")
+            .field("started", &self.started)
+            .field("show_after", &self.show_after)
+            .field("shown", &self.shown.get().is_some())
+            .finish_non_exhaustive()
+    }
+}
+
 impl Progress {
     /// A bar on stderr for a job that started at `started`.
     pub fn stderr(started: Instant) -> Progress {

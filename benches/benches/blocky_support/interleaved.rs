@@ -11,7 +11,7 @@ use voxel_scene::rng::Rng;
 
 /// Which side and which output a timed mesher stands for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kind {
+pub(crate) enum Kind {
     /// Our visible faces.
     OursVisible,
     /// Our greedy quads from a `PaddedChunk` (occupancy columns already built), AO on.
@@ -31,7 +31,7 @@ pub enum Kind {
 }
 
 /// One mesher to time: a name for the report, its kind and a call that meshes the input once.
-pub struct Timed<'a> {
+pub(crate) struct Timed<'a> {
     /// Its name in the report.
     pub name: &'static str,
     /// What it stands for.
@@ -50,7 +50,7 @@ struct Spread {
 /// The bars' ratios on one input, from the minima (`None` where a side was not timed). Above
 /// 1.0 means ours is faster (or, for the AO rows, that AO off is faster than AO on).
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Ratios {
+pub(crate) struct Ratios {
     /// Bar 1: the fastest peer greedy mesher end to end over ours from a `u16` array, AO off.
     pub bar1: Option<f64>,
     /// Bar 2: `fast_mesh` on prebuilt masks over ours from a `PaddedChunk`, AO off.
@@ -77,7 +77,12 @@ pub struct Ratios {
 /// masks, our `u16` entries after our `PaddedChunk` ones) warm, and on a short mesh (terrain
 /// 32^3) that difference is as large as the margins the bars ask for. (Only moving the start of
 /// the same cycle would leave that as it is.)
-pub fn report(input: &str, mut timed: Vec<Timed<'_>>, rounds: usize, budget: Duration) -> Ratios {
+pub(crate) fn report(
+    input: &str,
+    mut timed: Vec<Timed<'_>>,
+    rounds: usize,
+    budget: Duration,
+) -> Ratios {
     let n = timed.len();
     let mut samples = vec![Vec::with_capacity(rounds); n];
     let mut order: Vec<usize> = (0..n).collect();
@@ -164,7 +169,7 @@ pub fn report(input: &str, mut timed: Vec<Timed<'_>>, rounds: usize, budget: Dur
 
 /// Prints the ratios of every input as one markdown table, and the inputs where a bar is
 /// below 1.0x (bar 1 asks for 1.3x).
-pub fn print_table(rows: &[(String, Ratios)]) {
+pub(crate) fn print_table(rows: &[(String, Ratios)]) {
     if rows.is_empty() {
         return;
     }

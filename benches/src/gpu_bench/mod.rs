@@ -16,7 +16,9 @@ use std::time::Instant;
 
 use gpu_backend::GpuContext;
 use gpu_backend::render::far::{FarChoice, FarRequest};
-use gpu_backend::render::{FrameImage, FullscreenPath, OpaquePath, RenderError, Renderer, RendererConfig};
+use gpu_backend::render::{
+    FrameImage, FullscreenPath, OpaquePath, RenderError, Renderer, RendererConfig,
+};
 use gpu_backend::residency::GigabufferConfig;
 use mesher::lod::NodeMesh;
 use render_model::camera::Camera;
@@ -296,6 +298,7 @@ fn measure(
 }
 
 /// The images a run kept: the full-detail reference and the last setting's frame.
+#[derive(Debug)]
 pub struct BenchImages {
     /// The full-detail frame, when rendered.
     pub reference: Option<FrameImage>,

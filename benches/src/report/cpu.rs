@@ -61,6 +61,7 @@ impl CpuRow {
 }
 
 /// A world to mesh and its materials.
+#[derive(Debug)]
 pub struct Input {
     /// Name in the tables.
     pub name: String,

@@ -73,6 +73,7 @@ impl Shape {
 }
 
 /// A sampled shape: its grid, centre (off the lattice, so no symmetry hides errors) and mesh.
+#[derive(Debug)]
 pub struct Sampled {
     /// The shape.
     pub shape: Shape,

@@ -68,6 +68,18 @@ pub struct Terrain {
     pub amplitude: f32,
 }
 
+impl std::fmt::Debug for Terrain {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        // The noise generators have no Debug; their settings are fixed by `Terrain::new`.
+        f.debug_struct("Terrain")
+            .field("blocks", &self.blocks)
+            .field("sea_level", &self.sea_level)
+            .field("base_height", &self.base_height)
+            .field("amplitude", &self.amplitude)
+            .finish_non_exhaustive()
+    }
+}
+
 impl Terrain {
     /// Terrain for `seed`, with the block ids of [`TerrainBlocks::palette`].
     pub fn new(seed: i32, blocks: TerrainBlocks) -> Terrain {

@@ -13,6 +13,7 @@ pub const TERRAIN_TOP: i32 = 40;
 
 /// A generated region of the terrain: its chunks, the materials their ids index, and the
 /// generator (for heights, e.g. to place a camera).
+#[derive(Debug)]
 pub struct TerrainScene {
     /// The voxels, palette-compressed per chunk; all-air chunks are not stored.
     pub world: WorldMap<PaletteChunk>,

@@ -74,7 +74,7 @@ pub(crate) enum Node {
 
 impl Node {
     /// The node's attributes.
-    pub fn attributes(&self) -> &Dict {
+    pub(crate) fn attributes(&self) -> &Dict {
         match self {
             Node::Transform { attributes, .. }
             | Node::Group { attributes, .. }

@@ -160,6 +160,7 @@ impl LoadReport {
 }
 
 /// A loaded `.vox` file.
+#[derive(Debug)]
 pub struct VoxScene {
     /// The voxels, in chunks of [`VoxOptions::chunk_size`].
     pub world: WorldMap<PaletteChunk>,

@@ -23,7 +23,7 @@ pub(crate) struct Chunk<'a> {
 
 impl<'a> Chunk<'a> {
     /// A cursor over the content.
-    pub fn cursor(&self) -> Cursor<'a> {
+    pub(super) fn cursor(&self) -> Cursor<'a> {
         Cursor {
             bytes: self.content,
             pos: 0,
@@ -159,7 +159,7 @@ pub(crate) struct Dict {
 
 impl Dict {
     /// The value of `key`, if present.
-    pub fn get(&self, key: &str) -> Option<&str> {
+    pub(crate) fn get(&self, key: &str) -> Option<&str> {
         self.entries
             .iter()
             .find(|(k, _)| k == key)
@@ -168,7 +168,7 @@ impl Dict {
 
     /// Builds a dictionary from pairs (tests).
     #[cfg(test)]
-    pub fn from_pairs(pairs: &[(&str, &str)]) -> Dict {
+    pub(crate) fn from_pairs(pairs: &[(&str, &str)]) -> Dict {
         Dict {
             entries: pairs
                 .iter()
@@ -189,17 +189,17 @@ pub(crate) struct Cursor<'a> {
 
 impl<'a> Cursor<'a> {
     /// The chunk this cursor reads.
-    pub fn chunk(&self) -> ChunkAt {
+    pub(super) fn chunk(&self) -> ChunkAt {
         self.chunk
     }
 
     /// Bytes left to read.
-    pub fn remaining(&self) -> usize {
+    pub(super) fn remaining(&self) -> usize {
         self.bytes.len() - self.pos
     }
 
     /// The next `n` bytes.
-    pub fn take(&mut self, n: u64) -> Result<&'a [u8], VoxError> {
+    pub(super) fn take(&mut self, n: u64) -> Result<&'a [u8], VoxError> {
         let remaining = self.remaining();
         if n > remaining as u64 {
             return Err(VoxError::Truncated {
@@ -216,23 +216,23 @@ impl<'a> Cursor<'a> {
     }
 
     /// The next little-endian `u32`.
-    pub fn u32(&mut self) -> Result<u32, VoxError> {
+    pub(super) fn u32(&mut self) -> Result<u32, VoxError> {
         Ok(u32::from_le_bytes(self.take(4)?.try_into().expect("4")))
     }
 
     /// The next little-endian `i32`.
-    pub fn i32(&mut self) -> Result<i32, VoxError> {
+    pub(super) fn i32(&mut self) -> Result<i32, VoxError> {
         Ok(i32::from_le_bytes(self.take(4)?.try_into().expect("4")))
     }
 
     /// The next little-endian `f32`.
-    pub fn f32(&mut self) -> Result<f32, VoxError> {
+    pub(super) fn f32(&mut self) -> Result<f32, VoxError> {
         Ok(f32::from_le_bytes(self.take(4)?.try_into().expect("4")))
     }
 
     /// A count of items each at least `min_item_bytes` long, checked against what is left so
     /// that a lying count fails here instead of allocating.
-    pub fn count(&mut self, min_item_bytes: u64) -> Result<usize, VoxError> {
+    pub(super) fn count(&mut self, min_item_bytes: u64) -> Result<usize, VoxError> {
         let at = self.base + self.pos;
         let n = self.u32()?;
         let needed = u64::from(n) * min_item_bytes;
@@ -249,7 +249,7 @@ impl<'a> Cursor<'a> {
 
     /// A `STRING`: a `u32` length and that many bytes (invalid UTF-8 is replaced, since names
     /// are only shown and values that matter are parsed and checked).
-    pub fn string(&mut self) -> Result<String, VoxError> {
+    pub(super) fn string(&mut self) -> Result<String, VoxError> {
         Ok(String::from_utf8_lossy(self.raw_string()?).into_owned())
     }
 
@@ -262,7 +262,7 @@ impl<'a> Cursor<'a> {
     /// A `DICT`: a `u32` count and that many key-value `STRING` pairs; keys must be unique.
     /// Repeats are found through a hash set of the keys, so a dictionary of `n` keys costs
     /// `O(n)`, whatever the keys.
-    pub fn dict(&mut self) -> Result<Dict, VoxError> {
+    pub(super) fn dict(&mut self) -> Result<Dict, VoxError> {
         let n = self.count(8)?;
         let mut entries: Vec<(String, String)> = Vec::with_capacity(n);
         // Keys as they are read (invalid UTF-8 replaced), borrowed from the file when valid.
@@ -282,7 +282,7 @@ impl<'a> Cursor<'a> {
     }
 
     /// Fails unless every byte was read.
-    pub fn finish(&self, expected: &str) -> Result<(), VoxError> {
+    pub(super) fn finish(&self, expected: &str) -> Result<(), VoxError> {
         if self.remaining() == 0 {
             Ok(())
         } else {

@@ -15,7 +15,7 @@ pub(crate) struct Transform {
 
 impl Transform {
     /// No rotation, no translation.
-    pub const IDENTITY: Transform = Transform {
+    pub(super) const IDENTITY: Transform = Transform {
         rows: [(0, 1), (1, 1), (2, 1)],
         translation: [0; 3],
     };
@@ -25,7 +25,7 @@ impl Transform {
     }
 
     /// `v` rotated, then translated.
-    pub fn apply(&self, v: [i64; 3]) -> [i64; 3] {
+    pub(super) fn apply(&self, v: [i64; 3]) -> [i64; 3] {
         let r = self.rotate(v);
         std::array::from_fn(|i| r[i] + self.translation[i])
     }
@@ -33,7 +33,7 @@ impl Transform {
     /// `self` after `child`: maps a point of the child's space into `self`'s parent space.
     /// Translations stay far inside `i64`: each is an `i32` and the graph is at most
     /// [`MAX_SCENE_DEPTH`](super::MAX_SCENE_DEPTH) deep.
-    pub fn then_child(&self, child: &Transform) -> Transform {
+    pub(super) fn then_child(&self, child: &Transform) -> Transform {
         let mut rows = [(0, 0); 3];
         for (r, row) in rows.iter_mut().enumerate() {
             let (mid, sign_outer) = self.rows[r];
@@ -53,7 +53,7 @@ impl Transform {
     /// `v + 0.5 - size / 2`; it is rotated and translated, and the voxel it lands in is the
     /// floor of the result. Computed in doubled integers, so it is exact. Unrotated, this is
     /// `t + v - floor(size / 2)`, the convention of every MagicaVoxel reader.
-    pub fn place_voxel(&self, v: [u8; 3], size: [u32; 3]) -> [i64; 3] {
+    pub(super) fn place_voxel(&self, v: [u8; 3], size: [u32; 3]) -> [i64; 3] {
         let doubled_centre: [i64; 3] =
             std::array::from_fn(|i| 2 * i64::from(v[i]) + 1 - i64::from(size[i]));
         let r = self.rotate(doubled_centre);
@@ -66,7 +66,10 @@ impl Transform {
     /// `_r` is a byte: bits 0-1 and 2-3 are the columns of the non-zero entries of rows 0 and
     /// 1 (row 2 takes the remaining column), bits 4-6 the signs of rows 0-2 (1 = negative).
     /// `_t` is three integers separated by spaces.
-    pub fn from_frame(frame: &Dict, owner: &dyn Fn() -> String) -> Result<Transform, VoxError> {
+    pub(super) fn from_frame(
+        frame: &Dict,
+        owner: &dyn Fn() -> String,
+    ) -> Result<Transform, VoxError> {
         let bad = |key: &str, value: &str, expected| VoxError::BadValue {
             owner: owner(),
             key: key.to_owned(),

@@ -10,7 +10,7 @@ use std::path::PathBuf;
 
 /// Every `.vox` file of the shared sample data, sorted by name; empty (after printing a skip
 /// line) when the folder is missing outside CI.
-pub fn sample_vox_files() -> Vec<PathBuf> {
+pub(crate) fn sample_vox_files() -> Vec<PathBuf> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/vox");
     if !dir.is_dir() {
         if std::env::var("CI").is_ok_and(|v| v == "true") {

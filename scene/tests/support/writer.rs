@@ -11,12 +11,12 @@
 
 /// The chunks of a file under construction, in order.
 #[derive(Clone, Debug, Default)]
-pub struct VoxWriter {
+pub(crate) struct VoxWriter {
     chunks: Vec<([u8; 4], Vec<u8>)>,
 }
 
 /// A dictionary: a count and key-value strings.
-pub fn dict(pairs: &[(&str, &str)]) -> Vec<u8> {
+pub(crate) fn dict(pairs: &[(&str, &str)]) -> Vec<u8> {
     let mut out = (pairs.len() as u32).to_le_bytes().to_vec();
     for (k, v) in pairs {
         out.extend(string(k));
@@ -26,7 +26,7 @@ pub fn dict(pairs: &[(&str, &str)]) -> Vec<u8> {
 }
 
 /// A string: a length and the bytes.
-pub fn string(s: &str) -> Vec<u8> {
+pub(crate) fn string(s: &str) -> Vec<u8> {
     let mut out = (s.len() as u32).to_le_bytes().to_vec();
     out.extend_from_slice(s.as_bytes());
     out
@@ -38,19 +38,19 @@ fn i32s(values: &[i32]) -> Vec<u8> {
 
 impl VoxWriter {
     /// An empty file (just `VOX `, the version and an empty `MAIN`).
-    pub fn new() -> VoxWriter {
+    pub(crate) fn new() -> VoxWriter {
         VoxWriter::default()
     }
 
     /// Appends a raw chunk.
-    pub fn chunk(&mut self, id: &[u8; 4], content: Vec<u8>) -> &mut Self {
+    pub(crate) fn chunk(&mut self, id: &[u8; 4], content: Vec<u8>) -> &mut Self {
         self.chunks.push((*id, content));
         self
     }
 
     /// Appends a `SIZE` and an `XYZI` chunk: a model of `size` with `voxels` (x, y, z,
     /// colour index), the count written truthfully.
-    pub fn model(&mut self, size: [i32; 3], voxels: &[[u8; 4]]) -> &mut Self {
+    pub(crate) fn model(&mut self, size: [i32; 3], voxels: &[[u8; 4]]) -> &mut Self {
         self.chunk(b"SIZE", i32s(&size));
         let mut xyzi = (voxels.len() as u32).to_le_bytes().to_vec();
         xyzi.extend(voxels.iter().flatten());
@@ -58,19 +58,19 @@ impl VoxWriter {
     }
 
     /// Appends an `RGBA` palette: entry `i` is colour index `i + 1`.
-    pub fn palette(&mut self, colours: &[[u8; 4]; 256]) -> &mut Self {
+    pub(crate) fn palette(&mut self, colours: &[[u8; 4]; 256]) -> &mut Self {
         self.chunk(b"RGBA", colours.iter().flatten().copied().collect())
     }
 
     /// Appends a `MATL` chunk for colour index `id`.
-    pub fn matl(&mut self, id: i32, properties: &[(&str, &str)]) -> &mut Self {
+    pub(crate) fn matl(&mut self, id: i32, properties: &[(&str, &str)]) -> &mut Self {
         let mut content = i32s(&[id]);
         content.extend(dict(properties));
         self.chunk(b"MATL", content)
     }
 
     /// Appends an `nTRN` node with one frame.
-    pub fn transform(
+    pub(crate) fn transform(
         &mut self,
         id: i32,
         attributes: &[(&str, &str)],
@@ -82,7 +82,7 @@ impl VoxWriter {
     }
 
     /// Appends an `nTRN` node with any number of frames.
-    pub fn transform_frames(
+    pub(crate) fn transform_frames(
         &mut self,
         id: i32,
         attributes: &[(&str, &str)],
@@ -100,7 +100,12 @@ impl VoxWriter {
     }
 
     /// Appends an `nGRP` node.
-    pub fn group(&mut self, id: i32, attributes: &[(&str, &str)], children: &[i32]) -> &mut Self {
+    pub(crate) fn group(
+        &mut self,
+        id: i32,
+        attributes: &[(&str, &str)],
+        children: &[i32],
+    ) -> &mut Self {
         let mut content = i32s(&[id]);
         content.extend(dict(attributes));
         content.extend(i32s(&[children.len() as i32]));
@@ -109,7 +114,12 @@ impl VoxWriter {
     }
 
     /// Appends an `nSHP` node showing `models` (one per animation keyframe).
-    pub fn shape(&mut self, id: i32, attributes: &[(&str, &str)], models: &[i32]) -> &mut Self {
+    pub(crate) fn shape(
+        &mut self,
+        id: i32,
+        attributes: &[(&str, &str)],
+        models: &[i32],
+    ) -> &mut Self {
         let mut content = i32s(&[id]);
         content.extend(dict(attributes));
         content.extend(i32s(&[models.len() as i32]));
@@ -122,7 +132,7 @@ impl VoxWriter {
     }
 
     /// Appends a `LAYR` chunk.
-    pub fn layer(&mut self, id: i32, attributes: &[(&str, &str)]) -> &mut Self {
+    pub(crate) fn layer(&mut self, id: i32, attributes: &[(&str, &str)]) -> &mut Self {
         let mut content = i32s(&[id]);
         content.extend(dict(attributes));
         content.extend(i32s(&[-1]));
@@ -130,7 +140,7 @@ impl VoxWriter {
     }
 
     /// The file's bytes: header, `MAIN`, then the chunks.
-    pub fn bytes(&self) -> Vec<u8> {
+    pub(crate) fn bytes(&self) -> Vec<u8> {
         let mut children = Vec::new();
         for (id, content) in &self.chunks {
             children.extend_from_slice(id);
@@ -148,7 +158,7 @@ impl VoxWriter {
     }
 
     /// Byte offset of chunk `index`'s header in [`bytes`](Self::bytes).
-    pub fn offset_of(&self, index: usize) -> usize {
+    pub(crate) fn offset_of(&self, index: usize) -> usize {
         20 + self.chunks[..index]
             .iter()
             .map(|(_, c)| 12 + c.len())
@@ -156,7 +166,7 @@ impl VoxWriter {
     }
 
     /// Number of chunks so far.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.chunks.len()
     }
 }
@@ -164,7 +174,7 @@ impl VoxWriter {
 /// A scene of two models under a group, each with its own transform, plus a palette:
 /// model 0 (2 x 2 x 1, index 1-4) at `(-3, 0, 0)`, model 1 (1 x 1 x 3, index 5) at
 /// `(4, 2, 1)`, rotated by `_r = 17`.
-pub fn two_model_scene() -> VoxWriter {
+pub(crate) fn two_model_scene() -> VoxWriter {
     let mut w = VoxWriter::new();
     w.model(
         [2, 2, 1],

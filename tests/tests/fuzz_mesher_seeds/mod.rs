@@ -39,7 +39,7 @@ fn terrain() -> Vec<u8> {
 }
 
 /// The inputs of `vertical_shells` and `surface_blocks`.
-pub fn chunk_seeds() -> Seeds {
+pub(crate) fn chunk_seeds() -> Seeds {
     let ramp: Vec<u8> = (0..=255u8).collect();
     vec![
         ("empty-8", chunk(8, 0, 0, 0, 0, &[])),
@@ -79,7 +79,7 @@ fn clutter_params(density: f32, seed: u64, coord: [i32; 3]) -> Vec<u8> {
 }
 
 /// The inputs of `place_clutter`.
-pub fn clutter_seeds() -> Seeds {
+pub(crate) fn clutter_seeds() -> Seeds {
     let grass_floor = chunk(16, 3, 15, ALL_CLUTTER, 0, &[2, 1, 3]);
     let with = |density: f32, seed: u64, coord: [i32; 3], input: &[u8]| {
         let mut bytes = clutter_params(density, seed, coord);
@@ -128,7 +128,7 @@ fn lod_params(same_level: u8, mismatched: bool, present: u8, base: [i32; 3]) -> 
 }
 
 /// The inputs of `lod`.
-pub fn lod_seeds() -> Seeds {
+pub(crate) fn lod_seeds() -> Seeds {
     let with = |params: Vec<u8>, input: &[u8]| {
         let mut bytes = params;
         bytes.extend_from_slice(input);

@@ -41,7 +41,7 @@ const EDGE_SLACK: f64 = 1e-9;
 
 /// One triangle the GPU draws, camera-relative.
 #[derive(Clone, Copy, Debug)]
-pub struct Triangle {
+pub(crate) struct Triangle {
     /// Corners, counter-clockwise seen from the front.
     pub corners: [DVec3; 3],
     /// Unit normals at the corners.
@@ -59,7 +59,11 @@ pub struct Triangle {
 /// # Panics
 ///
 /// If meshing fails or the scene has transparent quads.
-pub fn mesh_triangles(scene: &TestScene, camera: &Camera, surface: SurfaceMode) -> Vec<Triangle> {
+pub(crate) fn mesh_triangles(
+    scene: &TestScene,
+    camera: &Camera,
+    surface: SurfaceMode,
+) -> Vec<Triangle> {
     let size = scene.world.size();
     let classes = BlockClasses::from_palette(&scene.palette);
     let coords: Vec<ChunkCoord> = scene.world.iter().map(|(c, _)| c).collect();
@@ -156,7 +160,7 @@ fn intersect(dir: DVec3, t: &Triangle) -> Option<(f64, f64, f64)> {
 
 /// Renders `triangles` of `scene` from `camera` like the GPU renderer (see the
 /// [module docs](self)), with the surfaces every pixel shows.
-pub fn rasterise(
+pub(crate) fn rasterise(
     triangles: &[Triangle],
     scene: &TestScene,
     camera: &Camera,
@@ -214,7 +218,7 @@ pub fn rasterise(
 }
 
 /// Pixels of `image` that show a smooth surface.
-pub fn smooth_pixels(image: &Image) -> usize {
+pub(crate) fn smooth_pixels(image: &Image) -> usize {
     image.surfaces.as_ref().map_or(0, |s| {
         s.iter()
             .filter(|p| matches!(p.opaque, Some(Surface::Smooth(_))))

@@ -29,7 +29,7 @@ use gpu_backend::png::encode_png;
 
 /// An image with depth: sRGB RGBA8 and the eye distance per pixel (infinity for sky).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Image {
+pub(crate) struct Image {
     /// Width, pixels.
     pub width: u32,
     /// Height, pixels.
@@ -46,7 +46,7 @@ pub struct Image {
 /// A surface, as far as creases go: a ray that moves a little and meets the same `Surface`
 /// sees the same depth and colour, up to a small change.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Surface {
+pub(crate) enum Surface {
     /// A face plane of blocks: `(face direction index, plane coordinate)`.
     Plane(u8, i32),
     /// The smooth (NoCubes) surface of one block id: continuous across its triangles.
@@ -55,7 +55,7 @@ pub enum Surface {
 
 /// The surfaces one ray met: the opaque hit's and the transparent surfaces' in front of it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct PixelSurfaces {
+pub(crate) struct PixelSurfaces {
     /// The opaque surface, if any.
     pub opaque: Option<Surface>,
     /// Transparent surfaces, front to back.
@@ -64,7 +64,7 @@ pub struct PixelSurfaces {
 
 /// How close two images must be (see the [module docs](self)).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Tolerance {
+pub(crate) struct Tolerance {
     /// Absolute depth error, blocks.
     pub depth_abs: f32,
     /// Depth error relative to the distance.
@@ -96,7 +96,7 @@ impl Tolerance {
     /// square, `a_one_pixel_shift_is_caught`). Creases, measured: 2.0% of the image (cube),
     /// 2.9% (NoCubes hill), 5.9% (sphere), 6.7% (knight), 17.3% (terrain, with its many small
     /// steps at 128 x 96); the cap is 20%.
-    pub const LAVAPIPE: Tolerance = Tolerance {
+    pub(crate) const LAVAPIPE: Tolerance = Tolerance {
         depth_abs: 1e-3,
         depth_rel: 2e-4,
         colour: 2,
@@ -108,7 +108,7 @@ impl Tolerance {
 
 /// The outcome of a comparison.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Comparison {
+pub(crate) struct Comparison {
     /// Pixels of the image.
     pub pixels: usize,
     /// Pixels skipped as silhouette edges.
@@ -135,7 +135,7 @@ pub struct Comparison {
 
 impl Comparison {
     /// True when every rule of `tolerance` holds.
-    pub fn passed(&self, tolerance: &Tolerance) -> bool {
+    pub(crate) fn passed(&self, tolerance: &Tolerance) -> bool {
         self.coverage_mismatches == 0
             && self.depth_failures == 0
             && self.colour_outliers as f64 <= tolerance.colour_outliers * self.compared as f64
@@ -145,7 +145,7 @@ impl Comparison {
     }
 
     /// Share of the silhouette-edge pixels whose coverage differs (0 without edge pixels).
-    pub fn edge_coverage_share(&self) -> f64 {
+    pub(crate) fn edge_coverage_share(&self) -> f64 {
         match self.edge_pixels {
             0 => 0.0,
             n => self.edge_coverage_mismatches as f64 / n as f64,
@@ -161,7 +161,7 @@ fn is_hit(d: f32) -> bool {
 /// surface (false when the reference does not know its surfaces). An edge passing within a
 /// hair of the pixel centre always separates the centre from one of its four neighbours, so
 /// the cross suffices.
-pub fn is_crease(reference: &Image, x: u32, y: u32) -> bool {
+pub(crate) fn is_crease(reference: &Image, x: u32, y: u32) -> bool {
     let Some(surfaces) = &reference.surfaces else {
         return false;
     };
@@ -175,7 +175,7 @@ pub fn is_crease(reference: &Image, x: u32, y: u32) -> bool {
 }
 
 /// True when pixel `(x, y)`'s 3x3 neighbourhood in `reference` mixes hit and miss.
-pub fn is_silhouette_edge(reference: &Image, x: u32, y: u32) -> bool {
+pub(crate) fn is_silhouette_edge(reference: &Image, x: u32, y: u32) -> bool {
     let centre = is_hit(reference.depth[(y * reference.width + x) as usize]);
     let (w, h) = (reference.width as i64, reference.height as i64);
     (-1..=1).any(|dy: i64| {
@@ -189,7 +189,7 @@ pub fn is_silhouette_edge(reference: &Image, x: u32, y: u32) -> bool {
 }
 
 /// Compares `actual` with `reference` (same size) under `tolerance`.
-pub fn compare(actual: &Image, reference: &Image, tolerance: &Tolerance) -> Comparison {
+pub(crate) fn compare(actual: &Image, reference: &Image, tolerance: &Tolerance) -> Comparison {
     assert_eq!(
         (actual.width, actual.height),
         (reference.width, reference.height),
@@ -239,7 +239,7 @@ pub fn compare(actual: &Image, reference: &Image, tolerance: &Tolerance) -> Comp
 }
 
 /// `target/image-tests/<name>/` of the workspace.
-pub fn output_dir(name: &str) -> PathBuf {
+pub(crate) fn output_dir(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../target/image-tests")
         .join(name)
@@ -247,7 +247,7 @@ pub fn output_dir(name: &str) -> PathBuf {
 
 /// The difference image: channel differences times 8; coverage mismatches magenta (orange on
 /// silhouette edges), other silhouette pixels dark blue, creases dark green.
-pub fn difference_image(actual: &Image, reference: &Image) -> Vec<u8> {
+pub(crate) fn difference_image(actual: &Image, reference: &Image) -> Vec<u8> {
     let mut out = Vec::with_capacity(actual.rgba.len());
     for y in 0..reference.height {
         for x in 0..reference.width {
@@ -277,7 +277,7 @@ pub fn difference_image(actual: &Image, reference: &Image) -> Vec<u8> {
 }
 
 /// Writes actual, expected and difference PNGs under [`output_dir`]; returns the folder.
-pub fn write_pngs(name: &str, actual: &Image, reference: &Image) -> PathBuf {
+pub(crate) fn write_pngs(name: &str, actual: &Image, reference: &Image) -> PathBuf {
     let dir = output_dir(name);
     std::fs::create_dir_all(&dir)
         .unwrap_or_else(|e| panic!("cannot create {}: {e}", dir.display()));
@@ -297,7 +297,12 @@ pub fn write_pngs(name: &str, actual: &Image, reference: &Image) -> PathBuf {
 
 /// Compares, and on failure writes the PNGs and panics saying where they are (with
 /// `IMAGE_TESTS_WRITE` set, writes them on success too).
-pub fn assert_images_match(name: &str, actual: &Image, reference: &Image, tolerance: &Tolerance) {
+pub(crate) fn assert_images_match(
+    name: &str,
+    actual: &Image,
+    reference: &Image,
+    tolerance: &Tolerance,
+) {
     let c = compare(actual, reference, tolerance);
     eprintln!("{name}: {c:?}");
     assert!(
@@ -322,11 +327,11 @@ pub fn assert_images_match(name: &str, actual: &Image, reference: &Image, tolera
         );
     }
 }
-pub mod mesh_raster;
-pub mod scenes;
+pub(crate) mod mesh_raster;
+pub(crate) mod scenes;
 
 /// The pixels that fail coverage or depth, with both depths (for failure messages).
-pub fn failing_pixels(
+pub(crate) fn failing_pixels(
     actual: &Image,
     reference: &Image,
     tolerance: &Tolerance,

@@ -14,14 +14,14 @@ use voxel_core::{BlockId, ChunkSize, Material, MaterialClass, MaterialPalette, W
 use super::{Image, PixelSurfaces, Surface};
 
 /// Image width of every test.
-pub const WIDTH: u32 = 128;
+pub(crate) const WIDTH: u32 = 128;
 /// Image height of every test.
-pub const HEIGHT: u32 = 96;
+pub(crate) const HEIGHT: u32 = 96;
 /// The reference raycaster's range, blocks (far beyond every test scene).
-pub const MAX_DISTANCE: f64 = 4000.0;
+pub(crate) const MAX_DISTANCE: f64 = 4000.0;
 
 /// A world, its palette and a camera that frames it.
-pub struct TestScene {
+pub(crate) struct TestScene {
     /// The voxels.
     pub world: WorldMap<PaletteChunk>,
     /// Their materials.
@@ -32,7 +32,7 @@ pub struct TestScene {
 
 /// A scene of the blocks `fill` gives inside `lo..=hi`, every position shifted by `shift`,
 /// framed by `viewer::scene::camera_looking_at`.
-pub fn scene_from_fn(
+pub(crate) fn scene_from_fn(
     palette: MaterialPalette,
     size: ChunkSize,
     lo: [i32; 3],
@@ -73,7 +73,7 @@ pub fn scene_from_fn(
 
 /// A 6 x 6 x 6 cube crossing chunk borders (16^3 chunks), `shift` blocks from the origin on
 /// every axis.
-pub fn cube(shift: i32) -> TestScene {
+pub(crate) fn cube(shift: i32) -> TestScene {
     let mut palette = MaterialPalette::new();
     let stone = palette.push(Material::opaque(180, 90, 60)).unwrap();
     scene_from_fn(
@@ -88,7 +88,7 @@ pub fn cube(shift: i32) -> TestScene {
 
 /// A sphere of radius 7 in three colour bands, with an emissive band, on a floor with a pool
 /// of glass-clear water: AO where they meet, emission and one transparent layer.
-pub fn sphere() -> TestScene {
+pub(crate) fn sphere() -> TestScene {
     let mut palette = MaterialPalette::new();
     let floor = palette.push(Material::opaque(120, 140, 90)).unwrap();
     let bands = [
@@ -129,7 +129,7 @@ pub fn sphere() -> TestScene {
 
 /// Two coloured glass panes in different chunks, one behind the other, in front of a white
 /// wall: the blend is right only if the far pane is drawn first.
-pub fn glass_panes() -> TestScene {
+pub(crate) fn glass_panes() -> TestScene {
     let mut palette = MaterialPalette::new();
     let wall = palette.push(Material::opaque(230, 230, 230)).unwrap();
     let glass = |r, g, b| {
@@ -170,7 +170,7 @@ pub fn glass_panes() -> TestScene {
 /// in NoCubes mode the hill is the smooth layer and the floor and pillar are greedy quads, so
 /// the view crosses every kind of seam between the two (hill on floor, pillar through hill)
 /// and chunk borders (16^3 chunks). The floor fills the whole view.
-pub fn smooth_hill() -> TestScene {
+pub(crate) fn smooth_hill() -> TestScene {
     let mut palette = MaterialPalette::new();
     let stone = palette.push(Material::opaque(150, 150, 160)).unwrap();
     let dirt = palette
@@ -205,7 +205,7 @@ pub fn smooth_hill() -> TestScene {
 }
 
 /// The terrain of the headless viewer, a 48 x 32 x 48 patch (16^3 chunks).
-pub fn terrain() -> TestScene {
+pub(crate) fn terrain() -> TestScene {
     let scene = viewer::scene::terrain_scene(7, ChunkSize::S16, 3, 2, 3);
     let camera =
         viewer::scene::camera_looking_at(WorldPos::new(-24, 0, -24), WorldPos::new(23, 31, 23));
@@ -218,13 +218,17 @@ pub fn terrain() -> TestScene {
 
 /// Renders `scene` from `camera` on the GPU (greedy quads); returns the image and the frame's
 /// pass times.
-pub fn gpu_render(ctx: &GpuContext, scene: &TestScene, camera: &Camera) -> (Image, Vec<PassTime>) {
+pub(crate) fn gpu_render(
+    ctx: &GpuContext,
+    scene: &TestScene,
+    camera: &Camera,
+) -> (Image, Vec<PassTime>) {
     gpu_render_with(ctx, scene, camera, SurfaceMode::Greedy)
 }
 
 /// [`gpu_render`] with the chunks meshed in `surface` mode (`NoCubes` puts the smoothable
 /// blocks in the smooth layer, drawn by the smooth pipeline).
-pub fn gpu_render_with(
+pub(crate) fn gpu_render_with(
     ctx: &GpuContext,
     scene: &TestScene,
     camera: &Camera,
@@ -265,7 +269,7 @@ pub fn gpu_render_with(
 }
 
 /// Renders `scene` with the CPU reference shaded like the GPU.
-pub fn cpu_render(scene: &TestScene, camera: &Camera) -> Image {
+pub(crate) fn cpu_render(scene: &TestScene, camera: &Camera) -> Image {
     let block_at = |p| scene.world.get_block(p);
     let image = render_deferred(
         &block_at,

@@ -9,6 +9,7 @@ use voxel_core::{ChunkSize, MaterialPalette};
 pub use voxel_scene::{Terrain, TerrainBlocks, terrain, vox};
 
 /// A world ready to mesh or render: its chunks and the materials their ids index.
+#[derive(Debug)]
 pub struct Scene {
     /// The voxels, palette-compressed per chunk.
     pub world: WorldMap<PaletteChunk>,

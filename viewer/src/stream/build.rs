@@ -17,13 +17,13 @@ use super::settings::{Layers, MesherMode, StreamSettings};
 
 /// What the [`Builders`](super::builders::Builders) build nodes with: the terrain's
 /// [`NodeSource`], or a stand-in in the tests of the worker protocol.
-pub trait BuildNode: Send + Sync + 'static {
+pub(super) trait BuildNode: Send + Sync + 'static {
     /// Builds node `key`: `Ok(None)` when it draws nothing.
     fn build(&self, key: NodeKey) -> Result<Option<BuiltNode>, String>;
 }
 
 /// Everything a worker needs to build nodes of one streamed terrain (shared, read-only).
-pub struct NodeSource {
+pub(super) struct NodeSource {
     terrain: Terrain,
     size: voxel_core::ChunkSize,
     /// The classes the mesher meshes with (every opaque block smoothable in smooth mode).
@@ -37,7 +37,7 @@ pub struct NodeSource {
 impl NodeSource {
     /// The source for `settings` with the terrain's `palette` (from [`TerrainBlocks::palette`]);
     /// far-draw blocks are extracted when `far_blocks`.
-    pub fn new(
+    pub(super) fn new(
         settings: &StreamSettings,
         palette: &MaterialPalette,
         blocks: TerrainBlocks,
@@ -102,7 +102,7 @@ impl BuildNode for NodeSource {
 /// A built node ready to upload: its mesh, and the far-draw blocks left after the layer
 /// filter when a layer is hidden.
 #[derive(Debug)]
-pub struct BuiltNode {
+pub(super) struct BuiltNode {
     node: NodeMesh,
     layers: Layers,
     /// `(blocks, skirt blocks per side)` of the shown classes, when a class is hidden.
@@ -143,12 +143,12 @@ impl BuiltNode {
     }
 
     /// Bytes the upload takes (every gigabuffer kind).
-    pub fn bytes(&self) -> u64 {
+    pub(super) fn bytes(&self) -> u64 {
         self.bytes
     }
 
     /// The upload view: the node's layers ([`NodeMesh::layers`]) less the hidden ones.
-    pub fn layers(&self) -> ChunkLayersData<'_> {
+    pub(super) fn layers(&self) -> ChunkLayersData<'_> {
         let mut view = self.node.layers();
         if !self.layers.opaque {
             view.opaque_quads = [&[]; 6];
@@ -170,7 +170,7 @@ impl BuiltNode {
 }
 
 /// What a worker sends back: the node, built or failed.
-pub struct Finished {
+pub(super) struct Finished {
     /// Which node.
     pub key: NodeKey,
     /// Its upload (`None`: draws nothing), or why it could not be built.

@@ -47,7 +47,7 @@ struct State {
 /// `crate::view`) shares the CPU with it through the scheduler instead of queueing behind it.
 /// The queue is the streamer's to replace: nodes a newer plan no longer wants are taken out
 /// before any worker starts them.
-pub struct Builders {
+pub(super) struct Builders {
     pool: rayon::ThreadPool,
     threads: usize,
     max_held: usize,
@@ -56,10 +56,19 @@ pub struct Builders {
     done: Sender<Finished>,
 }
 
+impl std::fmt::Debug for Builders {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Builders")
+            .field("threads", &self.threads)
+            .field("max_held", &self.max_held)
+            .finish_non_exhaustive()
+    }
+}
+
 impl Builders {
     /// Workers building from `source` and sending to `done`, one fewer than the machine's
     /// cores (at least one), with at most `max_held` nodes held (at least one).
-    pub fn new(
+    pub(super) fn new(
         source: Arc<dyn BuildNode>,
         done: Sender<Finished>,
         max_held: usize,
@@ -69,7 +78,7 @@ impl Builders {
     }
 
     /// Like [`new`](Self::new) with `threads` workers (at least one).
-    pub fn with_threads(
+    pub(super) fn with_threads(
         source: Arc<dyn BuildNode>,
         done: Sender<Finished>,
         threads: usize,
@@ -92,12 +101,12 @@ impl Builders {
     }
 
     /// Empties the queue: the nodes no worker has taken.
-    pub fn take_queued(&self) -> Vec<NodeKey> {
+    pub(super) fn take_queued(&self) -> Vec<NodeKey> {
         lock(&self.state).queue.drain(..).collect()
     }
 
     /// Queues `keys` (after what is queued) and starts workers for them.
-    pub fn queue(&self, keys: impl IntoIterator<Item = NodeKey>) {
+    pub(super) fn queue(&self, keys: impl IntoIterator<Item = NodeKey>) {
         let mut state = lock(&self.state);
         state.queue.extend(keys);
         self.wake(&mut state);
@@ -105,7 +114,7 @@ impl Builders {
 
     /// The streamer is done with `n` nodes it received (uploaded, empty, failed or dropped):
     /// room for the workers to build `n` more.
-    pub fn release(&self, n: usize) {
+    pub(super) fn release(&self, n: usize) {
         let mut state = lock(&self.state);
         // The streamer releases only nodes it received, each once: more would be its bug,
         // and the bound then only ends up looser.
@@ -116,7 +125,7 @@ impl Builders {
 
     /// Nodes held: taken from the queue and not released (the stress test's view of them).
     #[cfg(test)]
-    pub fn held(&self) -> usize {
+    pub(super) fn held(&self) -> usize {
         lock(&self.state).held
     }
 

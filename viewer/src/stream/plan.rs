@@ -12,7 +12,7 @@ use super::selection::{Extent, NodeKey, Selection};
 
 /// One anchor's selection and its differences (see the [module docs](self)).
 #[derive(Debug)]
-pub struct Plan {
+pub(super) struct Plan {
     /// The selection's inputs (anchor, budget, focal length, hysteresis, top level).
     pub params: LodParams,
     /// The selected nodes.
@@ -29,7 +29,7 @@ pub struct Plan {
 impl Plan {
     /// The plan of `params` within `extent`, against the `committed` plan and the `replaced`
     /// one (the pending plan it supersedes).
-    pub fn new(
+    pub(super) fn new(
         params: LodParams,
         extent: &Extent,
         committed: Option<&Plan>,
@@ -68,7 +68,7 @@ impl Plan {
     }
 
     /// The anchor the plan selects from.
-    pub fn anchor(&self) -> LodAnchor {
+    pub(super) fn anchor(&self) -> LodAnchor {
         let [x, y, z] = self.params.anchor_chunk;
         LodAnchor {
             chunk: ChunkCoord::new(x, y, z),
@@ -78,7 +78,7 @@ impl Plan {
 }
 
 /// Makes the plan of `params` on rayon's pool; it arrives on the returned receiver.
-pub fn spawn(
+pub(super) fn spawn(
     params: LodParams,
     extent: Extent,
     committed: Option<Arc<Plan>>,

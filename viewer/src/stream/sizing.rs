@@ -18,7 +18,7 @@ use voxel_core::formats::DataKind;
 use super::settings::{MesherMode, StreamSettings};
 
 /// The far path `settings` asks for on a device with `capabilities`, or why it cannot run.
-pub fn far_choice(
+pub(super) fn far_choice(
     settings: &StreamSettings,
     capabilities: &GpuCapabilities,
 ) -> Result<FarChoice, String> {
@@ -26,7 +26,7 @@ pub fn far_choice(
 }
 
 /// The renderer configuration for `settings` at `width x height`, far path `far`.
-pub fn renderer_config(
+pub(super) fn renderer_config(
     settings: &StreamSettings,
     far: FarPath,
     (width, height): (u32, u32),

@@ -60,6 +60,7 @@ pub struct StreamCounters {
 }
 
 /// One renderer streaming the terrain around the camera (see the [module docs](super)).
+#[derive(Debug)]
 pub struct Streamer {
     renderer: Renderer,
     settings: StreamSettings,

@@ -30,7 +30,7 @@ const PIXELS_PER_SCROLL_LINE: f64 = 40.0;
 const RETRY_AFTER_SKIP: Duration = Duration::from_millis(50);
 
 /// The application state between events.
-pub struct App<'a> {
+pub(super) struct App<'a> {
     source: WindowSource<'a>,
     options: WindowOptions,
     gpu: Option<GpuWindow>,
@@ -56,7 +56,7 @@ pub struct App<'a> {
 
 impl<'a> App<'a> {
     /// An app showing `source` from the first `view`.
-    pub fn new(source: WindowSource<'a>, view: Camera, options: WindowOptions) -> App<'a> {
+    pub(super) fn new(source: WindowSource<'a>, view: Camera, options: WindowOptions) -> App<'a> {
         App {
             source,
             camera: FlyCamera::new(view, 32.0),

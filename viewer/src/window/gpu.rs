@@ -35,7 +35,7 @@ const LOADING_SKY: wgpu::Color = wgpu::Color {
 
 /// What a fixed scene put on the GPU (counted once, after the upload).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct SceneCounts {
+pub(super) struct SceneCounts {
     /// Resident chunks.
     pub chunks: usize,
     /// Greedy quads (opaque and transparent).
@@ -47,7 +47,7 @@ pub struct SceneCounts {
 }
 
 /// What the window draws.
-pub enum Drawn {
+pub(super) enum Drawn {
     /// A scene uploaded whole.
     Fixed {
         /// Its renderer (boxed, as the streamed view is: both are large).
@@ -61,7 +61,7 @@ pub enum Drawn {
 
 impl Drawn {
     /// The renderer that draws.
-    pub fn renderer(&self) -> &Renderer {
+    pub(super) fn renderer(&self) -> &Renderer {
         match self {
             Drawn::Fixed { renderer, .. } => renderer,
             Drawn::Streamed(view) => view.renderer(),
@@ -76,7 +76,7 @@ impl Drawn {
     }
 
     /// True when a frame shows the scene (a streamed view has committed its first plan).
-    pub fn ready(&self) -> bool {
+    pub(super) fn ready(&self) -> bool {
         match self {
             Drawn::Fixed { .. } => true,
             Drawn::Streamed(view) => view.ready(),
@@ -88,7 +88,7 @@ impl Drawn {
 const CULL_READ_INTERVAL: std::time::Duration = std::time::Duration::from_millis(250);
 
 /// Device, swapchain, renderer and overlay of one window.
-pub struct GpuWindow {
+pub(super) struct GpuWindow {
     window: Arc<Window>,
     ctx: GpuContext,
     output: WindowOutput,
@@ -103,7 +103,7 @@ pub struct GpuWindow {
 
 impl GpuWindow {
     /// Creates the device for `window`, the renderer of `source` and the overlay.
-    pub fn new(
+    pub(super) fn new(
         window: Arc<Window>,
         display: OwnedDisplayHandle,
         source: &WindowSource<'_>,
@@ -152,32 +152,32 @@ impl GpuWindow {
     }
 
     /// The window.
-    pub fn window(&self) -> &Arc<Window> {
+    pub(super) fn window(&self) -> &Arc<Window> {
         &self.window
     }
 
     /// The adapter, as text.
-    pub fn adapter(&self) -> String {
+    pub(super) fn adapter(&self) -> String {
         self.ctx.capabilities.adapter.to_string()
     }
 
     /// The swapchain size, pixels.
-    pub fn size(&self) -> (u32, u32) {
+    pub(super) fn size(&self) -> (u32, u32) {
         self.output.size()
     }
 
     /// What the window draws.
-    pub fn drawn(&self) -> &Drawn {
+    pub(super) fn drawn(&self) -> &Drawn {
         &self.drawn
     }
 
     /// The last drawn frame's cull counters, when the overlay was shown.
-    pub fn cull_stats(&self) -> Option<&CullStats> {
+    pub(super) fn cull_stats(&self) -> Option<&CullStats> {
         self.cull.as_ref()
     }
 
     /// True when pass times are GPU timestamps (otherwise CPU wall time per pass).
-    pub fn gpu_timestamps(&self) -> bool {
+    pub(super) fn gpu_timestamps(&self) -> bool {
         matches!(
             self.ctx.capabilities.timing,
             TimingPath::GpuTimestamps { .. }
@@ -185,7 +185,7 @@ impl GpuWindow {
     }
 
     /// Feeds a window event to the overlay: whether it consumed it.
-    pub fn overlay_event(&mut self, event: &WindowEvent) -> bool {
+    pub(super) fn overlay_event(&mut self, event: &WindowEvent) -> bool {
         let response = self.overlay.on_window_event(&self.window, event);
         if response.repaint {
             self.window.request_redraw();
@@ -194,12 +194,12 @@ impl GpuWindow {
     }
 
     /// The pointer is over the overlay.
-    pub fn overlay_wants_pointer(&self) -> bool {
+    pub(super) fn overlay_wants_pointer(&self) -> bool {
         self.overlay.wants_pointer()
     }
 
     /// Follows the window's new inner size: swapchain and renderer targets.
-    pub fn resize(&mut self, width: u32, height: u32) -> Result<(), WindowError> {
+    pub(super) fn resize(&mut self, width: u32, height: u32) -> Result<(), WindowError> {
         self.output.resize(width, height);
         let (w, h) = self.output.size();
         if w > 0 && h > 0 {
@@ -219,7 +219,7 @@ impl GpuWindow {
 
     /// Applies the overlay's controls to the streamed view (nothing for a fixed scene); a
     /// control the device cannot run is an error naming why, and changes nothing.
-    pub fn apply(&mut self, controls: &Controls) -> Result<(), StreamError> {
+    pub(super) fn apply(&mut self, controls: &Controls) -> Result<(), StreamError> {
         match &mut self.drawn {
             Drawn::Streamed(view) => view.apply(&self.ctx, controls),
             Drawn::Fixed { .. } => Ok(()),
@@ -227,7 +227,7 @@ impl GpuWindow {
     }
 
     /// Writes the last frame (without the overlay) as a PNG under `dir`.
-    pub fn screenshot(&self, dir: &Path) -> Result<PathBuf, ScreenshotError> {
+    pub(super) fn screenshot(&self, dir: &Path) -> Result<PathBuf, ScreenshotError> {
         save_screenshot(self.drawn.renderer(), dir)
     }
 
@@ -241,7 +241,7 @@ impl GpuWindow {
     /// frame's own, one frame late. Reading the cull counters for the overlay waits for this
     /// frame too, a few times a second. The CPU frame time runs from the acquired image to the
     /// present and includes the streaming work of the frame (uploads, frees, plans).
-    pub fn draw(
+    pub(super) fn draw(
         &mut self,
         camera: &Camera,
         panel: &mut Panel,

@@ -24,7 +24,11 @@ fn lod_levels(per_level: &[u32]) -> String {
 }
 
 /// The overlay's lines (see the [module docs](self)).
-pub fn overlay_lines(stats: &FrameStats, gpu: &GpuWindow, camera: &FlyCamera) -> Vec<String> {
+pub(super) fn overlay_lines(
+    stats: &FrameStats,
+    gpu: &GpuWindow,
+    camera: &FlyCamera,
+) -> Vec<String> {
     let ms = |ns: u64| ns as f64 / 1e6;
     let mut lines = vec![
         format!(

@@ -47,6 +47,7 @@ use crate::stream::{StreamError, StreamSettings};
 use render_model::camera::Camera;
 
 /// What the window shows.
+#[derive(Debug)]
 pub enum WindowSource<'a> {
     /// A scene held whole (a `.vox` file, a fixed square of terrain).
     Fixed(&'a Scene),

@@ -12,14 +12,14 @@ use winit::window::Window;
 use super::panel::{Panel, ui};
 
 /// egui's input state and its wgpu renderer for one window.
-pub struct Overlay {
+pub(super) struct Overlay {
     state: egui_winit::State,
     renderer: EguiRenderer,
 }
 
 impl Overlay {
     /// An overlay for `window`, drawing into targets of `format`.
-    pub fn new(window: &Arc<Window>, device: &Device, format: TextureFormat) -> Overlay {
+    pub(super) fn new(window: &Arc<Window>, device: &Device, format: TextureFormat) -> Overlay {
         let context = egui::Context::default();
         let max_side = device.limits().max_texture_dimension_2d as usize;
         let state = egui_winit::State::new(
@@ -35,19 +35,23 @@ impl Overlay {
     }
 
     /// Feeds a window event to egui; `consumed` says egui used it (e.g. a click on the panel).
-    pub fn on_window_event(&mut self, window: &Window, event: &WindowEvent) -> EventResponse {
+    pub(super) fn on_window_event(
+        &mut self,
+        window: &Window,
+        event: &WindowEvent,
+    ) -> EventResponse {
         self.state.on_window_event(window, event)
     }
 
     /// The pointer is over the overlay (drags there are not camera drags).
-    pub fn wants_pointer(&self) -> bool {
+    pub(super) fn wants_pointer(&self) -> bool {
         self.state.egui_ctx().egui_wants_pointer_input()
     }
 
     /// Runs the overlay's UI for `panel` (its controls edited in place) and records its
     /// drawing into `target` (of `size` pixels), on top of what is there. Returns command
     /// buffers to submit before `encoder` (none unless a paint callback made some).
-    pub fn paint(
+    pub(super) fn paint(
         &mut self,
         window: &Window,
         ctx: &GpuContext,

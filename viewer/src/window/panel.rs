@@ -9,12 +9,12 @@ use crate::stream::MesherMode;
 use crate::stream::settings::FAR_CHOICES;
 
 /// The control hints shown at the bottom of the window.
-pub const HINTS: &str = "W/A/S/D move · Space/Shift up/down · drag to look · wheel: speed · \
+pub(super) const HINTS: &str = "W/A/S/D move · Space/Shift up/down · drag to look · wheel: speed · \
                          F1 overlay · F3 wireframe · F12 screenshot · Esc quit";
 
 /// What the overlay shows this frame.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Panel {
+pub(super) struct Panel {
     /// Show the overlay (F1): statistics, controls, hints and the last message. Without it
     /// only the loading banner is drawn.
     pub show: bool,
@@ -31,7 +31,7 @@ pub struct Panel {
 }
 
 /// Builds the overlay's UI for `panel` into `ctx` (egui edits `panel.controls`).
-pub fn ui(ctx: &Context, panel: &mut Panel) {
+pub(super) fn ui(ctx: &Context, panel: &mut Panel) {
     if let Some(banner) = &panel.banner {
         Area::new(Id::unique("banner"))
             .anchor(Align2::CENTER_CENTER, [0.0, 0.0])

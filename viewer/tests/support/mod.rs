@@ -16,7 +16,7 @@ use gpu_backend::test_support::{headless_or_skip, skip};
 
 /// The `Xvfb` program, or `None` after printing `skipped: <test>: Xvfb not installed`. Under
 /// `CI=true` a missing Xvfb fails instead (`scripts/setup-debian.sh` installs it).
-pub fn xvfb_or_skip() -> Option<PathBuf> {
+pub(crate) fn xvfb_or_skip() -> Option<PathBuf> {
     let found = find_program("Xvfb");
     if found.is_none() {
         skip("Xvfb not installed (scripts/setup-debian.sh installs the `xvfb` package)");
@@ -30,7 +30,7 @@ pub fn xvfb_or_skip() -> Option<PathBuf> {
 const VIEWER_TIMEOUT: Duration = Duration::from_secs(300);
 
 /// An `Xvfb` server, stopped on drop.
-pub struct Xvfb {
+pub(crate) struct Xvfb {
     child: Child,
     /// The display, e.g. `:1`.
     pub display: String,
@@ -40,7 +40,7 @@ impl Xvfb {
     /// Starts `program` on a free display and waits until it accepts connections (it writes
     /// the display number to `-displayfd` only then). With `fbdir`, the screen is also a file
     /// there (`Xvfb_screen0`, XWD), on a black root window.
-    pub fn start(program: &Path, fbdir: Option<&Path>) -> Xvfb {
+    pub(crate) fn start(program: &Path, fbdir: Option<&Path>) -> Xvfb {
         let mut command = Command::new(program);
         command.args([
             "-displayfd",
@@ -91,7 +91,7 @@ impl Drop for Xvfb {
 }
 
 /// `name` on `PATH`, if there.
-pub fn find_program(name: &str) -> Option<PathBuf> {
+pub(crate) fn find_program(name: &str) -> Option<PathBuf> {
     let path = std::env::var_os("PATH")?;
     std::env::split_paths(&path)
         .map(|dir| dir.join(name))
@@ -100,7 +100,7 @@ pub fn find_program(name: &str) -> Option<PathBuf> {
 
 /// The viewer binary with `args` and the display variables `display` (only `DISPLAY`, or
 /// none), output piped.
-pub fn viewer_command(args: &[&str], display: Option<&str>) -> Command {
+pub(crate) fn viewer_command(args: &[&str], display: Option<&str>) -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_viewer"));
     command
         .args(args)
@@ -120,7 +120,7 @@ pub fn viewer_command(args: &[&str], display: Option<&str>) -> Command {
 }
 
 /// Runs the viewer binary (see [`viewer_command`]), killing it after [`VIEWER_TIMEOUT`].
-pub fn run_viewer(args: &[&str], display: Option<&str>) -> Output {
+pub(crate) fn run_viewer(args: &[&str], display: Option<&str>) -> Output {
     let mut child = viewer_command(args, display)
         .spawn()
         .expect("the viewer binary starts");
@@ -140,12 +140,12 @@ pub fn run_viewer(args: &[&str], display: Option<&str>) -> Output {
 }
 
 /// Output bytes as text.
-pub fn text(bytes: &[u8]) -> String {
+pub(crate) fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
 
 /// The RGBA pixels of a PNG file.
-pub fn read_png(path: &Path) -> Vec<u8> {
+pub(crate) fn read_png(path: &Path) -> Vec<u8> {
     let decoder = png::Decoder::new(std::io::Cursor::new(std::fs::read(path).expect("the PNG")));
     let mut reader = decoder.read_info().expect("PNG header");
     let mut rgba = vec![0; reader.output_buffer_size().expect("PNG size")];
@@ -155,12 +155,12 @@ pub fn read_png(path: &Path) -> Vec<u8> {
 
 /// A Vulkan adapter exists (else it printed `skipped: <test>: no Vulkan adapter`; panics
 /// under CI).
-pub fn have_adapter() -> bool {
+pub(crate) fn have_adapter() -> bool {
     headless_or_skip(&DeviceOptions::default()).is_some()
 }
 
 /// Kills the child on drop (a viewer left running when a test fails).
-pub struct KillOnDrop(pub Child);
+pub(crate) struct KillOnDrop(pub Child);
 
 impl Drop for KillOnDrop {
     fn drop(&mut self) {
@@ -171,7 +171,7 @@ impl Drop for KillOnDrop {
 
 /// The screen in an Xvfb `-fbdir` file (XWD, 32 bits per pixel, BGRX): width, height, RGB
 /// pixels row by row. `None` while the file is missing or incomplete.
-pub fn read_xwd(path: &Path) -> Option<(u32, u32, Vec<[u8; 3]>)> {
+pub(crate) fn read_xwd(path: &Path) -> Option<(u32, u32, Vec<[u8; 3]>)> {
     let bytes = std::fs::read(path).ok()?;
     let word = |i: usize| -> Option<u32> {
         Some(u32::from_be_bytes(
@@ -197,7 +197,7 @@ pub fn read_xwd(path: &Path) -> Option<(u32, u32, Vec<[u8; 3]>)> {
 
 /// How two RGBA images of one size differ: the largest channel difference, and the share of
 /// pixels with a channel more than `over` apart.
-pub fn image_difference(got: &[u8], want: &[u8], over: u8) -> (u8, f64) {
+pub(crate) fn image_difference(got: &[u8], want: &[u8], over: u8) -> (u8, f64) {
     assert_eq!(got.len(), want.len(), "images of different sizes");
     let mut largest = 0;
     let mut beyond = 0usize;
@@ -216,7 +216,7 @@ pub fn image_difference(got: &[u8], want: &[u8], over: u8) -> (u8, f64) {
 
 /// Fails unless the viewer's PNG shows the reference frame: at most `share` of the pixels
 /// with a channel more than 16 apart (none when `share` is 0).
-pub fn assert_shows(got: &[u8], want: &[u8], share: f64, what: &str) {
+pub(crate) fn assert_shows(got: &[u8], want: &[u8], share: f64, what: &str) {
     let (largest, beyond) = image_difference(got, want, 16);
     assert!(
         beyond <= share,

@@ -5,9 +5,9 @@
 #![allow(dead_code, reason = "each test file uses a different part")]
 
 #[path = "../../../scene/tests/support/samples.rs"]
-pub mod samples;
+pub(crate) mod samples;
 #[path = "../../../scene/tests/support/writer.rs"]
-pub mod writer;
+pub(crate) mod writer;
 
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -17,7 +17,7 @@ use voxel_core::storage::{PaletteChunk, VoxelStorage, WorldMap};
 use voxel_core::{MaterialClass, MaterialPalette};
 
 /// Runs the voxmesh binary with `args`.
-pub fn voxmesh(args: &[&str]) -> Output {
+pub(crate) fn voxmesh(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_voxmesh"))
         .args(args)
         .output()
@@ -25,7 +25,7 @@ pub fn voxmesh(args: &[&str]) -> Output {
 }
 
 /// Runs voxmesh and expects success; returns its stdout and stderr.
-pub fn voxmesh_ok(args: &[&str]) -> (String, String) {
+pub(crate) fn voxmesh_ok(args: &[&str]) -> (String, String) {
     let out = voxmesh(args);
     let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
     assert!(
@@ -37,23 +37,23 @@ pub fn voxmesh_ok(args: &[&str]) -> (String, String) {
 }
 
 /// Bytes as text.
-pub fn text(bytes: &[u8]) -> String {
+pub(crate) fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
 
 /// A fresh temporary folder, removed when dropped.
-pub fn temp_dir() -> tempfile::TempDir {
+pub(crate) fn temp_dir() -> tempfile::TempDir {
     tempfile::tempdir().expect("a temporary folder")
 }
 
 /// A path as `&str` for command lines.
-pub fn s(path: &Path) -> &str {
+pub(crate) fn s(path: &Path) -> &str {
     path.to_str().expect("temporary paths are UTF-8")
 }
 
 /// The triangles of one primitive (or one OBJ material group), as read back.
 #[derive(Clone, Debug, Default)]
-pub struct ReadPrimitive {
+pub(crate) struct ReadPrimitive {
     /// Alpha-blended material.
     pub blend: bool,
     /// Base colour alpha.
@@ -75,7 +75,7 @@ pub struct ReadPrimitive {
 }
 
 /// Reads a `.glb` back with the `gltf` crate (which validates the document on loading).
-pub fn read_glb(path: &Path) -> Vec<ReadPrimitive> {
+pub(crate) fn read_glb(path: &Path) -> Vec<ReadPrimitive> {
     let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("read {}: {e}", path.display()));
     let gltf = gltf::Gltf::from_slice(&bytes)
         .unwrap_or_else(|e| panic!("{}: not a valid glTF: {e}", path.display()));
@@ -117,7 +117,7 @@ pub fn read_glb(path: &Path) -> Vec<ReadPrimitive> {
 }
 
 /// Reads an `.obj` written by voxmesh back: one group per `usemtl`.
-pub fn read_obj(path: &Path) -> Vec<ReadPrimitive> {
+pub(crate) fn read_obj(path: &Path) -> Vec<ReadPrimitive> {
     let text = std::fs::read_to_string(path).expect("the .obj");
     let mut positions: Vec<[f64; 3]> = Vec::new();
     let mut groups: Vec<ReadPrimitive> = Vec::new();
@@ -154,7 +154,7 @@ pub fn read_obj(path: &Path) -> Vec<ReadPrimitive> {
 }
 
 /// Signed volume enclosed by the triangles (divergence theorem), in output units cubed.
-pub fn signed_volume(primitives: &[&ReadPrimitive]) -> f64 {
+pub(crate) fn signed_volume(primitives: &[&ReadPrimitive]) -> f64 {
     let mut six_v = 0.0;
     for p in primitives {
         for t in &p.triangles {
@@ -167,7 +167,7 @@ pub fn signed_volume(primitives: &[&ReadPrimitive]) -> f64 {
 }
 
 /// Total triangle area, in output units squared.
-pub fn area(primitives: &[&ReadPrimitive]) -> f64 {
+pub(crate) fn area(primitives: &[&ReadPrimitive]) -> f64 {
     let mut twice = 0.0;
     for p in primitives {
         for t in &p.triangles {
@@ -186,14 +186,14 @@ pub fn area(primitives: &[&ReadPrimitive]) -> f64 {
 }
 
 /// The voxels of a world, for counting what a mesh of it must measure.
-pub struct Voxels {
+pub(crate) struct Voxels {
     ids: HashMap<[i32; 3], u16>,
     transparent: HashSet<u16>,
 }
 
 impl Voxels {
     /// The voxels of `world`; an id is see-through when `palette` says it is transparent.
-    pub fn of(world: &WorldMap<PaletteChunk>, palette: &MaterialPalette) -> Voxels {
+    pub(crate) fn of(world: &WorldMap<PaletteChunk>, palette: &MaterialPalette) -> Voxels {
         let size = world.size();
         let mut ids = HashMap::new();
         for (coord, chunk) in world.iter() {
@@ -215,12 +215,12 @@ impl Voxels {
     }
 
     /// All voxels.
-    pub fn count(&self) -> usize {
+    pub(crate) fn count(&self) -> usize {
         self.ids.len()
     }
 
     /// Voxels of see-through ids.
-    pub fn transparent_count(&self) -> usize {
+    pub(crate) fn transparent_count(&self) -> usize {
         self.ids
             .values()
             .filter(|id| self.transparent.contains(id))
@@ -230,7 +230,7 @@ impl Voxels {
     /// Visible faces by the meshers' rule, counted voxel by voxel: an opaque voxel shows a
     /// face where its neighbour is not opaque; a see-through voxel where its neighbour is air
     /// or a different see-through id.
-    pub fn visible_faces(&self) -> usize {
+    pub(crate) fn visible_faces(&self) -> usize {
         let mut faces = 0;
         for (p, id) in &self.ids {
             for d in [
@@ -261,7 +261,7 @@ impl Voxels {
 }
 
 /// A `.vox` file written from `w` into `dir` as `name`.
-pub fn write_vox(dir: &Path, name: &str, w: &writer::VoxWriter) -> PathBuf {
+pub(crate) fn write_vox(dir: &Path, name: &str, w: &writer::VoxWriter) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, w.bytes()).expect("write the test .vox");
     path
@@ -270,7 +270,7 @@ pub fn write_vox(dir: &Path, name: &str, w: &writer::VoxWriter) -> PathBuf {
 /// A scene of every material kind and a hidden node: opaque blocks (index 1-3), a metal block
 /// (4), a lamp (5, emissive), a glass block (6) apart from the rest, and a hidden model
 /// (index 7), under rotated and translated transforms.
-pub fn material_scene() -> writer::VoxWriter {
+pub(crate) fn material_scene() -> writer::VoxWriter {
     let mut w = writer::VoxWriter::new();
     let mut block = Vec::new();
     for x in 0..4u8 {
