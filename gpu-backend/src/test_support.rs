@@ -66,37 +66,41 @@ pub fn headless_or_skip(options: &DeviceOptions) -> Option<GpuContext> {
 /// The reason [`headless_or_skip`] gives.
 pub const NO_ADAPTER: &str = "no Vulkan adapter";
 
-/// No injected limit: every page is created.
+/// No injected limit.
 const NO_LIMIT: u64 = u64::MAX;
 
-/// The injected limit on the bytes of gigabuffer pages this process creates.
-static PAGE_LIMIT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(NO_LIMIT);
-/// The bytes of gigabuffer pages created since the limit was set.
-static PAGE_BYTES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+/// The injected limit on the bytes of node data all gigabuffers of this process hold.
+static NODE_LIMIT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(NO_LIMIT);
+/// The bytes of node data the gigabuffers of this process hold.
+static NODE_BYTES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
 
-/// Makes every gigabuffer of this process refuse to create a page once its pages would pass
-/// `limit` bytes (counted from this call), as a device whose memory ends there: the refusal is
-/// the `GigabufferError::PageCreation` a real device's out-of-memory gives, for tests of what
-/// happens when memory runs out on devices that never run out (lavapipe). `None` lifts the
-/// limit. Process-wide: a test that sets it belongs in a test binary of its own.
-pub fn refuse_pages_past(limit: Option<u64>) {
-    use std::sync::atomic::Ordering;
-    PAGE_BYTES.store(0, Ordering::SeqCst);
-    PAGE_LIMIT.store(limit.unwrap_or(NO_LIMIT), Ordering::SeqCst);
+/// Makes every gigabuffer of this process refuse an allocation that would take the node data
+/// they hold together past `limit` bytes, as a device whose memory ends there: the refusal is
+/// the `GigabufferError::PageCreation` a real device's out-of-memory gives, named as injected,
+/// for tests of what happens when memory runs out on devices that never run out (lavapipe).
+/// `None` lifts the limit. Process-wide: a test that sets it belongs in a test binary of its
+/// own.
+pub fn refuse_node_bytes_past(limit: Option<u64>) {
+    NODE_LIMIT.store(
+        limit.unwrap_or(NO_LIMIT),
+        std::sync::atomic::Ordering::SeqCst,
+    );
 }
 
-/// The injected limit when a page of `bytes` would pass it (the page is then refused), else
-/// `None` (and the page counts towards the limit).
-pub(crate) fn page_refused(bytes: u64) -> Option<u64> {
+/// The injected limit when `bytes` more would pass it, else `None`.
+pub(crate) fn node_bytes_refused(bytes: u64) -> Option<u64> {
     use std::sync::atomic::Ordering;
-    let limit = PAGE_LIMIT.load(Ordering::SeqCst);
-    if limit == NO_LIMIT {
-        return None;
+    let limit = NODE_LIMIT.load(Ordering::SeqCst);
+    let held = NODE_BYTES.load(Ordering::SeqCst);
+    (limit != NO_LIMIT && held.saturating_add(bytes) > limit).then_some(limit)
+}
+
+/// Counts `bytes` of node data taken (`taken`) or given back.
+pub(crate) fn count_node_bytes(bytes: u64, taken: bool) {
+    use std::sync::atomic::Ordering;
+    if taken {
+        NODE_BYTES.fetch_add(bytes, Ordering::SeqCst);
+    } else {
+        NODE_BYTES.fetch_sub(bytes, Ordering::SeqCst);
     }
-    let before = PAGE_BYTES.fetch_add(bytes, Ordering::SeqCst);
-    if before.saturating_add(bytes) > limit {
-        PAGE_BYTES.fetch_sub(bytes, Ordering::SeqCst);
-        return Some(limit);
-    }
-    None
 }

@@ -139,6 +139,8 @@ pub struct FlightReport {
     pub first_view_seconds: f64,
     /// Nodes resident after the first view loaded.
     pub first_view_nodes: usize,
+    /// Bytes of node data resident once the first view is loaded.
+    pub first_view_bytes: u64,
     /// CPU time per frame.
     pub cpu_frame: Percentiles,
     /// GPU time per frame (sum of the pass timestamps), `None` without timestamps.
@@ -160,6 +162,10 @@ pub struct FlightReport {
     pub commits: u64,
     /// Frames that drew with a selected node missing (0 by construction; checked).
     pub frames_with_holes: usize,
+    /// The budget the memory forced at the end of the flight, pixels, when it did.
+    pub memory_floor_px: Option<f32>,
+    /// Why the memory last forced a coarser budget (the refusal, named), when it did.
+    pub memory_note: Option<String>,
     /// Streamed radius, blocks.
     pub radius: u32,
     /// Error budget asked for, pixels.
@@ -225,6 +231,14 @@ impl FlightReport {
                 self.frames_with_holes
             ),
         ]
+        .into_iter()
+        .chain(self.memory_note.as_ref().map(|note| {
+            format!(
+                "flight: memory forced a budget of {:.2} px: {note}",
+                self.memory_floor_px.unwrap_or(0.0)
+            )
+        }))
+        .collect()
     }
 }
 
@@ -250,6 +264,7 @@ pub fn fly(
     )?;
     let first_view_seconds = loading.elapsed().as_secs_f64();
     let first_view_nodes = view.streamer().status().resident_nodes;
+    let first_view_bytes = view.streamer().status().node_bytes;
     // `--opaque auto`: measured at the first view, before the flight.
     let opaque = match view.choose_opaque_path(OPAQUE_TRIAL_FRAMES)? {
         Some(choice) => format!("auto: {choice}"),
@@ -322,6 +337,7 @@ pub fn fly(
         wall_seconds,
         first_view_seconds,
         first_view_nodes,
+        first_view_bytes,
         cpu_frame: Percentiles::of(&cpu).unwrap_or(none),
         gpu_frame: if timestamps {
             Percentiles::of(&gpu)
@@ -341,6 +357,8 @@ pub fn fly(
         streamed_nodes_per_second: streamed_nodes as f64 / wall_seconds.max(1e-9),
         commits: after.commits.saturating_sub(before.commits),
         frames_with_holes,
+        memory_floor_px: view.streamer().status().memory_floor_px,
+        memory_note: view.streamer().status().memory_note,
         radius: settings.radius,
         budget_px: settings.budget_px,
         far: view.streamer().far_choice().to_string(),

@@ -97,6 +97,8 @@ pub struct StreamStatus {
     pub budget_px: Option<f32>,
     /// The budget the memory forced, when it did.
     pub memory_floor_px: Option<f32>,
+    /// Why the memory last forced a coarser budget (the refusal, named), when it did.
+    pub memory_note: Option<String>,
     /// Nodes being built.
     pub in_flight: usize,
     /// Built nodes waiting for the upload limit.

@@ -80,6 +80,8 @@ pub struct Streamer {
     in_flight: usize,
     /// The budget raised to fit the memory (0 until memory ran out).
     memory_floor_px: f32,
+    /// Why the memory last forced a coarser budget: the refusal, in the renderer's words.
+    memory_note: Option<String>,
     /// The view's node memory, shared with a replacement streamer.
     memory: NodeMemory,
     counters: StreamCounters,
@@ -138,6 +140,7 @@ impl Streamer {
             to_free: VecDeque::new(),
             in_flight: 0,
             memory_floor_px: 0.0,
+            memory_note: None,
             memory,
             counters: StreamCounters::default(),
         })
@@ -246,6 +249,7 @@ impl Streamer {
             node_bytes: bytes,
             budget_px: self.committed.as_ref().map(|c| c.params.budget_px),
             memory_floor_px: (self.memory_floor_px > 0.0).then_some(self.memory_floor_px),
+            memory_note: self.memory_note.clone(),
             in_flight: self.in_flight,
             queued_uploads: self.uploads.len(),
             freeing: self.to_free.len(),
@@ -534,6 +538,7 @@ impl Streamer {
         }
         let step = 2f32.powf(0.25);
         self.memory_floor_px = (budget.max(0.25 / step) * step).min(MAX_PLAN_BUDGET_PX);
+        self.memory_note = Some(e);
         let anchor = self
             .wanted
             .as_ref()

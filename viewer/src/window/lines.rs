@@ -120,6 +120,9 @@ fn streamed_lines(lines: &mut Vec<String>, view: &StreamedView, cull: Option<&Cu
         "budget {budget}; far draws {:?}",
         streamer.far_choice().path
     ));
+    if let Some(note) = &status.memory_note {
+        lines.push(format!("memory: {note}"));
+    }
     lines.push(status.progress_line());
     if let Some(next) = next {
         lines.push(format!("switching: {}", next.progress_line()));

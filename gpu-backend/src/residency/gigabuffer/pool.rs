@@ -52,6 +52,17 @@ pub(crate) const PAGE_USAGES: BufferUsages = BufferUsages::STORAGE
     .union(BufferUsages::COPY_DST)
     .union(BufferUsages::COPY_SRC);
 
+#[cfg(feature = "test-support")]
+impl Drop for Pool {
+    fn drop(&mut self) {
+        // What the pool still holds leaves with it.
+        crate::test_support::count_node_bytes(
+            self.used_elements * u64::from(self.layout.kind.element_size()),
+            false,
+        );
+    }
+}
+
 impl Pool {
     /// A pool without pages; `max_allocs` bounds the allocator nodes of each page.
     pub(super) fn new(layout: PageLayout, max_allocs: u32) -> Pool {
@@ -85,6 +96,21 @@ impl Pool {
                 page_capacity: self.layout.page_capacity,
             });
         }
+        #[cfg(feature = "test-support")]
+        {
+            let bytes = u64::from(count) * u64::from(kind.element_size());
+            if let Some(limit) = crate::test_support::node_bytes_refused(bytes) {
+                return Err(GigabufferError::PageCreation {
+                    kind,
+                    page: self.pages.len() as u32,
+                    bytes,
+                    message: format!(
+                        "injected for a test: the node data of this process would pass \
+                         {limit} bytes"
+                    ),
+                });
+            }
+        }
         for (page, p) in self.pages.iter_mut().enumerate() {
             if let Some(inner) = p.allocator.allocate(count) {
                 return Ok((self.record(page as u32, count, inner), false));
@@ -101,6 +127,11 @@ impl Pool {
     }
 
     fn record(&mut self, page: u32, count: u32, inner: Allocation) -> PoolAllocation {
+        #[cfg(feature = "test-support")]
+        crate::test_support::count_node_bytes(
+            u64::from(count) * u64::from(self.layout.kind.element_size()),
+            true,
+        );
         self.used_elements += u64::from(count);
         self.allocations += 1;
         PoolAllocation {
@@ -140,12 +171,6 @@ impl Pool {
             bytes,
             message,
         };
-        #[cfg(feature = "test-support")]
-        if let Some(limit) = crate::test_support::page_refused(bytes) {
-            return Err(refused(format!(
-                "injected for a test: the pages of this process would pass {limit} bytes"
-            )));
-        }
         let buffer = alloc::create_buffer(
             device,
             &BufferDescriptor {
@@ -170,6 +195,11 @@ impl Pool {
 
     /// Returns an allocation to its page.
     pub(super) fn free(&mut self, allocation: PoolAllocation) {
+        #[cfg(feature = "test-support")]
+        crate::test_support::count_node_bytes(
+            u64::from(allocation.count) * u64::from(self.layout.kind.element_size()),
+            false,
+        );
         self.used_elements -= u64::from(allocation.count);
         self.allocations -= 1;
         self.pages[allocation.page as usize]
