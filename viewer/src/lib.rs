@@ -11,7 +11,7 @@
 //! The CPU references (the crate `voxel-reference`, re-exported here) are the ground truth of
 //! the GPU image tests: [`reference_raycast`] (one ray per pixel through the voxels) and
 //! [`deferred_reference`] (the same rays shaded with the GPU's lighting model). Both renderers
-//! and the GPU path share the [`camera`] and the [`lighting`].
+//! and the GPU path share `render_model`'s camera and lighting.
 
 pub mod controls;
 pub mod flight;

@@ -7,7 +7,7 @@ use std::sync::{Arc, Mutex};
 
 use wgpu::Device;
 
-/// A fault of the device (see the [module docs](self)).
+/// A fault of the device: its loss, or an error no error scope caught.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum DeviceFault {
     /// The device is lost (driver reset, GPU removed, out of memory in the driver): nothing

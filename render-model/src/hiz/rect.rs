@@ -53,7 +53,7 @@ fn rect_pixels(rect_min: [f32; 2], rect_max: [f32; 2], size0: (u32, u32)) -> [[u
 /// The Hi-Z test of the screen rectangle `rect_min ..= rect_max` (pixels, x right, y down) of
 /// an object whose largest (nearest) reversed-Z depth is `nearest_depth`, against `levels`,
 /// the pyramid of a `width x height` screen (as [`pyramid_reference`](super::pyramid_reference)
-/// or [`DepthPyramid::read_levels`](super::DepthPyramid::read_levels) gives it).
+/// or `gpu_backend`'s `DepthPyramid::read_levels` gives it).
 ///
 /// Errors when `levels` is not that screen's pyramid ([`ScreenError::LevelCount`],
 /// [`ScreenError::LevelLength`]) or the screen is invalid ([`ScreenError::BadSize`]). See the

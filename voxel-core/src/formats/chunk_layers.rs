@@ -17,7 +17,7 @@ pub enum DataKind {
     /// Smooth-surface vertices, [`BlockVertex`], 16 bytes.
     SmoothVertices,
     /// Smooth-surface quads, as `u32` words (4 bytes): a chunk's quads are the bytes of the
-    /// mesher's [`SmoothQuads`](voxel_core::formats::SmoothQuads) (compact 6-byte records, or 4
+    /// mesher's [`SmoothQuads`] (compact 6-byte records, or 4
     /// `u16` / `u32` vertex indices per quad, relative to the chunk's first smooth vertex),
     /// zero-padded to a whole word; the draw record carries the form.
     SmoothQuads,

@@ -132,7 +132,7 @@ struct CachedInputs {
 
 impl DepthPyramid {
     /// The pyramid of a `width x height` screen: texture, pipelines and every bind group that
-    /// does not depend on the frame's inputs. [`HizError::BadSize`] when a side is zero or
+    /// does not depend on the frame's inputs. [`HizError::Screen`] when a side is zero or
     /// larger than the device's `max_texture_dimension_2d` (or 2^15).
     pub fn new(device: &Device, width: u32, height: u32) -> Result<DepthPyramid, HizError> {
         let limits = device.limits();
@@ -381,7 +381,7 @@ impl DepthPyramid {
     }
 
     /// The dispatches of one build: level 0's, one per level but the last
-    /// [`TAIL_LEVELS`](super::TAIL_LEVELS), and one for those.
+    /// [`TAIL_LEVELS`], and one for those.
     pub fn build_dispatches(&self) -> u32 {
         match &self.tail {
             Some((source, _)) => *source as u32 + 2,

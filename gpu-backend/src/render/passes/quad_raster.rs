@@ -6,7 +6,7 @@
 //!
 //! # Integration
 //!
-//! [`Renderer`](super::Renderer) draws its opaque quads this way with
+//! [`Renderer`](crate::render::Renderer) draws its opaque quads this way with
 //! `OpaquePath::Compute` (`RendererConfig::opaque`). What it does, and what any other caller
 //! must do:
 //!
@@ -24,8 +24,8 @@
 //!    - per opaque phase (the early phase, and with occlusion culling the late one after the
 //!      Hi-Z build), right after that phase's opaque cull record:
 //!      [`QuadRaster::record`] with [`QuadRasterInputs`] naming the frame uniforms buffer, that
-//!      phase's [`CullOutput`](super::cull::CullOutput) (`opaque_commands`, or the late
-//!      phase's `late_commands`), the quad [`Gigabuffer`](crate::residency::Gigabuffer), the
+//!      phase's [`CullOutput`] (`opaque_commands`, or the late
+//!      phase's `late_commands`), the quad [`Gigabuffer`], the
 //!      visibility buffer and the screen size. Its order against the phase's far splat does
 //!      not matter (both only `atomicMax` into the buffer);
 //!    - that phase's G-buffer pass without the greedy-quad draws (`commands.draw_page`); the
@@ -77,16 +77,16 @@
 //!   the raster path's flip), interpolated barycentrically in the quad's plane (what the
 //!   raster path's perspective-correct interpolation gives), then `round(ao / 3 * 255)`.
 //!
-//! [`reference`](mod@reference) is the CPU twin of every decision, in the same `f32` operations.
+//! [`render_model::quad_raster::reference`] is the CPU twin of every decision, in the same `f32` operations.
 //!
 //! **Work balance.** A quad's *box* is the pixel-centre bounding box of its projection (the
 //! rectangle grown by twice the largest hair it can use, clipped at the near plane, padded by
-//! 1/8 pixel). Quads whose box holds at most [`LOCAL_MAX_PIXELS`] (256) pixel centres are drawn
+//! 1/8 pixel). Quads whose box holds at most `LOCAL_MAX_PIXELS` (256) pixel centres are drawn
 //! by the workgroup that set them up: a prefix sum over the 64 boxes of a batch, then each
 //! invocation takes every 64th pixel of the concatenation (a 6-step binary search finds its
 //! quad), so a batch of mixed sizes costs `ceil(sum / 64)` steps per invocation whatever the
-//! mix. Larger quads go to the tile list: their [`RasterQuad`] (32 bytes) and one 8-byte entry
-//! per [`TILE`] x [`TILE`] screen tile their box touches, written by the whole workgroup; the
+//! mix. Larger quads go to the tile list: their `RasterQuad` (32 bytes) and one 8-byte entry
+//! per `TILE` x `TILE` screen tile their box touches, written by the whole workgroup; the
 //! tiles pass gives each entry a workgroup (4 pixels per invocation). So no invocation tests
 //! more than 256 pixels per batch, and a quad covering the whole screen (8,160 tiles at
 //! 1920 x 1080) is spread over 8,160 workgroups.
@@ -117,7 +117,7 @@
 //! **Precision.** All in camera-relative `f32` (see [`render_model::camera`]): no large
 //! coordinate is ever an `f32`. A GPU that fuses multiply-adds may decide a pixel centre within
 //! about 2^-16 of the magnitudes involved of a (grown) edge or of the near plane differently
-//! from the CPU twin ([`PixelSample::ambiguous`]), and its depth bits and AO byte may differ by
+//! from the CPU twin (`render_model::quad_raster::PixelSample::ambiguous`), and its depth bits and AO byte may differ by
 //! the rounding of those operations; the GPU tests (`tests/gpu_quad_raster.rs`) state and check
 //! the bounds against the twin, and `tests/gpu_quad_raster_gbuffer.rs` against the G-buffer
 //! raster pass drawing the same quads (depth, face, block and AO per pixel, with a cap on
@@ -258,7 +258,7 @@ impl QuadRaster {
         &self.config
     }
 
-    /// The state words ([`StateWord`](super::StateWord)): list counters and statistics.
+    /// The state words (`render_model::quad_raster::StateWord`): list counters and statistics.
     pub fn state(&self) -> &Buffer {
         &self.state
     }

@@ -8,7 +8,7 @@ use crate::render::far::FarRequest;
 use crate::render::passes::fullscreen::FullscreenPath;
 use crate::residency::GigabufferConfig;
 
-/// How a [`Renderer`] is sized.
+/// How a [`Renderer`](super::Renderer) is sized.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RendererConfig {
     /// Output width, pixels.

@@ -44,7 +44,8 @@ pub struct PreparedFrame {
     transparent: Option<PreparedCull>,
 }
 
-/// The cull pass and the outputs of the renderer's frame (see the [module docs](self)).
+/// The cull pass and the outputs of the renderer's frame: the opaque phases' records and the
+/// transparent layer's, prepared together.
 #[derive(Debug)]
 pub struct FrameCulls {
     pass: CullPass,

@@ -8,7 +8,7 @@ use crate::readback::{ReadbackError, read_buffer};
 
 impl DepthPyramid {
     /// Every level, level 0 first, each row-major (`width * height` values): the layout of
-    /// [`pyramid_reference`](super::pyramid_reference). Copies all mips in one submission
+    /// `render_model::hiz::pyramid_reference`. Copies all mips in one submission
     /// and blocks until the GPU is done.
     pub fn read_levels(&self, device: &Device, queue: &Queue) -> Result<Vec<Vec<f32>>, HizError> {
         let align = u64::from(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
