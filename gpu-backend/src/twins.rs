@@ -232,9 +232,24 @@ mod frame {
                         offset_of!(LightingUniforms, emissive_scale),
                     ),
                     ("sky_colour", offset_of!(LightingUniforms, sky_colour)),
-                    ("exposure", offset_of!(LightingUniforms, exposure)),
+                    (
+                        "haze_inverse_distance",
+                        offset_of!(LightingUniforms, haze_inverse_distance),
+                    ),
                     ("ground_colour", offset_of!(LightingUniforms, ground_colour)),
                     ("ao_floor", offset_of!(LightingUniforms, ao_floor)),
+                    ("exposure", offset_of!(LightingUniforms, exposure)),
+                    ("sun_disc_cos", offset_of!(LightingUniforms, sun_disc_cos)),
+                    ("zenith_colour", offset_of!(LightingUniforms, zenith_colour)),
+                    (
+                        "sun_disc_brightness",
+                        offset_of!(LightingUniforms, sun_disc_brightness),
+                    ),
+                    (
+                        "horizon_colour",
+                        offset_of!(LightingUniforms, horizon_colour),
+                    ),
+                    ("sun_halo", offset_of!(LightingUniforms, sun_halo)),
                 ],
             );
             check(

@@ -3,11 +3,12 @@
 //!
 //! Same rays and hits as [`reference_raycast`](crate::reference_raycast) (one ray per pixel
 //! centre, DDA through voxels), shaded with the deferred lighting model's CPU twin
-//! ([`render_model::lighting`]): no shadow rays, no fog, per-vertex ambient occlusion
+//! ([`render_model::lighting`]): no shadow rays, per-vertex ambient occlusion
 //! interpolated over each face exactly as the GPU interpolates it over a quad (the mesher's AO
 //! rule per corner, the same diagonal flip, linear interpolation over the triangle the hit point
-//! lies in), transparent surfaces lit the same way and blended back to front, and the same
-//! tonemap.
+//! lies in), transparent surfaces lit the same way and blended back to front, the same sky
+//! and distance haze (the hit's distance along the unit ray, which the GPU recovers from its
+//! depth buffer) and the same tonemap.
 //!
 //! One difference remains by construction: the GPU draws *greedy* quads, which merge faces with
 //! equal corner AO, and interpolates AO over the merged quad, while this reference interpolates
@@ -16,6 +17,7 @@
 //! repeat along both axes, the shading differs slightly.
 
 use glam::DVec3;
+use render_model::lighting::sky::{apply_haze, sky_background};
 use render_model::lighting::{Lighting, blend, output_rgba8, shade, srgb_to_linear};
 use voxel_core::{BlockId, FaceDirection, MaterialPalette, WorldPos};
 
@@ -175,14 +177,16 @@ pub fn render_deferred(
             dir,
             max_distance,
         );
-        let face = |block, voxel, normal, distance| {
-            shade_face(
+        let unit = dir.as_vec3().to_array();
+        let face = |block, voxel, normal, distance: f64| {
+            let lit = shade_face(
                 block_at, palette, params, camera, dir, block, voxel, normal, distance,
-            )
+            );
+            apply_haze(params, lit, unit, distance as f32)
         };
         let mut colour = match &trace.hit {
             Some(hit) => face(hit.block, hit.voxel, hit.normal, hit.distance),
-            None => params.sky_colour,
+            None => sky_background(params, unit),
         };
         for layer in trace.layers.iter().rev().flatten() {
             let (_, alpha, _) = material(palette, layer.block);
@@ -190,7 +194,7 @@ pub fn render_deferred(
             colour = blend(colour, surface, alpha);
         }
         (
-            output_rgba8(params, colour),
+            output_rgba8(colour),
             trace.hit.map_or(f32::INFINITY, |h| h.distance as f32),
         )
     })

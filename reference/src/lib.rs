@@ -3,8 +3,8 @@
 //! CPU reference renderers, slow and simple on purpose: the ground truth the GPU renderer's
 //! images are tested against, and what the viewer draws without a GPU.
 //!
-//! - [`reference_raycast`]: one ray per pixel, marched voxel by voxel, shaded simply;
-//! - [`deferred_reference`]: the same rays shaded with the GPU's deferred lighting model.
+//! - [`reference_raycast`]: one ray per pixel, marched voxel by voxel;
+//! - [`deferred_reference`]: those rays shaded with the GPU's lighting model (the one CPU renderer).
 //!
 //! Both take the stack's one camera and lighting ([`render_model::Camera`],
 //! [`render_model::Lighting`]). A crate of its own, without wgpu, so that the image tests and

@@ -1,16 +1,16 @@
-//! A CPU reference renderer: one ray per pixel, marched voxel by voxel (Amanatides & Woo DDA).
+//! The CPU reference's rays: one ray per pixel, marched voxel by voxel (Amanatides & Woo DDA),
+//! and the frame of pixels they fill. [`deferred_reference`](crate::deferred_reference)
+//! shades what they hit.
 //!
-//! It is slow and simple on purpose: it is the ground truth the GPU renderer's images are
-//! compared against, and the headless viewer's renderer until a GPU is used. It never sees a
+//! Slow and simple on purpose: the ground truth the GPU renderer's images are compared
+//! against, and the headless viewer's renderer without a GPU. It never sees a
 //! large coordinate in floating point: the camera position is split into an integer voxel and a
 //! fraction, and rays step through integer voxel coordinates from there, so a scene near
 //! (2^30, 2^30, 2^30) renders exactly like the same scene at the origin.
 
-use glam::{DVec3, Vec3};
+use glam::DVec3;
 use rayon::prelude::*;
 use voxel_core::{BlockId, MaterialClass, MaterialPalette, WorldPos};
-
-use render_model::{Camera, Lighting};
 
 /// What one ray hit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -190,70 +190,6 @@ pub fn trace_ray(
     }
 }
 
-fn srgb_to_linear(c: u8) -> f32 {
-    let c = f32::from(c) / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-fn linear_to_srgb(c: f32) -> u8 {
-    let c = c.clamp(0.0, 1.0);
-    let s = if c <= 0.003_130_8 {
-        c * 12.92
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0 + 0.5) as u8
-}
-
-fn albedo(palette: &MaterialPalette, block: BlockId) -> (Vec3, f32, f32) {
-    match palette.get(block) {
-        Ok(m) => {
-            let [r, g, b, a] = m.colour;
-            (
-                Vec3::new(srgb_to_linear(r), srgb_to_linear(g), srgb_to_linear(b)),
-                f32::from(a) / 255.0,
-                f32::from(m.emission) / 255.0,
-            )
-        }
-        Err(_) => (Vec3::ONE, 1.0, 0.0),
-    }
-}
-
-/// Renders `width x height` pixels of the voxels given by `block_at` (rows in parallel).
-pub fn render(
-    block_at: &(impl Fn(WorldPos) -> BlockId + Sync),
-    palette: &MaterialPalette,
-    camera: &Camera,
-    lighting: &Lighting,
-    width: u32,
-    height: u32,
-    max_distance: f64,
-) -> RenderedImage {
-    render_pixels(width, height, |px, py| {
-        let dir = camera.ray_direction(px, py, width, height);
-        let hit = cast_ray(
-            block_at,
-            palette,
-            camera.voxel,
-            camera.fraction,
-            dir,
-            max_distance,
-        );
-        let colour = shade(block_at, palette, lighting, hit.as_ref(), max_distance);
-        let rgba = [
-            linear_to_srgb(colour.x),
-            linear_to_srgb(colour.y),
-            linear_to_srgb(colour.z),
-            255,
-        ];
-        (rgba, hit.map_or(f32::INFINITY, |h| h.distance as f32))
-    })
-}
-
 /// An image of `width x height` pixels whose colour and depth `pixel(px, py)` gives, rows in
 /// parallel: the frame both CPU renderers share.
 pub fn render_pixels(
@@ -287,72 +223,11 @@ pub fn render_pixels(
     image
 }
 
-/// Lambert sun with a hard shadow ray, hemisphere ambient, emission, then transparent layers
-/// blended over it back to front, then distance fog towards the sky colour.
-fn shade(
-    block_at: &impl Fn(WorldPos) -> BlockId,
-    palette: &MaterialPalette,
-    lighting: &Lighting,
-    hit: Option<&Hit>,
-    max_distance: f64,
-) -> Vec3 {
-    let sun_direction = Vec3::from_array(lighting.sun_direction);
-    let sun_colour = Vec3::from_array(lighting.sun_colour);
-    let sky_colour = Vec3::from_array(lighting.sky_colour);
-    let ground_colour = Vec3::from_array(lighting.ground_colour);
-    let Some(hit) = hit else {
-        return sky_colour;
-    };
-    let normal = Vec3::new(
-        hit.normal[0] as f32,
-        hit.normal[1] as f32,
-        hit.normal[2] as f32,
-    );
-    let (base, _, emission) = albedo(palette, hit.block);
-    let n_dot_l = normal.dot(sun_direction).max(0.0);
-    // Shadow ray from the centre of the lit face, offset out of the voxel.
-    let lit = n_dot_l > 0.0 && {
-        let face_centre = DVec3::splat(0.5) + normal.as_dvec3() * 0.501;
-        let (cell_offset, fraction) = (face_centre.floor(), face_centre - face_centre.floor());
-        let start = WorldPos::new(
-            hit.voxel.x.saturating_add(cell_offset.x as i32),
-            hit.voxel.y.saturating_add(cell_offset.y as i32),
-            hit.voxel.z.saturating_add(cell_offset.z as i32),
-        );
-        cast_ray(
-            block_at,
-            palette,
-            start,
-            fraction,
-            sun_direction.as_dvec3(),
-            96.0,
-        )
-        .is_none()
-    };
-    let hemisphere = 0.5 + 0.5 * normal.y;
-    let ambient = sky_colour.lerp(ground_colour, 1.0 - hemisphere) * lighting.ambient_strength;
-    let mut colour = base
-        * (ambient
-            + if lit {
-                sun_colour * n_dot_l
-            } else {
-                Vec3::ZERO
-            })
-        + base * emission * lighting.emissive_scale;
-    for layer in hit.transparent.iter().rev().flatten() {
-        let (tint, alpha, _) = albedo(palette, *layer);
-        let surface = tint * (sky_colour * 0.8 + sun_colour * 0.3);
-        colour = colour * (1.0 - alpha) + surface * alpha;
-    }
-    let fog = ((hit.distance / max_distance) as f32)
-        .powi(2)
-        .clamp(0.0, 1.0);
-    colour.lerp(sky_colour, fog)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::deferred_reference::render_deferred;
+    use render_model::{Camera, Lighting};
     use voxel_core::Material;
 
     fn one_block_palette() -> (MaterialPalette, BlockId) {
@@ -428,9 +303,22 @@ mod tests {
             fov_y: 1.0,
             near: Camera::DEFAULT_NEAR,
         };
-        let lighting = Lighting::default();
-        let near = render(&scene(0), &palette, &camera(0), &lighting, 48, 32, 64.0);
-        let far_img = render(&scene(far), &palette, &camera(far), &lighting, 48, 32, 64.0);
+        let lighting = Lighting {
+            haze_distance: 40.0,
+            ..Lighting::default()
+        };
+        let render = |offset: i32| {
+            render_deferred(
+                &scene(offset),
+                &palette,
+                &camera(offset),
+                &lighting,
+                48,
+                32,
+                64.0,
+            )
+        };
+        let (near, far_img) = (render(0), render(far));
         assert_eq!(near, far_img);
         assert!(
             near.depth.iter().any(|d| d.is_finite()) && near.depth.iter().any(|d| d.is_infinite())

@@ -8,7 +8,7 @@ use crate::camera::Camera;
 use crate::lighting::{Lighting, LightingUniforms};
 
 /// The uniforms every renderer shader reads (twin of the WGSL `FrameUniforms` in
-/// `gpu-backend`'s `render_common.wgsl`; a test there checks the layout with naga). 224 bytes.
+/// `gpu-backend`'s `render_common.wgsl`; a test there checks the layout with naga). 272 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct FrameUniforms {
@@ -47,7 +47,7 @@ pub struct FrameUniforms {
     pub pad: u32,
 }
 
-const _: () = assert!(size_of::<FrameUniforms>() == 224);
+const _: () = assert!(size_of::<FrameUniforms>() == 272);
 
 /// `FrameUniforms::flags` bit: far draws were splatted into the visibility buffers this frame,
 /// and the lighting pass resolves them.

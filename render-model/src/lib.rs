@@ -9,6 +9,7 @@
 //!   of view), its camera-relative view-projection and its rays;
 //! - [`lighting`]: the lighting model's parameters and its formulas (the WGSL twin lives in
 //!   `gpu-backend`'s lighting pass);
+//! - [`colour_difference`]: CIELAB and CIEDE2000, how colour tests measure a rendered colour;
 //! - [`frame`]: the frame uniforms every renderer shader reads, and the smooth draw record;
 //! - [`cull`]: level-of-detail selection by one screen-space error budget ([`cull::lod`]),
 //!   the cull's uniforms, node and draw records, and the CPU reference of the cull pass;
@@ -24,6 +25,7 @@
 //! layouts against naga's reflection of the shaders.
 
 pub mod camera;
+pub mod colour_difference;
 pub mod cull;
 pub mod frame;
 pub mod hiz;

@@ -48,7 +48,9 @@ fn far_render(
     upload_nodes(&mut renderer, &nodes).expect("upload");
     let render_cam = *camera;
     renderer.set_camera(&render_cam);
-    renderer.set_lighting(&Lighting::default());
+    renderer
+        .set_lighting(&Lighting::default())
+        .expect("the default lighting renders");
     renderer
         .set_lod(Some(LodSettings {
             budget_px: 0.0,

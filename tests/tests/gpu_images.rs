@@ -12,7 +12,9 @@ mod image_support;
 use gpu_backend::DeviceOptions;
 use gpu_backend::test_support::headless_or_skip;
 use image_support::mesh_raster::{mesh_triangles, rasterise, smooth_pixels};
-use image_support::scenes::{self, TestScene, cpu_render, gpu_render, gpu_render_with};
+use image_support::scenes::{
+    self, TestScene, cpu_render, cpu_render_lit, gpu_render, gpu_render_lit, gpu_render_with,
+};
 use image_support::{Image, Tolerance, assert_images_match, compare};
 use mesher::SurfaceMode;
 use render_model::lighting::Lighting;
@@ -138,6 +140,85 @@ fn the_mesh_rasteriser_agrees_with_the_raycaster() {
             &TOLERANCE,
         );
     }
+}
+
+/// Distance haze: the terrain patch through haze that ends at 70 blocks, on the GPU against
+/// the reference; the haze visibly changes the image.
+#[test]
+fn haze_matches_the_reference() {
+    let scene = scenes::terrain();
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let hazy = Lighting {
+        haze_distance: 70.0,
+        ..Lighting::default()
+    };
+    let camera = scene.camera;
+    let (gpu, _) = gpu_render_lit(&ctx, &scene, &camera, SurfaceMode::Greedy, &hazy);
+    let cpu = cpu_render_lit(&scene, &camera, &hazy);
+    assert_images_match("haze", &gpu, &cpu, &TOLERANCE);
+    let (clear, _) = gpu_render_lit(
+        &ctx,
+        &scene,
+        &camera,
+        SurfaceMode::Greedy,
+        &Lighting::default(),
+    );
+    let changed = gpu
+        .rgba
+        .chunks(4)
+        .zip(clear.rgba.chunks(4))
+        .filter(|(a, b)| a.iter().zip(b.iter()).any(|(x, y)| x.abs_diff(*y) > 8))
+        .count();
+    let hits = gpu.depth.iter().filter(|d| d.is_finite()).count();
+    assert!(
+        changed * 2 > hits,
+        "haze changes only {changed} of the {hits} pixels that show terrain"
+    );
+}
+
+/// The sky: looking up over a cube towards the sun, the gradient and the sun disc on the GPU
+/// against the reference; the top of the view is bluer than its bottom, and the disc is
+/// white.
+#[test]
+fn sky_and_sun_match_the_reference() {
+    let scene = scenes::cube(0);
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let lighting = Lighting::default();
+    let [x, y, z] = lighting.sun_direction.map(f64::from);
+    // Low on the cube's far side from the sun, looking up at it over the cube.
+    let h = x.hypot(z);
+    let camera = render_model::Camera {
+        voxel: voxel_core::WorldPos::new((-12.0 * x / h) as i32, -1, (-12.0 * z / h) as i32),
+        yaw: (-x).atan2(-z),
+        pitch: 0.7,
+        fov_y: 1.2,
+        ..scene.camera
+    };
+    assert!(y.asin() < 0.7 + 0.5, "the sun is in view");
+    let (gpu, _) = gpu_render_lit(&ctx, &scene, &camera, SurfaceMode::Greedy, &lighting);
+    let cpu = cpu_render_lit(&scene, &camera, &lighting);
+    assert_images_match("sky_and_sun", &gpu, &cpu, &TOLERANCE);
+    let pixel = |x: u32, y: u32| {
+        let i = 4 * (y * gpu.width + x) as usize;
+        [gpu.rgba[i], gpu.rgba[i + 1], gpu.rgba[i + 2]]
+    };
+    let sky = |x: u32, y: u32| !gpu.depth[(y * gpu.width + x) as usize].is_finite();
+    let disc = (0..gpu.height)
+        .flat_map(|y| (0..gpu.width).map(move |x| (x, y)))
+        .filter(|&(x, y)| sky(x, y) && pixel(x, y).iter().all(|&c| c >= 250))
+        .count();
+    assert!((1..200).contains(&disc), "{disc} pixels of sun disc");
+    let (top, bottom) = (pixel(2, 0), pixel(2, gpu.height - 1));
+    assert!(sky(2, 0) && sky(2, gpu.height - 1), "the corners show sky");
+    let blueness = |p: [u8; 3]| i32::from(p[2]) - i32::from(p[0]);
+    assert!(
+        blueness(top) > blueness(bottom) + 10,
+        "no gradient: top {top:?}, bottom {bottom:?}"
+    );
 }
 
 /// The cube near (2^30, 2^30, 2^30) renders bit for bit like the cube at the origin (the GPU

@@ -66,7 +66,9 @@ fn render(
     )
     .expect("upload");
     renderer.set_camera(&scene.camera);
-    renderer.set_lighting(&Lighting::default());
+    renderer
+        .set_lighting(&Lighting::default())
+        .expect("the default lighting renders");
     for _ in 0..frames {
         renderer.render().expect("frame");
     }

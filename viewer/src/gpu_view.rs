@@ -15,7 +15,7 @@ use voxel_core::storage::{VoxelStorage, WorldMap};
 use voxel_core::{ChunkCoord, MaterialPalette};
 
 use crate::scene::Scene;
-use render_model::lighting::Lighting;
+use render_model::lighting::{Lighting, LightingError};
 
 /// Why a scene could not be put on the GPU.
 #[derive(Debug)]
@@ -29,6 +29,8 @@ pub enum GpuViewError {
     Mesh(MeshError),
     /// The renderer refused a chunk.
     Render(ChunkCoord, RenderError),
+    /// The lighting cannot be rendered.
+    Lighting(LightingError),
 }
 
 impl fmt::Display for GpuViewError {
@@ -38,6 +40,7 @@ impl fmt::Display for GpuViewError {
             GpuViewError::Renderer(e) => write!(f, "renderer: {e}"),
             GpuViewError::Mesh(e) => write!(f, "meshing the scene: {e}"),
             GpuViewError::Render(c, e) => write!(f, "uploading chunk {c:?}: {e}"),
+            GpuViewError::Lighting(e) => write!(f, "{e}"),
         }
     }
 }
@@ -162,7 +165,9 @@ pub fn render_scene(
         Renderer::new(&ctx, &config, &scene.palette).map_err(GpuViewError::Renderer)?;
     let handles = upload_meshes(&mut renderer, &meshes)?;
     renderer.set_camera(camera);
-    renderer.set_lighting(lighting);
+    renderer
+        .set_lighting(lighting)
+        .map_err(GpuViewError::Lighting)?;
     renderer.set_wireframe(wireframe);
     let timings = renderer.render().map_err(GpuViewError::Renderer)?;
     let image = renderer.read_image().map_err(GpuViewError::Renderer)?;

@@ -29,10 +29,10 @@ use gpu_backend::png::encode_png;
 use gpu_backend::{DeviceError, DeviceOptions, GpuContext};
 use render_model::camera::Camera;
 use render_model::lighting::Lighting;
+use viewer::deferred_reference::render_deferred;
 use viewer::flight::{FlightPath, fly};
 use viewer::gpu_view::{GpuViewError, render_scene};
 use viewer::headless::{draw_frame, load};
-use viewer::reference_raycast::render;
 use viewer::scene::vox::{VoxError, VoxOptions, load_vox_file_with};
 use viewer::scene::{
     Scene, Terrain, TerrainBlocks, camera_looking_at, terrain_scene, terrain_view,
@@ -196,7 +196,7 @@ fn fixed_frame(
         ),
         Err(why) => {
             let block_at = |p| scene.world.get_block(p);
-            let image = render(
+            let image = render_deferred(
                 &block_at,
                 &scene.palette,
                 view,
@@ -214,6 +214,9 @@ fn fixed_frame(
         }
     })
 }
+
+/// How far the CPU reference traces the terrain, blocks.
+const CPU_TERRAIN_DISTANCE: f64 = 400.0;
 
 /// The streamed terrain's frame: loaded around `view` on the GPU, or the CPU raycaster over
 /// the terrain's function without a GPU (or with `--cpu`).
@@ -252,13 +255,26 @@ fn streamed_frame(
         }
     };
     let (palette, _) = TerrainBlocks::palette();
-    let lighting = Lighting::default();
-    let image = render(&block_at, &palette, view, &lighting, width, height, 400.0);
+    // The CPU traces CPU_TERRAIN_DISTANCE blocks; its haze ends the world there, as the GPU's
+    // ends it at the streamed radius.
+    let lighting = Lighting {
+        haze_distance: CPU_TERRAIN_DISTANCE as f32,
+        ..Lighting::default()
+    };
+    let image = render_deferred(
+        &block_at,
+        &palette,
+        view,
+        &lighting,
+        width,
+        height,
+        CPU_TERRAIN_DISTANCE,
+    );
     Some((
         image.rgba,
         format!(
             "the terrain's function, {width}x{height} rendered with the CPU reference raycast \
-             (400 blocks); no GPU: {why}"
+             ({CPU_TERRAIN_DISTANCE} blocks, hazed there); no GPU: {why}"
         ),
     ))
 }

@@ -148,7 +148,9 @@ fn full_detail(ctx: &GpuContext, n: i32, w: u32, h: u32) -> Renderer {
     config.max_chunks = (n * n * 3) as u32;
     let mut renderer = Renderer::new(ctx, &config, &scene.palette).unwrap();
     upload_world(&mut renderer, &scene.world, &scene.palette).unwrap();
-    renderer.set_lighting(&Lighting::default());
+    renderer
+        .set_lighting(&Lighting::default())
+        .expect("the default lighting renders");
     renderer
 }
 

@@ -353,7 +353,9 @@ pub fn run(
             // budgets' runs: their frames then cost what the view's own resident set costs.
             let mut renderer = renderer_with(ctx, terrain, size, far, occlusion, opaque)?;
             renderer.set_camera(&camera);
-            renderer.set_lighting(&Lighting::default());
+            renderer
+                .set_lighting(&Lighting::default())
+                .expect("the default lighting renders");
             upload_terrain_where(&mut renderer, terrain, |n| n.level == 0)?;
             renderer.set_lod(None)?;
             for &fullscreen in &config.fullscreen {
@@ -383,7 +385,9 @@ pub fn run(
         eprintln!("far draws: {far_choice}");
         choices.push(far_choice.clone());
         renderer.set_camera(&camera);
-        renderer.set_lighting(&Lighting::default());
+        renderer
+            .set_lighting(&Lighting::default())
+            .expect("the default lighting renders");
         scene.upload_ms = upload_terrain_where(&mut renderer, terrain, |n| {
             selected_by_any(&params, n.level, n.coord)
         })?;

@@ -6,7 +6,7 @@ use glam::DVec3;
 use render_model::camera::Camera;
 use render_model::lighting::Lighting;
 use voxel_core::WorldPos;
-use voxel_reference::reference_raycast::render;
+use voxel_reference::deferred_reference::render_deferred as render;
 use voxel_scene::{Terrain, TerrainBlocks};
 
 /// Farthest a ray travels, voxels.

@@ -366,7 +366,7 @@ fn extremes_section(s: &mut String, m: &Measurements) {
     let _ = writeln!(
         s,
         "{}\n\nThe same {w} x {h} view of the terrain (seed {}), rendered by the CPU reference \
-         raycaster (`viewer::reference_raycast::render`) with the camera and the world moved \
+         raycaster (`viewer::deferred_reference::render_deferred`) with the camera and the world moved \
          together by each offset; {:.0} % of the frame is terrain. Difference against the frame \
          at the origin:\n\n\
          | offset (voxels) | pixels differing | max channel difference | mean abs difference |\n\

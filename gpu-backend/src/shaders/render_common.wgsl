@@ -1,7 +1,8 @@
-// Shared by the renderer's shaders (gbuffer.wgsl, deferred.wgsl): the frame uniforms, the GPU
-// material palette, and the lighting model. Twins: render/frame.rs (FrameUniforms),
-// render/lighting.rs (Lighting, shade, aces: the CPU twin of the formulas, same operation
-// order), render/materials.rs (GpuMaterial). Layouts are checked with naga in unit tests.
+// Shared by the renderer's shaders (the G-buffer, lighting, transparent and tonemap passes):
+// the frame uniforms, the GPU material palette, and the lighting model. Twins in
+// render-model: frame.rs (FrameUniforms), lighting/ (Lighting, shade, the sky and haze,
+// neutral: the CPU twin of the formulas, same operation order), materials.rs (GpuMaterial).
+// Layouts are checked with naga in unit tests.
 
 struct Lighting {
     sun_direction: vec3<f32>,
@@ -9,9 +10,17 @@ struct Lighting {
     sun_colour: vec3<f32>,
     emissive_scale: f32,
     sky_colour: vec3<f32>,
-    exposure: f32,
+    // 1 / haze distance; 0 = no haze.
+    haze_inverse_distance: f32,
     ground_colour: vec3<f32>,
     ao_floor: f32,
+    // Per-channel exposure (white balance included): Lighting::exposure_rgb.
+    exposure: vec3<f32>,
+    sun_disc_cos: f32,
+    zenith_colour: vec3<f32>,
+    sun_disc_brightness: f32,
+    horizon_colour: vec3<f32>,
+    sun_halo: f32,
 }
 
 struct FrameUniforms {
@@ -75,8 +84,8 @@ fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
     return select(pow((c + 0.055) / 1.055, vec3<f32>(2.4)), c / 12.92, c <= vec3<f32>(0.04045));
 }
 
-// Linear colour of a surface point: hemisphere ambient scaled by AO (0..=3), Lambert sun,
-// emission. The twin of lighting::shade.
+// Exposed (display-linear) colour of a surface point: hemisphere ambient scaled by AO
+// (0..=3), Lambert sun, emission, times the exposure. The twin of lighting::shade.
 fn shade(albedo: vec3<f32>, n: vec3<f32>, ao: f32, emission: f32) -> vec3<f32> {
     let l = frame.lighting;
     let hemisphere = 0.5 + 0.5 * n.y;
@@ -84,12 +93,76 @@ fn shade(albedo: vec3<f32>, n: vec3<f32>, ao: f32, emission: f32) -> vec3<f32> {
     let occlusion = (l.ao_floor + (1.0 - l.ao_floor) * (ao / 3.0)) * l.ambient_strength;
     let n_dot_l = max(n.x * l.sun_direction.x + n.y * l.sun_direction.y + n.z * l.sun_direction.z, 0.0);
     let light = ambient * occlusion + l.sun_colour * n_dot_l;
-    return albedo * light + albedo * (emission * l.emissive_scale);
+    return (albedo * light + albedo * (emission * l.emissive_scale)) * l.exposure;
 }
 
-// Narkowicz's ACES fit, clamped; the twin of lighting::aces.
-fn aces(x: vec3<f32>) -> vec3<f32> {
-    return clamp((x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14), vec3<f32>(0.0), vec3<f32>(1.0));
+// The sky's colour towards unit direction dir without the sun disc (the haze's colour):
+// horizon-to-zenith gradient plus the sun's halo. The twin of lighting::sky::haze_colour.
+fn haze_colour(dir: vec3<f32>) -> vec3<f32> {
+    let l = frame.lighting;
+    let up = clamp(dir.y, 0.0, 1.0);
+    let t = 1.0 - (1.0 - up) * (1.0 - up);
+    let c = max(dot(dir, l.sun_direction), 0.0);
+    let c2 = c * c;
+    let c4 = c2 * c2;
+    let c8 = c4 * c4;
+    let halo = l.sun_halo * (c8 * c8);
+    let sun = l.sun_colour * l.exposure;
+    return l.horizon_colour + (l.zenith_colour - l.horizon_colour) * t + sun * halo;
+}
+
+// The background towards unit direction dir: haze_colour plus the sun disc. The twin of
+// lighting::sky::sky_background.
+fn sky_background(dir: vec3<f32>) -> vec3<f32> {
+    let l = frame.lighting;
+    let sky = haze_colour(dir);
+    if dot(dir, l.sun_direction) < l.sun_disc_cos {
+        return sky;
+    }
+    return sky + (l.sun_colour * l.exposure) * l.sun_disc_brightness;
+}
+
+// ln(255): the haze's transmittance at its distance is 1/255 (lighting::sky::HAZE_DENSITY).
+const HAZE_DENSITY: f32 = 5.541264;
+
+// colour seen through the haze from distance blocks along unit direction dir. The twin of
+// lighting::sky::apply_haze.
+fn apply_haze(colour: vec3<f32>, dir: vec3<f32>, distance: f32) -> vec3<f32> {
+    let x = distance * frame.lighting.haze_inverse_distance;
+    let x2 = x * x;
+    let t = exp(-HAZE_DENSITY * (x2 * x2));
+    let haze = haze_colour(dir);
+    return haze + (colour - haze) * t;
+}
+
+// Reversed-Z depth (near / view_z, > 0) at pixel centre p to the distance from the eye and
+// the unit ray direction: pixel_ray has a unit component along forward, so the point lies
+// view_z * |ray| blocks away.
+struct EyeRay {
+    dir: vec3<f32>,
+    distance: f32,
+}
+
+fn eye_ray(p: vec2<u32>, depth: f32) -> EyeRay {
+    let ray = pixel_ray(p);
+    let len = length(ray);
+    return EyeRay(ray / len, frame.near / depth * len);
+}
+
+// Khronos PBR Neutral's highlight compression without its toe; the twin of
+// lighting::neutral (COMPRESSION_START, DESATURATION).
+fn neutral(colour: vec3<f32>) -> vec3<f32> {
+    let c = max(colour, vec3<f32>(0.0));
+    let peak = max(c.r, max(c.g, c.b));
+    if peak < 0.85 {
+        return c;
+    }
+    let d = 1.0 - 0.85;
+    let new_peak = 1.0 - d * d / (peak + d - 0.85);
+    let scale = new_peak / peak;
+    let g = 1.0 - 1.0 / (0.15 * (peak - new_peak) + 1.0);
+    let scaled = c * scale;
+    return scaled + (vec3<f32>(new_peak) - scaled) * g;
 }
 
 // Octahedral 16+16 encoding of a unit vector, rounded to nearest; oct32_decode (formats) is

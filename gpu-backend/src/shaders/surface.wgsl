@@ -144,11 +144,12 @@ fn gbuffer_texels(block: u32, ao: f32, normal: vec3<f32>) -> GBufferOut {
     return out;
 }
 
-// A transparent surface point lit (forward) with the deferred lighting model; alpha is the
-// palette's.
-fn transparent_colour(block: u32, ao: f32, normal: vec3<f32>) -> vec4<f32> {
+// A transparent surface point at fragment position `position` lit (forward) with the
+// deferred lighting model and seen through the haze; alpha is the palette's.
+fn transparent_colour(block: u32, ao: f32, normal: vec3<f32>, position: vec4<f32>) -> vec4<f32> {
     let m = material_of(block);
     let srgba = material_srgba(m);
     let colour = shade(srgb_to_linear(srgba.rgb), normal, ao, material_emission(m));
-    return vec4<f32>(colour, srgba.a);
+    let seen = eye_ray(vec2<u32>(floor(position.xy)), position.z);
+    return vec4<f32>(apply_haze(colour, seen.dir, seen.distance), srgba.a);
 }

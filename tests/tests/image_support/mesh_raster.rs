@@ -16,7 +16,7 @@
 //! The nearest hit gives the depth (distance along the ray), the [`Surface`] (the face plane
 //! of a quad; the smooth surface of the block of a smooth triangle's first corner, which is
 //! the vertex flat interpolation takes) and the colour: the lighting model's CPU twin
-//! (`render_model::lighting::shade`) with what the G-buffer holds there: the block's
+//! (`render_model::lighting::shade`, then the haze; the sky where nothing is hit) with what the G-buffer holds there: the block's
 //! albedo and emission, the normal (a quad's face normal; the smooth corners' normals
 //! interpolated perspective-correctly and normalized, as the fragment shader does), and AO
 //! interpolated over the triangle (3 on smooth surfaces). Geometry is made relative to the
@@ -28,6 +28,7 @@ use glam::DVec3;
 use gpu_backend::render::RendererConfig;
 use mesher::{BlockClasses, MeshSettings, SurfaceMode};
 use render_model::camera::Camera;
+use render_model::lighting::sky::{apply_haze, sky_background};
 use render_model::lighting::{Lighting, output_rgba8, shade, srgb_to_linear};
 use voxel_core::formats::BlockVertexFields;
 use voxel_core::{BlockId, ChunkCoord};
@@ -178,12 +179,15 @@ pub(crate) fn rasterise(
     for py in 0..HEIGHT {
         for px in 0..WIDTH {
             let dir = camera.ray_direction(px, py, WIDTH, HEIGHT);
+            let unit = dir.as_vec3().to_array();
             let nearest = triangles
                 .iter()
                 .filter_map(|t| intersect(dir, t).map(|hit| (hit, t)))
                 .min_by(|(a, _), (b, _)| a.0.total_cmp(&b.0));
             let Some(((distance, u, v), t)) = nearest else {
-                image.rgba.extend(output_rgba8(params, params.sky_colour));
+                image
+                    .rgba
+                    .extend(output_rgba8(sky_background(params, unit)));
                 image.depth.push(f32::INFINITY);
                 surfaces.push(PixelSurfaces {
                     opaque: None,
@@ -206,7 +210,8 @@ pub(crate) fn rasterise(
             let emission = f32::from(material.emission) / 255.0;
             let normal = normal.as_vec3().to_array();
             let colour = shade(params, albedo, normal, ao as f32, emission);
-            image.rgba.extend(output_rgba8(params, colour));
+            let colour = apply_haze(params, colour, unit, distance as f32);
+            image.rgba.extend(output_rgba8(colour));
             image.depth.push(distance as f32);
             surfaces.push(PixelSurfaces {
                 opaque: Some(t.surface),

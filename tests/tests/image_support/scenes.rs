@@ -234,6 +234,17 @@ pub(crate) fn gpu_render_with(
     camera: &Camera,
     surface: SurfaceMode,
 ) -> (Image, Vec<PassTime>) {
+    gpu_render_lit(ctx, scene, camera, surface, &Lighting::default())
+}
+
+/// [`gpu_render_with`] under `lighting`.
+pub(crate) fn gpu_render_lit(
+    ctx: &GpuContext,
+    scene: &TestScene,
+    camera: &Camera,
+    surface: SurfaceMode,
+    lighting: &Lighting,
+) -> (Image, Vec<PassTime>) {
     let size = scene.world.size();
     let config = RendererConfig::new(WIDTH, HEIGHT, size);
     let mut renderer = Renderer::new(ctx, &config, &scene.palette).expect("renderer");
@@ -244,7 +255,9 @@ pub(crate) fn gpu_render_with(
     upload_world_with(&mut renderer, &scene.world, &scene.palette, &settings).expect("upload");
     let render_cam = *camera;
     renderer.set_camera(&render_cam);
-    renderer.set_lighting(&Lighting::default());
+    renderer
+        .set_lighting(lighting)
+        .expect("the test's lighting renders");
     let times = renderer.render().expect("frame");
     let frame = renderer.read_image().expect("readback");
     let depth = frame
@@ -270,12 +283,17 @@ pub(crate) fn gpu_render_with(
 
 /// Renders `scene` with the CPU reference shaded like the GPU.
 pub(crate) fn cpu_render(scene: &TestScene, camera: &Camera) -> Image {
+    cpu_render_lit(scene, camera, &Lighting::default())
+}
+
+/// [`cpu_render`] under `lighting`.
+pub(crate) fn cpu_render_lit(scene: &TestScene, camera: &Camera, lighting: &Lighting) -> Image {
     let block_at = |p| scene.world.get_block(p);
     let image = render_deferred(
         &block_at,
         &scene.palette,
         camera,
-        &Lighting::default(),
+        lighting,
         WIDTH,
         HEIGHT,
         MAX_DISTANCE,

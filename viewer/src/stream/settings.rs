@@ -228,6 +228,13 @@ impl StreamSettings {
                 return bad(format!("{name} {v} must be a finite number >= 0"));
             }
         }
+        if self.hysteresis >= self.radius as f32 {
+            return bad(format!(
+                "hysteresis {} must be below the radius {}: the anchor would never follow the \
+                 camera",
+                self.hysteresis, self.radius
+            ));
+        }
         if self.memory_bytes < 1 << 20 {
             return bad(format!("memory {} bytes is below 1 MiB", self.memory_bytes));
         }
@@ -244,6 +251,14 @@ impl StreamSettings {
             return bad("the per-frame upload limit must allow some upload".to_owned());
         }
         Ok(self)
+    }
+
+    /// Where the haze hides the world, blocks: the streamed radius less the anchor's
+    /// hysteresis, the nearest the world's end comes to an eye that stays within the
+    /// hysteresis of the anchor (a camera outrunning the planner can see nearer). Positive
+    /// for validated settings.
+    pub fn haze_distance(&self) -> f32 {
+        self.radius as f32 - self.hysteresis
     }
 
     /// The renderer's node capacity: `max_nodes`, or twice the level-0 chunks that fit in the

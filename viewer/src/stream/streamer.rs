@@ -21,7 +21,7 @@ use super::builders::Builders;
 use super::memory::NodeMemory;
 use super::plan::{self, Plan};
 use super::selection::{Extent, NodeKey};
-use super::settings::StreamSettings;
+use super::settings::{BadSetting, StreamSettings};
 use super::sizing::{far_choice, renderer_config};
 use super::{StreamError, StreamStatus};
 use render_model::lighting::Lighting;
@@ -115,7 +115,13 @@ impl Streamer {
         let config = renderer_config(&settings, far.path, (width, height), &ctx.capabilities);
         let (palette, blocks) = TerrainBlocks::palette();
         let mut renderer = Renderer::new(ctx, &config, &palette).map_err(StreamError::Renderer)?;
-        renderer.set_lighting(&Lighting::default());
+        let lighting = Lighting {
+            haze_distance: settings.haze_distance(),
+            ..Lighting::default()
+        };
+        renderer
+            .set_lighting(&lighting)
+            .map_err(|e| StreamError::Settings(BadSetting(e.to_string())))?;
         let far_blocks = far.path != gpu_backend::render::far::FarPath::Off;
         let source = Arc::new(NodeSource::new(&settings, &palette, blocks, far_blocks));
         let (finished_sender, finished) = channel();

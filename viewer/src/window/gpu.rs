@@ -128,7 +128,9 @@ impl GpuWindow {
                     Renderer::new(&ctx, &config, &scene.palette).map_err(WindowError::Renderer)?;
                 upload_world(&mut renderer, &scene.world, &scene.palette)
                     .map_err(WindowError::Scene)?;
-                renderer.set_lighting(&Lighting::default());
+                renderer
+                    .set_lighting(&Lighting::default())
+                    .expect("the default lighting passes its check");
                 let counts = scene_counts(&renderer);
                 Drawn::Fixed {
                     renderer: Box::new(renderer),

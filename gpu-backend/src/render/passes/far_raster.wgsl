@@ -256,8 +256,9 @@ fn fs_sprite_transparent(in: SpriteVaryings) -> SpriteTransparentOut {
         discard;
     }
     var out: SpriteTransparentOut;
-    out.colour = transparent_colour(in.bits >> 16u, hit.ao, vec3<f32>(face_normal(hit.face)));
     out.depth = min(hit.depth, in.position.z);
+    let at = vec4<f32>(in.position.xy, out.depth, 1.0);
+    out.colour = transparent_colour(in.bits >> 16u, hit.ao, vec3<f32>(face_normal(hit.face)), at);
     return out;
 }
 

@@ -1,6 +1,6 @@
 // The lighting pass, as a fragment pass (full-screen triangle) and as a compute pass (8 x 8
 // pixels per workgroup), the same per-pixel function either way: the G-buffer and the
-// visibility buffers to linear HDR. render_common.wgsl and fullscreen.wgsl come before this
+// visibility buffers to display-linear HDR (exposed, hazed, the sky where nothing drew). render_common.wgsl and fullscreen.wgsl come before this
 // body.
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
@@ -37,12 +37,13 @@ fn shade_splat(s: Splat) -> vec4<f32> {
     return vec4<f32>(shade(srgb_to_linear(srgba.rgb), n, s.ao, material_emission(m)), srgba.a);
 }
 
-// Linear colour of pixel p: the nearer of the G-buffer and the opaque far draws, sky where
-// neither drew, then the nearest transparent far draw blended over it when it is in front.
+// Display-linear colour of pixel p: the nearer of the G-buffer and the opaque far draws
+// seen through the haze, the sky where neither drew, then the nearest transparent far draw
+// (hazed at its own depth) blended over it when it is in front.
 fn lit_pixel(p: vec2<u32>) -> vec3<f32> {
     let texel = vec2<i32>(p);
     var depth = textureLoad(gbuffer_depth, texel, 0);
-    var colour = frame.lighting.sky_colour;
+    var surface = vec3<f32>(0.0);
     var splatted = false;
     let at = p.y * frame.width + p.x;
     if (frame.flags & FRAME_SPLAT) != 0u {
@@ -51,7 +52,7 @@ fn lit_pixel(p: vec2<u32>) -> vec3<f32> {
         // Reversed-Z: nearer is greater; 0 is the cleared far plane.
         if d > depth {
             depth = d;
-            colour = shade_splat(splat_of(v.x)).rgb;
+            surface = shade_splat(splat_of(v.x)).rgb;
             splatted = true;
         }
     }
@@ -60,13 +61,23 @@ fn lit_pixel(p: vec2<u32>) -> vec3<f32> {
         let normal_material = textureLoad(gbuffer_normal, texel, 0);
         let n = oct32_decode(normal_material.x);
         let m = material_of(normal_material.y);
-        colour = shade(srgb_to_linear(albedo_ao.rgb), n, albedo_ao.a * 3.0, material_emission(m));
+        surface = shade(srgb_to_linear(albedo_ao.rgb), n, albedo_ao.a * 3.0, material_emission(m));
+    }
+    let ray = pixel_ray(p);
+    var colour: vec3<f32>;
+    if depth > 0.0 {
+        let seen = eye_ray(p, depth);
+        colour = apply_haze(surface, seen.dir, seen.distance);
+    } else {
+        colour = sky_background(normalize(ray));
     }
     if (frame.flags & FRAME_SPLAT) != 0u {
         let t = transparent[at];
-        if bitcast<f32>(t.y) > depth {
+        let d = bitcast<f32>(t.y);
+        if d > depth {
             let over = shade_splat(splat_of(t.x));
-            colour = mix(colour, over.rgb, over.a);
+            let seen = eye_ray(p, d);
+            colour = mix(colour, apply_haze(over.rgb, seen.dir, seen.distance), over.a);
         }
     }
     return colour;

@@ -10,10 +10,9 @@
 // The compute pass's output.
 @group(1) @binding(7) var output_out: texture_storage_2d<rgba8unorm, write>;
 
-// ACES on the exposed colour (linear, 0..=1).
+// The hue-preserving tonemap of the display-linear HDR colour (linear, 0..=1 out).
 fn tonemapped(p: vec2<u32>) -> vec3<f32> {
-    let c = textureLoad(hdr, vec2<i32>(p), 0).rgb;
-    return aces(c * frame.lighting.exposure);
+    return neutral(textureLoad(hdr, vec2<i32>(p), 0).rgb);
 }
 
 // The sRGB transfer function, linear 0..=1 to encoded 0..=1 (what an *Srgb target does).

@@ -10,7 +10,7 @@ fn vs_quad_transparent(@builtin(vertex_index) vertex: u32, @builtin(instance_ind
 // Transparent quads: lit here and blended over the lit opaque image with the palette alpha.
 @fragment
 fn fs_transparent(in: SurfaceVaryings) -> @location(0) vec4<f32> {
-    return transparent_colour(in.block, in.ao, in.normal);
+    return transparent_colour(in.block, in.ao, in.normal, in.position);
 }
 
 // fs_transparent for the meshed quads, which also hides them behind the opaque visibility
@@ -25,5 +25,5 @@ fn fs_transparent_over_visibility(in: SurfaceVaryings) -> @location(0) vec4<f32>
             discard;
         }
     }
-    return transparent_colour(in.block, in.ao, in.normal);
+    return transparent_colour(in.block, in.ao, in.normal, in.position);
 }

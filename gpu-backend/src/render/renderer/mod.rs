@@ -15,7 +15,7 @@ use wgpu::{Device, Queue};
 
 use render_model::camera::Camera;
 use render_model::cull::{LodAnchor, LodSettings};
-use render_model::lighting::Lighting;
+use render_model::lighting::{Lighting, LightingError};
 use render_model::resident::ChunkMeshData;
 use voxel_core::MaterialPalette;
 
@@ -176,9 +176,12 @@ impl Renderer {
         self.view.anchor
     }
 
-    /// Sets the light of the next frames.
-    pub fn set_lighting(&mut self, lighting: &Lighting) {
+    /// Sets the light, sky and haze of the next frames, after [`Lighting::check`]; a
+    /// lighting that cannot be rendered is refused by name and the previous one kept.
+    pub fn set_lighting(&mut self, lighting: &Lighting) -> Result<(), LightingError> {
+        lighting.check()?;
         self.view.lighting = *lighting;
+        Ok(())
     }
 
     /// Turns the wireframe view on or off: meshed quads (greedy and smooth) are drawn as
