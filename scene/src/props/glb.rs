@@ -17,9 +17,9 @@ pub(crate) struct Glb<'a> {
     pub(crate) bin: Option<&'a [u8]>,
 }
 
-/// True when `bytes` start with the GLB magic.
+/// True when `bytes` start with the GLB magic, or are a piece of it (a GLB cut short).
 pub(crate) fn is_glb(bytes: &[u8]) -> bool {
-    bytes.starts_with(MAGIC)
+    bytes.starts_with(MAGIC) || MAGIC.starts_with(bytes)
 }
 
 fn u32_at(bytes: &[u8], offset: usize, what: &'static str) -> Result<u32, PropError> {

@@ -146,6 +146,25 @@ pub fn load_prop_file(path: &Path, limits: &PropLimits) -> Result<PropModel, Pro
     load(&bytes, Base::Folder(folder), limits)
 }
 
+/// The `gltf` crate's validation, less one rule: `POSITION` accessors without `min` / `max`
+/// (which the specification asks for) are accepted, since the loader computes the bounds
+/// from the positions themselves and several exporters omit them.
+fn validate(root: gltf::json::Root) -> Result<gltf::Document, PropError> {
+    use gltf::json::validation::{Error, Validate};
+    let mut problems = Vec::new();
+    root.validate(&root, gltf::json::Path::new, &mut |path, error| {
+        let path = path().to_string();
+        let bounds = path.ends_with("[\"POSITION\"].min") || path.ends_with("[\"POSITION\"].max");
+        if !(bounds && error == Error::Missing) && problems.len() < 8 {
+            problems.push(format!("{path}: {error}"));
+        }
+    });
+    if !problems.is_empty() {
+        return Err(PropError::Invalid { problems });
+    }
+    Ok(gltf::Document::from_json_without_validation(root))
+}
+
 fn load(bytes: &[u8], base: Base<'_>, limits: &PropLimits) -> Result<PropModel, PropError> {
     if bytes.is_empty() {
         return Err(PropError::Empty);
@@ -170,18 +189,7 @@ fn load(bytes: &[u8], base: Base<'_>, limits: &PropLimits) -> Result<PropModel, 
             found: root.asset.version.clone(),
         });
     }
-    let document = gltf::Document::from_json(root).map_err(|e| match e {
-        gltf::Error::Validation(list) => PropError::Invalid {
-            problems: list
-                .iter()
-                .take(8)
-                .map(|(path, error)| format!("{path}: {error}"))
-                .collect(),
-        },
-        other => PropError::Invalid {
-            problems: vec![other.to_string()],
-        },
-    })?;
+    let document = validate(root)?;
     let mut warnings = Vec::new();
     for name in document.extensions_used() {
         if !SUPPORTED_EXTENSIONS.contains(&name) {
