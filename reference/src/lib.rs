@@ -4,7 +4,9 @@
 //! images are tested against, and what the viewer draws without a GPU.
 //!
 //! - [`reference_raycast`]: one ray per pixel, marched voxel by voxel, shaded simply;
-//! - [`deferred_reference`]: the same rays shaded with the GPU's deferred lighting model.
+//! - [`deferred_reference`]: the same rays shaded with the GPU's deferred lighting model;
+//! - [`prop_raster`]: glTF props (`voxel_scene::props`) rasterised with the same lighting,
+//!   placed by the prop pass's camera-relative rule.
 //!
 //! Both take the stack's one camera and lighting ([`render_model::Camera`],
 //! [`render_model::Lighting`]). A crate of its own, without wgpu, so that the image tests and
@@ -12,4 +14,5 @@
 //! window (winit, egui).
 
 pub mod deferred_reference;
+pub mod prop_raster;
 pub mod reference_raycast;
