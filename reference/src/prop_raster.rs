@@ -238,7 +238,8 @@ impl Target<'_> {
                 }
                 let depth = b[0] * screen[0][2] + b[1] * screen[1][2] + b[2] * screen[2][2];
                 let at = py as usize * self.width as usize + px as usize;
-                if !(depth > self.depth[at]) || depth > 1.0 {
+                let nearer = depth > self.depth[at] && depth <= 1.0;
+                if !nearer {
                     continue;
                 }
                 // Perspective-correct weights: b_i / w_i, normalized.

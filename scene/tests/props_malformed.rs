@@ -425,7 +425,7 @@ fn sparse_gltf(uri: &str) -> serde_json::Value {
         ],
         "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}}]}],
         "nodes": [{"mesh": 0, "translation": [1, 2, 3], "scale": [2, 2, 2],
-                   "rotation": [0, 0.7071068, 0, 0.7071068]}],
+                   "rotation": [0, std::f32::consts::FRAC_1_SQRT_2, 0, std::f32::consts::FRAC_1_SQRT_2]}],
         "scenes": [{"nodes": [0]}]
     })
 }

@@ -24,14 +24,22 @@ fn the_duck_loads_with_its_counts_texture_and_nested_transforms() {
     assert_eq!(prim.indices.len(), 12636);
     assert!(prim.has_uv && !prim.normals_generated);
     assert_eq!(prim.material, Some(0));
-    // The accessor's min / max, as the exporter wrote them.
+    // The accessor's min / max as the exporter wrote them (in f64), rounded to f32.
     assert_eq!(
         prim.bounds.min,
-        [-69.29850006103516, 9.929369926452637, -61.32819747924805]
+        [
+            -69.29850006103516f64 as f32,
+            9.929369926452637f64 as f32,
+            -61.32819747924805f64 as f32
+        ]
     );
     assert_eq!(
         prim.bounds.max,
-        [96.17990112304688, 163.97000122070312, 53.92519760131836]
+        [
+            96.17990112304688f64 as f32,
+            163.97000122070312f64 as f32,
+            53.92519760131836f64 as f32
+        ]
     );
     for v in &prim.vertices {
         let n = v.normal;

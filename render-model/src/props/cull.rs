@@ -75,7 +75,9 @@ pub fn sphere_in_frustum(planes: &[[f32; 4]; 6], centre: [f32; 3], radius: f32) 
     let c = centre;
     planes.iter().all(|p| {
         let d = ((p[0] * c[0] + p[1] * c[1]) + p[2] * c[2]) + p[3];
-        !(d < -radius)
+        // The shader's `if d < -radius { outside }`: NaN keeps the sphere.
+        let outside = d < -radius;
+        !outside
     })
 }
 

@@ -315,8 +315,8 @@ impl PropRegistry {
         if full {
             return PropUpload {
                 full,
-                instances: vec![0..self.slot_count()],
-                batches: vec![0..self.batch_count()],
+                instances: std::iter::once(0..self.slot_count()).collect(),
+                batches: std::iter::once(0..self.batch_count()).collect(),
             };
         }
         PropUpload {

@@ -213,13 +213,13 @@ fn an_edit_uploads_only_the_slots_it_touches() {
     r.set_placement(hs[2], at(9, 9, 9)).unwrap();
     let u = r.take_upload();
     assert!(!u.full);
-    assert_eq!(u.instances, [2..3]);
+    assert_eq!(u.instances, std::iter::once(2..3).collect::<Vec<_>>());
     assert!(u.batches.is_empty());
     // Hiding the first of four shown swaps it with the last shown: two slots and the batch.
     r.set_visible(hs[0], false).unwrap();
     let u = r.take_upload();
     assert_eq!(u.instances, [0..1, 3..4]);
-    assert_eq!(u.batches, [0..1]);
+    assert_eq!(u.batches, std::iter::once(0..1).collect::<Vec<_>>());
     assert_eq!(r.take_upload(), PropUpload::default());
 }
 

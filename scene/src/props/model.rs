@@ -54,9 +54,9 @@ impl Aabb {
 
     /// Grows the box to hold `p`.
     pub fn include(&mut self, p: [f32; 3]) {
-        for i in 0..3 {
-            self.min[i] = self.min[i].min(p[i]);
-            self.max[i] = self.max[i].max(p[i]);
+        for (i, &c) in p.iter().enumerate() {
+            self.min[i] = self.min[i].min(c);
+            self.max[i] = self.max[i].max(c);
         }
     }
 

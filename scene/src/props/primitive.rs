@@ -208,7 +208,7 @@ fn load_primitive(
         index_count
     };
     totals.add(stored_vertices, index_count, limits)?;
-    if index_count % 3 != 0 {
+    if !index_count.is_multiple_of(3) {
         return Err(PropError::TriangleCount {
             at,
             count: index_count,

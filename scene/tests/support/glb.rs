@@ -34,7 +34,7 @@ impl Glb {
     /// The GLB file: header, JSON chunk padded with spaces, BIN chunk padded with zeros.
     pub(crate) fn bytes(&self) -> Vec<u8> {
         let mut json = serde_json::to_vec(&self.json).unwrap();
-        while json.len() % 4 != 0 {
+        while !json.len().is_multiple_of(4) {
             json.push(b' ');
         }
         let mut out = b"glTF".to_vec();
@@ -45,7 +45,7 @@ impl Glb {
         out.extend(&json);
         if let Some(bin) = &self.bin {
             let mut bin = bin.clone();
-            while bin.len() % 4 != 0 {
+            while !bin.len().is_multiple_of(4) {
                 bin.push(0);
             }
             out.extend((bin.len() as u32).to_le_bytes());

@@ -43,7 +43,7 @@ fn data_uri(bytes: &[u8]) -> String {
 /// A GLB file of `json` and `bin`.
 fn glb(json: &Value, bin: Option<&[u8]>) -> Vec<u8> {
     let mut j = serde_json::to_vec(json).expect("json");
-    while j.len() % 4 != 0 {
+    while !j.len().is_multiple_of(4) {
         j.push(b' ');
     }
     let mut out = b"glTF".to_vec();
@@ -54,7 +54,7 @@ fn glb(json: &Value, bin: Option<&[u8]>) -> Vec<u8> {
     out.extend(&j);
     if let Some(bin) = bin {
         let mut b = bin.to_vec();
-        while b.len() % 4 != 0 {
+        while !b.len().is_multiple_of(4) {
             b.push(0);
         }
         out.extend((b.len() as u32).to_le_bytes());
@@ -120,7 +120,7 @@ fn textured_quad() -> (Value, Vec<u8>) {
             "indices": 3, "material": 0}]}],
         "nodes": [
             {"children": [1], "matrix": [1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1]},
-            {"children": [2], "translation": [1, 2, 3], "rotation": [0, 0.7071068, 0, 0.7071068],
+            {"children": [2], "translation": [1, 2, 3], "rotation": [0, std::f32::consts::FRAC_1_SQRT_2, 0, std::f32::consts::FRAC_1_SQRT_2],
              "scale": [2, 2, 2]},
             {"mesh": 0}
         ],
