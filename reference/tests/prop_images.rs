@@ -301,3 +301,71 @@ fn a_duck_at_two_to_the_thirty_renders_like_one_at_the_origin() {
     assert!(near.rgba == far_frame.rgba, "colours differ");
     assert!(near.depth == far_frame.depth, "depths differ");
 }
+
+/// The cull twin against the reference's own depth: a small prop behind the duck is hidden
+/// by the depth pyramid of the duck's image, one in front of it is not, one behind the eye is
+/// outside the frustum.
+#[test]
+fn the_duck_hides_a_prop_behind_it_from_the_cull_twin() {
+    use render_model::hiz::pyramid_reference;
+    use render_model::props::{
+        PROP_CULL_FRUSTUM, PROP_CULL_OCCLUSION, PropCullUniforms, PropHiz, PropPrimitiveDesc,
+        PropRegistry,
+    };
+    let Some(bytes) = sample("Duck.glb") else {
+        return;
+    };
+    let model = load(&bytes);
+    let (eye, target) = (DVec3::new(0.9, 1.4, 2.6), DVec3::new(0.1, 0.8, 0.0));
+    let cam = look_at(eye, target);
+    let frame = render(&model, WorldPos::new(0, 0, 0), &cam);
+    let levels = pyramid_reference(&frame.depth, frame.width, frame.height).unwrap();
+    let mut registry = PropRegistry::new();
+    let ball = registry.add_primitive(PropPrimitiveDesc {
+        index_count: 3,
+        first_index: 0,
+        base_vertex: 0,
+        sphere_centre: [0.0; 3],
+        sphere_radius: 0.05,
+    });
+    let along = |t: f64| PropPlacement::at_world(eye + (target - eye) * t, IDENTITY).unwrap();
+    let behind = registry.create(ball, 0, along(1.4), true).unwrap();
+    let front = registry.create(ball, 0, along(0.5), true).unwrap();
+    let _at_the_back_of_the_eye = registry.create(ball, 0, along(-0.5), true).unwrap();
+    let u = PropCullUniforms::new(
+        &cam,
+        frame.width,
+        frame.height,
+        registry.slot_count(),
+        registry.batch_count(),
+        PROP_CULL_FRUSTUM | PROP_CULL_OCCLUSION,
+    );
+    let hiz = PropHiz {
+        levels: &levels,
+        width: frame.width,
+        height: frame.height,
+    };
+    let (lists, _) = render_model::props::cull_props_reference(
+        registry.instance_records(),
+        registry.batch_records(),
+        &u,
+        Some(hiz),
+    )
+    .unwrap();
+    let slot = |h| registry.get(h).unwrap().2;
+    assert_eq!(lists[0], [slot(front)]);
+    let u = PropCullUniforms {
+        flags: PROP_CULL_FRUSTUM,
+        ..u
+    };
+    let (lists, _) = render_model::props::cull_props_reference(
+        registry.instance_records(),
+        registry.batch_records(),
+        &u,
+        None,
+    )
+    .unwrap();
+    let mut both = vec![slot(front), slot(behind)];
+    both.sort_unstable();
+    assert_eq!(lists[0], both);
+}
