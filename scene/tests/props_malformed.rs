@@ -568,3 +568,12 @@ fn a_version_other_than_2_is_refused() {
     d.json["asset"]["version"] = json!("1.0");
     refused(load(&d.bytes()), &["\"1.0\"", "2.x"]);
 }
+
+/// Found by the `gltf_props` fuzz target: `gltf-json`'s own validation indexed `accessors`
+/// with a `POSITION` index past the end and panicked.
+#[test]
+fn a_position_accessor_past_the_end_is_refused_not_a_panic() {
+    let Some(mut d) = duck() else { return };
+    d.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = json!(99);
+    refused(load(&d.bytes()), &["invalid glTF", "accessor 99"]);
+}

@@ -151,6 +151,28 @@ pub fn load_prop_file(path: &Path, limits: &PropLimits) -> Result<PropModel, Pro
 /// from the positions themselves and several exporters omit them.
 fn validate(root: gltf::json::Root) -> Result<gltf::Document, PropError> {
     use gltf::json::validation::{Error, Validate};
+    // `gltf-json` 1.4.1's primitive check indexes `accessors` with the `POSITION` index
+    // before the reference check runs, and panics on one past the end (found by the
+    // `gltf_props` fuzz target): those indices are checked here first.
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            for (semantic, index) in &prim.attributes {
+                if index.value() >= root.accessors.len() {
+                    let name = match semantic {
+                        gltf::json::validation::Checked::Valid(s) => format!("{s:?}"),
+                        gltf::json::validation::Checked::Invalid => "an attribute".to_owned(),
+                    };
+                    return Err(PropError::Invalid {
+                        problems: vec![format!(
+                            "meshes[{m}].primitives[{p}].attributes: {name} refers to accessor \
+                             {}, which does not exist",
+                            index.value()
+                        )],
+                    });
+                }
+            }
+        }
+    }
     let mut problems = Vec::new();
     root.validate(&root, gltf::json::Path::new, &mut |path, error| {
         let path = path().to_string();

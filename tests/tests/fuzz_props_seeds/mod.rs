@@ -209,7 +209,7 @@ pub(crate) fn gltf_props_seeds() -> Seeds {
     bad_png[140..150].fill(0x5a);
     seeds.push(("refused-bad-image", glb(&quad, Some(&bad_png))));
     let mut oob = quad.clone();
-    oob["accessors"][0]["count"] = json!(5);
+    oob["accessors"][0]["byteOffset"] = json!(4);
     seeds.push(("refused-accessor-out-of-view", glb(&oob, Some(&bin))));
     let mut wrong = quad.clone();
     wrong["accessors"][0]["componentType"] = json!(5123);
