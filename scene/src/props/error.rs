@@ -247,6 +247,14 @@ pub enum PropError {
         /// Index of the node.
         node: usize,
     },
+    /// A `KHR_draco_mesh_compression` stream does not decode, or decodes to other counts or
+    /// attributes than the primitive declares.
+    Draco {
+        /// The primitive.
+        at: PrimitiveAt,
+        /// What is wrong.
+        problem: String,
+    },
     /// An image used as a base colour texture is not PNG or JPEG.
     ImageFormat {
         /// Index of the image.
@@ -407,6 +415,7 @@ impl fmt::Display for PropError {
                 "node {node} is reached twice from the scene (a cycle or a second parent; \
                  glTF node hierarchies are trees)"
             ),
+            E::Draco { at, problem } => write!(f, "{at}: bad Draco data: {problem}"),
             E::ImageFormat { image, mime } => match mime {
                 Some(mime) => write!(
                     f,

@@ -9,6 +9,7 @@ use gltf::json::validation::Checked;
 
 use super::PropLimits;
 use super::accessor::{Use, count, read};
+use super::draco::decode_primitive;
 use super::error::{Limit, PrimitiveAt, PropError};
 use super::model::{Aabb, PropMesh, PropPrimitive, PropVertex};
 use super::warning::PropWarning;
@@ -227,14 +228,35 @@ fn load_primitive(
             }
         }
     }
+    // Decoded after the limits were checked against the accessors' counts, which the
+    // decoded data must then match.
+    let draco = decode_primitive(document, buffers, at)?;
+    if let Some(d) = &draco
+        && d.points != vertex_count
+    {
+        return Err(PropError::Draco {
+            at,
+            problem: format!(
+                "the stream decodes {} points, the POSITION accessor says {vertex_count}",
+                d.points
+            ),
+        });
+    }
+    let values = |accessor: usize, name: &'static str, use_: Use, n: usize| match draco
+        .as_ref()
+        .and_then(|d| d.values(name, n, at))
+    {
+        Some(decoded) => decoded,
+        None => read(document, buffers, accessor, use_),
+    };
     let positions: Vec<[f32; 3]> = finite(
-        &read(document, buffers, position, Use::Vec3("POSITION"))?,
+        &values(position, "POSITION", Use::Vec3("POSITION"), 3)?,
         at,
         "POSITION",
     )?;
     let normals: Option<Vec<[f32; 3]>> = match attrs.normal {
         Some(a) => Some(finite(
-            &read(document, buffers, a, Use::Vec3("NORMAL"))?,
+            &values(a, "NORMAL", Use::Vec3("NORMAL"), 3)?,
             at,
             "NORMAL",
         )?),
@@ -242,18 +264,30 @@ fn load_primitive(
     };
     let uvs: Option<Vec<[f32; 2]>> = match attrs.uv {
         Some(a) => Some(finite(
-            &read(document, buffers, a, Use::TexCoord)?,
+            &values(a, "TEXCOORD_0", Use::TexCoord, 2)?,
             at,
             "TEXCOORD_0",
         )?),
         None => None,
     };
-    let index_list: Vec<u32> = match indices {
-        Some(i) => read(document, buffers, i, Use::Indices)?
+    let index_list: Vec<u32> = match (&draco, indices) {
+        (Some(d), _) => {
+            if d.indices.len() != index_count {
+                return Err(PropError::Draco {
+                    at,
+                    problem: format!(
+                        "the stream decodes {} indices, the primitive says {index_count}",
+                        d.indices.len()
+                    ),
+                });
+            }
+            d.indices.clone()
+        }
+        (None, Some(i)) => read(document, buffers, i, Use::Indices)?
             .into_iter()
             .map(|v| v as u32)
             .collect(),
-        None => (0..vertex_count as u32).collect(),
+        (None, None) => (0..vertex_count as u32).collect(),
     };
     for (position, &index) in index_list.iter().enumerate() {
         if index as usize >= vertex_count {
