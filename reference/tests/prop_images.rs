@@ -277,6 +277,45 @@ fn the_duck_is_drawn_yellow_and_textured() {
     assert!(yellow * 2 > n, "{yellow} of {n} drawn pixels are yellow");
 }
 
+/// The two Khronos boxes of the shared samples (Draco-compressed: only with the `draco`
+/// feature), seen like the hand-made ones: the red box red, the textured one showing the
+/// Cesium logo texture (its mean colour is not the sky's).
+#[cfg(feature = "draco")]
+#[test]
+fn the_draco_sample_boxes_render() {
+    let cam = look_at(DVec3::new(1.6, 1.4, 2.5), DVec3::ZERO);
+    for (name, png) in [
+        ("Box.glb", "sample_box.png"),
+        ("BoxTextured.glb", "sample_box_textured.png"),
+    ] {
+        let Some(bytes) = sample(name) else {
+            return;
+        };
+        let model = load(&bytes);
+        let frame = render(&model, WorldPos::new(0, 0, 0), &cam);
+        save(&frame, png);
+        let n = drawn(&frame);
+        assert!(n > 4000 && n < 30000, "{name}: {n} pixels drawn");
+        let c = pixel(&frame, 128, 96);
+        if name == "Box.glb" {
+            assert!(c[0] > 100 && c[1] < 60 && c[2] < 60, "{c:?}");
+        } else {
+            // The logo's green hills and blue sky, on white.
+            let count = |f: &dyn Fn(&[u8]) -> bool| {
+                frame
+                    .rgba
+                    .chunks(4)
+                    .zip(&frame.depth)
+                    .filter(|(p, d)| **d > 0.0 && f(p))
+                    .count()
+            };
+            let green = count(&|p| u16::from(p[1]) > u16::from(p[0]) + 40 && p[1] > p[2]);
+            let blue = count(&|p| u16::from(p[2]) > u16::from(p[0]) + 40 && p[2] > p[1]);
+            assert!(green > 500 && blue > 500, "green {green}, blue {blue}");
+        }
+    }
+}
+
 /// The far-origin rule: the duck at (2^30, 2^30, 2^30), seen from the same offset, is the
 /// same image and the same depth, bit for bit.
 #[test]
