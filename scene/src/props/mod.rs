@@ -21,6 +21,10 @@
 //!   in `f64`.
 //! - **Buffers and images.** The GLB `BIN` chunk, `data:` URIs (base64), and, only for
 //!   [`load_prop_file`], files beside the `.gltf` (never outside its folder).
+//! - **Draco** (`KHR_draco_mesh_compression`), with the `draco` feature only: the stream
+//!   decoded by `draco-oxide-decoder` (see `draco` for why it is opt-in), its points and
+//!   indices checked against the counts the accessors declare, which the limits were checked
+//!   against first.
 //!
 //! # What is reported, not loaded
 //!
@@ -37,7 +41,8 @@
 //! short or with a bad header or chunk, JSON that does not parse (random bytes included) or
 //! does not validate (a reference to an object that does not exist), a version other than
 //! 2.x, an extension in `extensionsRequired` that is not implemented (Draco mesh compression
-//! among them), a buffer without data or shorter than its `byteLength`, a buffer view past its
+//! without the `draco` feature), a Draco stream that does not decode or disagrees with the
+//! primitive's accessors, a buffer without data or shorter than its `byteLength`, a buffer view past its
 //! buffer, an accessor (or its sparse part) past its view, a bad stride, an accessor type or
 //! component type its use does not allow, a sparse index past the count, a primitive without
 //! positions, attributes of different counts, a triangle list whose count is not a multiple
