@@ -130,7 +130,7 @@ pub struct PropRegistry {
     full: bool,
 }
 
-/// Slots a new batch reserves; each growth doubles.
+/// Slots a batch reserves when it is made; each growth doubles them.
 const FIRST_CAPACITY: u32 = 4;
 
 fn ranges(mut v: Vec<u32>) -> Vec<Range<u32>> {
