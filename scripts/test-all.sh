@@ -51,3 +51,9 @@ fi
 
 echo "== tests (unit, property, integration, fuzz-corpus replay, doc)"
 cargo test --workspace --locked
+
+# The glTF props' Draco path is an opt-in feature (voxel-scene `draco`), so the workspace run
+# above does not build it: its lint and tests run here (the two Draco samples load and render).
+echo "== glTF props with Draco (feature draco)"
+cargo clippy -p voxel-scene -p voxel-reference --features voxel-scene/draco,voxel-reference/draco --all-targets --locked -- -D warnings
+cargo test -p voxel-scene -p voxel-reference --features voxel-scene/draco,voxel-reference/draco --locked

@@ -5,11 +5,14 @@
 //!
 //! - [`reference_raycast`]: one ray per pixel, marched voxel by voxel;
 //! - [`deferred_reference`]: those rays shaded with the GPU's lighting model (the one CPU renderer).
+//! - [`prop_raster`]: glTF props (`voxel_scene::props`) rasterised with the same lighting,
+//!   placed by the prop pass's camera-relative rule.
 //!
-//! Both take the stack's one camera and lighting ([`render_model::Camera`],
+//! All take the stack's one camera and lighting ([`render_model::Camera`],
 //! [`render_model::Lighting`]). A crate of its own, without wgpu, so that the image tests and
 //! the benchmarks' reports use the references without building a GPU backend or the viewer's
 //! window (winit, egui).
 
 pub mod deferred_reference;
+pub mod prop_raster;
 pub mod reference_raycast;

@@ -19,6 +19,8 @@
 //! - [`transparent`]: the back-to-front order of blended layers;
 //! - [`materials`]: the palette as the GPU's material records;
 //! - [`pages`]: how a gigabuffer kind is split into pages;
+//! - [`props`]: retained glTF prop instances in batches, their GPU records, the
+//!   camera-relative rule and the CPU twin of their cull;
 //! - [`resident`]: what the renderer records about a resident node.
 //!
 //! Every `#[repr(C)]` record here has a WGSL twin in `gpu-backend`, whose tests check the
@@ -33,6 +35,7 @@ pub mod lighting;
 pub mod materials;
 pub mod memory_plan;
 pub mod pages;
+pub mod props;
 pub mod quad_raster;
 pub mod resident;
 pub mod transparent;

@@ -9,6 +9,9 @@
 //! - [`vox`]: a strict MagicaVoxel `.vox` loader: every model of the scene graph with its
 //!   transforms, hidden nodes and layers left out, palette and materials, and a clear error
 //!   for every malformed file;
+//! - [`props`]: a strict glTF 2.0 loader for props (meshes drawn beside the voxels): meshes,
+//!   materials with their base colour textures, the default scene flattened into placed
+//!   meshes, a warning for every feature left out and an error for every malformed file;
 //! - [`detailed`]: dense, detailed scenes for testing and benchmarking meshers (a Menger
 //!   sponge, a foliage scene), cut into padded chunks of any size;
 //! - [`rng`]: the small seeded generator those scenes and the benchmarks' inputs use.
@@ -22,6 +25,7 @@
 //! ```
 
 pub mod detailed;
+pub mod props;
 pub mod rng;
 pub mod terrain;
 pub mod vox;

@@ -5,9 +5,10 @@
 //! new target cannot be left out: one without a body in [`TARGETS`] fails the test. For each
 //! target `T`, every file of `fuzz/corpus/T/` (which must exist and not be empty) and, when
 //! the folder exists, of `fuzz/artifacts/T/` is run through `bodies::T`, `mesher_bodies::T`,
-//! `vox_body::vox_loader` or `vox_gltf_body::vox_gltf`, the same function the fuzz target `T`
-//! runs (`fuzz/bodies.rs`, `fuzz/mesher_bodies/`, `fuzz/vox_body.rs` and
-//! `fuzz/vox_gltf_body.rs` are included by both).
+//! `vox_body::vox_loader`, `vox_gltf_body::vox_gltf` or `gltf_props_body::gltf_props`, the
+//! same function the fuzz target `T` runs (`fuzz/bodies.rs`, `fuzz/mesher_bodies/`,
+//! `fuzz/vox_body.rs`, `fuzz/vox_gltf_body.rs` and `fuzz/gltf_props_body.rs` are included by
+//! both).
 //!
 //! The seed inputs (`seed-*` files: small valid encodings of every format, and malformed ones)
 //! are built by [`seeds`]. `seed_corpus_is_current` checks that the committed files match them;
@@ -20,6 +21,10 @@ mod bodies;
 mod mesher_bodies;
 // The seeds of the `mesher_bodies` targets.
 mod fuzz_mesher_seeds;
+// The seeds of `gltf_props`.
+mod fuzz_props_seeds;
+#[path = "../../fuzz/gltf_props_body.rs"]
+mod gltf_props_body;
 #[path = "../../fuzz/vox_body.rs"]
 mod vox_body;
 #[path = "../../fuzz/vox_gltf_body.rs"]
@@ -45,7 +50,7 @@ type Target = (&'static str, fn(&[u8]));
 
 /// The body of every fuzz target, in the order of `fuzz/Cargo.toml`. The list of targets
 /// replayed is `fuzz/fuzz_targets/` (see [`targets_on_disk`]); this only maps names to bodies.
-const TARGETS: [Target; 17] = [
+const TARGETS: [Target; 18] = [
     ("chunk_codec", bodies::chunk_codec),
     ("draw_block", bodies::draw_block),
     ("packed_quad", bodies::packed_quad),
@@ -63,6 +68,7 @@ const TARGETS: [Target; 17] = [
     ("lod", mesher_bodies::lod),
     ("vox_loader", vox_body::vox_loader),
     ("vox_gltf", vox_gltf_body::vox_gltf),
+    ("gltf_props", gltf_props_body::gltf_props),
 ];
 
 fn fuzz_dir() -> PathBuf {
@@ -236,6 +242,7 @@ fn seeds() -> Vec<(&'static str, Seeds)> {
         ("lod", fuzz_mesher_seeds::lod_seeds()),
         ("vox_loader", vox_loader_seeds()),
         ("vox_gltf", vox_gltf_seeds()),
+        ("gltf_props", fuzz_props_seeds::gltf_props_seeds()),
     ]
 }
 

@@ -1,0 +1,153 @@
+//! Materials: the metallic-roughness factors, the base colour texture (decoded once per
+//! image), emissive (with `KHR_materials_emissive_strength`), alpha mode and cutoff,
+//! double-sidedness. Every other texture slot is named in a warning.
+
+use std::borrow::Cow;
+use std::collections::HashMap;
+
+use gltf::Document;
+use gltf::texture::{MagFilter, MinFilter, WrappingMode};
+
+use super::PropLimits;
+use super::buffers::Base;
+use super::error::PropError;
+use super::model::{AlphaMode, Filter, PropMaterial, PropSampler, PropTexture, TextureRef, Wrap};
+use super::texture::{PixelBudget, load_image};
+use super::warning::PropWarning;
+
+/// Materials and the textures they use.
+#[derive(Debug, Default)]
+pub(crate) struct Materials {
+    pub(crate) materials: Vec<PropMaterial>,
+    pub(crate) textures: Vec<PropTexture>,
+}
+
+fn wrap(mode: WrappingMode) -> Wrap {
+    match mode {
+        WrappingMode::Repeat => Wrap::Repeat,
+        WrappingMode::ClampToEdge => Wrap::ClampToEdge,
+        WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
+    }
+}
+
+fn sampler(texture: &gltf::Texture<'_>) -> PropSampler {
+    let s = texture.sampler();
+    let mag = match s.mag_filter() {
+        Some(MagFilter::Nearest) => Filter::Nearest,
+        _ => Filter::Linear,
+    };
+    let (min, mipmaps) = match s.min_filter() {
+        Some(MinFilter::Nearest) => (Filter::Nearest, false),
+        Some(MinFilter::Linear) => (Filter::Linear, false),
+        Some(MinFilter::NearestMipmapNearest | MinFilter::NearestMipmapLinear) => {
+            (Filter::Nearest, true)
+        }
+        Some(MinFilter::LinearMipmapNearest | MinFilter::LinearMipmapLinear) | None => {
+            (Filter::Linear, true)
+        }
+    };
+    PropSampler {
+        wrap_u: wrap(s.wrap_s()),
+        wrap_v: wrap(s.wrap_t()),
+        mag,
+        min,
+        mipmaps,
+    }
+}
+
+/// Every material of the file, at its file index, with the textures they use.
+pub(crate) fn load_materials(
+    document: &Document,
+    buffers: &[Cow<'_, [u8]>],
+    base: Base<'_>,
+    limits: &PropLimits,
+    warnings: &mut Vec<PropWarning>,
+    external_total: &mut u64,
+) -> Result<Materials, PropError> {
+    let mut out = Materials::default();
+    let mut by_image: HashMap<usize, usize> = HashMap::new();
+    let mut budget = PixelBudget::default();
+    for (index, m) in document.materials().enumerate() {
+        let pbr = m.pbr_metallic_roughness();
+        let ignored = [
+            ("normalTexture", m.normal_texture().is_some()),
+            ("occlusionTexture", m.occlusion_texture().is_some()),
+            ("emissiveTexture", m.emissive_texture().is_some()),
+            (
+                "metallicRoughnessTexture",
+                pbr.metallic_roughness_texture().is_some(),
+            ),
+        ];
+        for (slot, present) in ignored {
+            if present {
+                warnings.push(PropWarning::IgnoredTexture {
+                    material: index,
+                    slot,
+                });
+            }
+        }
+        let mut base_colour_texture = None;
+        if let Some(info) = pbr.base_color_texture() {
+            if info.texture_transform().is_some() {
+                warnings.push(PropWarning::TextureTransform { material: index });
+            }
+            if info.tex_coord() != 0 {
+                warnings.push(PropWarning::TexCoordSet {
+                    material: index,
+                    set: info.tex_coord(),
+                });
+            } else {
+                let texture = info.texture();
+                let image = texture.source().index();
+                let slot = match by_image.get(&image) {
+                    Some(&slot) => slot,
+                    None => {
+                        let decoded = load_image(
+                            document,
+                            buffers,
+                            image,
+                            base,
+                            limits,
+                            &mut budget,
+                            external_total,
+                        )?;
+                        out.textures.push(decoded);
+                        by_image.insert(image, out.textures.len() - 1);
+                        out.textures.len() - 1
+                    }
+                };
+                base_colour_texture = Some(TextureRef {
+                    texture: slot,
+                    sampler: sampler(&texture),
+                });
+            }
+        }
+        let alpha_mode = match m.alpha_mode() {
+            gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+            gltf::material::AlphaMode::Mask => AlphaMode::Mask {
+                cutoff: m.alpha_cutoff().unwrap_or(0.5),
+            },
+            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+        };
+        let clamp01 = |x: f32| {
+            if x.is_finite() {
+                x.clamp(0.0, 1.0)
+            } else {
+                1.0
+            }
+        };
+        let non_negative = |x: f32| if x.is_finite() { x.max(0.0) } else { 0.0 };
+        out.materials.push(PropMaterial {
+            name: m.name().map(str::to_owned),
+            base_colour: pbr.base_color_factor().map(clamp01),
+            base_colour_texture,
+            metallic: clamp01(pbr.metallic_factor()),
+            roughness: clamp01(pbr.roughness_factor()),
+            emissive: m.emissive_factor().map(clamp01),
+            emissive_strength: m.emissive_strength().map_or(1.0, non_negative),
+            alpha_mode,
+            double_sided: m.double_sided(),
+        });
+    }
+    Ok(out)
+}
