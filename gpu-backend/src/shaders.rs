@@ -92,6 +92,18 @@ pub const TONEMAP: ShaderSpec = ShaderSpec {
     ),
 };
 
+/// The antialias pass (entry points `vs_fullscreen`, `fs_antialias`, `cs_antialias`; see
+/// [`crate::render::passes::antialias`]).
+pub const ANTIALIAS: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "antialias",
+    body: concat!(
+        include_str!("shaders/render_common.wgsl"),
+        include_str!("shaders/fullscreen.wgsl"),
+        include_str!("render/passes/antialias.wgsl")
+    ),
+};
+
 /// Window presentation: the renderer's output copied into the swapchain image (entry points
 /// `vs_present`, `fs_present`, `fs_present_encode`; see [`crate::render::passes::present`]).
 pub const PRESENT: ShaderSpec = ShaderSpec {
@@ -229,6 +241,7 @@ pub const ALL_SHADERS: &[ShaderSpec] = &[
     TRANSPARENT,
     LIGHTING,
     TONEMAP,
+    ANTIALIAS,
     PRESENT,
     FAR_SPLAT,
     FAR_ARGS,

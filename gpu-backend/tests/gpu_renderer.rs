@@ -89,7 +89,8 @@ fn uploads_appear_and_frees_disappear() {
             "cull transparent",
             "lighting",
             "transparent",
-            "tonemap"
+            "tonemap",
+            "antialias"
         ]
     );
     let depth = centre_depth(&renderer);

@@ -5,6 +5,7 @@
 //! streamer and the benchmarks use the same rules without linking wgpu (the split follows
 //! vello's `vello_encoding`: the CPU half in a crate of its own).
 //!
+//! - [`antialias`]: FXAA of the final image (the twin of the antialias pass);
 //! - [`camera`]: the one camera of the stack (a world voxel plus a fraction, yaw, pitch, field
 //!   of view), its camera-relative view-projection and its rays;
 //! - [`lighting`]: the lighting model's parameters and its formulas (the WGSL twin lives in
@@ -26,6 +27,7 @@
 //! Every `#[repr(C)]` record here has a WGSL twin in `gpu-backend`, whose tests check the
 //! layouts against naga's reflection of the shaders.
 
+pub mod antialias;
 pub mod camera;
 pub mod colour_difference;
 pub mod cull;

@@ -27,6 +27,7 @@ use clap::Parser;
 use cli::Args;
 use gpu_backend::png::encode_png;
 use gpu_backend::{DeviceError, DeviceOptions, GpuContext};
+use render_model::antialias::fxaa;
 use render_model::camera::Camera;
 use render_model::lighting::Lighting;
 use viewer::deferred_reference::render_deferred;
@@ -206,7 +207,7 @@ fn fixed_frame(
                 400.0,
             );
             (
-                image.rgba,
+                fxaa(&image.rgba, width, height),
                 format!(
                     "{chunks}, {width}x{height} rendered with the CPU reference raycast; no GPU: {why}"
                 ),
@@ -271,7 +272,7 @@ fn streamed_frame(
         CPU_TERRAIN_DISTANCE,
     );
     Some((
-        image.rgba,
+        fxaa(&image.rgba, width, height),
         format!(
             "the terrain's function, {width}x{height} rendered with the CPU reference raycast \
              ({CPU_TERRAIN_DISTANCE} blocks, hazed there); no GPU: {why}"

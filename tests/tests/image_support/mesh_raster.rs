@@ -27,6 +27,7 @@
 use glam::DVec3;
 use gpu_backend::render::RendererConfig;
 use mesher::{BlockClasses, MeshSettings, SurfaceMode};
+use render_model::antialias::fxaa;
 use render_model::camera::Camera;
 use render_model::lighting::sky::{apply_haze, sky_background};
 use render_model::lighting::{Lighting, output_rgba8, shade, srgb_to_linear};
@@ -219,6 +220,8 @@ pub(crate) fn rasterise(
             });
         }
     }
+    // The renderer's default anti-aliasing, as the GPU image has it.
+    image.rgba = fxaa(&image.rgba, image.width, image.height);
     image
 }
 

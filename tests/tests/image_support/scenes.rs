@@ -3,6 +3,7 @@
 use gpu_backend::render::{Renderer, RendererConfig};
 use gpu_backend::{GpuContext, PassTime};
 use mesher::{MeshSettings, SurfaceMode};
+use render_model::antialias::fxaa;
 use render_model::camera::Camera;
 use render_model::lighting::Lighting;
 use viewer::deferred_reference::render_deferred;
@@ -234,19 +235,23 @@ pub(crate) fn gpu_render_with(
     camera: &Camera,
     surface: SurfaceMode,
 ) -> (Image, Vec<PassTime>) {
-    gpu_render_lit(ctx, scene, camera, surface, &Lighting::default())
+    gpu_render_lit(ctx, scene, camera, surface, &Lighting::default(), true)
 }
 
-/// [`gpu_render_with`] under `lighting`.
+/// [`gpu_render_with`] under `lighting`, with the antialias pass on or off.
 pub(crate) fn gpu_render_lit(
     ctx: &GpuContext,
     scene: &TestScene,
     camera: &Camera,
     surface: SurfaceMode,
     lighting: &Lighting,
+    antialias: bool,
 ) -> (Image, Vec<PassTime>) {
     let size = scene.world.size();
-    let config = RendererConfig::new(WIDTH, HEIGHT, size);
+    let config = RendererConfig {
+        antialias,
+        ..RendererConfig::new(WIDTH, HEIGHT, size)
+    };
     let mut renderer = Renderer::new(ctx, &config, &scene.palette).expect("renderer");
     let settings = MeshSettings {
         surface,
@@ -331,7 +336,8 @@ pub(crate) fn cpu_render_lit(scene: &TestScene, camera: &Camera, lighting: &Ligh
     Image {
         width: image.width,
         height: image.height,
-        rgba: image.rgba,
+        // The renderer's default anti-aliasing, as the GPU image has it.
+        rgba: fxaa(&image.rgba, image.width, image.height),
         depth: image.depth,
         surfaces: Some(surfaces),
     }

@@ -9,9 +9,10 @@
 //! | far raster | [`far_raster`] | far-drawn nodes' blocks as sprites or camera-facing quads (raster far paths) |
 //! | G-buffer | [`gbuffer`] | opaque greedy and smooth quads (and raster far blocks) into the G-buffer |
 //! | Hi-Z | [`hiz`] | the depth pyramid of the early phase, for the late cull |
-//! | lighting | [`lighting`] | G-buffer and visibility buffers to linear HDR |
+//! | lighting | [`lighting`] | G-buffer and visibility buffers to display-linear HDR, sky and haze |
 //! | transparent | [`transparent`] | transparent quads and far blocks blended into the HDR target |
-//! | tonemap | [`tonemap`] | HDR to the sRGB output |
+//! | tonemap | [`tonemap`] | HDR to the sRGB output (or to `ldr` before anti-aliasing) |
+//! | antialias | [`antialias`] | FXAA of `ldr` into the output |
 //! | present | [`present`] | the output blitted into a window's swapchain image |
 //!
 //! Every pass records from one frame context ([`frame::FrameCtx`]: the device, the resident
@@ -23,6 +24,7 @@
 //!
 //! [`targets`] holds the frame's textures, [`fullscreen`] what the full-screen passes share.
 
+pub mod antialias;
 pub mod cull;
 pub mod far_raster;
 pub mod far_splat;

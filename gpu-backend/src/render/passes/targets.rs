@@ -6,6 +6,7 @@
 //! | normal  | `Rg32Uint`        | octahedral 16+16 normal (`oct32`), block id (material) |
 //! | depth   | `Depth32Float`    | reversed-Z `near / view_z`, cleared to 0 (sky)         |
 //! | hdr     | `Rgba16Float`     | lit linear colour; transparent faces blend into it     |
+//! | ldr     | as output         | the tonemapped image before anti-aliasing (written when the antialias pass runs) |
 //! | output  | `Rgba8Unorm`, viewed as `Rgba8UnormSrgb` | tonemapped, sRGB-encoded (by the hardware through the sRGB view, or by the compute tonemap, which writes the encoded bytes through a plain view: storage textures cannot be sRGB) |
 //!
 //! Albedo is stored sRGB-encoded and decoded in the lighting pass, so the palette's bytes pass
@@ -79,6 +80,11 @@ pub struct RenderTargets {
     pub output: TextureView,
     /// Output view for storage writes ([`OUTPUT_STORAGE_FORMAT`]: the bytes are the same).
     pub output_storage: TextureView,
+    /// The tonemapped image before anti-aliasing, sRGB view ([`OUTPUT_FORMAT`]).
+    pub ldr: TextureView,
+    /// The same, plain view ([`OUTPUT_STORAGE_FORMAT`]): storage writes and the antialias
+    /// pass's reads.
+    pub ldr_storage: TextureView,
 }
 
 impl RenderTargets {
@@ -125,12 +131,16 @@ impl RenderTargets {
             OUTPUT_STORAGE_FORMAT,
             storable | TextureUsages::COPY_SRC,
         )?;
+        let ldr_texture = texture("ldr", OUTPUT_STORAGE_FORMAT, storable)?;
         // The sRGB view is never a storage binding (sRGB formats cannot be).
-        let srgb = output_texture.create_view(&wgpu::TextureViewDescriptor {
-            format: Some(OUTPUT_FORMAT),
-            usage: Some(attachment),
-            ..Default::default()
-        });
+        let srgb_view = |t: &Texture| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                format: Some(OUTPUT_FORMAT),
+                usage: Some(attachment),
+                ..Default::default()
+            })
+        };
+        let srgb = srgb_view(&output_texture);
         Ok(RenderTargets {
             width,
             height,
@@ -142,6 +152,8 @@ impl RenderTargets {
             output: srgb,
             output_storage: view(&output_texture),
             output_texture,
+            ldr: srgb_view(&ldr_texture),
+            ldr_storage: view(&ldr_texture),
         })
     }
 }

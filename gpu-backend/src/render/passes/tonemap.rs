@@ -1,5 +1,6 @@
-//! The tonemap pass: the linear HDR colour to the sRGB output (`tonemap.wgsl`), exposure and
-//! tone curve of `render_model::lighting`. A full-screen fragment pass into the `*Srgb`
+//! The tonemap pass: the display-linear HDR colour to the sRGB output (`tonemap.wgsl`), the
+//! tone curve of `render_model::lighting` (or to the `ldr` target, which the antialias pass
+//! reads). A full-screen fragment pass into the `*Srgb`
 //! output (the hardware encodes) or a compute pass into its storage view (the shader encodes),
 //! like the lighting pass ([`FullscreenPath`]).
 //!
@@ -50,16 +51,22 @@ impl TonemapPass {
         self.pipeline.path()
     }
 
-    /// Records the pass, timed as `tonemap`.
-    pub fn record(&self, ctx: &FrameCtx<'_>, rec: &mut Recorder<'_, '_>) {
+    /// Records the pass, timed as `tonemap`: into the output, or into the `ldr` target when
+    /// `antialiased` (the antialias pass then writes the output).
+    pub fn record(&self, ctx: &FrameCtx<'_>, rec: &mut Recorder<'_, '_>, antialiased: bool) {
         let t = ctx.targets;
+        let (target, storage) = if antialiased {
+            (&t.ldr, &t.ldr_storage)
+        } else {
+            (&t.output, &t.output_storage)
+        };
         let texture = |binding, view| wgpu::BindGroupEntry {
             binding,
             resource: wgpu::BindingResource::TextureView(view),
         };
         let mut entries = vec![texture(3, &t.hdr)];
         if self.path() == FullscreenPath::Compute {
-            entries.push(texture(7, &t.output_storage));
+            entries.push(texture(7, storage));
         }
         let group = ctx
             .shared
@@ -69,7 +76,7 @@ impl TonemapPass {
             self.pipeline.record(
                 rec,
                 "tonemap",
-                &t.output,
+                target,
                 [ctx.frame_group, &group],
                 ctx.size(),
             );

@@ -12,6 +12,7 @@ use super::config::{OpaquePath, RendererConfig};
 use crate::device::GpuContext;
 use crate::render::error::RenderError;
 use crate::render::far::{FarChoice, FarPath};
+use crate::render::passes::antialias::AntialiasPass;
 use crate::render::passes::cull::FrameCulls;
 use crate::render::passes::far_raster::FarRaster;
 use crate::render::passes::far_splat::FarSplat;
@@ -49,6 +50,8 @@ pub(super) struct Passes {
     pub(super) transparent: TransparentPass,
     /// The tonemap pass.
     pub(super) tonemap: TonemapPass,
+    /// The antialias pass (run when the configuration asks for it).
+    pub(super) antialias: AntialiasPass,
 }
 
 impl Passes {
@@ -145,6 +148,7 @@ impl Passes {
             lighting: LightingPass::new(device, &shared, config.fullscreen),
             transparent: TransparentPass::new(device, &shared),
             tonemap: TonemapPass::new(device, &shared, config.fullscreen),
+            antialias: AntialiasPass::new(device, &shared, config.fullscreen),
         };
         Ok((passes, far_choice, shared))
     }
@@ -158,5 +162,6 @@ impl Passes {
     ) {
         self.lighting = LightingPass::new(device, shared, path);
         self.tonemap = TonemapPass::new(device, shared, path);
+        self.antialias = AntialiasPass::new(device, shared, path);
     }
 }

@@ -36,6 +36,8 @@ pub struct RendererConfig {
     /// visible last frame are drawn first, the pyramid built from their depth, then every other
     /// node tested against it.
     pub occlusion: bool,
+    /// Edges anti-aliased by the antialias pass (FXAA, `render_model::antialias`).
+    pub antialias: bool,
 }
 
 impl RendererConfig {
@@ -59,6 +61,7 @@ impl RendererConfig {
             fullscreen: FullscreenPath::default(),
             opaque: OpaquePath::default(),
             occlusion: true,
+            antialias: true,
         }
     }
 

@@ -184,6 +184,16 @@ impl Renderer {
         Ok(())
     }
 
+    /// Turns the antialias pass (FXAA of the final image) on or off for the next frames.
+    pub fn set_antialias(&mut self, on: bool) {
+        self.config.antialias = on;
+    }
+
+    /// Whether the antialias pass runs.
+    pub fn antialias(&self) -> bool {
+        self.config.antialias
+    }
+
     /// Turns the wireframe view on or off: meshed quads (greedy and smooth) are drawn as
     /// their edges, about a pixel wide, lit as usual, with the sky or the far field behind.
     /// It shows how the mesher merged faces. Far-drawn blocks are drawn as usual (a block

@@ -73,12 +73,13 @@ impl Renderer {
     ///                                                                   visible last frame)
     ///          [─► depth pyramid ─► the same four, late, for the rest]  occlusion only
     ///          ─► cull transparent (back to front) ─► lighting ─► transparent ─► tonemap
+    ///          [─► antialias]                                           when configured
     /// ```
     ///
     /// Every copy and clear comes first; the passes that only dispatch then share compute
     /// passes (`PassChain`), which only a render pass ends: on the compute opaque path with
     /// compute full-screen passes the frame is one compute pass up to lighting, the transparent
-    /// pass, and the tonemap's pass.
+    /// pass, and the tonemap's (and the antialias) pass.
     pub fn record_frame(&mut self, encoder: &mut CommandEncoder) -> Result<(), RenderError> {
         self.health.check()?;
         self.residency.flush(encoder, &self.queue)?;
@@ -111,6 +112,7 @@ impl Renderer {
             .cull_view(self.config.chunk_size, width, height);
         let frame_group = self.shared.frame_group();
         let quads_in_compute = self.quads_in_compute();
+        let antialias = self.config.antialias;
         let passes = &self.passes;
         let splat = passes.far_splat.as_ref();
         let ctx = FrameCtx {
@@ -188,7 +190,10 @@ impl Renderer {
         passes
             .transparent
             .record(&ctx, &mut rec, culls.transparent_commands(), far);
-        passes.tonemap.record(&ctx, &mut rec);
+        passes.tonemap.record(&ctx, &mut rec, antialias);
+        if antialias {
+            passes.antialias.record(&ctx, &mut rec);
+        }
         rec.finish();
         Ok(())
     }
