@@ -354,6 +354,62 @@ fn fallback_paths_give_the_same_image() {
     }
 }
 
+/// The full-screen passes (lighting, tonemap, antialias) give the same image as fragment
+/// passes and as compute passes, with and without anti-aliasing (up to a few edge pixels
+/// with it; the fragment tonemap
+/// encodes through the sRGB view of its target, the compute one in the shader; the antialias
+/// pass writes encoded bytes through the plain view either way).
+#[test]
+fn fragment_and_compute_screen_passes_agree() {
+    let scene = scenes::sphere();
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let lighting = Lighting {
+        haze_distance: 60.0,
+        ..Lighting::default()
+    };
+    for antialias in [false, true] {
+        let render = |fullscreen| {
+            let config = gpu_backend::render::RendererConfig {
+                fullscreen,
+                antialias,
+                ..gpu_backend::render::RendererConfig::new(
+                    scenes::WIDTH,
+                    scenes::HEIGHT,
+                    scene.world.size(),
+                )
+            };
+            let mut renderer = gpu_backend::render::Renderer::new(&ctx, &config, &scene.palette)
+                .expect("renderer");
+            viewer::gpu_view::upload_world(&mut renderer, &scene.world, &scene.palette)
+                .expect("upload");
+            renderer.set_camera(&scene.camera);
+            renderer.set_lighting(&lighting).expect("lighting");
+            renderer.render().expect("frame");
+            renderer.read_image().expect("readback").rgba
+        };
+        let fragment = render(gpu_backend::render::FullscreenPath::Fragment);
+        let compute = render(gpu_backend::render::FullscreenPath::Compute);
+        let off_by_more = fragment
+            .chunks(4)
+            .zip(compute.chunks(4))
+            .filter(|(a, b)| a.iter().zip(b.iter()).any(|(x, y)| x.abs_diff(*y) > 1))
+            .count();
+        // FXAA's decisions are thresholds: a rounding difference between the stages can flip
+        // one on a few edge pixels; everywhere else the two agree to a code.
+        let allowed = if antialias {
+            fragment.len() / 4 / 1000
+        } else {
+            0
+        };
+        assert!(
+            off_by_more <= allowed,
+            "antialias {antialias}: {off_by_more} pixels differ by more than a code"
+        );
+    }
+}
+
 /// The comparison can fail: a camera moved by half a block is caught.
 #[test]
 fn a_shifted_camera_is_caught() {

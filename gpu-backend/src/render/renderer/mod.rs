@@ -184,7 +184,8 @@ impl Renderer {
         Ok(())
     }
 
-    /// Turns the antialias pass (FXAA of the final image) on or off for the next frames.
+    /// Turns the antialias pass (FXAA of the final image) on or off for the next frames (the
+    /// wireframe view never runs it).
     pub fn set_antialias(&mut self, on: bool) {
         self.config.antialias = on;
     }
@@ -198,7 +199,8 @@ impl Renderer {
     /// their edges, about a pixel wide, lit as usual, with the sky or the far field behind.
     /// It shows how the mesher merged faces. Far-drawn blocks are drawn as usual (a block
     /// there covers about a pixel). On the compute opaque path the meshes go through the
-    /// G-buffer pass while the view is on.
+    /// G-buffer pass while the view is on, and the antialias pass does not run (it would
+    /// blur the lines).
     pub fn set_wireframe(&mut self, on: bool) {
         self.view.wireframe = on;
     }

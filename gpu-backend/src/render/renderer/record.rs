@@ -112,7 +112,9 @@ impl Renderer {
             .cull_view(self.config.chunk_size, width, height);
         let frame_group = self.shared.frame_group();
         let quads_in_compute = self.quads_in_compute();
-        let antialias = self.config.antialias;
+        // The wireframe view's one-pixel lines are what it shows: anti-aliasing would blur
+        // them (`set_wireframe`).
+        let antialias = self.config.antialias && !self.view.wireframe;
         let passes = &self.passes;
         let splat = passes.far_splat.as_ref();
         let ctx = FrameCtx {

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Renders the gallery (docs/gallery/): what the renderer draws, headless, on this machine's
+# Vulkan adapter (lavapipe without a GPU; the viewer falls back to the CPU reference, which
+# shades alike, where there is no adapter). Usage: scripts/gallery.sh [VIEWER_BINARY]
+# (default: the viewer built with the `viewer` profile).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+viewer=${1:-}
+if [ -z "$viewer" ]; then
+    cargo build --locked -q --profile viewer -p viewer
+    viewer=${CARGO_TARGET_DIR:-target}/viewer/viewer
+fi
+out=docs/gallery
+mkdir -p "$out"
+vox=../shared/data/vox
+size=(--width 640 --height 360)
+shot() {
+    local name=$1
+    shift
+    echo "== $name: $*"
+    "$viewer" --headless "${size[@]}" --out "$out/$name.png" "$@"
+}
+# The built-in terrain: the default first view, towards the horizon (sky, sun, haze at the
+# streamed radius), and low over the ground.
+shot terrain --radius 512
+shot horizon --radius 512 --camera 0,60,0,40,2 --fov 70
+shot low --radius 512 --camera 40,34,40,200,-12 --fov 70
+# MagicaVoxel models (their palettes, glass, emission).
+for model in chr_knight monu10 T-Rex; do
+    if [ -f "$vox/$model.vox" ]; then
+        shot "vox_$model" --vox "$vox/$model.vox"
+    fi
+done
+echo "gallery: $(ls "$out"/*.png | wc -l) images in $out"
