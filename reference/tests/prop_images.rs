@@ -309,8 +309,14 @@ fn the_draco_sample_boxes_render() {
                     .filter(|(p, d)| **d > 0.0 && f(p))
                     .count()
             };
-            let green = count(&|p| u16::from(p[1]) > u16::from(p[0]) + 40 && p[1] > p[2]);
-            let blue = count(&|p| u16::from(p[2]) > u16::from(p[0]) + 40 && p[2] > p[1]);
+            // By hue (the dominant channel well above the others), so the hills on the
+            // faces turned from the sun, lit by the sky alone, count too.
+            let dominant = |p: &[u8], c: usize| {
+                let v = f32::from(p[c]);
+                (0..3).all(|o| o == c || v > 1.25 * f32::from(p[o]) + 8.0)
+            };
+            let green = count(&|p| dominant(p, 1));
+            let blue = count(&|p| dominant(p, 2));
             assert!(green > 500 && blue > 500, "green {green}, blue {blue}");
         }
     }
