@@ -5,7 +5,19 @@
 # tracing, AddressSanitizer, `--cfg fuzzing`), without needing cargo-fuzz installed, and with
 # warnings as errors. The test command runs it; `cargo fuzz run <target>` reuses
 # nothing of it (cargo-fuzz builds into fuzz/target/ itself).
+#
+# Usage: scripts/build-fuzz.sh [--check]
+#   --check  type-checks the targets with the same nightly and flags instead of building them
+#            (no code generation, no linking): the test command's guard that every target still
+#            compiles, at a fraction of a sanitized release build's time. Fuzzing needs the
+#            full build (scripts/fuzz/pack.sh packs its binaries).
 set -euo pipefail
+mode=build
+case "${1:-}" in
+    "") ;;
+    --check) mode=check ;;
+    *) echo "usage: scripts/build-fuzz.sh [--check]" >&2; exit 2 ;;
+esac
 cd "$(dirname "$0")/../fuzz"
 
 flags=(
@@ -23,5 +35,5 @@ flags=(
 # The pinned nightly of fuzz/rust-toolchain.toml (named, so an override elsewhere cannot
 # pick another).
 toolchain=$(sed -n 's/^channel = "\(.*\)"$/\1/p' rust-toolchain.toml)
-RUSTFLAGS="${flags[*]}" cargo "+$toolchain" build --release --bins --locked \
+RUSTFLAGS="${flags[*]}" cargo "+$toolchain" "$mode" --release --bins --locked \
     --target x86_64-unknown-linux-gnu --target-dir target/ci-build

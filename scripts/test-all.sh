@@ -7,6 +7,7 @@ cd "$(dirname "$0")/.."
 scripts/setup-debian.sh
 # The Khronos glTF validator for voxmesh's output tests (node and npm when missing).
 scripts/install-gltf-validator.sh
+echo "   (setup: $SECONDS s)"
 
 # Mesa's Vulkan loader layers complain on every device creation when this is unset (CI has no
 # login session); a private empty folder is all they need.
@@ -18,26 +19,40 @@ fi
 # Incremental caches double the size of target/ and a one-shot run never reuses them.
 export CARGO_INCREMENTAL="${CARGO_INCREMENTAL:-0}"
 
-echo "== format"
+# Each section's heading, and the seconds the one before it took (the command has a time
+# budget in CI; these lines show where it goes).
+section_name=
+section_start=$SECONDS
+section() {
+    if [ -n "$section_name" ]; then
+        echo "   ($section_name: $((SECONDS - section_start)) s)"
+    fi
+    section_name=$1
+    section_start=$SECONDS
+    [ -n "$1" ] && echo "== $1"
+    return 0
+}
+
+section "format"
 cargo fmt --all -- --check
 
-echo "== clippy (warnings are errors)"
+section "clippy (warnings are errors)"
 cargo clippy --workspace --all-targets --locked -- -D warnings
 
-echo "== voxel-core and mesher without std (bare-metal target)"
+section "voxel-core and mesher without std (bare-metal target)"
 cargo build -p voxel-core -p mesher --no-default-features --target x86_64-unknown-none --locked
 
 # The fuzz crate is not part of the workspace: `cargo +nightly fuzz` runs it. Here every
-# target is built the way cargo-fuzz builds it (nightly, coverage instrumentation,
-# AddressSanitizer, `--cfg fuzzing`; scripts/build-fuzz.sh), so a target that stops compiling
-# fails the test command. Its corpora are replayed by the tests below.
-echo "== fuzz targets (nightly, as cargo-fuzz builds them; warnings are errors)"
-scripts/build-fuzz.sh
+# target is type-checked with the flags cargo-fuzz builds it with (nightly, coverage
+# instrumentation, AddressSanitizer, `--cfg fuzzing`; `scripts/build-fuzz.sh --check`), so a
+# target that stops compiling fails the test command. Its corpora are replayed by the tests below.
+section "fuzz targets (nightly, type-checked as cargo-fuzz builds them; warnings are errors)"
+scripts/build-fuzz.sh --check
 
-echo "== docs (warnings are errors)"
+section "docs (warnings are errors)"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked
 
-echo "== examples"
+section "examples"
 cargo run --locked -q -p examples --example host_wgpu
 vox=../shared/data/vox/chr_knight.vox
 if [ -f "$vox" ]; then
@@ -49,11 +64,13 @@ else
     echo "skipped: vox_to_quads example: no sample data ($vox)"
 fi
 
-echo "== tests (unit, property, integration, fuzz-corpus replay, doc)"
+section "tests (unit, property, integration, fuzz-corpus replay, doc)"
 cargo test --workspace --locked
 
 # The glTF props' Draco path is an opt-in feature (voxel-scene `draco`), so the workspace run
 # above does not build it: its lint and tests run here (the two Draco samples load and render).
-echo "== glTF props with Draco (feature draco)"
+section "glTF props with Draco (feature draco)"
 cargo clippy -p voxel-scene -p voxel-reference --features voxel-scene/draco,voxel-reference/draco --all-targets --locked -- -D warnings
 cargo test -p voxel-scene -p voxel-reference --features voxel-scene/draco,voxel-reference/draco --locked
+section ""
+echo "== all checks and tests passed in $SECONDS s"

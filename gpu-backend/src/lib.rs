@@ -39,6 +39,10 @@ pub mod present;
 #[cfg(feature = "test-support")]
 pub mod readback;
 #[cfg(not(feature = "test-support"))]
+#[expect(
+    unreachable_pub,
+    reason = "its items are public for the test-support feature, which makes the module public"
+)]
 mod readback;
 pub mod render;
 pub mod residency;

@@ -27,6 +27,7 @@ use gpu_backend::{GpuContext, TimingPath};
 use serde::Serialize;
 
 use crate::headless::{draw_frame, load};
+use crate::pass_times::{PassPercentiles, PassSeries};
 use crate::stream::{StreamError, StreamSettings, StreamStatus};
 use crate::view::{OPAQUE_TRIAL_FRAMES, StreamedView};
 use render_model::camera::Camera;
@@ -147,6 +148,8 @@ pub struct FlightReport {
     pub gpu_frame: Option<Percentiles>,
     /// `"timestamps"`, or `"no timestamps"` and why.
     pub gpu_timing: String,
+    /// Each pass's GPU time, in frame order (empty without timestamps).
+    pub gpu_passes: Vec<PassPercentiles>,
     /// The larger of the frame's loop time (its CPU time plus the wait for the frame before
     /// it, which stays in flight while this one is prepared) and its GPU time.
     pub frame: Percentiles,
@@ -213,6 +216,7 @@ impl FlightReport {
                 Some(g) => format!("flight: GPU per frame  {}", p(g)),
                 None => format!("flight: GPU per frame  {}", self.gpu_timing),
             },
+            self.pass_line(),
             format!(
                 "flight: frame (max of loop and GPU; one frame in flight)  {}",
                 p(&self.frame)
@@ -239,6 +243,32 @@ impl FlightReport {
             )
         }))
         .collect()
+    }
+}
+
+impl FlightReport {
+    /// The per-pass line: each pass's p50 and p99, milliseconds, and the frames that ran it
+    /// when some did not.
+    fn pass_line(&self) -> String {
+        if self.gpu_passes.is_empty() {
+            return format!("flight: GPU per pass  {}", self.gpu_timing);
+        }
+        let passes: Vec<String> = self
+            .gpu_passes
+            .iter()
+            .map(|p| {
+                let frames = if p.frames < self.frames {
+                    format!(" ({} frames)", p.frames)
+                } else {
+                    String::new()
+                };
+                format!(
+                    "{} {:.3}/{:.3}{frames}",
+                    p.label, p.time.p50_ms, p.time.p99_ms
+                )
+            })
+            .collect();
+        format!("flight: GPU per pass (p50/p99 ms)  {}", passes.join(", "))
     }
 }
 
@@ -275,7 +305,9 @@ pub fn fly(
     let before = view.streamer().counters();
     let timestamps = matches!(ctx.capabilities.timing, TimingPath::GpuTimestamps { .. });
     let (mut cpu, mut gpu, mut loop_frame) = (Vec::new(), Vec::new(), Vec::new());
-    let gpu_ms = |passes: Vec<gpu_backend::PassTime>| -> f64 {
+    let mut pass_series = PassSeries::default();
+    let mut gpu_ms = |passes: Vec<gpu_backend::PassTime>| -> f64 {
+        pass_series.push(&passes);
         passes.iter().map(|p| p.nanoseconds as f64 / 1e6).sum()
     };
     let mut frames_with_holes = 0;
@@ -350,6 +382,7 @@ pub fn fly(
             "no timestamps (the adapter has no timestamp queries; no GPU figure is given)"
                 .to_owned()
         },
+        gpu_passes: pass_series.percentiles(),
         frame: Percentiles::of(&frame).unwrap_or(none),
         loop_frame: Percentiles::of(&loop_frame).unwrap_or(none),
         streamed_nodes,

@@ -176,6 +176,24 @@ fn a_flight_prints_percentiles_and_writes_them_as_json() {
         assert!(0.0 < p50 && p50 <= p99 && p99 <= max);
         assert!(frame_max >= max, "frame max {frame_max} < GPU max {max}");
         assert!(gpu.contains(&format!("{p50:.2} ms")), "{gpu} vs the JSON");
+        // Where the GPU frame goes: each pass, at most the frame it is part of.
+        let passes = json["gpu_passes"].as_array().expect("per-pass times");
+        let labels: Vec<&str> = passes
+            .iter()
+            .map(|p| p["label"].as_str().unwrap())
+            .collect();
+        for pass in ["cull", "lighting", "tonemap"] {
+            assert!(labels.contains(&pass), "{pass} missing from {labels:?}");
+        }
+        for pass in passes {
+            let [p50, _, pass_max] = percentiles(pass, "time");
+            assert!(0.0 < p50 && pass_max <= max + 1e-9, "{pass}");
+        }
+        let line = stdout
+            .lines()
+            .find(|l| l.contains("GPU per pass (p50/p99 ms)  "))
+            .unwrap_or_else(|| panic!("no per-pass line in:\n{stdout}"));
+        assert!(line.contains("lighting "), "{line}");
     } else {
         assert!(json["gpu_frame"].is_null());
     }
