@@ -25,6 +25,8 @@
 #                valgrind in .gpu/tools/ (scripts/gpu/build.sh --valgrind), or on the PATH
 #   flight       the viewer's `--flight 30` with its defaults (`--opaque auto`)
 #   flightpaths  the same with `--opaque compute` and with `--opaque raster`
+#   flightnodes  the same with the benchmark's far threshold (`--far-px 1.5`), and with it and
+#                the benchmark's 8^3 nodes (`--node-size 8 --far-px 1.5`)
 #   all          every set above
 #
 # Environment:
@@ -102,6 +104,8 @@ declare -A config=(
     [flight]="viewer||${flight[*]}"
     [flight-compute]="viewer||${flight[*]} --opaque compute"
     [flight-raster]="viewer||${flight[*]} --opaque raster"
+    [flight-far15]="viewer||${flight[*]} --far-px 1.5"
+    [flight-node8]="viewer||${flight[*]} --node-size 8 --far-px 1.5"
 )
 
 # Sets -> configurations, in the order given.
@@ -120,10 +124,11 @@ for s in "${sets[@]}"; do
         callgrind) names+=(callgrind) ;;
         flight) names+=(flight) ;;
         flightpaths) names+=(flight-compute flight-raster) ;;
+        flightnodes) names+=(flight-far15 flight-node8) ;;
         all) names+=(headline paths distance-1024 distance-16384 distance-1024 distance-16384
                      budgets farpx farpaths nodesize-16 nodesize-8 cpu-1024 cpu-4096 cpu-16384
                      validation-off validation-on validation-off validation-on callgrind
-                     flight flight-compute flight-raster) ;;
+                     flight flight-compute flight-raster flight-far15 flight-node8) ;;
         *) echo "frame.sh: unknown set $s (see the header of $0)" >&2; exit 2 ;;
     esac
 done
@@ -313,6 +318,12 @@ summary() {
                     if (fr == "") { print pre " | FAILED (see the log) | | | | | | |"; exit }
                     print pre " | " o " | " v " | " cpu " | " gpu " | " fr " | " s " | " h " |"
                 }' "$f"
+        done
+        echo
+        echo "Each flight's GPU time per pass (p50/p99 ms; frames that ran it, when not all):"
+        for f in "${flights[@]}"; do
+            local stem=${f##*/}; stem=${stem%.log}
+            echo "- $stem: $(sed -n 's/^flight: GPU per pass (p50\/p99 ms)  //p' "$f")"
         done
     fi
 }

@@ -8,6 +8,7 @@ use gpu_backend::render::OpaquePath;
 use gpu_backend::render::far::FarRequest;
 use viewer::stream::settings::{FAR_CHOICES, MAX_RADIUS};
 use viewer::stream::{MesherMode, StreamSettings};
+use voxel_core::ChunkSize;
 
 use crate::camera_arg::{CameraArg, parse_camera, parse_fov};
 
@@ -79,6 +80,14 @@ pub(crate) struct Args {
     /// or GPU timestamps are missing).
     #[arg(long, value_name = "PATH", default_value = "auto", value_parser = parse_opaque, conflicts_with_all = ["vox", "chunks"])]
     pub opaque: OpaquePath,
+    /// Streamed terrain: node edge in blocks, 8 or 16 (8 culls finer and streams eight times
+    /// as many nodes). Default: 16.
+    #[arg(long, value_name = "BLOCKS", value_parser = parse_node_size, conflicts_with_all = ["vox", "chunks"])]
+    pub node_size: Option<ChunkSize>,
+    /// Streamed terrain: nodes whose cells span at most this many pixels are far-drawn
+    /// (0.25 to 64). Default: 2.
+    #[arg(long, value_name = "PX", value_parser = parse_far_px, allow_hyphen_values = true, conflicts_with_all = ["vox", "chunks"])]
+    pub far_px: Option<f32>,
     /// Streamed terrain: GPU memory for node data, MiB.
     #[arg(long, value_name = "MIB", default_value_t = 1024, value_parser = clap::value_parser!(u64).range(1..=1 << 20), conflicts_with_all = ["vox", "chunks"])]
     pub memory: u64,
@@ -134,7 +143,17 @@ impl Args {
             far: self.far,
             opaque: self.opaque,
             memory_bytes: self.memory << 20,
-            ..StreamSettings::default()
+            ..self.node_settings()
+        }
+    }
+
+    /// The defaults with `--node-size` and `--far-px` applied.
+    fn node_settings(&self) -> StreamSettings {
+        let defaults = StreamSettings::default();
+        StreamSettings {
+            chunk: self.node_size.unwrap_or(defaults.chunk),
+            far_cell_px: self.far_px.unwrap_or(defaults.far_cell_px),
+            ..defaults
         }
     }
 }
@@ -167,6 +186,25 @@ fn parse_budget(text: &str) -> Result<f32, String> {
         Ok(b) if (0.0..=1024.0).contains(&b) => Ok(b),
         _ => Err(format!(
             "{text:?} is not an error budget from 0 to 1024 pixels"
+        )),
+    }
+}
+
+/// 8 or 16 blocks.
+fn parse_node_size(text: &str) -> Result<ChunkSize, String> {
+    match text.trim() {
+        "8" => Ok(ChunkSize::S8),
+        "16" => Ok(ChunkSize::S16),
+        _ => Err(format!("{text:?} is not a node size (8 or 16 blocks)")),
+    }
+}
+
+/// A far threshold from 0.25 to 64 pixels.
+fn parse_far_px(text: &str) -> Result<f32, String> {
+    match text.trim().parse::<f32>() {
+        Ok(px) if (0.25..=64.0).contains(&px) => Ok(px),
+        _ => Err(format!(
+            "{text:?} is not a far threshold from 0.25 to 64 pixels"
         )),
     }
 }
@@ -264,8 +302,22 @@ mod tests {
     #[test]
     fn streaming_flags_parse_and_bad_values_are_named() {
         let a = parse(&[
-            "--radius", "512", "--budget", "2.5", "--mesher", "faces", "--far", "sprite",
-            "--memory", "64", "--opaque", "compute",
+            "--radius",
+            "512",
+            "--budget",
+            "2.5",
+            "--mesher",
+            "faces",
+            "--far",
+            "sprite",
+            "--memory",
+            "64",
+            "--opaque",
+            "compute",
+            "--node-size",
+            "8",
+            "--far-px",
+            "1.5",
         ])
         .unwrap();
         let s = a.stream_settings();
@@ -279,6 +331,15 @@ mod tests {
             (512, 2.5, MesherMode::Faces)
         );
         assert_eq!(s.memory_bytes, 64 << 20);
+        assert_eq!((s.chunk, s.far_cell_px), (ChunkSize::S8, 1.5));
+        let defaults = parse(&[]).unwrap().stream_settings();
+        assert_eq!(
+            (defaults.chunk, defaults.far_cell_px),
+            (
+                StreamSettings::default().chunk,
+                StreamSettings::default().far_cell_px
+            )
+        );
         assert_eq!(a.size(), (960, 540));
         for (bad, named) in [
             (&["--radius", "8"][..], "radius"),
@@ -291,6 +352,9 @@ mod tests {
             (&["--flight", "0"][..], "flight time"),
             (&["--flight", "inf"][..], "flight time"),
             (&["--memory", "0"][..], "--memory"),
+            (&["--node-size", "32"][..], "node size"),
+            (&["--far-px", "0"][..], "far threshold"),
+            (&["--far-px", "NaN"][..], "far threshold"),
         ] {
             let err = parse(bad).expect_err(bad[0]);
             assert!(err.contains(named), "{bad:?}: {err}");

@@ -173,6 +173,10 @@ pub struct FlightReport {
     pub radius: u32,
     /// Error budget asked for, pixels.
     pub budget_px: f32,
+    /// Node edge, blocks.
+    pub node_blocks: u32,
+    /// Far threshold: nodes whose cells span at most this many pixels are far-drawn.
+    pub far_cell_px: f32,
     /// The far path and why.
     pub far: String,
     /// Mesher mode.
@@ -194,7 +198,8 @@ impl FlightReport {
         vec![
             format!(
                 "flight: {} frames ({:.1} s of flight in {:.1} s) at {}x{} on {}; radius {} \
-                 blocks, budget {} px, far draws {}, {} meshes, opaque path {}",
+                 blocks, budget {} px, {}^3 nodes, far draws {} (cells up to {} px), {} meshes, \
+                 opaque path {}",
                 self.frames,
                 self.seconds,
                 self.wall_seconds,
@@ -203,7 +208,9 @@ impl FlightReport {
                 self.adapter,
                 self.radius,
                 self.budget_px,
+                self.node_blocks,
                 self.far,
+                self.far_cell_px,
                 self.mesher,
                 self.opaque
             ),
@@ -394,6 +401,8 @@ pub fn fly(
         memory_note: view.streamer().status().memory_note,
         radius: settings.radius,
         budget_px: settings.budget_px,
+        node_blocks: settings.chunk.edge(),
+        far_cell_px: settings.far_cell_px,
         far: view.streamer().far_choice().to_string(),
         mesher: settings.mesher.name().to_owned(),
         opaque,
