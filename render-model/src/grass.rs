@@ -105,8 +105,8 @@ pub fn quad_direction(n: Vec3, seed: u8, quad: u32) -> Vec3 {
     let a = if n.y.abs() < 0.9 { Vec3::Y } else { Vec3::Z };
     let t = a.cross(n).normalize();
     let b = n.cross(t);
-    let angle = f32::from(seed) * (std::f32::consts::PI / 16.0)
-        + quad as f32 * std::f32::consts::FRAC_PI_2;
+    let angle =
+        f32::from(seed) * (std::f32::consts::PI / 16.0) + quad as f32 * std::f32::consts::FRAC_PI_2;
     t * angle.cos() + b * angle.sin()
 }
 
