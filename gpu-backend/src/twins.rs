@@ -517,6 +517,8 @@ mod grass {
         assert_eq!(f(&draw, "WIND_SEED"), [F32(WIND_SEED)]);
         assert_eq!(f(&draw, "WIND_DIRECTION"), WIND_DIRECTION.map(F32));
         assert_eq!(f(&draw, "FADE_FULL"), [F32(FADE_FULL)]);
+        assert_eq!(f(&draw, "FADE_DROP"), [F32(FADE_DROP)]);
+        assert_eq!(f(&cull, "FADE_DROP"), [F32(FADE_DROP)]);
         assert_eq!(f(&draw, "VERTICES_PER_UNIT"), [U32(VERTICES_PER_UNIT)]);
         assert_eq!(f(&draw, "FLOWER_HEAD_RADIUS"), [F32(FLOWER_HEAD_RADIUS)]);
         assert_eq!(

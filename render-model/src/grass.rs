@@ -23,10 +23,13 @@
 //! # Fade by the error budget
 //!
 //! A blade whose height projects to `h_px = H * focal_px / distance` pixels (distance from the
-//! eye to its base) is drawn at full size while `h_px >= FADE_FULL * budget_px`, shrunk by
-//! `(h_px - budget_px) / ((FADE_FULL - 1) * budget_px)` between, and dropped at `h_px <=
-//! budget_px`: leaving a blade out errs by its own projected size, which is then within the
-//! level-of-detail error budget ([`blade_fade`]). A chunk whose nearest point is so far that
+//! eye to its base) is drawn at full size while `h_px >= FADE_FULL * budget_px` (8 budgets),
+//! shrunk (height and width) by `(h_px - FADE_DROP * budget_px) / ((FADE_FULL - FADE_DROP) *
+//! budget_px)` between, and dropped at `h_px <= FADE_DROP * budget_px` (4 budgets)
+//! ([`blade_fade`]). Scaled by the level-of-detail error budget, so a coarser budget thins the
+//! grass nearer, as it coarsens the voxels: a blade a few budgets tall covers a few pixels of
+//! a tapering sliver, which alias to noise rather than read as grass, and leaving it out
+//! errs by its few-pixel size over the ground it stands on. A chunk whose nearest point is so far that
 //! its tallest possible blade is dropped is culled whole ([`chunk_fades_out`]). With
 //! level-of-detail selection off the budget is [`DEFAULT_BUDGET_PX`].
 //!
@@ -59,7 +62,9 @@ pub const WIND_PERIOD_S: f64 = 3.0;
 /// The direction the wind pushes (unit length, horizontal).
 pub const WIND_DIRECTION: [f32; 3] = [0.8, 0.0, 0.6];
 /// A blade is drawn whole while its projected height is at least this many error budgets.
-pub const FADE_FULL: f32 = 2.0;
+pub const FADE_FULL: f32 = 8.0;
+/// A blade is dropped once its projected height is at most this many error budgets.
+pub const FADE_DROP: f32 = 4.0;
 /// The error budget, pixels, of the fade when level-of-detail selection is off.
 pub const DEFAULT_BUDGET_PX: f32 = 1.0;
 /// Vertices a unit is drawn with: two quads of two triangles.
@@ -127,7 +132,7 @@ pub fn blade_fade(height: f32, distance: f32, frame: &GrassFrame) -> f32 {
     if budget <= 0.0 {
         return 1.0;
     }
-    ((px - budget) / ((FADE_FULL - 1.0) * budget)).clamp(0.0, 1.0)
+    ((px - FADE_DROP * budget) / ((FADE_FULL - FADE_DROP) * budget)).clamp(0.0, 1.0)
 }
 
 /// Whether every blade of a chunk whose nearest point is `nearest` blocks from the eye is
@@ -330,24 +335,29 @@ mod tests {
     fn blades_fade_by_projected_size_against_the_budget() {
         let f = frame(0.0, 0.0);
         let h = blade_height(0);
-        // Whole at 2 budgets or more, dropped at 1 budget or less, halfway at 1.5.
+        // Whole at 8 budgets or more, dropped at 4 budgets or less, halfway at 6.
         let at = |px: f32| h * f.focal_px / px;
-        assert_eq!(blade_fade(h, at(2.0), &f), 1.0);
-        assert_eq!(blade_fade(h, at(1.0), &f), 0.0);
-        assert!((blade_fade(h, at(1.5), &f) - 0.5).abs() < 1e-5);
-        assert_eq!(blade_fade(h, at(0.5), &f), 0.0);
+        assert_eq!(blade_fade(h, at(8.0), &f), 1.0);
+        assert_eq!(blade_fade(h, at(4.0), &f), 0.0);
+        assert!((blade_fade(h, at(6.0), &f) - 0.5).abs() < 1e-5);
+        assert_eq!(blade_fade(h, at(2.0), &f), 0.0);
+        let coarse = GrassFrame {
+            budget_px: 2.0,
+            ..f
+        };
+        assert_eq!(blade_fade(h, at(8.0), &coarse), 0.0, "a coarser budget drops it");
         let zero_budget = GrassFrame {
             budget_px: 0.0,
             ..f
         };
         assert_eq!(blade_fade(h, 1e6, &zero_budget), 1.0);
         // A chunk is culled exactly when its tallest blade would be dropped.
-        let far = MAX_BLADE_HEIGHT * f.focal_px / f.budget_px;
+        let far = MAX_BLADE_HEIGHT * f.focal_px / (FADE_DROP * f.budget_px);
         assert!(chunk_fades_out(far * 1.01, &f));
         assert!(!chunk_fades_out(far * 0.99, &f));
         // A dropped blade has no area.
         let u = unit(Vec3::ZERO, 0, 0);
-        let c = unit_corners(&u, Vec3::new(0.0, 0.0, at(0.9)), &f);
+        let c = unit_corners(&u, Vec3::new(0.0, 0.0, at(3.9)), &f);
         assert!(c.iter().flatten().all(|&p| p == Vec3::ZERO));
     }
 

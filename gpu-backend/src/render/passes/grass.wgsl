@@ -27,7 +27,8 @@ const WIND_SWAY: f32 = 0.25;
 const WIND_SPACE: f32 = 0.35;
 const WIND_SEED: f32 = 0.4;
 const WIND_DIRECTION: vec3<f32> = vec3<f32>(0.8, 0.0, 0.6);
-const FADE_FULL: f32 = 2.0;
+const FADE_FULL: f32 = 8.0;
+const FADE_DROP: f32 = 4.0;
 const VERTICES_PER_UNIT: u32 = 12u;
 const FLOWER_HEAD_RADIUS: f32 = 0.2;
 const FLOWER_STEM_HALF_WIDTH: f32 = 0.06;
@@ -56,7 +57,7 @@ fn blade_fade(height: f32, distance: f32) -> f32 {
         return 1.0;
     }
     let px = height * grass.focal_px / max(distance, 1e-6);
-    return clamp((px - grass.budget_px) / ((FADE_FULL - 1.0) * grass.budget_px), 0.0, 1.0);
+    return clamp((px - FADE_DROP * grass.budget_px) / ((FADE_FULL - FADE_DROP) * grass.budget_px), 0.0, 1.0);
 }
 
 // Twin of render_model::grass::quad_direction.

@@ -24,7 +24,8 @@ const GRASS_CULL_LOD: u32 = 1u;
 const GRASS_CULL_OCCLUSION: u32 = 2u;
 const MAX_BLADE_HEIGHT: f32 = 0.9;
 const WIND_SWAY: f32 = 0.25;
-const FADE_FULL: f32 = 2.0;
+const FADE_FULL: f32 = 8.0;
+const FADE_DROP: f32 = 4.0;
 const VERTICES_PER_UNIT: u32 = 12u;
 
 @group(0) @binding(0) var<uniform> g: GrassCullUniforms;
@@ -54,7 +55,7 @@ fn grass_fade(height: f32, distance: f32, focal_px: f32, budget_px: f32) -> f32 
         return 1.0;
     }
     let px = height * focal_px / max(distance, 1e-6);
-    return clamp((px - budget_px) / ((FADE_FULL - 1.0) * budget_px), 0.0, 1.0);
+    return clamp((px - FADE_DROP * budget_px) / ((FADE_FULL - FADE_DROP) * budget_px), 0.0, 1.0);
 }
 
 fn grass_slot_draws(slot: u32) -> bool {
