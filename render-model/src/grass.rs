@@ -345,7 +345,11 @@ mod tests {
             budget_px: 2.0,
             ..f
         };
-        assert_eq!(blade_fade(h, at(8.0), &coarse), 0.0, "a coarser budget drops it");
+        assert_eq!(
+            blade_fade(h, at(8.0), &coarse),
+            0.0,
+            "a coarser budget drops it"
+        );
         let zero_budget = GrassFrame {
             budget_px: 0.0,
             ..f
