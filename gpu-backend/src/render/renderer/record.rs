@@ -117,6 +117,7 @@ impl Renderer {
     ///                                                                   early phase: the nodes
     ///                                                                   visible last frame)
     ///          [─► depth pyramid ─► the same four, late, for the rest]  occlusion only
+    ///          [─► grass (cull and draw)]                               with clutter
     ///          ─► cull transparent (back to front) ─► lighting ─► transparent ─► tonemap
     ///          [─► antialias]                                           when configured
     /// ```
