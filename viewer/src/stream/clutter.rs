@@ -67,7 +67,7 @@ mod tests {
                 unit(
                     4 + (i % 4) as u8,
                     (i / 4) as u8,
-                    0xff00_0000 | (i % 31) * 0x0101,
+                    0xff00_0000 | ((i % 31) * 0x0101),
                 )
             })
             .collect();
