@@ -11,8 +11,8 @@ mod image_support;
 
 use glam::{DVec3, Vec2, Vec3};
 use gpu_backend::DeviceOptions;
-use gpu_backend::render::{RenderError, Renderer, RendererConfig};
-use gpu_backend::test_support::headless_or_skip;
+use gpu_backend::render::{OpaquePath, RenderError, Renderer, RendererConfig};
+use gpu_backend::test_support::{headless_or_skip, skip};
 use image_support::{Image, Tolerance, assert_images_match};
 use render_model::Camera;
 use render_model::cull::lod;
@@ -88,9 +88,19 @@ fn scene() -> Scene {
 }
 
 fn renderer(ctx: &gpu_backend::GpuContext, scene: &Scene, clutter: bool) -> Renderer {
+    renderer_on(ctx, scene, clutter, OpaquePath::Raster)
+}
+
+fn renderer_on(
+    ctx: &gpu_backend::GpuContext,
+    scene: &Scene,
+    clutter: bool,
+    opaque: OpaquePath,
+) -> Renderer {
     let mut config = RendererConfig {
         occlusion: false,
         antialias: false,
+        opaque,
         ..RendererConfig::new(WIDTH, HEIGHT, size())
     };
     // Without clutter the units are still stored (the gigabuffer has their space), only not
@@ -281,4 +291,28 @@ fn turning_clutter_off_removes_the_grass() {
     assert_eq!(plain.grass_stats().expect("stats"), None);
     let (none, _) = gpu_image(&mut plain);
     assert_eq!(grass_pixels(&none), 0);
+}
+
+/// On the compute opaque path the G-buffer pass skips its depth clear while nothing raster
+/// drew: the grass draws depth, so turning it off must still clear it.
+#[test]
+fn turning_clutter_off_on_the_compute_opaque_path_leaves_no_grass_depth() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    if !ctx.capabilities.int64_atomics {
+        skip("the compute opaque path needs 64-bit atomics");
+        return;
+    }
+    let scene = scene();
+    let mut r = renderer_on(&ctx, &scene, true, OpaquePath::Compute);
+    let (on, _) = gpu_image(&mut r);
+    assert!(grass_pixels(&on) > 500);
+    r.set_clutter(false).expect("off");
+    let (off, _) = gpu_image(&mut r);
+    assert_eq!(
+        grass_pixels(&off),
+        0,
+        "no grass depth left with clutter off"
+    );
 }

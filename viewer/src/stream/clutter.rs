@@ -21,9 +21,9 @@ pub(super) fn dress(units: &mut [ClutterUnit], grass: BlockId) {
         let kind = (u.settings & 0xff) as u8;
         let seed = (u.settings >> 12) as u8 & 0xf;
         let variation = u.tint;
-        // The placement's tint is 255 less 5 random bits per channel.
-        let r = 255 - (variation & 0xff) as u8;
-        let g = 255 - ((variation >> 8) & 0xff) as u8;
+        // The placement's tint is 255 less 5 random bits per channel: those bits, 0..32.
+        let r = (255 - (variation & 0xff) as u8) & 31;
+        let g = (255 - ((variation >> 8) & 0xff) as u8) & 31;
         let meadow = u16::from(kind / 4) == grass.0 % 64;
         // A flower on one meadow unit in 16 (variant 3 with an even seed of 8 values).
         let flower = meadow && is_flower(kind) && seed < 4;
@@ -67,7 +67,7 @@ mod tests {
                 unit(
                     4 + (i % 4) as u8,
                     (i / 4) as u8,
-                    0xff00_0000 | ((i % 31) * 0x0101),
+                    0xff00_0000 | ((255 - i % 31) * 0x0101),
                 )
             })
             .collect();

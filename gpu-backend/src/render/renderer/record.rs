@@ -229,6 +229,8 @@ impl Renderer {
         // Grass after both opaque phases: the visibility bits then hold this frame's cull.
         if let Some((grass, params)) = passes.grass.as_ref().zip(grass_params.as_ref()) {
             grass.record(&ctx, &mut rec, params, culls.visible_bits());
+            // The grass wrote depth: the next early G-buffer pass must clear it.
+            passes.gbuffer.depth_drawn();
         }
         // The transparent layer, back to front (`render_model::transparent`), and the raster
         // far draws' commands of the whole frame for their transparent blocks.
