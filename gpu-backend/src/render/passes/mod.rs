@@ -8,8 +8,8 @@
 //! | far splat | [`far_splat`] | far-drawn nodes' blocks splatted in compute into the visibility buffers |
 //! | far raster | [`far_raster`] | far-drawn nodes' blocks as sprites or camera-facing quads (raster far paths) |
 //! | G-buffer | [`gbuffer`] | opaque greedy and smooth quads (and raster far blocks) into the G-buffer |
-//! | grass | [`grass`] | clutter units as crossed quads into the G-buffer, culled with their chunks, swaying in the wind (after the opaque phases) |
 //! | Hi-Z | [`hiz`] | the depth pyramid of the early phase, for the late cull |
+//! | grass | [`grass`] | clutter units as crossed quads into the G-buffer, culled with their chunks, swaying in the wind (after the opaque phases) |
 //! | lighting | [`lighting`] | G-buffer and visibility buffers to display-linear HDR, sky and haze |
 //! | transparent | [`transparent`] | transparent quads and far blocks blended into the HDR target |
 //! | tonemap | [`tonemap`] | HDR to the sRGB output (or to `ldr` before anti-aliasing) |
