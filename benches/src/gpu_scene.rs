@@ -20,7 +20,7 @@
 use std::time::Instant;
 
 use mesher::lod::{NodeMesh, NodeSettings, downsample_levels, mesh_nodes};
-use mesher::{BlockClasses, MeshError, MeshSettings};
+use mesher::{BlockClasses, ClutterParams, MeshError, MeshSettings};
 use voxel_core::storage::{VoxelStorage, WorldMap};
 use voxel_core::{ChunkCoord, ChunkSize, MaterialPalette};
 use voxel_scene::terrain_scene;
@@ -61,6 +61,19 @@ impl LodTerrain {
         top_level: u32,
         keep: impl Fn(u32, ChunkCoord) -> bool + Sync,
     ) -> Result<LodTerrain, MeshError> {
+        Self::generate_with_clutter(side, size, seed, top_level, None, keep)
+    }
+
+    /// [`generate`](Self::generate), with `clutter` placed on the level-0 chunks' grass (the
+    /// only level the grass pass draws).
+    pub fn generate_with_clutter(
+        side: u32,
+        size: ChunkSize,
+        seed: i32,
+        top_level: u32,
+        clutter: Option<ClutterParams>,
+        keep: impl Fn(u32, ChunkCoord) -> bool + Sync,
+    ) -> Result<LodTerrain, MeshError> {
         let edge = size.edge();
         let across = side.div_ceil(edge).max(1) as i32;
         let tall = TERRAIN_TOP.div_ceil(edge) as i32;
@@ -78,7 +91,14 @@ impl LodTerrain {
         let started = Instant::now();
         let mut levels = Vec::new();
         let mut chunks_per_level = Vec::new();
-        let (count, nodes) = mesh_level(&scene.world, 0, &classes, &settings, &keep)?;
+        let level0 = NodeSettings {
+            mesh: MeshSettings {
+                clutter,
+                ..settings.mesh
+            },
+            ..settings
+        };
+        let (count, nodes) = mesh_level(&scene.world, 0, &classes, &level0, &keep)?;
         chunks_per_level.push(count);
         levels.push(nodes);
         for (i, world) in coarse.iter().enumerate() {
@@ -106,6 +126,11 @@ impl LodTerrain {
     /// Quads (both layers and the skirts) of every kept node.
     pub fn quad_count(&self) -> u64 {
         self.nodes().map(node_quads).sum()
+    }
+
+    /// Clutter units of every kept node.
+    pub fn clutter_count(&self) -> u64 {
+        self.nodes().map(|n| n.mesh.clutter.len() as u64).sum()
     }
 
     /// Far-draw blocks (surface blocks and skirt blocks, 4 bytes each) of every kept node.

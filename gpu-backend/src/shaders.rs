@@ -233,6 +233,29 @@ pub const LIST_ARGS: ShaderSpec = ShaderSpec {
     body: include_str!("shaders/list_args.wgsl"),
 };
 
+/// The grass pass's draw (entry points `vs_grass`, `fs_grass`; see
+/// [`crate::render::passes::grass`]).
+pub const GRASS: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "grass",
+    body: concat!(
+        include_str!("shaders/render_common.wgsl"),
+        include_str!("render/passes/grass.wgsl")
+    ),
+};
+
+/// The grass pass's cull: chunk table slots to one indirect draw each (entry point
+/// `grass_cull`; see [`crate::render::passes::grass`]).
+pub const GRASS_CULL: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "grass_cull",
+    body: concat!(
+        include_str!("shaders/node.wgsl"),
+        include_str!("shaders/lod.wgsl"),
+        include_str!("render/passes/grass_cull.wgsl")
+    ),
+};
+
 /// Every shader of the crate.
 pub const ALL_SHADERS: &[ShaderSpec] = &[
     FORMAT_PARITY,
@@ -253,6 +276,8 @@ pub const ALL_SHADERS: &[ShaderSpec] = &[
     HIZ_PROBE,
     QUAD_RASTER,
     QUAD_RASTER_ARGS,
+    GRASS,
+    GRASS_CULL,
 ];
 
 /// `FORMATS_WGSL` followed by `body`: the one place shader sources are put together.

@@ -438,3 +438,103 @@ mod hiz {
         }
     }
 }
+
+mod grass {
+    use std::mem::offset_of;
+
+    use render_model::grass::*;
+
+    use crate::shaders::{GRASS, GRASS_CULL, struct_layout, validate};
+
+    fn module(spec: crate::shaders::ShaderSpec) -> naga::Module {
+        validate(spec.name, &spec.source()).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// The value of the WGSL constant `name` (a literal, or a vector of literals).
+    fn constant(module: &naga::Module, name: &str) -> Vec<naga::Literal> {
+        let (_, c) = module
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("no constant {name}"));
+        let literal = |h: naga::Handle<naga::Expression>| match module.global_expressions[h] {
+            naga::Expression::Literal(l) => l,
+            ref e => panic!("{name} is not a literal: {e:?}"),
+        };
+        match &module.global_expressions[c.init] {
+            naga::Expression::Compose { components, .. } => {
+                components.iter().map(|&h| literal(h)).collect()
+            }
+            _ => vec![literal(c.init)],
+        }
+    }
+
+    #[test]
+    fn uniforms_match_their_wgsl_twins() {
+        let cull = module(GRASS_CULL);
+        let (members, size) = struct_layout(&cull, "GrassCullUniforms");
+        assert_eq!(size, size_of::<GrassCullUniforms>());
+        let expected = [
+            ("planes", offset_of!(GrassCullUniforms, planes)),
+            ("camera_chunk", offset_of!(GrassCullUniforms, camera_chunk)),
+            ("slot_bound", offset_of!(GrassCullUniforms, slot_bound)),
+            (
+                "camera_offset",
+                offset_of!(GrassCullUniforms, camera_offset),
+            ),
+            ("chunk_edge", offset_of!(GrassCullUniforms, chunk_edge)),
+            ("lod", offset_of!(GrassCullUniforms, lod)),
+            ("flags", offset_of!(GrassCullUniforms, flags)),
+            ("focal_px", offset_of!(GrassCullUniforms, focal_px)),
+            ("budget_px", offset_of!(GrassCullUniforms, budget_px)),
+            ("pad", offset_of!(GrassCullUniforms, pad)),
+        ]
+        .map(|(n, o)| (n.to_string(), o));
+        assert_eq!(members, expected);
+        let draw = module(GRASS);
+        let (members, size) = struct_layout(&draw, "GrassUniforms");
+        assert_eq!(size, size_of::<GrassUniforms>());
+        let expected = [
+            ("wind_phase", offset_of!(GrassUniforms, wind_phase)),
+            ("wind_strength", offset_of!(GrassUniforms, wind_strength)),
+            ("focal_px", offset_of!(GrassUniforms, focal_px)),
+            ("budget_px", offset_of!(GrassUniforms, budget_px)),
+        ]
+        .map(|(n, o)| (n.to_string(), o));
+        assert_eq!(members, expected);
+    }
+
+    #[test]
+    fn constants_match_their_wgsl_twins() {
+        use naga::Literal::{F32, U32};
+        let draw = module(GRASS);
+        let cull = module(GRASS_CULL);
+        let f = |m: &naga::Module, name| constant(m, name);
+        assert_eq!(f(&draw, "BLADE_HEIGHT"), [F32(BLADE_HEIGHT)]);
+        assert_eq!(f(&draw, "BLADE_WIDTH_RATIO"), [F32(BLADE_WIDTH_RATIO)]);
+        assert_eq!(f(&draw, "WIND_SWAY"), [F32(WIND_SWAY)]);
+        assert_eq!(f(&draw, "WIND_SPACE"), [F32(WIND_SPACE)]);
+        assert_eq!(f(&draw, "WIND_SEED"), [F32(WIND_SEED)]);
+        assert_eq!(f(&draw, "WIND_DIRECTION"), WIND_DIRECTION.map(F32));
+        assert_eq!(f(&draw, "FADE_FULL"), [F32(FADE_FULL)]);
+        assert_eq!(f(&draw, "FADE_DROP"), [F32(FADE_DROP)]);
+        assert_eq!(f(&cull, "FADE_DROP"), [F32(FADE_DROP)]);
+        assert_eq!(f(&draw, "VERTICES_PER_UNIT"), [U32(VERTICES_PER_UNIT)]);
+        assert_eq!(f(&draw, "FLOWER_HEAD_RADIUS"), [F32(FLOWER_HEAD_RADIUS)]);
+        assert_eq!(
+            f(&draw, "FLOWER_STEM_HALF_WIDTH"),
+            [F32(FLOWER_STEM_HALF_WIDTH)]
+        );
+        assert_eq!(f(&draw, "FLOWER_STEM"), FLOWER_STEM.map(F32));
+        assert_eq!(f(&draw, "BLADE_BASE_SHADE"), [F32(BLADE_BASE_SHADE)]);
+        assert_eq!(f(&cull, "MAX_BLADE_HEIGHT"), [F32(MAX_BLADE_HEIGHT)]);
+        assert_eq!(f(&cull, "WIND_SWAY"), [F32(WIND_SWAY)]);
+        assert_eq!(f(&cull, "FADE_FULL"), [F32(FADE_FULL)]);
+        assert_eq!(f(&cull, "VERTICES_PER_UNIT"), [U32(VERTICES_PER_UNIT)]);
+        assert_eq!(f(&cull, "GRASS_CULL_LOD"), [U32(GRASS_CULL_LOD)]);
+        assert_eq!(
+            f(&cull, "GRASS_CULL_OCCLUSION"),
+            [U32(GRASS_CULL_OCCLUSION)]
+        );
+    }
+}

@@ -7,6 +7,8 @@
 //! - [`deferred_reference`]: those rays shaded with the GPU's lighting model (the one CPU renderer).
 //! - [`prop_raster`]: glTF props (`voxel_scene::props`) rasterised with the same lighting,
 //!   placed by the prop pass's camera-relative rule.
+//! - [`grass_raster`]: clutter units as the grass pass's crossed quads, rasterised with the
+//!   same lighting.
 //!
 //! All take the stack's one camera and lighting ([`render_model::Camera`],
 //! [`render_model::Lighting`]). A crate of its own, without wgpu, so that the image tests and
@@ -14,5 +16,6 @@
 //! window (winit, egui).
 
 pub mod deferred_reference;
+pub mod grass_raster;
 pub mod prop_raster;
 pub mod reference_raycast;

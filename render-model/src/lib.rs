@@ -14,6 +14,8 @@
 //! - [`frame`]: the frame uniforms every renderer shader reads, and the smooth draw record;
 //! - [`cull`]: level-of-detail selection by one screen-space error budget ([`cull::lod`]),
 //!   the cull's uniforms, node and draw records, and the CPU reference of the cull pass;
+//! - [`grass`]: grass clutter as crossed quads: geometry, wind, the fade by the error budget
+//!   and the grass pass's records;
 //! - [`memory_plan`]: which nodes stay resident under a memory budget;
 //! - [`hiz`]: the depth pyramid's levels and the CPU twins of its build and its test;
 //! - [`quad_raster`]: the compute rasteriser's records and its CPU reference;
@@ -32,6 +34,7 @@ pub mod camera;
 pub mod colour_difference;
 pub mod cull;
 pub mod frame;
+pub mod grass;
 pub mod hiz;
 pub mod lighting;
 pub mod materials;

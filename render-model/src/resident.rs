@@ -91,7 +91,7 @@ pub struct ChunkMeshData<'a> {
     pub coord: ChunkCoord,
     /// Level of detail, `0..=15`: the chunk's voxels are `2^lod` blocks wide.
     pub lod: u32,
-    /// Its packed layers. Clutter is stored; no pass draws it.
+    /// Its packed layers (clutter is drawn by the grass pass of a renderer made with clutter).
     pub layers: ChunkLayersData<'a>,
 }
 

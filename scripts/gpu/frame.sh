@@ -23,7 +23,9 @@
 #                `CommandEncoder::finish`, `Queue::submit`) on the driver: gpu_bench at 256^2
 #                under callgrind for 10 and for 30 frames, the difference over 20; needs
 #                valgrind in .gpu/tools/ (scripts/gpu/build.sh --valgrind), or on the PATH
-#   flight       the viewer's `--flight 30` with its defaults (`--opaque auto`)
+#   grass        the headline terrain with grass (`--clutter 2`, the viewer's density) on the
+#                level-0 chunks: the grass pass's GPU time and the units it drew; no reference
+#   flight       the viewer's `--flight 30` with its defaults (`--opaque auto`, grass on)
 #   flightpaths  the same with `--opaque compute` and with `--opaque raster`
 #   flightnodes  the same with the benchmark's far threshold (`--far-px 1.5`), and with it and
 #                the benchmark's 8^3 nodes (`--node-size 8 --far-px 1.5`)
@@ -100,6 +102,7 @@ declare -A config=(
     [cpu-16384]="gpu_bench||--side $s16384 --top-level 8 $common --opaque compute --frames $frames_cpu --reference off"
     [validation-off]="gpu_bench|WGPU_VALIDATION_INDIRECT_CALL=0|--side $s4096 $common --opaque compute --frames $frames_cpu --reference off"
     [validation-on]="gpu_bench|WGPU_VALIDATION_INDIRECT_CALL=1|--side $s4096 $common --opaque compute --frames $frames_cpu --reference off"
+    [grass]="gpu_bench||--side $s4096 $common --opaque compute --clutter 2 --frames $frames --reference off"
     [callgrind]="callgrind||--side $s256 $common --opaque compute --occlusion on --reference off"
     [flight]="viewer||${flight[*]}"
     [flight-compute]="viewer||${flight[*]} --opaque compute"
@@ -121,13 +124,14 @@ for s in "${sets[@]}"; do
         nodesize) names+=(nodesize-16 nodesize-8) ;;
         cpu) names+=(cpu-1024 cpu-4096 cpu-16384) ;;
         validation) names+=(validation-off validation-on validation-off validation-on) ;;
+        grass) names+=(grass) ;;
         callgrind) names+=(callgrind) ;;
         flight) names+=(flight) ;;
         flightpaths) names+=(flight-compute flight-raster) ;;
         flightnodes) names+=(flight-far15 flight-node8) ;;
         all) names+=(headline paths distance-1024 distance-16384 distance-1024 distance-16384
                      budgets farpx farpaths nodesize-16 nodesize-8 cpu-1024 cpu-4096 cpu-16384
-                     validation-off validation-on validation-off validation-on callgrind
+                     validation-off validation-on validation-off validation-on grass callgrind
                      flight flight-compute flight-raster flight-far15 flight-node8) ;;
         *) echo "frame.sh: unknown set $s (see the header of $0)" >&2; exit 2 ;;
     esac

@@ -74,6 +74,10 @@ pub(crate) struct Args {
     /// Streamed terrain: far draws of distant nodes (off, auto, splat, sprite, quads3).
     #[arg(long, value_name = "PATH", default_value = "auto", value_parser = parse_far, conflicts_with_all = ["vox", "chunks"])]
     pub far: FarRequest,
+    /// Streamed terrain: grass and flowers on grass blocks (`on` or `off`); with `off` they are
+    /// neither placed nor stored, and the renderer has no grass pass.
+    #[arg(long, value_name = "on|off", default_value = "on", value_parser = parse_on_off, conflicts_with_all = ["vox", "chunks"])]
+    pub clutter: bool,
     /// Streamed terrain: how opaque quads are drawn, `raster` (the G-buffer pass), `compute`
     /// (the compute rasteriser: faster on GPUs with few raster units; needs 64-bit atomics) or
     /// `auto` (both drawn at the first view and the faster kept; raster where the compute path
@@ -142,6 +146,7 @@ impl Args {
             mesher: self.mesher,
             far: self.far,
             opaque: self.opaque,
+            clutter: self.clutter,
             memory_bytes: self.memory << 20,
             ..self.node_settings()
         }
@@ -242,6 +247,14 @@ fn parse_opaque(text: &str) -> Result<OpaquePath, String> {
 }
 
 /// Seconds, more than 0 and at most an hour.
+fn parse_on_off(text: &str) -> Result<bool, String> {
+    match text {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err(format!("{text:?} is neither on nor off")),
+    }
+}
+
 fn parse_seconds(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
         Ok(s) if s > 0.0 && s <= 3600.0 => Ok(s),
@@ -350,6 +363,7 @@ mod tests {
             (&["--opaque", "fragment"][..], "opaque path"),
             (&["--far", "rays"][..], "far-draw path"),
             (&["--flight", "0"][..], "flight time"),
+            (&["--clutter", "maybe"][..], "neither on nor off"),
             (&["--flight", "inf"][..], "flight time"),
             (&["--memory", "0"][..], "--memory"),
             (&["--node-size", "32"][..], "node size"),

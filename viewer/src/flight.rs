@@ -146,6 +146,9 @@ pub struct FlightReport {
     pub cpu_frame: Percentiles,
     /// GPU time per frame (sum of the pass timestamps), `None` without timestamps.
     pub gpu_frame: Option<Percentiles>,
+    /// The grass pass's GPU time per frame (its `grass` timestamps), `None` without
+    /// timestamps or without clutter (`--clutter off`).
+    pub grass_frame: Option<Percentiles>,
     /// `"timestamps"`, or `"no timestamps"` and why.
     pub gpu_timing: String,
     /// Each pass's GPU time, in frame order (empty without timestamps).
@@ -224,6 +227,10 @@ impl FlightReport {
                 None => format!("flight: GPU per frame  {}", self.gpu_timing),
             },
             self.pass_line(),
+            match &self.grass_frame {
+                Some(g) => format!("flight: grass pass per frame  {}", p(g)),
+                None => "flight: grass pass per frame  - (clutter off or no timestamps)".to_owned(),
+            },
             format!(
                 "flight: frame (max of loop and GPU; one frame in flight)  {}",
                 p(&self.frame)
@@ -313,9 +320,18 @@ pub fn fly(
     let timestamps = matches!(ctx.capabilities.timing, TimingPath::GpuTimestamps { .. });
     let (mut cpu, mut gpu, mut loop_frame) = (Vec::new(), Vec::new(), Vec::new());
     let mut pass_series = PassSeries::default();
+    let mut grass = Vec::new();
     let mut gpu_ms = |passes: Vec<gpu_backend::PassTime>| -> f64 {
         pass_series.push(&passes);
-        passes.iter().map(|p| p.nanoseconds as f64 / 1e6).sum()
+        let ms = |p: &gpu_backend::PassTime| p.nanoseconds as f64 / 1e6;
+        grass.push(
+            passes
+                .iter()
+                .filter(|p| p.label == "grass")
+                .map(ms)
+                .sum::<f64>(),
+        );
+        passes.iter().map(ms).sum()
     };
     let mut frames_with_holes = 0;
     let started = Instant::now();
@@ -380,6 +396,11 @@ pub fn fly(
         cpu_frame: Percentiles::of(&cpu).unwrap_or(none),
         gpu_frame: if timestamps {
             Percentiles::of(&gpu)
+        } else {
+            None
+        },
+        grass_frame: if timestamps && settings.clutter {
+            Percentiles::of(&grass)
         } else {
             None
         },

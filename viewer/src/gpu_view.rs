@@ -78,7 +78,7 @@ pub fn upload_world<C: VoxelStorage + Sync>(
 }
 
 /// [`upload_world`] with other mesh settings (e.g. `SurfaceMode::NoCubes`, whose smooth layer
-/// the renderer draws too; clutter is not drawn yet).
+/// the renderer draws too; clutter needs a renderer made with `RendererConfig::with_clutter`).
 pub fn upload_world_with<C: VoxelStorage + Sync>(
     renderer: &mut Renderer,
     world: &WorldMap<C>,

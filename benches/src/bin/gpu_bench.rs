@@ -110,6 +110,10 @@ struct Args {
     /// Timed frames per setting.
     #[arg(long, default_value_t = 20)]
     frames: usize,
+    /// Clutter units per grass top face on the level-0 chunks, drawn by the grass pass (0: no
+    /// clutter, no grass pass; the viewer grows 2).
+    #[arg(long, default_value_t = 0.0)]
+    clutter: f32,
     /// Terrain seed.
     #[arg(long, default_value_t = 1)]
     seed: i32,
@@ -169,7 +173,24 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         (reference && level == 0) || selected_by_any(&params, level, coord)
     };
     let started = Instant::now();
-    let terrain = LodTerrain::generate(args.side, size, args.seed, args.top_level, keep)?;
+    let clutter = if args.clutter > 0.0 {
+        Some(
+            mesher::ClutterParams::new(args.clutter, args.seed as u64)
+                .map_err(|e| format!("--clutter: {e}"))?,
+        )
+    } else if args.clutter == 0.0 {
+        None
+    } else {
+        return Err(format!("--clutter {} must be at least 0", args.clutter).into());
+    };
+    let terrain = LodTerrain::generate_with_clutter(
+        args.side,
+        size,
+        args.seed,
+        args.top_level,
+        clutter,
+        keep,
+    )?;
     let resident: Vec<usize> = terrain.levels.iter().map(Vec::len).collect();
     let mut scene = SceneSummary {
         adapter: ctx.capabilities.adapter.to_string(),
@@ -192,7 +213,7 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         format!("adapter: {}", ctx.capabilities.adapter),
         format!(
             "terrain: {}² columns, {}³ chunks, levels 0..={}: {:?} chunks, {:?} resident; {} quads, \
-             {} draw-block words ({} far blocks, the rest hiding masks); generated {:.2} s, downsampled {:.2} s, meshed {:.2} s ({} \
+             {} draw-block words ({} far blocks, the rest hiding masks), {} clutter units; generated {:.2} s, downsampled {:.2} s, meshed {:.2} s ({} \
              threads), {:.1} s in all",
             terrain.side,
             size.edge(),
@@ -202,6 +223,7 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
             scene.resident_quads,
             scene.resident_draw_block_words,
             scene.resident_far_blocks,
+            terrain.clutter_count(),
             terrain.generate_seconds,
             terrain.downsample_seconds,
             terrain.mesh_seconds,

@@ -172,6 +172,13 @@ pub fn renderer_with(
         FarRequest::Off => config,
         far => config.with_far(far, slack(terrain.draw_block_words()) * 4),
     };
+    // The grass pass, when the terrain carries clutter (`--clutter`).
+    let clutter = terrain.clutter_count();
+    let config = if clutter > 0 {
+        config.with_clutter(slack(clutter) * 20)
+    } else {
+        config
+    };
     Renderer::new(ctx, &config, &terrain.palette)
 }
 
@@ -264,6 +271,7 @@ fn measure(
             tiles: s.tiles,
         });
     let (cull, splat) = renderer.read_frame_stats()?;
+    let (grass_chunks, grass_units) = renderer.grass_stats()?.unwrap_or((0, 0));
     let mut per_level = cull.per_level.to_vec();
     while per_level.last() == Some(&0) {
         per_level.pop();
@@ -282,6 +290,8 @@ fn measure(
         splat_pixels: splat.pixels,
         splat_skipped: splat.skipped,
         quad_raster,
+        grass_chunks,
+        grass_units,
     };
     let image = renderer.read_image()?;
     Ok((

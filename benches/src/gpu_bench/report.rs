@@ -46,6 +46,10 @@ pub struct DrawnCounts {
     /// The compute rasteriser's counters over one frame (both phases), on the compute opaque
     /// path.
     pub quad_raster: Option<QuadRasterCounts>,
+    /// Chunks whose clutter the grass pass drew (0 without clutter).
+    pub grass_chunks: u32,
+    /// Clutter units the grass pass drew (before the per-blade fade; 0 without clutter).
+    pub grass_units: u32,
 }
 
 /// What the compute quad rasteriser did in one frame (`gpu_backend`'s `QuadRasterStats`).
@@ -257,9 +261,9 @@ pub fn markdown(report: &BenchReport) -> String {
     }
     out.push_str(
         "\n| budget | far | far px | selected per level | mesh nodes | far nodes | quads | far \
-         blocks | splat pixels | raster pixels tested / hit / tiles | frustum-culled | occluded | MAE | > 8/255 |\n",
+         blocks | grass units | splat pixels | raster pixels tested / hit / tiles | frustum-culled | occluded | MAE | > 8/255 |\n",
     );
-    out.push_str("| ---: | ---: | ---: | :--- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+    out.push_str("| ---: | ---: | ---: | :--- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
     for r in &report.runs {
         let d = &r.drawn;
         let (mae, share) = r.image_error.map_or(("-".to_owned(), "-".to_owned()), |e| {
@@ -270,7 +274,7 @@ pub fn markdown(report: &BenchReport) -> String {
         });
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {:?} | {} | {} | {} | {} | {} | {} | {} | {} ({:.1} %) | {} | {} |",
+            "| {} | {} | {} | {:?} | {} | {} | {} | {} | {} | {} | {} | {} | {} ({:.1} %) | {} | {} |",
             budget_label(r.budget_px),
             r.far,
             r.far_cell_px,
@@ -279,6 +283,7 @@ pub fn markdown(report: &BenchReport) -> String {
             d.far_nodes,
             d.mesh_quads + d.transparent_quads + d.smooth_quads,
             d.far_blocks,
+            d.grass_units,
             d.splat_pixels,
             d.quad_raster.map_or("-".to_owned(), |q| format!(
                 "{} / {} / {}",

@@ -47,6 +47,8 @@ pub enum RenderError {
     /// The far-draw path asked for cannot run on this device or configuration (why, in
     /// words).
     FarDrawsUnavailable(String),
+    /// Clutter cannot be drawn with this configuration (why, in words).
+    ClutterUnavailable(String),
     /// The depth pyramid of occlusion culling could not be built.
     Hiz(HizError),
     /// The compute quad rasteriser refused its device, configuration or inputs.
@@ -77,6 +79,7 @@ impl fmt::Display for RenderError {
             RenderError::Timer(e) => write!(f, "pass timing: {e}"),
             RenderError::Lod(e) => write!(f, "{e}"),
             RenderError::FarDrawsUnavailable(why) => write!(f, "far draws unavailable: {why}"),
+            RenderError::ClutterUnavailable(why) => write!(f, "clutter unavailable: {why}"),
             RenderError::Hiz(e) => write!(f, "depth pyramid: {e}"),
             RenderError::QuadRaster(e) => write!(f, "quad rasteriser: {e}"),
             RenderError::Alloc(e) => write!(f, "{e}"),

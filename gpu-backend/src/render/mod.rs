@@ -13,6 +13,8 @@
 //!                  ─► gbuffer (raster opaque quads, smooth quads, raster far draws)
 //!    hiz: the depth pyramid from the G-buffer depth and the visibility buffer
 //!    late phase:   cull of the rest against the pyramid ─► the same draws for what it adds
+//!    grass (with clutter): the chunks the cull drew ─► their clutter units as crossed quads
+//!                  into the G-buffer (passes::grass; rules in render_model::grass)
 //!    cull transparent (ordered, back to front) ─► lighting (compute or fragment)
 //!    ─► transparent (blended, hidden behind the depth and the visibility buffer)
 //!    ─► tonemap ─► Rgba8 sRGB output (read back with read_image; present blits it to a
@@ -44,7 +46,11 @@
 //! name their record through `first_instance`; without it [`Renderer::new`] returns
 //! [`RenderError::MissingFeature`]. Both `MultiDrawPath`s and both `TimingPath`s work.
 //!
-//! **Not drawn:** clutter units, shadows, textures.
+//! **Clutter** is drawn by the grass pass when the configuration asks for it
+//! ([`RendererConfig::with_clutter`]): two crossed quads per unit, swaying with
+//! [`Renderer::set_time`], faded out by the error budget.
+//!
+//! **Not drawn:** shadows, textures.
 
 mod error;
 pub mod external;

@@ -1,13 +1,14 @@
 //! Building nodes in the background: the terrain's padded neighbourhood of a node
 //! ([`Terrain::fill_node`]), meshed ([`NodeMesher::mesh_padded`]), its hidden layers left out
-//! of the upload view; by the [`Builders`](super::builders::Builders) of a streamer, one
+//! of the upload view, level-0 nodes with grass and flowers on their grass blocks
+//! ([`clutter`](super::clutter)); by the [`Builders`](super::builders::Builders) of a streamer, one
 //! scratch mesher per worker thread.
 
 use std::cell::RefCell;
 
 use mesher::lod::{NodeMesh, NodeMesher, NodeSettings};
-use mesher::{BlockClasses, MeshSettings};
-use voxel_core::formats::ChunkLayersData;
+use mesher::{BlockClasses, ClutterParams, MeshSettings};
+use voxel_core::formats::{ChunkLayersData, ClutterUnit};
 use voxel_core::formats::{DrawBlock, SmoothQuads};
 use voxel_core::{FaceDirection, MaterialClass, MaterialPalette, PaddedChunk};
 use voxel_scene::{NodeContent, Terrain, TerrainBlocks};
@@ -31,6 +32,10 @@ pub(super) struct NodeSource {
     /// The palette's own classes, for the layer filter of far-draw blocks.
     classes: BlockClasses,
     settings: NodeSettings,
+    /// `settings` with clutter placed: level-0 nodes (the grass pass draws no other level).
+    level0: NodeSettings,
+    /// The terrain's grass block (its clutter is dressed as meadow).
+    grass: voxel_core::BlockId,
     layers: Layers,
 }
 
@@ -48,18 +53,27 @@ impl NodeSource {
             MesherMode::Smooth => BlockClasses::all_opaque_smoothable(palette),
             _ => classes.clone(),
         };
+        let mesh = MeshSettings {
+            surface: settings.mesher.surface(),
+            clutter: None,
+        };
+        // DENSITY is in ClutterParams' range, so `ok()` never drops it.
+        let clutter = settings
+            .clutter
+            .then(|| ClutterParams::new(super::clutter::DENSITY, settings.seed as u64).ok())
+            .flatten();
+        let grass = blocks.grass;
         NodeSource {
             terrain: Terrain::new(settings.seed, blocks),
             size: settings.chunk,
             mesh_classes,
             classes,
-            settings: NodeSettings {
-                mesh: MeshSettings {
-                    surface: settings.mesher.surface(),
-                    clutter: None,
-                },
+            settings: NodeSettings { mesh, far_blocks },
+            level0: NodeSettings {
+                mesh: MeshSettings { clutter, ..mesh },
                 far_blocks,
             },
+            grass,
             layers: settings.layers,
         }
     }
@@ -84,17 +98,24 @@ impl BuildNode for NodeSource {
                 return Ok(None);
             }
             let mut node = NodeMesh::default();
+            let settings = if key.level == 0 {
+                &self.level0
+            } else {
+                &self.settings
+            };
             mesher
                 .mesh_padded(
                     padded,
                     key.coord,
                     key.level,
                     &self.mesh_classes,
-                    &self.settings,
+                    settings,
                     &mut node,
                 )
                 .map_err(|e| format!("meshing node {key:?}: {e}"))?;
-            Ok(BuiltNode::new(node, self.layers, &self.classes))
+            let mut clutter = node.layers().clutter_units.to_vec();
+            super::clutter::dress(&mut clutter, self.grass);
+            Ok(BuiltNode::new(node, clutter, self.layers, &self.classes))
         })
     }
 }
@@ -104,6 +125,8 @@ impl BuildNode for NodeSource {
 #[derive(Debug)]
 pub(super) struct BuiltNode {
     node: NodeMesh,
+    /// The node's clutter, dressed ([`clutter::dress`](super::clutter::dress)).
+    clutter: Vec<ClutterUnit>,
     layers: Layers,
     /// `(blocks, skirt blocks per side)` of the shown classes, when a class is hidden.
     filtered: Option<(Vec<DrawBlock>, [Vec<DrawBlock>; 6])>,
@@ -112,7 +135,12 @@ pub(super) struct BuiltNode {
 
 impl BuiltNode {
     /// The node with `layers` shown, or `None` when nothing shown is left to draw.
-    fn new(node: NodeMesh, layers: Layers, classes: &BlockClasses) -> Option<BuiltNode> {
+    fn new(
+        node: NodeMesh,
+        clutter: Vec<ClutterUnit>,
+        layers: Layers,
+        classes: &BlockClasses,
+    ) -> Option<BuiltNode> {
         let shown = |b: &DrawBlock| match classes.class(b.decode().block) {
             Some(MaterialClass::Transparent) => layers.transparent,
             _ => layers.opaque,
@@ -126,6 +154,7 @@ impl BuiltNode {
         });
         let mut built = BuiltNode {
             node,
+            clutter,
             layers,
             filtered,
             bytes: 0,
@@ -150,6 +179,7 @@ impl BuiltNode {
     /// The upload view: the node's layers ([`NodeMesh::layers`]) less the hidden ones.
     pub(super) fn layers(&self) -> ChunkLayersData<'_> {
         let mut view = self.node.layers();
+        view.clutter_units = &self.clutter;
         if !self.layers.opaque {
             view.opaque_quads = [&[]; 6];
             view.opaque_skirts = [&[]; 6];

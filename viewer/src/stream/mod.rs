@@ -62,6 +62,7 @@ mod build;
 mod builders;
 #[cfg(test)]
 mod builders_stress;
+mod clutter;
 mod memory;
 mod plan;
 pub mod selection;

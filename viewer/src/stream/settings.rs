@@ -64,7 +64,8 @@ pub fn far_name(far: FarRequest) -> &'static str {
 
 /// Which of the renderer's layers are uploaded. A hidden layer is left out of every node's
 /// upload (quads, smooth surface, and the far-draw blocks of its class), so toggling one
-/// re-streams the terrain; clutter is not drawn by the renderer yet, so it has no toggle.
+/// re-streams the terrain. Clutter (grass and flowers) is [`StreamSettings::clutter`]: placed at
+/// build time, shown or hidden by the renderer without re-streaming.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Layers {
     /// Opaque quads and skirts, and opaque far-draw blocks.
@@ -140,6 +141,9 @@ pub struct StreamSettings {
     pub opaque: OpaquePath,
     /// The error budget asked for, pixels.
     pub budget_px: f32,
+    /// Grass and flowers on the clutter-bearing blocks of level-0 nodes, drawn by the grass
+    /// pass (`--clutter on|off`).
+    pub clutter: bool,
     /// Nodes whose cells span at most this many pixels are far-drawn.
     pub far_cell_px: f32,
     /// Hysteresis of the anchor, blocks.
@@ -168,6 +172,7 @@ impl Default for StreamSettings {
             far: FarRequest::Auto,
             opaque: OpaquePath::Raster,
             budget_px: 1.0,
+            clutter: true,
             // The benchmark's choice on the H100 (BENCHMARKS.md): 2 px far cells.
             far_cell_px: 2.0,
             hysteresis: 16.0,

@@ -39,6 +39,9 @@ pub(super) fn renderer_config(
     if far != FarPath::Off {
         parts.push((DataKind::DrawBlocks, 4));
     }
+    if settings.clutter {
+        parts.push((DataKind::Clutter, 1));
+    }
     if smooth {
         parts.push((DataKind::SmoothVertices, 3));
         parts.push((DataKind::SmoothQuads, 1));
@@ -48,7 +51,8 @@ pub(super) fn renderer_config(
     let mut gigabuffer = GigabufferConfig::empty().with_max_chunks(capacity);
     for (kind, part) in parts {
         let mut bytes = memory / total * part;
-        if kind == DataKind::DrawBlocks {
+        // The far draws and the grass pass bind their kind as one page.
+        if kind == DataKind::DrawBlocks || kind == DataKind::Clutter {
             bytes = bytes.min(capabilities.max_page_bytes());
         }
         gigabuffer = gigabuffer.with_bytes(kind, bytes);
@@ -58,6 +62,7 @@ pub(super) fn renderer_config(
     config.max_chunks = capacity;
     config.smooth = SmoothFrame::nocubes(settings.chunk);
     config.opaque = settings.opaque;
+    config.clutter = settings.clutter;
     config.far = match far {
         FarPath::Off => FarRequest::Off,
         path => FarRequest::Path(path),

@@ -63,6 +63,7 @@ impl<'a> App<'a> {
             panel: Panel {
                 show: options.overlay,
                 wireframe: options.wireframe,
+                grass: true,
                 ..Panel::default()
             },
             screenshot: false,

@@ -99,6 +99,8 @@ pub(super) struct GpuWindow {
     cull: Option<CullStats>,
     /// When `cull` was last read.
     cull_read: Option<Instant>,
+    /// When the window opened: the grass sways with the time since.
+    opened: Instant,
 }
 
 impl GpuWindow {
@@ -150,6 +152,7 @@ impl GpuWindow {
             overlay,
             cull: None,
             cull_read: None,
+            opened: Instant::now(),
         })
     }
 
@@ -281,6 +284,11 @@ impl GpuWindow {
         if ready {
             let renderer = self.drawn.renderer_mut();
             renderer.set_wireframe(panel.wireframe);
+            renderer.set_time(self.opened.elapsed().as_secs_f64());
+            // Without a grass pass (a fixed scene, --clutter off) the checkbox unticks itself.
+            if panel.grass != renderer.clutter() && renderer.set_clutter(panel.grass).is_err() {
+                panel.grass = false;
+            }
             renderer
                 .record_frame(&mut encoder)
                 .map_err(WindowError::Renderer)?;

@@ -28,6 +28,9 @@ pub(super) struct Panel {
     pub message: Option<String>,
     /// Draw meshes as their quads' edges (F3, or the overlay's checkbox).
     pub wireframe: bool,
+    /// Grass and flowers drawn (the overlay's checkbox; the renderer refuses it without a
+    /// grass pass).
+    pub grass: bool,
 }
 
 /// Builds the overlay's UI for `panel` into `ctx` (egui edits `panel.controls`).
@@ -58,6 +61,7 @@ pub(super) fn ui(ctx: &Context, panel: &mut Panel) {
                 ui.monospace(line);
             }
             ui.checkbox(&mut panel.wireframe, "wireframe (F3)");
+            ui.checkbox(&mut panel.grass, "grass");
             if let Some(controls) = &mut panel.controls {
                 ui.separator();
                 controls_ui(ui, controls);

@@ -109,6 +109,11 @@ impl GbufferPass {
         self.depth_clear.set(false);
     }
 
+    /// Another pass (the grass) drew into the depth: the next early phase clears it.
+    pub fn depth_drawn(&self) {
+        self.depth_clear.set(false);
+    }
+
     /// Records `phase`'s G-buffer pass of `commands`, timed as `gbuffer` (`gbuffer late`):
     /// clearing the depth first in the early phase, drawing over it in the late one.
     /// `far` draws the raster far draws' opaque blocks of the phase (their commands are

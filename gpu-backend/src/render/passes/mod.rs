@@ -9,6 +9,7 @@
 //! | far raster | [`far_raster`] | far-drawn nodes' blocks as sprites or camera-facing quads (raster far paths) |
 //! | G-buffer | [`gbuffer`] | opaque greedy and smooth quads (and raster far blocks) into the G-buffer |
 //! | Hi-Z | [`hiz`] | the depth pyramid of the early phase, for the late cull |
+//! | grass | [`grass`] | clutter units as crossed quads into the G-buffer, culled with their chunks, swaying in the wind (after the opaque phases) |
 //! | lighting | [`lighting`] | G-buffer and visibility buffers to display-linear HDR, sky and haze |
 //! | transparent | [`transparent`] | transparent quads and far blocks blended into the HDR target |
 //! | tonemap | [`tonemap`] | HDR to the sRGB output (or to `ldr` before anti-aliasing) |
@@ -31,6 +32,7 @@ pub mod far_splat;
 pub mod frame;
 pub mod fullscreen;
 pub mod gbuffer;
+pub mod grass;
 pub mod hiz;
 pub mod lighting;
 pub mod present;

@@ -18,6 +18,7 @@ use crate::render::passes::far_raster::FarRaster;
 use crate::render::passes::far_splat::FarSplat;
 use crate::render::passes::fullscreen::FullscreenPath;
 use crate::render::passes::gbuffer::GbufferPass;
+use crate::render::passes::grass::GrassPass;
 use crate::render::passes::hiz::DepthPyramid;
 use crate::render::passes::lighting::LightingPass;
 use crate::render::passes::quad_raster::QuadRaster;
@@ -42,6 +43,8 @@ pub(super) struct Passes {
     pub(super) far_raster: Option<FarRaster>,
     /// The G-buffer pass.
     pub(super) gbuffer: GbufferPass,
+    /// The grass pass, when the configuration draws clutter.
+    pub(super) grass: Option<GrassPass>,
     /// The depth pyramid of two-phase occlusion culling.
     pub(super) hiz: Option<DepthPyramid>,
     /// The lighting pass.
@@ -133,6 +136,21 @@ impl Passes {
         } else {
             None
         };
+        let grass = if config.clutter {
+            let clutter = gigabuffer.layout(DataKind::Clutter);
+            if *config.gigabuffer.bytes.get(DataKind::Clutter) == 0 || clutter.page_count != 1 {
+                return Err(RenderError::ClutterUnavailable(format!(
+                    "the grass pass binds the clutter gigabuffer as one page; {} bytes of \
+                     clutter make {} pages of at most {} bytes",
+                    config.gigabuffer.bytes.get(DataKind::Clutter),
+                    clutter.page_count,
+                    ctx.capabilities.max_page_bytes()
+                )));
+            }
+            Some(GrassPass::new(device, &shared, config.max_chunks)?)
+        } else {
+            None
+        };
         let hiz = if config.occlusion {
             Some(DepthPyramid::new(device, config.width, config.height)?)
         } else {
@@ -144,6 +162,7 @@ impl Passes {
             far_splat,
             far_raster,
             gbuffer: GbufferPass::new(device, &shared),
+            grass,
             hiz,
             lighting: LightingPass::new(device, &shared, config.fullscreen),
             transparent: TransparentPass::new(device, &shared),

@@ -38,12 +38,17 @@ pub struct RendererConfig {
     pub occlusion: bool,
     /// Edges anti-aliased by the antialias pass (FXAA, `render_model::antialias`).
     pub antialias: bool,
+    /// Clutter units are drawn as grass (the grass pass, [`crate::render::passes::grass`]);
+    /// needs clutter space in `gigabuffer` ([`with_clutter`](Self::with_clutter)). Without it
+    /// the pass and its pipelines are not created.
+    pub clutter: bool,
 }
 
 impl RendererConfig {
     /// A configuration for `width x height` and chunks of `size`: 64 MiB of greedy quads,
-    /// 16 MiB each of smooth vertices and quads, 4096 chunks, no far draws. Clutter is not
-    /// drawn, so it gets no space; draw blocks get space with [`with_far`](Self::with_far).
+    /// 16 MiB each of smooth vertices and quads, 4096 chunks, no far draws, no clutter. Draw
+    /// blocks get space with [`with_far`](Self::with_far), clutter with
+    /// [`with_clutter`](Self::with_clutter).
     pub fn new(width: u32, height: u32, size: ChunkSize) -> RendererConfig {
         const MIB: u64 = 1 << 20;
         RendererConfig {
@@ -62,6 +67,7 @@ impl RendererConfig {
             opaque: OpaquePath::default(),
             occlusion: true,
             antialias: true,
+            clutter: false,
         }
     }
 
@@ -71,6 +77,14 @@ impl RendererConfig {
         self.gigabuffer = self
             .gigabuffer
             .with_bytes(DataKind::DrawBlocks, draw_block_bytes);
+        self
+    }
+
+    /// This configuration drawing clutter as grass, with `clutter_bytes` of clutter space (one
+    /// gigabuffer page: the grass pass binds it whole).
+    pub fn with_clutter(mut self, clutter_bytes: u64) -> RendererConfig {
+        self.clutter = true;
+        self.gigabuffer = self.gigabuffer.with_bytes(DataKind::Clutter, clutter_bytes);
         self
     }
 }

@@ -43,6 +43,12 @@ struct View {
     /// The opaque path drawing now: `Raster` or `Compute` (the latter only with a compute
     /// rasteriser).
     opaque: OpaquePath,
+    /// Clutter is drawn (only with a grass pass).
+    clutter: bool,
+    /// The time the wind sways the grass at, seconds.
+    time: f64,
+    /// The wind's strength: 0 still, 1 the full sway of `render_model::grass::WIND_SWAY`.
+    wind: f32,
 }
 
 /// The deferred voxel renderer (see the [module docs](super) for a frame's passes).
@@ -114,6 +120,9 @@ impl Renderer {
                 } else {
                     OpaquePath::Raster
                 },
+                clutter: config.clutter,
+                time: 0.0,
+                wind: 1.0,
             },
             targets,
             shared,
@@ -245,6 +254,59 @@ impl Renderer {
         }
     }
 
+    /// Turns drawing clutter (the grass pass) on or off for the next frames. Turning it on
+    /// needs a renderer made with [`RendererConfig::with_clutter`]; otherwise it is refused by
+    /// name and stays off.
+    pub fn set_clutter(&mut self, on: bool) -> Result<(), RenderError> {
+        if on && self.passes.grass.is_none() {
+            return Err(RenderError::ClutterUnavailable(
+                "the grass pass was not built (make the renderer with RendererConfig::with_clutter)"
+                    .into(),
+            ));
+        }
+        self.view.clutter = on;
+        Ok(())
+    }
+
+    /// Whether clutter is drawn.
+    pub fn clutter(&self) -> bool {
+        self.view.clutter
+    }
+
+    /// Sets the time the grass sways at, seconds (the same time draws the same frame; see
+    /// [`render_model::grass::wind_phase`]).
+    pub fn set_time(&mut self, seconds: f64) {
+        self.view.time = seconds;
+    }
+
+    /// Sets the wind's strength: 0 is still, 1 the full sway; a negative or non-finite
+    /// strength is refused by name and the previous one kept.
+    pub fn set_wind(&mut self, strength: f32) -> Result<(), RenderError> {
+        if !(strength.is_finite() && strength >= 0.0) {
+            return Err(RenderError::ClutterUnavailable(format!(
+                "wind strength {strength} is not a finite number >= 0"
+            )));
+        }
+        self.view.wind = strength;
+        Ok(())
+    }
+
+    /// The grass pass's counts of the last frame, `(chunks drawn, units drawn)` (units before
+    /// the per-blade fade; blocks while it reads them back), or `None` without a grass pass.
+    pub fn grass_stats(&self) -> Result<Option<(u32, u32)>, RenderError> {
+        let Some(grass) = &self.passes.grass else {
+            return Ok(None);
+        };
+        let words: Vec<u32> = bytemuck::pod_collect_to_vec(&crate::readback::read_buffer(
+            &self.device,
+            &self.queue,
+            grass.stats(),
+            0,
+            8,
+        )?);
+        Ok(Some((words[0], words[1])))
+    }
+
     /// The far path in use and why it was chosen.
     pub fn far_choice(&self) -> &FarChoice {
         &self.far_choice
@@ -320,6 +382,9 @@ impl Renderer {
     pub fn resident_bytes(&self) -> Vec<(&'static str, u64)> {
         let mut out = self.residency.resident_bytes();
         out.extend(self.passes.culls.resident_bytes());
+        if let Some(grass) = &self.passes.grass {
+            out.push(("grass draws", grass.resident_bytes()));
+        }
         if let Some(splat) = &self.passes.far_splat {
             out.push((
                 "far visibility buffers",

@@ -2,10 +2,12 @@
 
 use wgpu::CommandEncoder;
 
+use render_model::cull::CullView;
 use render_model::cull::{
     CullParams, LodParams, OcclusionView, PHASE_EARLY, PHASE_LATE, PHASE_TEST, lod,
 };
 use render_model::frame::{FRAME_SPLAT, FrameShape, FrameUniforms};
+use render_model::grass::{self, GrassCullUniforms, GrassFrame, GrassUniforms};
 
 use super::Renderer;
 use crate::render::error::RenderError;
@@ -13,6 +15,7 @@ use crate::render::far::FarPath;
 use crate::render::passes::cull::FrameCullParams;
 use crate::render::passes::far_raster::FarRasterDraw;
 use crate::render::passes::frame::{FrameCtx, Phase, Recorder};
+use crate::render::passes::grass::GrassParams;
 
 impl Renderer {
     /// The level-of-detail selection's inputs of the next frame (anchor, budget, focal
@@ -61,6 +64,48 @@ impl Renderer {
         }
     }
 
+    /// The grass pass's parameters of the next frame (`None` when clutter is not drawn).
+    /// `cull` is the frame's last opaque cull record, whose selection the grass follows.
+    fn grass_params(&self, view: &CullView, cull: &CullParams) -> Option<GrassParams> {
+        self.passes.grass.as_ref()?;
+        if !self.view.clutter {
+            return None;
+        }
+        let focal_px = lod::focal_px(self.view.camera.fov_y, self.targets.height);
+        let budget_px = self
+            .view
+            .lod
+            .map_or(grass::DEFAULT_BUDGET_PX, |l| l.budget_px);
+        let mut flags = 0;
+        if cull.lod.is_some() {
+            flags |= grass::GRASS_CULL_LOD;
+        }
+        if self.passes.culls.occlusion() {
+            flags |= grass::GRASS_CULL_OCCLUSION;
+        }
+        let frame = GrassFrame {
+            wind_phase: grass::wind_phase(self.view.time),
+            wind_strength: self.view.wind,
+            focal_px,
+            budget_px,
+        };
+        Some(GrassParams {
+            cull: GrassCullUniforms {
+                planes: view.planes,
+                camera_chunk: [view.chunk.x, view.chunk.y, view.chunk.z],
+                slot_bound: self.residency.table().slot_bound(),
+                camera_offset: view.offset,
+                chunk_edge: self.config.chunk_size.edge() as f32,
+                lod: cull.lod.unwrap_or_default(),
+                flags,
+                focal_px,
+                budget_px,
+                pad: 0,
+            },
+            draw: GrassUniforms::from(&frame),
+        })
+    }
+
     /// Records a whole frame into `encoder`, each pass timed by the renderer's
     /// [`GpuTimer`](crate::timing::GpuTimer), then the timer's resolve. Submit the encoder (on
     /// the CPU timing path the timer submits parts of it itself), then call
@@ -72,6 +117,7 @@ impl Renderer {
     ///                                                                   early phase: the nodes
     ///                                                                   visible last frame)
     ///          [─► depth pyramid ─► the same four, late, for the rest]  occlusion only
+    ///          [─► grass (cull and draw)]                               with clutter
     ///          ─► cull transparent (back to front) ─► lighting ─► transparent ─► tonemap
     ///          [─► antialias]                                           when configured
     /// ```
@@ -110,6 +156,7 @@ impl Renderer {
             .view
             .camera
             .cull_view(self.config.chunk_size, width, height);
+        let grass_params = self.grass_params(&view, &params.late);
         let frame_group = self.shared.frame_group();
         let quads_in_compute = self.quads_in_compute();
         // The wireframe view's one-pixel lines are what it shows: anti-aliasing would blur
@@ -144,6 +191,9 @@ impl Renderer {
 
         // Every clear and copy first.
         culls.clear(encoder);
+        if let Some(grass) = &passes.grass {
+            grass.clear(encoder);
+        }
         if let Some(splat) = splat {
             splat.clear(encoder);
         }
@@ -175,6 +225,12 @@ impl Renderer {
             passes
                 .gbuffer
                 .record(&ctx, &mut rec, phase, commands, far_raster);
+        }
+        // Grass after both opaque phases: the visibility bits then hold this frame's cull.
+        if let Some((grass, params)) = passes.grass.as_ref().zip(grass_params.as_ref()) {
+            grass.record(&ctx, &mut rec, params, culls.visible_bits());
+            // The grass wrote depth: the next early G-buffer pass must clear it.
+            passes.gbuffer.depth_drawn();
         }
         // The transparent layer, back to front (`render_model::transparent`), and the raster
         // far draws' commands of the whole frame for their transparent blocks.

@@ -103,6 +103,11 @@ impl FrameCulls {
         &self.frame
     }
 
+    /// The visibility bits of the late phase (a bit per table slot), with occlusion culling.
+    pub fn visible_bits(&self) -> Option<&Buffer> {
+        self.late.as_ref().map(|l| &l.visible)
+    }
+
     /// Whether the frame has a late phase (occlusion culling).
     pub fn occlusion(&self) -> bool {
         self.late.is_some()
