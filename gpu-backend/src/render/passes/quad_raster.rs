@@ -17,7 +17,8 @@
 //!    which exists only on the splat far path; with another far path the renderer must make
 //!    one (`width * height * 8` bytes, `STORAGE`), clear it each frame, bind it to the
 //!    lighting pass and set `FRAME_SPLAT`, as the splat path does. On resize nothing is
-//!    recreated: the next record makes bind groups for the new buffer (see [`QuadRaster::cached`]).
+//!    recreated: the next record makes bind groups for the new buffer (`QuadRaster::cached`
+//!    counts them, with the test-support feature).
 //! 2. **Each frame**, in encoder order:
 //!    - the visibility buffer's clear ([`FarSplat::clear`](super::far_splat::FarSplat::clear)),
 //!      and [`QuadRaster::clear_stats`] if the statistics are read;
@@ -291,8 +292,8 @@ impl QuadRaster {
     /// quad page (indirect: one workgroup per drawn command), `qr_tile_args`, `qr_tiles`
     /// (indirect: one workgroup per tile entry). Record it after the cull that wrote the
     /// commands, in the same or an earlier-submitted encoder. CPU cost: a few checks, two cache
-    /// lookups (bind groups are made on first use of a buffer, see [`cached`](Self::cached)),
-    /// and `4 + pages` dispatches.
+    /// lookups (bind groups are made on first use of a buffer, counted by `cached` with the
+    /// test-support feature), and `4 + pages` dispatches.
     pub fn record_in(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
