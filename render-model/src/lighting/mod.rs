@@ -40,8 +40,12 @@
 //! `exp(-ln(255) * (d / haze_distance)^4)`: clear near the eye, 1/255 at `haze_distance`, so
 //! the end of the loaded world vanishes into the sky when `haze_distance` is the streamed
 //! radius.
+//!
+//! **Shadows and sky visibility** ([`shadow`]): the rule of the sun-shadow and
+//! sky-visibility rays through block occupancy, with its bounds and switches.
 
 mod shade;
+pub mod shadow;
 pub mod sky;
 mod tonemap;
 mod uniforms;

@@ -1,0 +1,398 @@
+//! Sun shadows and sky visibility by rays through block occupancy: the CPU rule that the GPU
+//! lighting pass is to trace on the resident nodes' hiding masks.
+//!
+//! **Occupancy.** A ray asks an [`Occupancy`] whether a block cell is solid. The cell is in
+//! camera-relative block coordinates (the GPU never sees a large world coordinate). The
+//! occupancy answers from the finest resident data covering the cell, so a cell at a LOD
+//! border is solid exactly when the finer side says so; a coarse node is never asked about a
+//! point a finer resident node covers, which is why a ray crossing a LOD border does not pass
+//! through a gap between the two levels' surfaces.
+//!
+//! **March** ([`march`]): Amanatides–Woo DDA from the shaded point, first offset along the
+//! surface normal by [`ShadowSettings::normal_bias`] blocks (times the level's cell size the
+//! caller passes, so a point on a coarse surface leaves its own coarse cell), then along the
+//! ray. It stops at the first solid cell (occluded), after [`ShadowSettings::max_steps`]
+//! cells, or beyond [`ShadowSettings::max_distance`] blocks (unoccluded). Both bounds are
+//! checked by [`ShadowSettings::check`].
+//!
+//! **Sky visibility** ([`sky_visibility`]): the fraction of [`SKY_DIRECTIONS`] (straight up
+//! and four directions 45° from it) whose march escapes; the hemisphere ambient is
+//! multiplied by it, so a cave (every ray blocked) gets no sky light and open ground all of it.
+//!
+//! **Why rays and not cascaded shadow maps.** The GPU machine is a compute part with few
+//! raster units (about 0.26 G quads/s in the G-buffer pass), where fragment-heavy work runs
+//! about 30 times slower than compute; a shadow map re-rasterises the scene once per
+//! cascade, while rays through the hiding masks already resident for the far draws' AO cost
+//! compute only. [`ShadowSettings`] switches both features so their cost can be measured.
+//!
+//! **Status.** This module is the CPU rule and its tests; the GPU lighting pass does not
+//! trace it yet, and the CPU reference does not call it yet (see issue 46, item 2).
+
+use core::fmt;
+
+/// Where a ray's cells are solid: the finest resident occupancy covering each cell.
+pub trait Occupancy {
+    /// Whether the block cell `cell` (camera-relative block coordinates) is solid.
+    fn solid(&self, cell: [i32; 3]) -> bool;
+}
+
+/// Switches and bounds of the shadow and sky-visibility rays.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowSettings {
+    /// Whether the sun is tested for occlusion (off: every surface facing it is lit).
+    pub sun_shadows: bool,
+    /// Whether the hemisphere ambient falls with sky visibility (off: visibility 1).
+    pub sky_visibility: bool,
+    /// Cells a ray visits at most.
+    pub max_steps: u32,
+    /// Blocks a ray travels at most.
+    pub max_distance: f32,
+    /// Offset along the normal before marching, in cells of the surface's level.
+    pub normal_bias: f32,
+}
+
+impl Default for ShadowSettings {
+    /// Both features on, 128 cells, 96 blocks, half a cell of bias.
+    fn default() -> Self {
+        ShadowSettings {
+            sun_shadows: true,
+            sky_visibility: true,
+            max_steps: 128,
+            max_distance: 96.0,
+            normal_bias: 0.5,
+        }
+    }
+}
+
+/// Why a [`ShadowSettings`] cannot be rendered.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ShadowSettingsError {
+    /// `max_steps` is 0 or above [`MAX_STEPS_LIMIT`].
+    Steps {
+        /// The rejected value.
+        max_steps: u32,
+    },
+    /// `max_distance` is not finite or not positive.
+    Distance {
+        /// The rejected value.
+        max_distance: f32,
+    },
+    /// `normal_bias` is not finite or is outside `0..=2` cells.
+    Bias {
+        /// The rejected value.
+        normal_bias: f32,
+    },
+}
+
+impl fmt::Display for ShadowSettingsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ShadowSettingsError::Steps { max_steps } => {
+                write!(
+                    f,
+                    "shadow max_steps {max_steps} is outside 1..={MAX_STEPS_LIMIT}"
+                )
+            }
+            ShadowSettingsError::Distance { max_distance } => {
+                write!(
+                    f,
+                    "shadow max_distance {max_distance} is not a positive finite number"
+                )
+            }
+            ShadowSettingsError::Bias { normal_bias } => {
+                write!(f, "shadow normal_bias {normal_bias} is outside 0..=2 cells")
+            }
+        }
+    }
+}
+
+/// The most cells a ray may visit: bounds the lighting pass's cost per pixel.
+pub const MAX_STEPS_LIMIT: u32 = 1024;
+
+impl ShadowSettings {
+    /// Checks that the bounds are usable: steps in `1..=MAX_STEPS_LIMIT`, a positive finite
+    /// distance, a bias in `0..=2` cells.
+    pub fn check(&self) -> Result<(), ShadowSettingsError> {
+        if self.max_steps == 0 || self.max_steps > MAX_STEPS_LIMIT {
+            return Err(ShadowSettingsError::Steps {
+                max_steps: self.max_steps,
+            });
+        }
+        if !self.max_distance.is_finite() || self.max_distance <= 0.0 {
+            return Err(ShadowSettingsError::Distance {
+                max_distance: self.max_distance,
+            });
+        }
+        if !self.normal_bias.is_finite() || !(0.0..=2.0).contains(&self.normal_bias) {
+            return Err(ShadowSettingsError::Bias {
+                normal_bias: self.normal_bias,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// The sky-visibility directions, unit vectors: straight up and four at 45° from it.
+pub const SKY_DIRECTIONS: [[f32; 3]; 5] = [
+    [0.0, 1.0, 0.0],
+    [
+        core::f32::consts::FRAC_1_SQRT_2,
+        core::f32::consts::FRAC_1_SQRT_2,
+        0.0,
+    ],
+    [
+        -core::f32::consts::FRAC_1_SQRT_2,
+        core::f32::consts::FRAC_1_SQRT_2,
+        0.0,
+    ],
+    [
+        0.0,
+        core::f32::consts::FRAC_1_SQRT_2,
+        core::f32::consts::FRAC_1_SQRT_2,
+    ],
+    [
+        0.0,
+        core::f32::consts::FRAC_1_SQRT_2,
+        -core::f32::consts::FRAC_1_SQRT_2,
+    ],
+];
+
+/// Whether the ray from `origin` (camera-relative blocks), offset by `normal * normal_bias *
+/// cell_size`, along unit `direction` reaches a solid cell within the settings' bounds.
+pub fn march(
+    occupancy: &impl Occupancy,
+    settings: &ShadowSettings,
+    origin: [f32; 3],
+    normal: [f32; 3],
+    cell_size: f32,
+    direction: [f32; 3],
+) -> bool {
+    let bias = settings.normal_bias * cell_size;
+    let p = [0, 1, 2].map(|i| origin[i] + normal[i] * bias);
+    let mut cell = p.map(|c| c.floor() as i32);
+    let step = direction.map(|d| if d > 0.0 { 1 } else { -1 });
+    // Ray length per cell along each axis, and to the first boundary.
+    let delta = direction.map(|d| {
+        if d != 0.0 {
+            1.0 / d.abs()
+        } else {
+            f32::INFINITY
+        }
+    });
+    let mut next = [0, 1, 2].map(|i| {
+        if direction[i] == 0.0 {
+            f32::INFINITY
+        } else if direction[i] > 0.0 {
+            (cell[i] as f32 + 1.0 - p[i]) * delta[i]
+        } else {
+            (p[i] - cell[i] as f32) * delta[i]
+        }
+    });
+    for _ in 0..settings.max_steps {
+        if occupancy.solid(cell) {
+            return true;
+        }
+        let axis = if next[0] <= next[1] && next[0] <= next[2] {
+            0
+        } else if next[1] <= next[2] {
+            1
+        } else {
+            2
+        };
+        if next[axis] > settings.max_distance {
+            return false;
+        }
+        cell[axis] += step[axis];
+        next[axis] += delta[axis];
+    }
+    false
+}
+
+/// The sun's visibility at a point: 0 in shadow, 1 lit (always 1 with shadows off).
+pub fn sun_visibility(
+    occupancy: &impl Occupancy,
+    settings: &ShadowSettings,
+    origin: [f32; 3],
+    normal: [f32; 3],
+    cell_size: f32,
+    sun_direction: [f32; 3],
+) -> f32 {
+    if !settings.sun_shadows {
+        return 1.0;
+    }
+    if march(
+        occupancy,
+        settings,
+        origin,
+        normal,
+        cell_size,
+        sun_direction,
+    ) {
+        0.0
+    } else {
+        1.0
+    }
+}
+
+/// The fraction of [`SKY_DIRECTIONS`] that escape (always 1 with sky visibility off).
+pub fn sky_visibility(
+    occupancy: &impl Occupancy,
+    settings: &ShadowSettings,
+    origin: [f32; 3],
+    normal: [f32; 3],
+    cell_size: f32,
+) -> f32 {
+    if !settings.sky_visibility {
+        return 1.0;
+    }
+    let open = SKY_DIRECTIONS
+        .iter()
+        .filter(|&&d| !march(occupancy, settings, origin, normal, cell_size, d))
+        .count();
+    open as f32 / SKY_DIRECTIONS.len() as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A floor at y = -1 with a 1x4x1 pillar at x = 0, z = 0, and a roof at y = 6 over
+    /// x in 5..30 (an overhang).
+    struct Scene;
+    impl Occupancy for Scene {
+        fn solid(&self, [x, y, z]: [i32; 3]) -> bool {
+            y == -1
+                || (x == 0 && z == 0 && (0..4).contains(&y))
+                || (y == 6 && (5..30).contains(&x) && (-10..10).contains(&z))
+        }
+    }
+
+    const UP: [f32; 3] = [0.0, 1.0, 0.0];
+
+    fn sun() -> [f32; 3] {
+        let d: [f32; 3] = [-1.0, 1.0, 0.0];
+        let l = (2.0f32).sqrt();
+        d.map(|c| c / l)
+    }
+
+    #[test]
+    fn the_pillar_shadows_the_floor_behind_it_and_not_beside_it() {
+        let s = ShadowSettings::default();
+        // Sun towards -x: the shadow lies at +x, 4 blocks long.
+        for x in 1..=3 {
+            let p = [x as f32 + 0.5, 0.0, 0.5];
+            assert_eq!(
+                sun_visibility(&Scene, &s, p, UP, 1.0, sun()),
+                0.0,
+                "x = {x}"
+            );
+        }
+        assert_eq!(
+            sun_visibility(&Scene, &s, [6.5, 0.0, 0.5], UP, 1.0, sun()),
+            1.0
+        );
+        assert_eq!(
+            sun_visibility(&Scene, &s, [2.5, 0.0, 2.5], UP, 1.0, sun()),
+            1.0
+        );
+    }
+
+    #[test]
+    fn shadows_off_lights_everything() {
+        let s = ShadowSettings {
+            sun_shadows: false,
+            ..ShadowSettings::default()
+        };
+        assert_eq!(
+            sun_visibility(&Scene, &s, [2.5, 0.0, 0.5], UP, 1.0, sun()),
+            1.0
+        );
+    }
+
+    #[test]
+    fn under_the_overhang_is_darker_than_open_ground() {
+        let s = ShadowSettings::default();
+        let under = sky_visibility(&Scene, &s, [15.5, 0.0, 0.5], UP, 1.0);
+        let open = sky_visibility(&Scene, &s, [-20.5, 0.0, 0.5], UP, 1.0);
+        assert_eq!(open, 1.0);
+        assert_eq!(under, 0.0);
+        let off = ShadowSettings {
+            sky_visibility: false,
+            ..s
+        };
+        assert_eq!(sky_visibility(&Scene, &off, [15.5, 0.0, 0.5], UP, 1.0), 1.0);
+    }
+
+    #[test]
+    fn the_march_stops_at_its_distance_bound() {
+        let s = ShadowSettings {
+            max_distance: 3.0,
+            ..ShadowSettings::default()
+        };
+        // The roof is 6 blocks above: beyond the bound, the ray escapes.
+        assert_eq!(sky_visibility(&Scene, &s, [15.5, 0.0, 0.5], UP, 1.0), 1.0);
+    }
+
+    #[test]
+    fn a_coarse_surface_is_biased_out_of_its_own_cell() {
+        // A coarse surface point on top of a 4-block cell at y in -4..0: without a bias
+        // scaled by the level's cell size the ray starts inside solid data.
+        struct Coarse;
+        impl Occupancy for Coarse {
+            fn solid(&self, [_, y, _]: [i32; 3]) -> bool {
+                (-4..0).contains(&y)
+            }
+        }
+        let s = ShadowSettings::default();
+        let p = [1.5, -0.01, 1.5];
+        assert_eq!(sun_visibility(&Coarse, &s, p, UP, 0.0, UP), 0.0);
+        assert_eq!(sun_visibility(&Coarse, &s, p, UP, 4.0, UP), 1.0);
+    }
+
+    #[test]
+    fn a_wall_across_a_lod_border_shadows_the_floor_continuously() {
+        // Finest resident data covering each cell: 1-block cells for x < 8, 2-block cells
+        // (the coarse node's rounding of the same wall at z = 0) for x >= 8.
+        struct Border;
+        impl Occupancy for Border {
+            fn solid(&self, [x, y, z]: [i32; 3]) -> bool {
+                let wall = if x < 8 { z == 0 } else { z.div_euclid(2) == 0 };
+                y == -1 || ((0..16).contains(&x) && (0..4).contains(&y) && wall)
+            }
+        }
+        let s = ShadowSettings::default();
+        let l = core::f32::consts::FRAC_1_SQRT_2;
+        for x in 1..15 {
+            let p = [x as f32 + 0.5, 0.0, -1.5];
+            let v = sun_visibility(&Border, &s, p, UP, 1.0, [0.0, l, l]);
+            assert_eq!(v, 0.0, "light leaks at x = {x}");
+        }
+    }
+
+    #[test]
+    fn bad_settings_get_named_errors() {
+        let d = ShadowSettings::default();
+        assert_eq!(d.check(), Ok(()));
+        let zero = ShadowSettings { max_steps: 0, ..d };
+        assert_eq!(
+            zero.check(),
+            Err(ShadowSettingsError::Steps { max_steps: 0 })
+        );
+        let far = ShadowSettings {
+            max_distance: f32::INFINITY,
+            ..d
+        };
+        assert!(matches!(
+            far.check(),
+            Err(ShadowSettingsError::Distance { .. })
+        ));
+        let bias = ShadowSettings {
+            normal_bias: -1.0,
+            ..d
+        };
+        assert!(matches!(
+            bias.check(),
+            Err(ShadowSettingsError::Bias { .. })
+        ));
+    }
+}
