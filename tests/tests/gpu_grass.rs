@@ -207,6 +207,34 @@ fn still_grass_matches_the_cpu_rasterisation() {
     assert_eq!(r.grass_stats().expect("stats"), Some((2, units)));
 }
 
+/// Without `MULTI_DRAW_INDIRECT_COUNT` the compacted draw list is drawn with its zeroed tail:
+/// the same image and counts.
+#[test]
+fn still_grass_matches_without_indirect_count() {
+    let options = DeviceOptions {
+        disable_indirect_count: true,
+        ..DeviceOptions::default()
+    };
+    let Some(ctx) = headless_or_skip(&options) else {
+        return;
+    };
+    let scene = scene();
+    let mut r = renderer(&ctx, &scene, true);
+    r.set_wind(0.0).expect("wind");
+    r.set_time(5.0);
+    // Two frames: the second draws over a draw list the first filled.
+    gpu_image(&mut r);
+    let (gpu, _) = gpu_image(&mut r);
+    assert_images_match(
+        "grass_still_no_count",
+        &gpu,
+        &cpu_image(&scene, 5.0, 0.0),
+        &GRASS,
+    );
+    let units = scene.chunks.iter().map(|(_, u)| u.len() as u32).sum();
+    assert_eq!(r.grass_stats().expect("stats"), Some((2, units)));
+}
+
 #[test]
 fn swaying_grass_matches_the_cpu_rasterisation_at_a_fixed_time() {
     let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {

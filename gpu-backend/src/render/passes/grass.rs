@@ -3,12 +3,16 @@
 //! deferred lighting lights them. The geometry, the wind and the fade by the error budget are
 //! [`render_model::grass`]'s rules.
 //!
-//! **Cull.** A compute dispatch (`grass_cull.wgsl`) writes one non-indexed indirect draw per
-//! chunk table slot: the slot's clutter when the voxel cull draws its chunk (a level-0 chunk
-//! selected by the same level-of-detail rule, in the frustum, and with occlusion culling
-//! visible in this frame's late phase by its visibility bit), and no closer to fading out than
-//! its tallest blade allows; a zero draw otherwise. One `multi_draw_indirect` over the table's
-//! used slots draws them all, so the CPU work per frame does not grow with the chunk count.
+//! **Cull.** A compute dispatch (`grass_cull.wgsl`) visits every chunk table slot and appends
+//! one non-indexed indirect draw for each slot whose chunk the voxel cull draws (a level-0
+//! chunk selected by the same level-of-detail rule, in the frustum, and with occlusion culling
+//! visible in this frame's late phase by its visibility bit) and that is no closer to fading
+//! out than its tallest blade allows. The draws are compacted (an atomic counter, the first
+//! word of the statistics): with `MULTI_DRAW_INDIRECT_COUNT` one `multi_draw_indirect_count`
+//! reads that count on the GPU, so the draw (and wgpu's validation of it) covers the drawn
+//! chunks only, not the table's capacity; without it the draw list is cleared each frame and
+//! one `multi_draw_indirect` over the used slots draws the compacted list and zeroed rest.
+//! Either way the CPU work per frame does not grow with the chunk count.
 //! The occlusion bit is the chunk's mesh box's: a blade standing above an occluded mesh by
 //! less than a block is culled with it.
 //!
@@ -34,6 +38,7 @@ use super::shared::{
 };
 use super::targets::{ALBEDO_FORMAT, NORMAL_FORMAT};
 use crate::bind::buffer_entry;
+use crate::device::MultiDrawPath;
 use crate::device::alloc::{AllocError, create_buffer};
 use crate::shaders::{GRASS, GRASS_CULL};
 
@@ -59,6 +64,8 @@ pub struct GrassPass {
     /// Bound as the visibility bits without occlusion culling.
     no_visible: Buffer,
     capacity: u32,
+    /// How the compacted draws are drawn.
+    multi_draw: MultiDrawPath,
 }
 
 /// What one frame's grass pass draws with.
@@ -71,8 +78,14 @@ pub struct GrassParams {
 }
 
 impl GrassPass {
-    /// The pass for a chunk table of `capacity` slots.
-    pub fn new(device: &Device, shared: &Shared, capacity: u32) -> Result<GrassPass, AllocError> {
+    /// The pass for a chunk table of `capacity` slots, drawing its compacted draws the
+    /// `multi_draw` way.
+    pub fn new(
+        device: &Device,
+        shared: &Shared,
+        capacity: u32,
+        multi_draw: MultiDrawPath,
+    ) -> Result<GrassPass, AllocError> {
         let storage = |read_only| BufferBindingType::Storage { read_only };
         let compute = ShaderStages::COMPUTE;
         let cull_layout = bind_layout(
@@ -151,15 +164,16 @@ impl GrassPass {
             args: buffer(
                 "grass draws",
                 u64::from(capacity.max(1)) * DRAW_ARGS_BYTES,
-                BufferUsages::STORAGE | BufferUsages::INDIRECT,
+                BufferUsages::STORAGE | BufferUsages::INDIRECT | copy_dst,
             )?,
             stats: buffer(
                 "grass stats",
                 16,
-                BufferUsages::STORAGE | BufferUsages::COPY_SRC | copy_dst,
+                BufferUsages::STORAGE | BufferUsages::INDIRECT | BufferUsages::COPY_SRC | copy_dst,
             )?,
             no_visible: buffer("grass no visibility bits", 16, BufferUsages::STORAGE)?,
             capacity,
+            multi_draw,
         })
     }
 
@@ -169,9 +183,13 @@ impl GrassPass {
         &self.stats
     }
 
-    /// Clears the statistics (a frame's first commands).
+    /// Clears the statistics, whose first word is the draw count (a frame's first commands),
+    /// and without `MULTI_DRAW_INDIRECT_COUNT` the draw list.
     pub fn clear(&self, encoder: &mut wgpu::CommandEncoder) {
         encoder.clear_buffer(&self.stats, 0, None);
+        if self.multi_draw == MultiDrawPath::ZeroedCommands {
+            encoder.clear_buffer(&self.args, 0, None);
+        }
     }
 
     /// GPU bytes the pass holds.
@@ -261,7 +279,12 @@ impl GrassPass {
             pass.set_pipeline(&self.draw_pipeline);
             pass.set_bind_group(0, ctx.frame_group, &[]);
             pass.set_bind_group(1, &draw_group, &[]);
-            pass.multi_draw_indirect(&self.args, 0, slots);
+            match self.multi_draw {
+                MultiDrawPath::IndirectCount => {
+                    pass.multi_draw_indirect_count(&self.args, 0, &self.stats, 0, slots)
+                }
+                MultiDrawPath::ZeroedCommands => pass.multi_draw_indirect(&self.args, 0, slots),
+            }
         });
     }
 }

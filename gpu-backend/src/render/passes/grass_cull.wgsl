@@ -1,5 +1,6 @@
-// The grass cull: one indirect draw per chunk table slot (non-indexed, 12 vertices per clutter
-// unit, first_instance = slot). A slot draws its clutter when the voxel cull draws its chunk:
+// The grass cull: one indirect draw appended per chunk table slot that draws its clutter
+// (non-indexed, 12 vertices per clutter unit, first_instance = slot; compacted: the draw's
+// index is the count of chunks drawn, stats[0], the draw count). A slot draws its clutter when the voxel cull draws its chunk:
 // a level-0 chunk selected by the same level-of-detail rule (lod.wgsl), inside the frustum
 // (its cube grown by the tallest swaying blade), and, with occlusion culling, visible in this
 // frame's late phase (its bit). A chunk whose nearest point is so far that its tallest blade
@@ -30,11 +31,11 @@ const VERTICES_PER_UNIT: u32 = 12u;
 
 @group(0) @binding(0) var<uniform> g: GrassCullUniforms;
 @group(0) @binding(1) var<storage, read> table: array<MeshedChunkInfo>;
-// (vertex_count, instance_count, first_vertex, first_instance) per slot.
+// (vertex_count, instance_count, first_vertex, first_instance) per drawn chunk, compacted.
 @group(0) @binding(2) var<storage, read_write> args: array<vec4<u32>>;
 // The voxel cull's visibility bits (a bit per slot; one zero word without occlusion).
 @group(0) @binding(3) var<storage, read> visible: array<u32>;
-// 0: chunks drawn, 1: units drawn (before the per-blade fade).
+// 0: chunks drawn (the draw count), 1: units drawn (before the per-blade fade).
 @group(0) @binding(4) var<storage, read_write> stats: array<atomic<u32>>;
 
 fn grass_in_frustum(c: vec3<f32>, e: vec3<f32>) -> bool {
@@ -91,12 +92,10 @@ fn grass_cull(@builtin(global_invocation_id) id: vec3<u32>) {
     if slot >= g.slot_bound {
         return;
     }
-    var out = vec4<u32>(0u, 0u, 0u, slot);
     if grass_slot_draws(slot) {
         let units = table[slot].clutter_units;
-        out = vec4<u32>(units.count * VERTICES_PER_UNIT, 1u, units.offset * VERTICES_PER_UNIT, slot);
-        atomicAdd(&stats[0], 1u);
+        let draw = atomicAdd(&stats[0], 1u);
         atomicAdd(&stats[1], units.count);
+        args[draw] = vec4<u32>(units.count * VERTICES_PER_UNIT, 1u, units.offset * VERTICES_PER_UNIT, slot);
     }
-    args[slot] = out;
 }

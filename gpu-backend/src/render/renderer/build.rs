@@ -147,7 +147,12 @@ impl Passes {
                     ctx.capabilities.max_page_bytes()
                 )));
             }
-            Some(GrassPass::new(device, &shared, config.max_chunks)?)
+            Some(GrassPass::new(
+                device,
+                &shared,
+                config.max_chunks,
+                ctx.capabilities.multi_draw,
+            )?)
         } else {
             None
         };
