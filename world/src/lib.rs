@@ -15,17 +15,19 @@
 //!
 //! ```
 //! use mesher::{BlockClasses, ChunkMesh, ChunkMesher, MeshSettings};
-//! use voxel_core::{BlockId, ChunkSize, PaddedChunk, WorldPos};
+//! use voxel_core::{BlockId, ChunkSize, Material, MaterialPalette, PaddedChunk, WorldPos};
 //! use voxel_world::{Edit, FnBase, World};
 //!
-//! let ground = FnBase(|p: WorldPos| if p.y < 4 { BlockId(1) } else { BlockId::AIR });
+//! let mut palette = MaterialPalette::new();
+//! let stone = palette.push(Material::opaque(120, 120, 120)).unwrap();
+//! let ground = FnBase(move |p: WorldPos| if p.y < 4 { stone } else { BlockId::AIR });
 //! let mut world = World::new(ground, ChunkSize::S16, 2).unwrap();
 //! let dirty = world
 //!     .apply(&[Edit::Block { pos: WorldPos::new(0, 3, 0), id: BlockId::AIR }])
 //!     .unwrap();
 //! // The block sits at a corner of chunk (0, 0, 0) on x and z: four chunks share its faces.
 //! assert_eq!(dirty.remesh(0).count(), 4);
-//! let classes = BlockClasses::all_opaque();
+//! let classes = BlockClasses::from_palette(&palette);
 //! let (mut padded, mut mesher, mut mesh) = (PaddedChunk::new(ChunkSize::S16), ChunkMesher::new(), ChunkMesh::default());
 //! for coord in dirty.remesh(0) {
 //!     world.gather_chunk(coord, &mut padded).unwrap();
