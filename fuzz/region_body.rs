@@ -15,7 +15,8 @@ pub(crate) fn region(data: &[u8]) {
     };
     let size = ChunkSize::ALL[usize::from(pick % 4)];
     let expected = if file.len() >= 20 {
-        [8, 12, 16].map(|at| i32::from_le_bytes([file[at], file[at + 1], file[at + 2], file[at + 3]]))
+        [8, 12, 16]
+            .map(|at| i32::from_le_bytes([file[at], file[at + 1], file[at + 2], file[at + 3]]))
     } else {
         [0; 3]
     };

@@ -16,12 +16,16 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mesher::{BlockClasses, ChunkMesh, ChunkMesher, MeshSettings};
-use voxel_core::{BlockId, ChunkCoord, ChunkSize, Material, MaterialPalette, PaddedChunk, WorldPos};
+use voxel_core::{
+    BlockId, ChunkCoord, ChunkSize, Material, MaterialPalette, PaddedChunk, WorldPos,
+};
 use voxel_world::{Edit, FnBase, World};
 
 fn world_edit(c: &mut Criterion) {
     let mut palette = MaterialPalette::new();
-    let stone = palette.push(Material::opaque(120, 120, 120)).expect("palette");
+    let stone = palette
+        .push(Material::opaque(120, 120, 120))
+        .expect("palette");
     let classes = BlockClasses::from_palette(&palette);
     let ground = FnBase(move |p: WorldPos| {
         let h = 14 + (p.x * 3 + p.z * 5).rem_euclid(5);
@@ -31,7 +35,9 @@ fn world_edit(c: &mut Criterion) {
     for z in -2..=2 {
         for y in -1..=3 {
             for x in -2..=2 {
-                world.materialize(ChunkCoord::new(x, y, z)).expect("materialize");
+                world
+                    .materialize(ChunkCoord::new(x, y, z))
+                    .expect("materialize");
             }
         }
     }
@@ -55,7 +61,11 @@ fn world_edit(c: &mut Criterion) {
                     .mesh_gathered(&padded, coord, &classes, &settings, &mut mesh)
                     .expect("mesh");
                 let layers = mesh.layers();
-                bytes += layers.opaque_quads.iter().map(|f| f.len() * 8).sum::<usize>();
+                bytes += layers
+                    .opaque_quads
+                    .iter()
+                    .map(|f| f.len() * 8)
+                    .sum::<usize>();
                 chunks += 1;
             }
             assert_eq!(chunks, 8, "the corner edit dirties 8 chunks");

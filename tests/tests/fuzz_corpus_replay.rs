@@ -319,14 +319,24 @@ fn region_seeds() -> Seeds {
     let good = encode_region(
         [0, 0, 0],
         size,
-        &[(ChunkCoord::new(0, 0, 0), &stone), (ChunkCoord::new(3, 1, 7), &mixed)],
+        &[
+            (ChunkCoord::new(0, 0, 0), &stone),
+            (ChunkCoord::new(3, 1, 7), &mixed),
+        ],
     );
     let mut seeds = vec![
-        ("valid-empty", with_size(encode_region([0, 0, 0], size, &[]))),
+        (
+            "valid-empty",
+            with_size(encode_region([0, 0, 0], size, &[])),
+        ),
         ("valid-two-chunks", with_size(good.clone())),
         (
             "valid-negative-region",
-            with_size(encode_region([-1, -2, -3], size, &[(ChunkCoord::new(-1, -9, -17), &mixed)])),
+            with_size(encode_region(
+                [-1, -2, -3],
+                size,
+                &[(ChunkCoord::new(-1, -9, -17), &mixed)],
+            )),
         ),
         ("truncated", with_size(good[..good.len() - 3].to_vec())),
     ];

@@ -147,19 +147,36 @@ mod tests {
     #[test]
     fn a_corner_voxel_dirties_eight_chunks_and_a_middle_voxel_one() {
         let mut d = DirtySet::new(1);
-        d.add_voxel(WorldPos::new(0, 0, 0), ChunkCoord::new(0, 0, 0), ChunkSize::S8);
+        d.add_voxel(
+            WorldPos::new(0, 0, 0),
+            ChunkCoord::new(0, 0, 0),
+            ChunkSize::S8,
+        );
         assert_eq!(d.remesh(0).count(), 8);
         assert_eq!(d.neighbours().count(), 7);
-        assert!(d.remesh(0).all(|c| [c.x, c.y, c.z].iter().all(|v| (-1..=0).contains(v))));
+        assert!(
+            d.remesh(0)
+                .all(|c| [c.x, c.y, c.z].iter().all(|v| (-1..=0).contains(v)))
+        );
         // At level 1 the coarse voxel (0,0,0) is a corner too.
         assert_eq!(d.lod_nodes().count(), 8);
         let mut m = DirtySet::new(1);
-        m.add_voxel(WorldPos::new(-4, 3, 12), ChunkCoord::new(-1, 0, 1), ChunkSize::S8);
-        assert_eq!(m.remesh(0).collect::<Vec<_>>(), vec![ChunkCoord::new(-1, 0, 1)]);
+        m.add_voxel(
+            WorldPos::new(-4, 3, 12),
+            ChunkCoord::new(-1, 0, 1),
+            ChunkSize::S8,
+        );
+        assert_eq!(
+            m.remesh(0).collect::<Vec<_>>(),
+            vec![ChunkCoord::new(-1, 0, 1)]
+        );
         // Coarse voxel (-2, 1, 6): node (-1, 0, 0), local (6, 1, 6): inside.
         assert_eq!(
             m.lod_nodes().collect::<Vec<_>>(),
-            vec![NodeKey { level: 1, coord: ChunkCoord::new(-1, 0, 0) }]
+            vec![NodeKey {
+                level: 1,
+                coord: ChunkCoord::new(-1, 0, 0)
+            }]
         );
         m.merge(&d);
         assert_eq!(m.changed().count(), 2);

@@ -159,23 +159,47 @@ mod tests {
         let p = WorldPos::new(0, 0, 0);
         let q = WorldPos::new(-1, 0, 0);
         assert!(matches!(
-            Edit::Box { min: p, max: q, id: BlockId(1) }.bounds(),
+            Edit::Box {
+                min: p,
+                max: q,
+                id: BlockId(1)
+            }
+            .bounds(),
             Err(EditError::InvertedBox { .. })
         ));
         let edge = WorldPos::new(i32::MAX - 1, 0, 0);
         assert!(matches!(
-            Edit::Sphere { centre: edge, radius: 2, id: BlockId(1) }.bounds(),
+            Edit::Sphere {
+                centre: edge,
+                radius: 2,
+                id: BlockId(1)
+            }
+            .bounds(),
             Err(EditError::OutsideWorld { .. })
         ));
         let far = WorldPos::new(1000, 1000, 1000);
         assert!(matches!(
-            Edit::Box { min: p, max: far, id: BlockId(1) }.bounds(),
-            Err(EditError::TooLarge { voxels: 1_002_001_001 })
+            Edit::Box {
+                min: p,
+                max: far,
+                id: BlockId(1)
+            }
+            .bounds(),
+            Err(EditError::TooLarge {
+                voxels: 1_002_001_001
+            })
         ));
-        let sphere = Edit::Sphere { centre: edge, radius: 1, id: BlockId(1) };
+        let sphere = Edit::Sphere {
+            centre: edge,
+            radius: 1,
+            id: BlockId(1),
+        };
         assert_eq!(
             sphere.bounds(),
-            Ok((WorldPos::new(i32::MAX - 2, -1, -1), WorldPos::new(i32::MAX, 1, 1)))
+            Ok((
+                WorldPos::new(i32::MAX - 2, -1, -1),
+                WorldPos::new(i32::MAX, 1, 1)
+            ))
         );
         assert!(sphere.covers(WorldPos::new(i32::MAX, 0, 0)));
         assert!(!sphere.covers(WorldPos::new(i32::MAX, 1, 0)));

@@ -66,9 +66,17 @@ impl fmt::Display for WorldError {
                 coord.x, coord.y, coord.z
             ),
             WorldError::BadLevel { level } => {
-                write!(f, "level {level} is past the highest level {}", crate::MAX_LEVEL)
+                write!(
+                    f,
+                    "level {level} is past the highest level {}",
+                    crate::MAX_LEVEL
+                )
             }
-            WorldError::Mesh { level, coord, error } => write!(
+            WorldError::Mesh {
+                level,
+                coord,
+                error,
+            } => write!(
                 f,
                 "downsampling node ({}, {}, {}) of level {level}: {error}",
                 coord.x, coord.y, coord.z

@@ -52,6 +52,8 @@ pub use base::{AirBase, Base, FnBase};
 pub use dirty::{DirtySet, NodeKey};
 pub use edit::{Edit, EditError, MAX_EDIT_VOXELS};
 pub use error::WorldError;
-pub use region::{ChunkFault, ChunkFaultKind, Region, RegionFormatError, decode_region, encode_region};
+pub use region::{
+    ChunkFault, ChunkFaultKind, Region, RegionFormatError, decode_region, encode_region,
+};
 pub use save::{LoadReport, WORLD_FILE, write_atomic};
 pub use world::{MAX_LEVEL, World};

@@ -95,7 +95,10 @@ impl fmt::Display for RegionFormatError {
                 write!(f, "truncated: needs {needed} bytes, has {got}")
             }
             RegionFormatError::BadMagic { found } => {
-                write!(f, "not a region file: magic {found:?}, expected {REGION_MAGIC:?}")
+                write!(
+                    f,
+                    "not a region file: magic {found:?}, expected {REGION_MAGIC:?}"
+                )
             }
             RegionFormatError::UnsupportedVersion { version, supported } => write!(
                 f,
@@ -105,7 +108,10 @@ impl fmt::Display for RegionFormatError {
                 f,
                 "header checksum {stored:#010x} does not match its bytes ({computed:#010x})"
             ),
-            RegionFormatError::WrongShape { chunk_edge, region_edge } => write!(
+            RegionFormatError::WrongShape {
+                chunk_edge,
+                region_edge,
+            } => write!(
                 f,
                 "chunks of edge {chunk_edge} in regions of {region_edge}, not this world's"
             ),
@@ -113,7 +119,10 @@ impl fmt::Display for RegionFormatError {
                 write!(f, "holds region {found:?}, its name says {expected:?}")
             }
             RegionFormatError::BadTable { entry, index } => {
-                write!(f, "table entry {entry} names chunk index {index} twice or past the region")
+                write!(
+                    f,
+                    "table entry {entry} names chunk index {index} twice or past the region"
+                )
             }
         }
     }
@@ -179,7 +188,11 @@ pub fn region_of(c: ChunkCoord) -> [i32; 3] {
 
 fn chunk_at(region: [i32; 3], index: u16) -> Option<ChunkCoord> {
     let i = i32::from(index);
-    let local = [i % REGION_EDGE, i / REGION_EDGE % REGION_EDGE, i / (REGION_EDGE * REGION_EDGE)];
+    let local = [
+        i % REGION_EDGE,
+        i / REGION_EDGE % REGION_EDGE,
+        i / (REGION_EDGE * REGION_EDGE),
+    ];
     let c: Vec<i32> = region
         .iter()
         .zip(local)
@@ -194,7 +207,11 @@ fn index_in_region(c: ChunkCoord) -> u16 {
 }
 
 /// Encodes the chunks of region `region` (all of them inside it, each once) as a region file.
-pub fn encode_region(region: [i32; 3], size: ChunkSize, chunks: &[(ChunkCoord, &PaletteChunk)]) -> Vec<u8> {
+pub fn encode_region(
+    region: [i32; 3],
+    size: ChunkSize,
+    chunks: &[(ChunkCoord, &PaletteChunk)],
+) -> Vec<u8> {
     let mut payload = Vec::new();
     let mut table = Vec::with_capacity(chunks.len() * ENTRY_LEN);
     let start = REGION_HEADER_LEN + chunks.len() * ENTRY_LEN;
@@ -233,10 +250,17 @@ fn u32_at(b: &[u8], at: usize) -> u32 {
 
 /// Decodes a region file that should hold region `expected` of chunks of `size`. Never
 /// panics, whatever the bytes.
-pub fn decode_region(bytes: &[u8], expected: [i32; 3], size: ChunkSize) -> Result<Region, RegionFormatError> {
+pub fn decode_region(
+    bytes: &[u8],
+    expected: [i32; 3],
+    size: ChunkSize,
+) -> Result<Region, RegionFormatError> {
     let got = bytes.len() as u64;
     if bytes.len() < REGION_HEADER_LEN {
-        return Err(RegionFormatError::Truncated { needed: REGION_HEADER_LEN as u64, got });
+        return Err(RegionFormatError::Truncated {
+            needed: REGION_HEADER_LEN as u64,
+            got,
+        });
     }
     let magic = [bytes[0], bytes[1], bytes[2], bytes[3]];
     if magic != REGION_MAGIC {
@@ -244,12 +268,18 @@ pub fn decode_region(bytes: &[u8], expected: [i32; 3], size: ChunkSize) -> Resul
     }
     let version = u16::from_le_bytes([bytes[4], bytes[5]]);
     if version != REGION_VERSION {
-        return Err(RegionFormatError::UnsupportedVersion { version, supported: REGION_VERSION });
+        return Err(RegionFormatError::UnsupportedVersion {
+            version,
+            supported: REGION_VERSION,
+        });
     }
     let count = u32_at(bytes, 20) as u64;
     let table_end = REGION_HEADER_LEN as u64 + count * ENTRY_LEN as u64;
     if table_end > got {
-        return Err(RegionFormatError::Truncated { needed: table_end, got });
+        return Err(RegionFormatError::Truncated {
+            needed: table_end,
+            got,
+        });
     }
     let table = &bytes[REGION_HEADER_LEN..table_end as usize];
     let stored = u32_at(bytes, 24);
@@ -262,7 +292,10 @@ pub fn decode_region(bytes: &[u8], expected: [i32; 3], size: ChunkSize) -> Resul
     }
     let (chunk_edge, region_edge) = (bytes[6], bytes[7]);
     if u32::from(chunk_edge) != size.edge() || i32::from(region_edge) != REGION_EDGE {
-        return Err(RegionFormatError::WrongShape { chunk_edge, region_edge });
+        return Err(RegionFormatError::WrongShape {
+            chunk_edge,
+            region_edge,
+        });
     }
     let found = [8, 12, 16].map(|at| u32_at(bytes, at) as i32);
     if found != expected {
@@ -272,7 +305,10 @@ pub fn decode_region(bytes: &[u8], expected: [i32; 3], size: ChunkSize) -> Resul
     let mut region = Region::default();
     for (entry, e) in table.chunks_exact(ENTRY_LEN).enumerate() {
         let index = u16::from_le_bytes([e[0], e[1]]);
-        let bad = || RegionFormatError::BadTable { entry: entry as u32, index };
+        let bad = || RegionFormatError::BadTable {
+            entry: entry as u32,
+            index,
+        };
         let slot = seen.get_mut(usize::from(index)).ok_or_else(bad)?;
         if *slot || e[2] != 0 || e[3] != 0 {
             return Err(bad());
@@ -294,7 +330,9 @@ pub fn decode_region(bytes: &[u8], expected: [i32; 3], size: ChunkSize) -> Resul
                     region.chunks.push((coord, chunk));
                     continue;
                 }
-                Ok(chunk) => ChunkFaultKind::WrongSize(voxel_core::storage::VoxelStorage::size(&chunk)),
+                Ok(chunk) => {
+                    ChunkFaultKind::WrongSize(voxel_core::storage::VoxelStorage::size(&chunk))
+                }
                 Err(e) => ChunkFaultKind::Codec(e),
             }
         };

@@ -39,7 +39,10 @@ pub struct LoadReport {
 }
 
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> WorldError + '_ {
-    move |error| WorldError::Io { path: path.to_path_buf(), error }
+    move |error| WorldError::Io {
+        path: path.to_path_buf(),
+        error,
+    }
 }
 
 /// Writes `bytes` to `path` atomically: a temporary file in the same folder, flushed, renamed
@@ -54,7 +57,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), WorldError> {
     file.sync_all().map_err(io(&tmp))?;
     drop(file);
     fs::rename(&tmp, path).map_err(io(path))?;
-    fs::File::open(dir).and_then(|d| d.sync_all()).map_err(io(dir))?;
+    fs::File::open(dir)
+        .and_then(|d| d.sync_all())
+        .map_err(io(dir))?;
     Ok(())
 }
 
@@ -82,7 +87,10 @@ fn world_file_bytes(size: ChunkSize) -> Vec<u8> {
 pub fn read_world_file(dir: &Path) -> Result<ChunkSize, WorldError> {
     let path = dir.join(WORLD_FILE);
     let bytes = fs::read(&path).map_err(io(&path))?;
-    let refuse = |reason: String| WorldError::WorldFile { path: path.clone(), reason };
+    let refuse = |reason: String| WorldError::WorldFile {
+        path: path.clone(),
+        reason,
+    };
     if bytes.len() != 11 {
         return Err(refuse(format!("{} bytes, expected 11", bytes.len())));
     }
@@ -91,7 +99,9 @@ pub fn read_world_file(dir: &Path) -> Result<ChunkSize, WorldError> {
     }
     let version = u16::from_le_bytes([bytes[4], bytes[5]]);
     if version != WORLD_VERSION {
-        return Err(refuse(format!("version {version}, this build reads {WORLD_VERSION}")));
+        return Err(refuse(format!(
+            "version {version}, this build reads {WORLD_VERSION}"
+        )));
     }
     let stored = u32::from_le_bytes([bytes[7], bytes[8], bytes[9], bytes[10]]);
     if crc32fast::hash(&bytes[..7]) != stored {
@@ -145,14 +155,18 @@ impl<B: Base> World<B> {
         entries.sort();
         for (path, r) in entries {
             let bytes = fs::read(&path).map_err(io(&path))?;
-            let region = decode_region(&bytes, r, size)
-                .map_err(|error| WorldError::Region { path: path.clone(), error })?;
+            let region = decode_region(&bytes, r, size).map_err(|error| WorldError::Region {
+                path: path.clone(),
+                error,
+            })?;
             report.regions += 1;
             for (coord, chunk) in region.chunks {
                 world.insert_edited(coord, chunk)?;
                 report.chunks += 1;
             }
-            report.faults.extend(region.faults.into_iter().map(|f| (path.clone(), f)));
+            report
+                .faults
+                .extend(region.faults.into_iter().map(|f| (path.clone(), f)));
         }
         world.mark_saved();
         Ok((world, report))
@@ -165,8 +179,17 @@ mod tests {
 
     #[test]
     fn region_names_round_trip_and_others_are_not_regions() {
-        assert_eq!(parse_region_name(&region_name([-3, 0, 12])), Some([-3, 0, 12]));
-        for other in ["r.1.2.vxr", "r.1.2.3.4.vxr", "r.1.2.3.vxr.tmp", "world.vxw", "r.a.2.3.vxr"] {
+        assert_eq!(
+            parse_region_name(&region_name([-3, 0, 12])),
+            Some([-3, 0, 12])
+        );
+        for other in [
+            "r.1.2.vxr",
+            "r.1.2.3.4.vxr",
+            "r.1.2.3.vxr.tmp",
+            "world.vxw",
+            "r.a.2.3.vxr",
+        ] {
             assert_eq!(parse_region_name(other), None, "{other}");
         }
     }

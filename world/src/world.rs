@@ -93,7 +93,10 @@ impl<B: Base> World<B> {
         } else {
             self.chunks
                 .insert(coord, chunk)
-                .map_err(|e| WorldError::Base { coord, message: e.to_string() })?;
+                .map_err(|e| WorldError::Base {
+                    coord,
+                    message: e.to_string(),
+                })?;
         }
         self.present.insert(coord);
         self.edited.insert(coord);
@@ -112,7 +115,11 @@ impl<B: Base> World<B> {
         if chunk.size() != self.size {
             return Err(WorldError::Base {
                 coord,
-                message: format!("base gave a chunk of {:?}, not {:?}", chunk.size(), self.size),
+                message: format!(
+                    "base gave a chunk of {:?}, not {:?}",
+                    chunk.size(),
+                    self.size
+                ),
             });
         }
         if chunk.non_air_count() > 0 {
@@ -145,7 +152,11 @@ impl<B: Base> World<B> {
     }
 
     /// Fills `out` with level-0 chunk `coord` and its border, materializing what it reads.
-    pub fn gather_chunk(&mut self, coord: ChunkCoord, out: &mut PaddedChunk) -> Result<(), WorldError> {
+    pub fn gather_chunk(
+        &mut self,
+        coord: ChunkCoord,
+        out: &mut PaddedChunk,
+    ) -> Result<(), WorldError> {
         self.materialize_ring(coord)?;
         gather_neighbourhood(&self.chunks, coord, out);
         Ok(())
@@ -194,7 +205,11 @@ impl<B: Base> World<B> {
                             }
                         }
                         if changed_here {
-                            if self.chunks.get(coord).is_some_and(|c| c.non_air_count() == 0) {
+                            if self
+                                .chunks
+                                .get(coord)
+                                .is_some_and(|c| c.non_air_count() == 0)
+                            {
                                 self.chunks.remove(coord);
                             }
                             self.edited.insert(coord);
@@ -232,7 +247,11 @@ impl<B: Base> World<B> {
         let mut children: Vec<PaletteChunk> = Vec::with_capacity(8);
         for d in 0..8i64 {
             let c = [coord.x, coord.y, coord.z].map(i64::from);
-            let child = [c[0] * 2 + (d & 1), c[1] * 2 + ((d >> 1) & 1), c[2] * 2 + (d >> 2)];
+            let child = [
+                c[0] * 2 + (d & 1),
+                c[1] * 2 + ((d >> 1) & 1),
+                c[2] * 2 + (d >> 2),
+            ];
             match child.map(i32::try_from) {
                 [Ok(x), Ok(y), Ok(z)] => {
                     children.push(self.lod_node(level - 1, ChunkCoord::new(x, y, z), classes)?)
@@ -247,7 +266,11 @@ impl<B: Base> World<B> {
             classes,
             &mut out,
         )
-        .map_err(|error| WorldError::Mesh { level, coord, error })?;
+        .map_err(|error| WorldError::Mesh {
+            level,
+            coord,
+            error,
+        })?;
         Ok(PaletteChunk::from_dense(&out))
     }
 

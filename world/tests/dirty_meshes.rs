@@ -8,7 +8,9 @@ use mesher::lod::{NodeMesh, NodeMesher, NodeSettings, downsample_world};
 use mesher::{BlockClasses, MeshSettings};
 use proptest::prelude::*;
 use voxel_core::storage::{PaletteChunk, WorldMap};
-use voxel_core::{BlockId, ChunkCoord, ChunkSize, Material, MaterialPalette, PaddedChunk, WorldPos};
+use voxel_core::{
+    BlockId, ChunkCoord, ChunkSize, Material, MaterialPalette, PaddedChunk, WorldPos,
+};
 use voxel_world::{Edit, FnBase, World};
 
 const SIZE: ChunkSize = ChunkSize::S8;
@@ -18,7 +20,9 @@ const BLOCKS: i32 = 24;
 fn palette() -> (MaterialPalette, [BlockId; 2]) {
     let mut p = MaterialPalette::new();
     let stone = p.push(Material::opaque(120, 120, 120)).unwrap();
-    let glass = p.push(Material::opaque(200, 220, 255).with_class(voxel_core::MaterialClass::Transparent)).unwrap();
+    let glass = p
+        .push(Material::opaque(200, 220, 255).with_class(voxel_core::MaterialClass::Transparent))
+        .unwrap();
     (p, [stone, glass])
 }
 
@@ -27,17 +31,28 @@ type TestWorld = World<FnBase<Box<dyn Fn(WorldPos) -> BlockId + Sync>>>;
 fn world(stone: BlockId) -> TestWorld {
     let f: Box<dyn Fn(WorldPos) -> BlockId + Sync> = Box::new(move |p: WorldPos| {
         let h = 9 + (p.x * 3 + p.z * 5).rem_euclid(7);
-        if p.y < h && p.y >= 0 { stone } else { BlockId::AIR }
+        if p.y < h && p.y >= 0 {
+            stone
+        } else {
+            BlockId::AIR
+        }
     });
     World::new(FnBase(f), SIZE, 1).unwrap()
 }
 
 fn settings() -> NodeSettings {
-    NodeSettings { mesh: MeshSettings::default(), far_blocks: true }
+    NodeSettings {
+        mesh: MeshSettings::default(),
+        far_blocks: true,
+    }
 }
 
 /// Every node of `level` that the area's edits can reach, meshed from the world.
-fn mesh_all(w: &mut TestWorld, level: u32, classes: &BlockClasses) -> BTreeMap<ChunkCoord, NodeMesh> {
+fn mesh_all(
+    w: &mut TestWorld,
+    level: u32,
+    classes: &BlockClasses,
+) -> BTreeMap<ChunkCoord, NodeMesh> {
     let (lo, hi) = if level == 0 { (-1, 3) } else { (-1, 2) };
     let mut out = BTreeMap::new();
     for z in lo..=hi {
@@ -55,12 +70,20 @@ fn mesh_one(w: &mut TestWorld, level: u32, c: ChunkCoord, classes: &BlockClasses
     let mut padded = PaddedChunk::new(SIZE);
     w.gather_node(level, c, classes, &mut padded).unwrap();
     let mut node = NodeMesh::default();
-    NodeMesher::new().mesh_padded(&padded, c, level, classes, &settings(), &mut node).unwrap();
+    NodeMesher::new()
+        .mesh_padded(&padded, c, level, classes, &settings(), &mut node)
+        .unwrap();
     node
 }
 
 fn edit_strategy() -> impl Strategy<Value = (u8, [i32; 3], [i32; 3], u32, u8)> {
-    (0u8..3, [0..BLOCKS, 0..BLOCKS, 0..BLOCKS], [0i32..5, 0..5, 0..5], 0u32..4, 0u8..3)
+    (
+        0u8..3,
+        [0..BLOCKS, 0..BLOCKS, 0..BLOCKS],
+        [0i32..5, 0..5, 0..5],
+        0u32..4,
+        0u8..3,
+    )
 }
 
 fn to_edit((kind, p, d, r, block): (u8, [i32; 3], [i32; 3], u32, u8), ids: [BlockId; 2]) -> Edit {
@@ -72,8 +95,16 @@ fn to_edit((kind, p, d, r, block): (u8, [i32; 3], [i32; 3], u32, u8), ids: [Bloc
     let pos = WorldPos::new(p[0], p[1], p[2]);
     match kind {
         0 => Edit::Block { pos, id },
-        1 => Edit::Box { min: pos, max: WorldPos::new(p[0] + d[0], p[1] + d[1], p[2] + d[2]), id },
-        _ => Edit::Sphere { centre: pos, radius: r, id },
+        1 => Edit::Box {
+            min: pos,
+            max: WorldPos::new(p[0] + d[0], p[1] + d[1], p[2] + d[2]),
+            id,
+        },
+        _ => Edit::Sphere {
+            centre: pos,
+            radius: r,
+            id,
+        },
     }
 }
 

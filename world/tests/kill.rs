@@ -41,7 +41,11 @@ fn batch(i: u64) -> Vec<Edit> {
             );
             let id = BlockId((r() % 4) as u16);
             if r() % 4 == 0 {
-                Edit::Sphere { centre: p, radius: 2, id }
+                Edit::Sphere {
+                    centre: p,
+                    radius: 2,
+                    id,
+                }
             } else {
                 Edit::Block { pos: p, id }
             }
@@ -70,7 +74,10 @@ fn child(dir: &Path) {
     }
 }
 
-fn region_chunks(w: &World<AirBase>, region: [i32; 3]) -> Vec<(ChunkCoord, voxel_core::storage::PaletteChunk)> {
+fn region_chunks(
+    w: &World<AirBase>,
+    region: [i32; 3],
+) -> Vec<(ChunkCoord, voxel_core::storage::PaletteChunk)> {
     w.edited()
         .filter(|&c| region_of(c) == region)
         .filter_map(|c| w.chunks().get(c).map(|chunk| (c, chunk.clone())))
@@ -85,13 +92,21 @@ fn killed_saves_never_lose_a_completed_save() {
     }
     let dir = tempfile::tempdir().unwrap();
     let mut saved: u64 = 0;
-    World::new(AirBase, SIZE, 0).unwrap().save(dir.path()).unwrap();
+    World::new(AirBase, SIZE, 0)
+        .unwrap()
+        .save(dir.path())
+        .unwrap();
     let mut delays = rng(7);
     let regions: Vec<[i32; 3]> = [[-1, 0, -1], [-1, 0, 0], [0, 0, -1], [0, 0, 0]].to_vec();
     let mut killed_mid_save = 0;
     for kill in 0..KILLS {
         let mut child = Command::new(std::env::current_exe().unwrap())
-            .args(["--exact", "killed_saves_never_lose_a_completed_save", "--nocapture", "--test-threads=1"])
+            .args([
+                "--exact",
+                "killed_saves_never_lose_a_completed_save",
+                "--nocapture",
+                "--test-threads=1",
+            ])
             .env("KILL_TEST_DIR", dir.path())
             .env("KILL_TEST_FROM", saved.to_string())
             .stdout(Stdio::piped())
@@ -117,13 +132,22 @@ fn killed_saves_never_lose_a_completed_save() {
             let got = region_chunks(&loaded, r);
             let is_done = got == region_chunks(&done, r);
             let is_next = got == region_chunks(&next, r);
-            assert!(is_done || is_next, "kill {kill}: region {r:?} is neither save {saved} nor {}", saved + 1);
+            assert!(
+                is_done || is_next,
+                "kill {kill}: region {r:?} is neither save {saved} nor {}",
+                saved + 1
+            );
             any_next |= is_next && !is_done;
         }
         if any_next {
             killed_mid_save += 1;
         }
     }
-    eprintln!("{KILLS} kills, {killed_mid_save} in the middle of a save, last completed save {saved}");
-    assert!(saved > 10, "the child saved too little to test anything: {saved}");
+    eprintln!(
+        "{KILLS} kills, {killed_mid_save} in the middle of a save, last completed save {saved}"
+    );
+    assert!(
+        saved > 10,
+        "the child saved too little to test anything: {saved}"
+    );
 }

@@ -20,8 +20,15 @@ fn region_file(dir: &Path) -> std::path::PathBuf {
 fn saved_world(dir: &Path) -> World<AirBase> {
     let mut w = World::new(AirBase, SIZE, 0).unwrap();
     w.apply(&[
-        Edit::Box { min: WorldPos::new(0, 0, 0), max: WorldPos::new(20, 3, 5), id: BlockId(2) },
-        Edit::Block { pos: WorldPos::new(-1, -1, -1), id: BlockId(3) },
+        Edit::Box {
+            min: WorldPos::new(0, 0, 0),
+            max: WorldPos::new(20, 3, 5),
+            id: BlockId(2),
+        },
+        Edit::Block {
+            pos: WorldPos::new(-1, -1, -1),
+            id: BlockId(3),
+        },
     ])
     .unwrap();
     w.save(dir).unwrap();
@@ -71,7 +78,9 @@ fn truncated_files_are_refused_by_name_at_every_length() {
                     "length {len}: {error}"
                 );
                 assert!(
-                    WorldError::Region { path: p, error }.to_string().contains("r."),
+                    WorldError::Region { path: p, error }
+                        .to_string()
+                        .contains("r."),
                     "the message names the file"
                 );
             }
@@ -100,14 +109,20 @@ fn bad_magic_newer_versions_and_header_corruption_are_refused() {
     b[4] = 2;
     assert_eq!(
         refuse(&b),
-        RegionFormatError::UnsupportedVersion { version: 2, supported: 1 }
+        RegionFormatError::UnsupportedVersion {
+            version: 2,
+            supported: 1
+        }
     );
     for at in [6, 9, 21, REGION_HEADER_LEN + 5] {
         let mut b = full.clone();
         b[at] ^= 0x10;
         let e = refuse(&b);
         assert!(
-            matches!(e, RegionFormatError::HeaderChecksum { .. } | RegionFormatError::Truncated { .. }),
+            matches!(
+                e,
+                RegionFormatError::HeaderChecksum { .. } | RegionFormatError::Truncated { .. }
+            ),
             "byte {at}: {e}"
         );
     }
@@ -138,7 +153,10 @@ fn a_corrupt_chunk_is_reported_and_the_others_load() {
         .collect();
     assert!(in_file.len() > 1);
     for c in w.edited().filter(|&c| c != fault.coord) {
-        assert!(loaded.chunks().get(c) == w.chunks().get(c), "chunk {c:?} lost");
+        assert!(
+            loaded.chunks().get(c) == w.chunks().get(c),
+            "chunk {c:?} lost"
+        );
     }
     assert!(loaded.chunks().get(fault.coord).is_none());
 }
@@ -146,7 +164,11 @@ fn a_corrupt_chunk_is_reported_and_the_others_load() {
 fn region_of_file(path: &Path) -> Option<[i32; 3]> {
     let name = path.file_name()?.to_str()?;
     let mut it = name.strip_prefix("r.")?.strip_suffix(".vxr")?.split('.');
-    Some([it.next()?.parse().ok()?, it.next()?.parse().ok()?, it.next()?.parse().ok()?])
+    Some([
+        it.next()?.parse().ok()?,
+        it.next()?.parse().ok()?,
+        it.next()?.parse().ok()?,
+    ])
 }
 
 #[test]
