@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use mesher::lod::{NodeMesh, NodeMesher, NodeSettings, downsample_world};
 use mesher::{BlockClasses, MeshSettings};
 use proptest::prelude::*;
-use voxel_core::storage::{PaletteChunk, WorldMap};
+use voxel_core::storage::PaletteChunk;
 use voxel_core::{
     BlockId, ChunkCoord, ChunkSize, Material, MaterialPalette, PaddedChunk, WorldPos,
 };
@@ -159,6 +159,5 @@ proptest! {
             let expected = coarse.get(c).cloned().unwrap_or_else(|| PaletteChunk::new(SIZE));
             prop_assert!(node == expected, "level-1 node {:?}", c);
         }}}
-        let _: &WorldMap<PaletteChunk> = w.chunks();
     }
 }

@@ -40,7 +40,7 @@ fn batch(i: u64) -> Vec<Edit> {
                 (r() % 128) as i32 - 64,
             );
             let id = BlockId((r() % 4) as u16);
-            if r() % 4 == 0 {
+            if r().is_multiple_of(4) {
                 Edit::Sphere {
                     centre: p,
                     radius: 2,
