@@ -186,7 +186,7 @@ mod tests {
             }
             .bounds(),
             Err(EditError::TooLarge {
-                voxels: 1_002_001_001
+                voxels: 1_003_003_001
             })
         ));
         let sphere = Edit::Sphere {
