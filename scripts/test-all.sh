@@ -54,6 +54,7 @@ RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked
 
 section "examples"
 cargo run --locked -q -p examples --example host_wgpu
+cargo run --locked -q -p examples --example edit_remesh
 vox=../shared/data/vox/chr_knight.vox
 if [ -f "$vox" ]; then
     cargo run --locked -q -p examples --example vox_to_quads -- "$vox" "${CARGO_TARGET_DIR:-target}/chr_knight.quads"

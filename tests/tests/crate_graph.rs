@@ -66,6 +66,22 @@ fn the_backend_does_not_link_the_mesher() {
 }
 
 #[test]
+fn the_world_links_no_gpu_api_and_no_library_below_links_it() {
+    assert_lacks("voxel-world", "wgpu");
+    assert_lacks("voxel-world", "gpu-backend");
+    assert_lacks("voxel-world", "render-model");
+    for below in [
+        "voxel-core",
+        "mesher",
+        "voxel-scene",
+        "render-model",
+        "gpu-backend",
+    ] {
+        assert_lacks(below, "voxel-world");
+    }
+}
+
+#[test]
 fn the_reader_sees_what_a_crate_links() {
     let deps = normal_dependencies("gpu-backend");
     for expected in ["wgpu", "voxel-core", "render-model"] {

@@ -25,6 +25,8 @@ mod fuzz_mesher_seeds;
 mod fuzz_props_seeds;
 #[path = "../../fuzz/gltf_props_body.rs"]
 mod gltf_props_body;
+#[path = "../../fuzz/region_body.rs"]
+mod region_body;
 #[path = "../../fuzz/vox_body.rs"]
 mod vox_body;
 #[path = "../../fuzz/vox_gltf_body.rs"]
@@ -50,7 +52,7 @@ type Target = (&'static str, fn(&[u8]));
 
 /// The body of every fuzz target, in the order of `fuzz/Cargo.toml`. The list of targets
 /// replayed is `fuzz/fuzz_targets/` (see [`targets_on_disk`]); this only maps names to bodies.
-const TARGETS: [Target; 18] = [
+const TARGETS: [Target; 19] = [
     ("chunk_codec", bodies::chunk_codec),
     ("draw_block", bodies::draw_block),
     ("packed_quad", bodies::packed_quad),
@@ -69,6 +71,7 @@ const TARGETS: [Target; 18] = [
     ("vox_loader", vox_body::vox_loader),
     ("vox_gltf", vox_gltf_body::vox_gltf),
     ("gltf_props", gltf_props_body::gltf_props),
+    ("region", region_body::region),
 ];
 
 fn fuzz_dir() -> PathBuf {
@@ -243,6 +246,7 @@ fn seeds() -> Vec<(&'static str, Seeds)> {
         ("vox_loader", vox_loader_seeds()),
         ("vox_gltf", vox_gltf_seeds()),
         ("gltf_props", fuzz_props_seeds::gltf_props_seeds()),
+        ("region", region_seeds()),
     ]
 }
 
@@ -300,6 +304,56 @@ fn with_tail(mut bytes: Vec<u8>, tail: &[f32]) -> Vec<u8> {
         bytes.extend_from_slice(&f.to_le_bytes());
     }
     bytes
+}
+
+/// Region files: valid ones (air, mixed chunks, negative region), and each refusal: truncated,
+/// bad magic, newer version, header checksum, one corrupt chunk among good ones.
+fn region_seeds() -> Seeds {
+    use voxel_world::region::encode_region;
+    let size = ChunkSize::S8;
+    let stone = PaletteChunk::filled(size, BlockId(1));
+    let mixed = PaletteChunk::from_dense(&DenseChunk::from_fn(size, |p: LocalPos| {
+        BlockId(u16::from(p.y < 3) + u16::from(p.x == p.z))
+    }));
+    let with_size = |bytes: Vec<u8>| [vec![0u8], bytes].concat();
+    let good = encode_region(
+        [0, 0, 0],
+        size,
+        &[
+            (ChunkCoord::new(0, 0, 0), &stone),
+            (ChunkCoord::new(3, 1, 7), &mixed),
+        ],
+    );
+    let mut seeds = vec![
+        (
+            "valid-empty",
+            with_size(encode_region([0, 0, 0], size, &[])),
+        ),
+        ("valid-two-chunks", with_size(good.clone())),
+        (
+            "valid-negative-region",
+            with_size(encode_region(
+                [-1, -2, -3],
+                size,
+                &[(ChunkCoord::new(-1, -9, -17), &mixed)],
+            )),
+        ),
+        ("truncated", with_size(good[..good.len() - 3].to_vec())),
+    ];
+    let mut bad_magic = good.clone();
+    bad_magic[0] = b'X';
+    seeds.push(("bad-magic", with_size(bad_magic)));
+    let mut newer = good.clone();
+    newer[4] = 2;
+    seeds.push(("newer-version", with_size(newer)));
+    let mut header = good.clone();
+    header[30] ^= 1;
+    seeds.push(("header-checksum", with_size(header)));
+    let mut chunk = good.clone();
+    let last = chunk.len() - 1;
+    chunk[last] ^= 0x55;
+    seeds.push(("corrupt-chunk", with_size(chunk)));
+    seeds
 }
 
 fn chunk_codec_seeds() -> Seeds {

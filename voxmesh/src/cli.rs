@@ -14,7 +14,7 @@ pub const MAX_TERRAIN_SIDE: u32 = 4096;
 #[derive(Parser, Debug, Clone)]
 #[command(name = "voxmesh", version, about)]
 pub struct Args {
-    /// A MagicaVoxel .vox file, or terrain:SEED:SIDE for SIDE x SIDE columns of the built-in
+    /// A MagicaVoxel .vox file, world:DIR for a saved world, or terrain:SEED:SIDE for SIDE x SIDE columns of the built-in
     /// terrain.
     #[arg(value_parser = parse_input)]
     pub input: Input,
@@ -67,6 +67,9 @@ pub enum Input {
         /// Columns per side.
         side: u32,
     },
+    /// `world:DIR`: the chunks a world saved by `voxel-world` stores (its edited chunks, each
+    /// with the base blocks it holds), with the built-in terrain's palette.
+    World(PathBuf),
 }
 
 impl std::fmt::Display for Input {
@@ -74,6 +77,7 @@ impl std::fmt::Display for Input {
         match self {
             Input::Vox(path) => write!(f, "{}", path.display()),
             Input::Terrain { seed, side } => write!(f, "terrain:{seed}:{side}"),
+            Input::World(dir) => write!(f, "world:{}", dir.display()),
         }
     }
 }
@@ -107,8 +111,14 @@ pub enum Mode {
     Smooth,
 }
 
-/// `terrain:SEED:SIDE`, or else a path.
+/// `terrain:SEED:SIDE`, `world:DIR`, or else a path.
 fn parse_input(text: &str) -> Result<Input, String> {
+    if let Some(dir) = text.strip_prefix("world:") {
+        if dir.is_empty() {
+            return Err(format!("{text:?} names no folder: world:DIR"));
+        }
+        return Ok(Input::World(PathBuf::from(dir)));
+    }
     let Some(rest) = text.strip_prefix("terrain:") else {
         return Ok(Input::Vox(PathBuf::from(text)));
     };

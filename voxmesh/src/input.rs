@@ -63,7 +63,47 @@ pub fn load(input: &Input, size: ChunkSize, include_hidden: bool) -> Result<Scen
                 notes: Vec::new(),
             })
         }
+        Input::World(dir) => load_world(dir, size),
     }
+}
+
+/// The stored chunks of the world saved in `dir`, re-chunked into chunks of `size`, with the
+/// terrain's palette. A faulty chunk refuses the input by name (voxmesh does not write a mesh
+/// with a chunk missing).
+fn load_world(dir: &std::path::Path, size: ChunkSize) -> Result<Scene, Error> {
+    use voxel_core::storage::VoxelStorage;
+    let refuse = |message: String| Error::World {
+        path: dir.to_path_buf(),
+        message,
+    };
+    let (world, report) = voxel_world::World::load(voxel_world::AirBase, dir, 0)
+        .map_err(|e| refuse(e.to_string()))?;
+    if let Some((path, fault)) = report.faults.first() {
+        return Err(refuse(format!("{}: {fault}", path.display())));
+    }
+    let mut out: WorldMap<PaletteChunk> = WorldMap::new(size);
+    let mut voxel_count = 0;
+    for coord in world.edited() {
+        let Some(chunk) = world.chunks().get(coord) else {
+            continue;
+        };
+        for (local, id) in chunk.iter().filter(|(_, id)| !id.is_air()) {
+            let pos = coord
+                .world_pos(local, world.size())
+                .map_err(|e| refuse(e.to_string()))?;
+            out.set_block(pos, id);
+            voxel_count += 1;
+        }
+    }
+    let (palette, _) = voxel_scene::terrain::TerrainBlocks::palette();
+    let materials = palette.as_slice().iter().map(material_of).collect();
+    Ok(Scene {
+        world: out,
+        palette,
+        materials,
+        voxel_count,
+        notes: Vec::new(),
+    })
 }
 
 /// The export material of one of the renderer's materials (the built-in terrain's):
@@ -81,4 +121,34 @@ fn material_of(m: &voxel_core::Material) -> VoxMaterial {
         out.kind = VoxMaterialKind::Emit;
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use voxel_core::{BlockId, WorldPos};
+    use voxel_world::{AirBase, Edit, World};
+
+    #[test]
+    fn a_saved_world_is_read_into_any_chunk_size_and_a_missing_one_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut world = World::new(AirBase, ChunkSize::S8, 0).unwrap();
+        let (min, max) = (WorldPos::new(-3, 0, -3), WorldPos::new(9, 2, 4));
+        world
+            .apply(&[Edit::Box {
+                min,
+                max,
+                id: BlockId(2),
+            }])
+            .unwrap();
+        world.save(dir.path()).unwrap();
+        let input = Input::World(dir.path().to_path_buf());
+        let scene = load(&input, ChunkSize::S32, false).unwrap();
+        assert_eq!(scene.voxel_count, 13 * 3 * 8);
+        assert_eq!(scene.world.get_block(WorldPos::new(9, 2, 4)), BlockId(2));
+        assert_eq!(scene.world.get_block(WorldPos::new(10, 2, 4)), BlockId::AIR);
+        let missing = Input::World(dir.path().join("nothing"));
+        let e = load(&missing, ChunkSize::S32, false).unwrap_err();
+        assert!(e.to_string().contains("world.vxw"), "{e}");
+    }
 }

@@ -60,6 +60,13 @@ pub enum Error {
     },
     /// The mesher refused the input.
     Mesh(MeshError),
+    /// A saved world (`world:DIR`) that does not load.
+    World {
+        /// The world folder.
+        path: PathBuf,
+        /// Why.
+        message: String,
+    },
     /// The output does not fit its format.
     TooLarge(String),
     /// A number of the output is not finite (which one): glTF and OBJ cannot hold it.
@@ -92,6 +99,13 @@ impl fmt::Display for Error {
                 Ok(())
             }
             Error::Mesh(e) => write!(f, "meshing failed: {e}"),
+            Error::World { path, message } => {
+                write!(
+                    f,
+                    "cannot read the saved world {}: {message}",
+                    path.display()
+                )
+            }
             Error::TooLarge(what) => f.write_str(what),
             Error::NotFinite(what) => write!(f, "cannot write a number that is not finite: {what}"),
             Error::SameFile(path) => write!(

@@ -1,0 +1,304 @@
+//! [`World`]: level-0 chunks from a [`Base`], changed by [`Edit`]s, with the [`DirtySet`] of
+//! every batch and the level-of-detail nodes rebuilt from the edited data.
+
+use std::collections::{BTreeSet, HashSet};
+
+use mesher::BlockClasses;
+use mesher::lod::downsample_chunk;
+use voxel_core::storage::{DenseChunk, PaletteChunk, VoxelStorage, WorldMap, gather_neighbourhood};
+use voxel_core::{ChunkCoord, ChunkSize, PaddedChunk, WorldPos};
+
+use crate::{Base, DirtySet, Edit, WorldError};
+
+/// The most levels above level 0 a world tracks: a level-30 voxel is as wide as the world.
+pub const MAX_LEVEL: u32 = 30;
+
+/// An editable world: a [`Base`] where nothing is edited, stored chunks where something is.
+///
+/// A chunk is *materialized* (copied from the base into [`chunks`](World::chunks)) the first
+/// time an edit or a gather reads it; edits change stored chunks only, so the base is never
+/// written. [`apply`](World::apply) returns the batch's [`DirtySet`] for levels `0..=top`.
+#[derive(Debug)]
+pub struct World<B> {
+    base: B,
+    size: ChunkSize,
+    top: u32,
+    chunks: WorldMap<PaletteChunk>,
+    present: HashSet<ChunkCoord>,
+    edited: BTreeSet<ChunkCoord>,
+    unsaved: BTreeSet<ChunkCoord>,
+}
+
+impl<B: Base> World<B> {
+    /// A world of chunks of `size` over `base`, whose dirty sets cover levels `0..=top`.
+    pub fn new(base: B, size: ChunkSize, top: u32) -> Result<World<B>, WorldError> {
+        if top > MAX_LEVEL {
+            return Err(WorldError::BadLevel { level: top });
+        }
+        Ok(World {
+            base,
+            size,
+            top,
+            chunks: WorldMap::new(size),
+            present: HashSet::new(),
+            edited: BTreeSet::new(),
+            unsaved: BTreeSet::new(),
+        })
+    }
+
+    /// The chunk size.
+    pub fn size(&self) -> ChunkSize {
+        self.size
+    }
+
+    /// The highest level the dirty sets cover.
+    pub fn top_level(&self) -> u32 {
+        self.top
+    }
+
+    /// The base.
+    pub fn base(&self) -> &B {
+        &self.base
+    }
+
+    /// The materialized level-0 chunks (all-air chunks are not stored: they read as air). A
+    /// mesher reads this map directly once [`materialize_ring`](Self::materialize_ring) has
+    /// stored the chunks it gathers.
+    pub fn chunks(&self) -> &WorldMap<PaletteChunk> {
+        &self.chunks
+    }
+
+    /// Level-0 chunks holding an edit, sorted: what a save stores.
+    pub fn edited(&self) -> impl Iterator<Item = ChunkCoord> + '_ {
+        self.edited.iter().copied()
+    }
+
+    /// Edited chunks changed since the last save or load, sorted.
+    pub fn unsaved(&self) -> impl Iterator<Item = ChunkCoord> + '_ {
+        self.unsaved.iter().copied()
+    }
+
+    pub(crate) fn mark_saved(&mut self) {
+        self.unsaved.clear();
+    }
+
+    /// Stores a loaded chunk as edited (it replaces whatever was materialized there).
+    pub(crate) fn insert_edited(
+        &mut self,
+        coord: ChunkCoord,
+        chunk: PaletteChunk,
+    ) -> Result<(), WorldError> {
+        if chunk.non_air_count() == 0 {
+            self.chunks.remove(coord);
+        } else {
+            self.chunks
+                .insert(coord, chunk)
+                .map_err(|e| WorldError::Base {
+                    coord,
+                    message: e.to_string(),
+                })?;
+        }
+        self.present.insert(coord);
+        self.edited.insert(coord);
+        Ok(())
+    }
+
+    /// Copies chunk `coord` from the base unless it is stored already.
+    pub fn materialize(&mut self, coord: ChunkCoord) -> Result<(), WorldError> {
+        if self.present.contains(&coord) {
+            return Ok(());
+        }
+        let mut chunk = PaletteChunk::new(self.size);
+        self.base
+            .fill_chunk(coord, &mut chunk)
+            .map_err(|message| WorldError::Base { coord, message })?;
+        if chunk.size() != self.size {
+            return Err(WorldError::Base {
+                coord,
+                message: format!(
+                    "base gave a chunk of {:?}, not {:?}",
+                    chunk.size(),
+                    self.size
+                ),
+            });
+        }
+        if chunk.non_air_count() > 0 {
+            // Sizes match: insert cannot refuse it.
+            let _ = self.chunks.insert(coord, chunk);
+        }
+        self.present.insert(coord);
+        Ok(())
+    }
+
+    /// Materializes chunk `coord` and its 26 neighbours: everything a gather of `coord` reads.
+    pub fn materialize_ring(&mut self, coord: ChunkCoord) -> Result<(), WorldError> {
+        for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    if let Ok(n) = coord.checked_offset([dx, dy, dz]) {
+                        self.materialize(n)?;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The block at `pos` (materializing its chunk).
+    pub fn block(&mut self, pos: WorldPos) -> Result<voxel_core::BlockId, WorldError> {
+        let (coord, _) = pos.split(self.size);
+        self.materialize(coord)?;
+        Ok(self.chunks.get_block(pos))
+    }
+
+    /// Fills `out` with level-0 chunk `coord` and its border, materializing what it reads.
+    pub fn gather_chunk(
+        &mut self,
+        coord: ChunkCoord,
+        out: &mut PaddedChunk,
+    ) -> Result<(), WorldError> {
+        self.materialize_ring(coord)?;
+        gather_neighbourhood(&self.chunks, coord, out);
+        Ok(())
+    }
+
+    /// Applies `edits` in order and returns what they dirty. Every edit is checked first: a
+    /// refused edit leaves the world unchanged. Writing a block's own id changes nothing and
+    /// dirties nothing.
+    pub fn apply(&mut self, edits: &[Edit]) -> Result<DirtySet, WorldError> {
+        let bounds = edits
+            .iter()
+            .map(|e| e.bounds().map_err(WorldError::Edit))
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut dirty = DirtySet::new(self.top);
+        let size = self.size;
+        let e = size.edge() as i32;
+        for (edit, (min, max)) in edits.iter().zip(bounds) {
+            let id = edit.id();
+            let (cmin, _) = min.split(size);
+            let (cmax, _) = max.split(size);
+            for cz in cmin.z..=cmax.z {
+                for cy in cmin.y..=cmax.y {
+                    for cx in cmin.x..=cmax.x {
+                        let coord = ChunkCoord::new(cx, cy, cz);
+                        self.materialize(coord)?;
+                        // The chunk's blocks inside the edit's box, in i64 (no overflow at the
+                        // ends of the i32 range).
+                        let lo = |c: i32, m: i32| (i64::from(c) * i64::from(e)).max(i64::from(m));
+                        let hi = |c: i32, m: i32| {
+                            (i64::from(c) * i64::from(e) + i64::from(e) - 1).min(i64::from(m))
+                        };
+                        let mut changed_here = false;
+                        for z in lo(cz, min.z)..=hi(cz, max.z) {
+                            for y in lo(cy, min.y)..=hi(cy, max.y) {
+                                for x in lo(cx, min.x)..=hi(cx, max.x) {
+                                    let pos = WorldPos::new(x as i32, y as i32, z as i32);
+                                    if !edit.covers(pos) {
+                                        continue;
+                                    }
+                                    let old = self.chunks.set_block(pos, id);
+                                    if old != id {
+                                        dirty.add_voxel(pos, coord, size);
+                                        changed_here = true;
+                                    }
+                                }
+                            }
+                        }
+                        if changed_here {
+                            if self
+                                .chunks
+                                .get(coord)
+                                .is_some_and(|c| c.non_air_count() == 0)
+                            {
+                                self.chunks.remove(coord);
+                            }
+                            self.edited.insert(coord);
+                            self.unsaved.insert(coord);
+                        }
+                    }
+                }
+            }
+        }
+        Ok(dirty)
+    }
+
+    /// The voxels of node `coord` of `level`, rebuilt from the edited level-0 data by the
+    /// mesher's downsampling rule (`mesher::lod`), never from the base's own coarse levels:
+    /// level `k` is downsampled from the 8 nodes of level `k - 1` under it, down to the
+    /// materialized level-0 chunks. It reads `8^level` level-0 chunks, so it is meant for the
+    /// nodes of a [`DirtySet`] at the few levels above the edit.
+    pub fn lod_node(
+        &mut self,
+        level: u32,
+        coord: ChunkCoord,
+        classes: &BlockClasses,
+    ) -> Result<PaletteChunk, WorldError> {
+        if level > MAX_LEVEL {
+            return Err(WorldError::BadLevel { level });
+        }
+        if level == 0 {
+            self.materialize(coord)?;
+            return Ok(self
+                .chunks
+                .get(coord)
+                .cloned()
+                .unwrap_or_else(|| PaletteChunk::new(self.size)));
+        }
+        let mut children: Vec<PaletteChunk> = Vec::with_capacity(8);
+        for d in 0..8i64 {
+            let c = [coord.x, coord.y, coord.z].map(i64::from);
+            let child = [
+                c[0] * 2 + (d & 1),
+                c[1] * 2 + ((d >> 1) & 1),
+                c[2] * 2 + (d >> 2),
+            ];
+            match child.map(i32::try_from) {
+                [Ok(x), Ok(y), Ok(z)] => {
+                    children.push(self.lod_node(level - 1, ChunkCoord::new(x, y, z), classes)?)
+                }
+                // Past the i32 chunk range: no blocks there.
+                _ => children.push(PaletteChunk::new(self.size)),
+            }
+        }
+        let mut out = DenseChunk::new(self.size);
+        downsample_chunk(
+            |dx, dy, dz| children.get((dx + 2 * dy + 4 * dz) as usize),
+            classes,
+            &mut out,
+        )
+        .map_err(|error| WorldError::Mesh {
+            level,
+            coord,
+            error,
+        })?;
+        Ok(PaletteChunk::from_dense(&out))
+    }
+
+    /// Fills `out` with the padded neighbourhood of node `coord` of `level`, every node of it
+    /// rebuilt by [`lod_node`](Self::lod_node) (at level 0, [`gather_chunk`](Self::gather_chunk)).
+    pub fn gather_node(
+        &mut self,
+        level: u32,
+        coord: ChunkCoord,
+        classes: &BlockClasses,
+        out: &mut PaddedChunk,
+    ) -> Result<(), WorldError> {
+        if level == 0 {
+            return self.gather_chunk(coord, out);
+        }
+        let mut ring: WorldMap<PaletteChunk> = WorldMap::new(self.size);
+        for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    if let Ok(n) = coord.checked_offset([dx, dy, dz]) {
+                        let node = self.lod_node(level, n, classes)?;
+                        // Same size: insert cannot refuse it.
+                        let _ = ring.insert(n, node);
+                    }
+                }
+            }
+        }
+        gather_neighbourhood(&ring, coord, out);
+        Ok(())
+    }
+}
