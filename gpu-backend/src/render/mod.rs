@@ -51,6 +51,7 @@ pub mod external;
 pub mod far;
 mod fit;
 pub mod passes;
+pub mod props;
 mod renderer;
 
 pub use error::RenderError;
