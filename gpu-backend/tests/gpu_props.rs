@@ -298,3 +298,57 @@ fn a_duck_at_two_to_the_thirty_renders_like_one_at_the_origin() {
     assert!(images[0].rgba == images[1].rgba, "colour differs at 2^30");
     assert!(images[0].depth == images[1].depth, "depth differs at 2^30");
 }
+
+/// A 16 x 16 wall facing +z at z = 9 in chunk (0, 0, 0), and the duck at z = 4 behind it or
+/// at z = 11 in front of it, seen from z = 15 with occlusion culling: behind, the cull keeps
+/// none of its instances (read back) and the image shows only the wall; in front, it keeps
+/// them, and without the wall too.
+#[test]
+fn a_prop_behind_a_wall_is_occlusion_culled() {
+    use gpu_backend::render::RenderError;
+    use render_model::resident::ChunkMeshData;
+    use voxel_core::formats::{ChunkLayersData, PackedQuad, PackedQuadFields};
+    use voxel_core::{BlockId, ChunkCoord, FaceDirection};
+    let Some(model) = sample("Duck.glb") else {
+        return;
+    };
+    let wall = [PackedQuad::encode(&PackedQuadFields {
+        position: [0, 0, 8],
+        width: 16,
+        height: 16,
+        face: FaceDirection::PosZ,
+        ao: [3; 4],
+        block: BlockId(1),
+    })
+    .unwrap()];
+    let mut counts = Vec::new();
+    for (z, walled) in [(4, true), (11, true), (4, false)] {
+        let Some(mut r) = renderer(true) else {
+            return;
+        };
+        if walled {
+            let mut layers = ChunkLayersData::default();
+            layers.opaque_quads[FaceDirection::PosZ.index() as usize] = &wall;
+            r.upload_chunk(&ChunkMeshData {
+                coord: ChunkCoord::new(0, 0, 0),
+                lod: 0,
+                layers,
+            })
+            .unwrap();
+        }
+        let id = r.add_prop_model(&model).unwrap();
+        let at = PropPlacement::new(WorldPos::new(8, 6, z), IDENTITY).unwrap();
+        r.create_prop(id, at).unwrap();
+        let cam = look_at(DVec3::new(8.5, 7.0, 15.5), DVec3::new(8.5, 6.5, 0.0));
+        // The first frame's early phase draws nothing (nothing was visible before): the
+        // pyramid holds the wall from the second frame on.
+        for _ in 0..3 {
+            gpu(&mut r, &cam);
+        }
+        let drawn: Result<u64, RenderError> = r.read_props_drawn();
+        counts.push(drawn.unwrap());
+    }
+    assert_eq!(counts[0], 0, "behind the wall: no instance drawn");
+    assert!(counts[1] > 0, "in front of the wall: drawn ({counts:?})");
+    assert!(counts[2] > 0, "no wall: drawn ({counts:?})");
+}

@@ -210,6 +210,27 @@ impl Renderer {
         self.props.set_visible(id, visible)
     }
 
+    /// Prop instances the last frame's cull kept (the sum of every batch's drawn count, read
+    /// back: waits for the GPU). 0 when no prop instance exists.
+    pub fn read_props_drawn(&self) -> Result<u64, RenderError> {
+        let Some(b) = self.props.buffers() else {
+            return Ok(0);
+        };
+        let bytes = crate::readback::read_buffer(
+            &self.device,
+            &self.queue,
+            &b.batches,
+            0,
+            u64::from(self.props.registry().batch_count()) * 48,
+        )?;
+        let records: Vec<render_model::props::PropBatchRecord> =
+            bytemuck::pod_collect_to_vec(&bytes);
+        Ok(records
+            .iter()
+            .map(|r| u64::from(r.args.instance_count))
+            .sum())
+    }
+
     /// The props (registry and GPU buffers: tests read the batch records back from them).
     pub fn props(&self) -> &GpuProps {
         &self.props
