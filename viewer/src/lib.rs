@@ -17,6 +17,7 @@ pub mod controls;
 pub mod flight;
 pub mod gpu_view;
 pub mod headless;
+pub mod props;
 pub mod scene;
 pub mod screenshot;
 pub mod stream;
