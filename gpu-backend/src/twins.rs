@@ -534,7 +534,10 @@ mod props {
                 ("base_colour", offset_of!(PropMaterialUniform, base_colour)),
                 ("cutoff", offset_of!(PropMaterialUniform, cutoff)),
                 ("textured", offset_of!(PropMaterialUniform, textured)),
-                ("double_sided", offset_of!(PropMaterialUniform, double_sided)),
+                (
+                    "double_sided",
+                    offset_of!(PropMaterialUniform, double_sided)
+                ),
                 ("pad", offset_of!(PropMaterialUniform, pad)),
             ])
         );

@@ -79,7 +79,9 @@ fn look_at(eye: DVec3, target: DVec3) -> Camera {
 /// A camera looking at the model's bounds from the front-right, above.
 fn camera_for(model: &PropModel, offset: i32) -> Camera {
     let b = model.bounds.expect("placed geometry");
-    let c = DVec3::from_array(std::array::from_fn(|i| f64::from(b.min[i] + b.max[i]) / 2.0));
+    let c = DVec3::from_array(std::array::from_fn(|i| {
+        f64::from(b.min[i] + b.max[i]) / 2.0
+    }));
     let r = (0..3)
         .map(|i| f64::from(b.max[i] - b.min[i]))
         .fold(0.0, f64::max);
@@ -200,7 +202,10 @@ fn compare(name: &str, g: &FrameImage, c: &PropFrame) {
         write_png(&dir.join("gpu.png"), &g.rgba);
         write_png(&dir.join("cpu.png"), &c.rgba);
         write_png(&dir.join("diff.png"), &diff);
-        panic!("{name}: GPU image differs from the CPU reference; see {}", dir.display());
+        panic!(
+            "{name}: GPU image differs from the CPU reference; see {}",
+            dir.display()
+        );
     }
 }
 
@@ -216,7 +221,10 @@ fn sample_matches(name: &str) {
     let cam = camera_for(&model, 0);
     let g = gpu(&mut r, &cam);
     let c = cpu(&model, placement(0), &cam);
-    assert!(drawn(&c.depth) > 1000, "{name}: the reference draws the prop");
+    assert!(
+        drawn(&c.depth) > 1000,
+        "{name}: the reference draws the prop"
+    );
     compare(name, &g, &c);
 }
 
@@ -249,7 +257,11 @@ fn props_are_shown_hidden_moved_and_deleted_by_handle() {
     r.set_prop_visible(prop, false).unwrap();
     assert_eq!(drawn(&gpu(&mut r, &cam).depth), 0, "hidden: nothing drawn");
     r.set_prop_visible(prop, true).unwrap();
-    assert_eq!(gpu(&mut r, &cam).rgba, shown.rgba, "shown again: the same image");
+    assert_eq!(
+        gpu(&mut r, &cam).rgba,
+        shown.rgba,
+        "shown again: the same image"
+    );
 
     // Moved: the image of the moved prop, as the reference draws it there.
     let moved = PropPlacement::new(WorldPos::new(0, 0, -1), IDENTITY).unwrap();

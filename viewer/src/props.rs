@@ -67,7 +67,9 @@ pub fn parse_scatter(text: &str) -> Result<ScatterFlag, String> {
     if file.is_empty() {
         return Err(bad("no file"));
     }
-    let count: u32 = count.parse().map_err(|_| bad("COUNT is not a whole number"))?;
+    let count: u32 = count
+        .parse()
+        .map_err(|_| bad("COUNT is not a whole number"))?;
     if !(1..=10_000_000).contains(&count) {
         return Err(bad("COUNT must be 1 to 10000000"));
     }
@@ -195,7 +197,14 @@ mod tests {
         assert_eq!(p.position, [1.0, 2.5, -3.0]);
         assert_eq!(p.scale, 1.0);
         assert_eq!(parse_prop("d.glb@0,0,0,2").unwrap().scale, 2.0);
-        for bad in ["d.glb", "@1,2,3", "d.glb@1,2", "d.glb@1,2,x", "d.glb@1,2,3,0", "d.glb@1,2,inf"] {
+        for bad in [
+            "d.glb",
+            "@1,2,3",
+            "d.glb@1,2",
+            "d.glb@1,2,x",
+            "d.glb@1,2,3,0",
+            "d.glb@1,2,inf",
+        ] {
             assert!(parse_prop(bad).unwrap_err().contains("prop"), "{bad}");
         }
         assert_eq!(parse_scatter("d.glb:10").unwrap().count, 10);

@@ -123,21 +123,23 @@ impl PropsPass {
                     },
                 })
             };
-            let mut pass = rec.encoder().begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("props"),
-                color_attachments: &[attachment(&t.albedo), attachment(&t.normal)],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &t.depth,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
+            let mut pass = rec
+                .encoder()
+                .begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("props"),
+                    color_attachments: &[attachment(&t.albedo), attachment(&t.normal)],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &t.depth,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Load,
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
                     }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
             pass.set_bind_group(0, ctx.frame_group, &[]);
             pass.set_bind_group(1, &group, &[]);
             for (b, batch) in props.registry().batch_records().iter().enumerate() {
