@@ -13,6 +13,8 @@
 //!                  ─► gbuffer (raster opaque quads, smooth quads, raster far draws)
 //!    hiz: the depth pyramid from the G-buffer depth and the visibility buffer
 //!    late phase:   cull of the rest against the pyramid ─► the same draws for what it adds
+//!    prop cull (glTF props: per instance, frustum and this frame's pyramid) ─► props (one
+//!       indexed indirect draw per batch into the G-buffer; see [`props`])
 //!    cull transparent (ordered, back to front) ─► lighting (compute or fragment)
 //!    ─► transparent (blended, hidden behind the depth and the visibility buffer)
 //!    ─► tonemap ─► Rgba8 sRGB output (read back with read_image; present blits it to a
@@ -44,7 +46,8 @@
 //! name their record through `first_instance`; without it [`Renderer::new`] returns
 //! [`RenderError::MissingFeature`]. Both `MultiDrawPath`s and both `TimingPath`s work.
 //!
-//! **Not drawn:** clutter units, shadows, textures.
+//! **Not drawn:** clutter units, shadows, voxel textures (glTF props have their base colour
+//! textures), the props' emissive term and sorted blending of BLEND props ([`props`]).
 
 mod error;
 pub mod external;
