@@ -124,7 +124,7 @@ fn scaled(scale: f64) -> [[f32; 4]; 4] {
 /// Scatter positions: a square of half width `radius` around the origin, SplitMix64 from a
 /// fixed seed.
 fn scatter_points(count: u32, radius: f64) -> impl Iterator<Item = (f64, f64)> {
-    let mut state = 0x5eed_0f_0905_u64;
+    let mut state = 0x005e_ed0f_0905_u64;
     let mut next = move || {
         state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
         let mut z = state;
