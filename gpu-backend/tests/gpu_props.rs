@@ -284,6 +284,12 @@ fn props_are_shown_hidden_moved_and_deleted_by_handle() {
         r.set_prop_placement(prop, moved),
         Err(PropError::StaleProp(_))
     ));
+    // A model id that was never added is refused by name.
+    let unknown = gpu_backend::render::props::PropModelId(7);
+    assert!(matches!(
+        r.create_prop(unknown, placement(0)),
+        Err(PropError::UnknownModel(m)) if m == unknown
+    ));
     // A new prop reusing the index does not revive the old handle.
     let again = r.create_prop(id, placement(0)).unwrap();
     assert_ne!(again, prop);
