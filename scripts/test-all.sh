@@ -64,6 +64,15 @@ elif [ "${CI:-}" = true ]; then
 else
     echo "skipped: vox_to_quads example: no sample data ($vox)"
 fi
+duck=../shared/data/gltf/Duck.glb
+if [ -f "$duck" ]; then
+    cargo run --locked -q -p examples --example host_props -- "$duck"
+elif [ "${CI:-}" = true ]; then
+    echo "error: $duck is missing; CI must have ../shared beside the checkout" >&2
+    exit 1
+else
+    echo "skipped: host_props example: no sample data ($duck)"
+fi
 
 section "tests (unit, property, integration, fuzz-corpus replay, doc)"
 cargo test --workspace --locked
@@ -73,5 +82,8 @@ cargo test --workspace --locked
 section "glTF props with Draco (feature draco)"
 cargo clippy -p voxel-scene -p voxel-reference --features voxel-scene/draco,voxel-reference/draco --all-targets --locked -- -D warnings
 cargo test -p voxel-scene -p voxel-reference --features voxel-scene/draco,voxel-reference/draco --locked
+# The GPU prop image tests with the two Draco samples (gpu-backend `draco`).
+cargo clippy -p gpu-backend --features draco --tests --locked -- -D warnings
+cargo test -p gpu-backend --features draco --test gpu_props --locked
 section ""
 echo "== all checks and tests passed in $SECONDS s"

@@ -56,6 +56,30 @@ pub const GBUFFER: ShaderSpec = ShaderSpec {
     ),
 };
 
+/// The prop cull (entry points `prop_zero`, `prop_cull`; see
+/// [`crate::render::passes::prop_cull`]).
+pub const PROP_CULL: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "prop_cull",
+    body: concat!(
+        include_str!("shaders/prop_records.wgsl"),
+        include_str!("shaders/hiz_test.wgsl"),
+        include_str!("render/passes/prop_cull.wgsl")
+    ),
+};
+
+/// The prop draw into the G-buffer (entry points `vs_prop`, `fs_prop`; see
+/// [`crate::render::passes::props`]).
+pub const PROPS: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "props",
+    body: concat!(
+        include_str!("shaders/render_common.wgsl"),
+        include_str!("shaders/prop_records.wgsl"),
+        include_str!("render/passes/props.wgsl")
+    ),
+};
+
 /// The transparent pass (entry points `vs_quad_transparent`, `fs_transparent`,
 /// `fs_transparent_over_visibility`; see [`crate::render::passes::transparent`]).
 pub const TRANSPARENT: ShaderSpec = ShaderSpec {
@@ -278,6 +302,8 @@ pub const ALL_SHADERS: &[ShaderSpec] = &[
     QUAD_RASTER_ARGS,
     GRASS,
     GRASS_CULL,
+    PROP_CULL,
+    PROPS,
 ];
 
 /// `FORMATS_WGSL` followed by `body`: the one place shader sources are put together.

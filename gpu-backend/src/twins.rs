@@ -538,3 +538,127 @@ mod grass {
         );
     }
 }
+
+mod props {
+    use std::mem::offset_of;
+
+    use render_model::props::*;
+
+    use crate::render::props::PropMaterialUniform;
+    use crate::shaders::{PROP_CULL, PROPS, ShaderSpec, struct_layout, validate_with};
+
+    fn module(spec: ShaderSpec) -> naga::Module {
+        validate_with(spec.name, &spec.source(), spec.capabilities)
+            .unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    fn want(list: &[(&str, usize)]) -> Vec<(String, usize)> {
+        list.iter().map(|(n, o)| (n.to_string(), *o)).collect()
+    }
+
+    #[test]
+    fn instance_record_matches_its_wgsl_twin() {
+        for spec in [PROP_CULL, PROPS] {
+            let (got, size) = struct_layout(&module(spec), "PropInstance");
+            assert_eq!(size, size_of::<PropInstanceRecord>());
+            let local = offset_of!(PropInstanceRecord, local);
+            assert_eq!(
+                got,
+                want(&[
+                    ("anchor_x", 0),
+                    ("anchor_y", 4),
+                    ("anchor_z", 8),
+                    ("batch", offset_of!(PropInstanceRecord, batch)),
+                    ("local", local),
+                ])
+            );
+        }
+    }
+
+    #[test]
+    fn batch_record_matches_its_wgsl_twin() {
+        let (got, size) = struct_layout(&module(PROP_CULL), "PropBatch");
+        assert_eq!(size, size_of::<PropBatchRecord>());
+        let args = offset_of!(PropBatchRecord, args);
+        let centre = offset_of!(PropBatchRecord, sphere_centre);
+        assert_eq!(
+            got,
+            want(&[
+                ("index_count", args),
+                ("instance_count", args + 4),
+                ("first_index", args + 8),
+                ("base_vertex", args + 12),
+                ("first_instance", args + 16),
+                ("visible_count", offset_of!(PropBatchRecord, visible_count)),
+                ("live_count", offset_of!(PropBatchRecord, live_count)),
+                ("material", offset_of!(PropBatchRecord, material)),
+                ("sphere_x", centre),
+                ("sphere_y", centre + 4),
+                ("sphere_z", centre + 8),
+                ("sphere_radius", offset_of!(PropBatchRecord, sphere_radius)),
+            ])
+        );
+        // The args are wgpu's DrawIndexedIndirect bytes.
+        assert_eq!(size_of::<wgpu::util::DrawIndexedIndirectArgs>(), 20);
+    }
+
+    #[test]
+    fn cull_uniforms_match_their_wgsl_twin() {
+        for spec in [PROP_CULL, PROPS] {
+            let (got, size) = struct_layout(&module(spec), "PropCullUniforms");
+            assert_eq!(size, size_of::<PropCullUniforms>());
+            assert_eq!(
+                got,
+                want(&[
+                    ("view_proj", offset_of!(PropCullUniforms, view_proj)),
+                    ("planes", offset_of!(PropCullUniforms, planes)),
+                    ("eye_voxel", offset_of!(PropCullUniforms, eye_voxel)),
+                    ("slot_count", offset_of!(PropCullUniforms, slot_count)),
+                    ("eye_fraction", offset_of!(PropCullUniforms, eye_fraction)),
+                    ("near", offset_of!(PropCullUniforms, near)),
+                    ("screen", offset_of!(PropCullUniforms, screen)),
+                    ("flags", offset_of!(PropCullUniforms, flags)),
+                    ("batch_count", offset_of!(PropCullUniforms, batch_count)),
+                ])
+            );
+        }
+    }
+
+    #[test]
+    fn material_uniform_matches_its_wgsl_twin() {
+        let (got, size) = struct_layout(&module(PROPS), "PropMaterial");
+        assert_eq!(size, size_of::<PropMaterialUniform>());
+        assert_eq!(
+            got,
+            want(&[
+                ("base_colour", offset_of!(PropMaterialUniform, base_colour)),
+                ("cutoff", offset_of!(PropMaterialUniform, cutoff)),
+                ("textured", offset_of!(PropMaterialUniform, textured)),
+                (
+                    "double_sided",
+                    offset_of!(PropMaterialUniform, double_sided)
+                ),
+                ("pad", offset_of!(PropMaterialUniform, pad)),
+            ])
+        );
+    }
+
+    #[test]
+    fn constants_match_their_wgsl_twins() {
+        let m = module(PROP_CULL);
+        let value = |name: &str| {
+            let (_, c) = m
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name))
+                .unwrap_or_else(|| panic!("no constant {name}"));
+            match m.global_expressions[c.init] {
+                naga::Expression::Literal(naga::Literal::U32(v)) => v,
+                ref e => panic!("{name} is not a u32 literal: {e:?}"),
+            }
+        };
+        assert_eq!(value("PROP_NO_BATCH"), NO_BATCH);
+        assert_eq!(value("PROP_CULL_FRUSTUM"), PROP_CULL_FRUSTUM);
+        assert_eq!(value("PROP_CULL_OCCLUSION"), PROP_CULL_OCCLUSION);
+    }
+}

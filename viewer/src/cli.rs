@@ -10,6 +10,8 @@ use viewer::stream::settings::{FAR_CHOICES, MAX_RADIUS};
 use viewer::stream::{MesherMode, StreamSettings};
 use voxel_core::ChunkSize;
 
+use viewer::props::{PropFlag, ScatterFlag, parse_prop, parse_scatter};
+
 use crate::camera_arg::{CameraArg, parse_camera, parse_fov};
 
 /// Shows the built-in procedural terrain (streamed around the camera) or a MagicaVoxel file,
@@ -121,6 +123,14 @@ pub(crate) struct Args {
     /// print frame-time percentiles (CPU, GPU, frame) and nodes streamed per second.
     #[arg(long, value_name = "SECONDS", value_parser = parse_seconds, allow_hyphen_values = true, conflicts_with_all = ["window", "vox", "chunks", "cpu", "camera"])]
     pub flight: Option<f64>,
+    /// Streamed terrain: place the glTF model FILE with its origin at world X,Y,Z (blocks),
+    /// scaled by SCALE (default 1). Repeatable.
+    #[arg(long = "prop", value_name = "FILE@X,Y,Z[,SCALE]", value_parser = parse_prop, allow_hyphen_values = true, conflicts_with_all = ["vox", "chunks", "cpu"])]
+    pub props: Vec<PropFlag>,
+    /// Streamed terrain: place COUNT instances of the glTF model FILE on the terrain surface
+    /// within 256 blocks of the origin (a fixed seed: every run alike). Repeatable.
+    #[arg(long = "scatter", value_name = "FILE:COUNT", value_parser = parse_scatter, conflicts_with_all = ["vox", "chunks", "cpu"])]
+    pub scatters: Vec<ScatterFlag>,
     /// With --flight: also write the figures as JSON to this file.
     #[arg(long, value_name = "FILE", requires = "flight")]
     pub json: Option<PathBuf>,

@@ -18,6 +18,7 @@ pub mod flight;
 pub mod gpu_view;
 pub mod headless;
 pub mod pass_times;
+pub mod props;
 pub mod scene;
 pub mod screenshot;
 pub mod stream;

@@ -95,7 +95,13 @@ fn main() -> ExitCode {
         },
         (None, Some(n)) => Shown::Fixed(terrain_scene(args.seed, ChunkSize::S32, n, 2, n)),
         (None, None) => {
-            let settings = args.stream_settings();
+            let settings = match with_props(&args, args.stream_settings()) {
+                Ok(s) => s,
+                Err(e) => {
+                    eprintln!("viewer: {e}");
+                    return ExitCode::FAILURE;
+                }
+            };
             if let Err(e) = settings.clone().validate() {
                 eprintln!("viewer: {e}");
                 return ExitCode::FAILURE;
@@ -377,6 +383,26 @@ fn write_png(path: &Path, width: u32, height: u32, rgba: &[u8], what: &str) -> E
 
 /// `--flight SECONDS`: flies the scripted path headless on the GPU and prints (and with
 /// `--json`, writes) the figures.
+/// `settings` with the props of `--prop` and `--scatter` loaded and placed (scattered ones
+/// on the terrain of `--seed`, within 256 blocks of the origin).
+fn with_props(
+    args: &Args,
+    mut settings: StreamSettings,
+) -> Result<StreamSettings, viewer::props::PropSceneError> {
+    if args.props.is_empty() && args.scatters.is_empty() {
+        return Ok(settings);
+    }
+    let terrain = Terrain::new(args.seed, TerrainBlocks::palette().1);
+    let scene = viewer::props::prop_scene(&args.props, &args.scatters, &terrain, 256.0)?;
+    eprintln!(
+        "viewer: {} prop instances of {} models",
+        scene.placements.len(),
+        scene.models.len()
+    );
+    settings.props = Some(std::sync::Arc::new(scene));
+    Ok(settings)
+}
+
 fn flight(args: &Args, seconds: f64) -> ExitCode {
     let ctx = match GpuContext::new_headless(&DeviceOptions::default()) {
         Ok(ctx) => ctx,
@@ -385,7 +411,13 @@ fn flight(args: &Args, seconds: f64) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let settings = args.stream_settings();
+    let settings = match with_props(args, args.stream_settings()) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("viewer: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
     let terrain = Terrain::new(args.seed, TerrainBlocks::palette().1);
     // Above the highest hills at the origin, so the climb starts clear of the ground.
     let height = f64::from(terrain.height(0, 0).max(terrain.sea_level) + 24);

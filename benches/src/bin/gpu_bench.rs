@@ -126,6 +126,14 @@ struct Args {
     /// Write the last setting's image to this PNG.
     #[arg(long)]
     png: Option<std::path::PathBuf>,
+    /// Instead of the terrain: N instances of the sample prop (`--prop-file`) on a grid, the
+    /// prop cull and draw GPU times, instances drawn and the CPU time per frame, at N and at
+    /// N / 100.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
+    props: Option<u32>,
+    /// The glTF file `--props` places.
+    #[arg(long, default_value = "../shared/data/gltf/Duck.glb")]
+    prop_file: std::path::PathBuf,
     /// Write the full-detail image to this PNG.
     #[arg(long)]
     reference_png: Option<std::path::PathBuf>,
@@ -140,6 +148,33 @@ fn parse_on_off(text: &str) -> Result<bool, String> {
     }
 }
 
+/// `--props N`: the prop figures at N / 100 (at least 1) and at N.
+fn bench_props_at(args: &Args, n: u32) -> Result<(), Box<dyn std::error::Error>> {
+    let ctx = GpuContext::new_headless(&DeviceOptions::default())?;
+    eprintln!("adapter: {}", ctx.capabilities.adapter);
+    println!(
+        "props ({}, {}x{}, {} frames): instances | drawn | prop cull GPU ms | props GPU ms | CPU ms/frame",
+        args.prop_file.display(),
+        args.width,
+        args.height,
+        args.frames
+    );
+    for count in [(n / 100).max(1), n] {
+        let f = benches::gpu_bench::props::bench_props(
+            &ctx,
+            &args.prop_file,
+            count,
+            (args.width, args.height),
+            args.frames,
+        )?;
+        println!(
+            "props {} | {} | {:.3} | {:.3} | {:.3}",
+            f.instances, f.drawn, f.cull_ms, f.draw_ms, f.cpu_ms
+        );
+    }
+    Ok(())
+}
+
 fn main() -> ExitCode {
     match bench(&Args::parse()) {
         Ok(()) => ExitCode::SUCCESS,
@@ -151,6 +186,9 @@ fn main() -> ExitCode {
 }
 
 fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
+    if let Some(n) = args.props {
+        return bench_props_at(args, n);
+    }
     let size = ChunkSize::from_edge(args.chunk)?;
     if args.side == 0 || args.side > 16384 {
         return Err(format!("--side {} must be 1..=16384", args.side).into());

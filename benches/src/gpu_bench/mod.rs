@@ -10,6 +10,7 @@
 //! Each setting gets three untimed frames first (the first uploads, and the driver settles).
 
 mod image_error;
+pub mod props;
 mod report;
 
 use std::time::Instant;

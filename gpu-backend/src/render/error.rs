@@ -55,6 +55,8 @@ pub enum RenderError {
     QuadRaster(QuadRasterError),
     /// The device refused a buffer or texture (out of memory, or past a limit).
     Alloc(AllocError),
+    /// The props refused an upload.
+    Props(crate::render::props::PropError),
     /// The device is lost, or reported an error outside any error scope: nothing more can be
     /// drawn with it.
     Device(DeviceFault),
@@ -83,6 +85,7 @@ impl fmt::Display for RenderError {
             RenderError::Hiz(e) => write!(f, "depth pyramid: {e}"),
             RenderError::QuadRaster(e) => write!(f, "quad rasteriser: {e}"),
             RenderError::Alloc(e) => write!(f, "{e}"),
+            RenderError::Props(e) => write!(f, "{e}"),
             RenderError::Device(e) => write!(f, "{e}"),
         }
     }

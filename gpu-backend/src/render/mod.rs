@@ -15,6 +15,8 @@
 //!    late phase:   cull of the rest against the pyramid ─► the same draws for what it adds
 //!    grass (with clutter): the chunks the cull drew ─► their clutter units as crossed quads
 //!                  into the G-buffer (passes::grass; rules in render_model::grass)
+//!    prop cull (glTF props: per instance, frustum and this frame's pyramid) ─► props (one
+//!       indexed indirect draw per batch into the G-buffer; see [`props`])
 //!    cull transparent (ordered, back to front) ─► lighting (compute or fragment)
 //!    ─► transparent (blended, hidden behind the depth and the visibility buffer)
 //!    ─► tonemap ─► Rgba8 sRGB output (read back with read_image; present blits it to a
@@ -50,13 +52,15 @@
 //! ([`RendererConfig::with_clutter`]): two crossed quads per unit, swaying with
 //! [`Renderer::set_time`], faded out by the error budget.
 //!
-//! **Not drawn:** shadows, textures.
+//! **Not drawn:** shadows, voxel textures (glTF props have their base colour textures), the
+//! props' emissive term and sorted blending of BLEND props ([`props`]).
 
 mod error;
 pub mod external;
 pub mod far;
 mod fit;
 pub mod passes;
+pub mod props;
 mod renderer;
 
 pub use error::RenderError;

@@ -154,6 +154,8 @@ pub enum StreamError {
     Upload(NodeKey, RenderError),
     /// The view does not fit the memory even at the coarsest budget (why).
     Memory(String),
+    /// The glTF props could not be added to the renderer (why).
+    Props(String),
     /// The planning worker vanished (a panic on the pool).
     Planner,
     /// The view did not load in the time allowed.
@@ -172,6 +174,7 @@ impl fmt::Display for StreamError {
             StreamError::Far(why) => write!(f, "far draws: {why}"),
             StreamError::Renderer(e) => write!(f, "renderer: {e}"),
             StreamError::Build(why) => write!(f, "building a node: {why}"),
+            StreamError::Props(why) => write!(f, "{why}"),
             StreamError::Upload(key, e) => {
                 write!(
                     f,

@@ -159,6 +159,8 @@ pub struct StreamSettings {
     /// The builders pause at this many (back-pressure), so a slow upload or a full GPU never
     /// piles meshes up in memory.
     pub max_built_nodes: u32,
+    /// glTF props every renderer of the stream draws (`--prop`, `--scatter`).
+    pub props: Option<std::sync::Arc<crate::props::PropScene>>,
 }
 
 impl Default for StreamSettings {
@@ -186,6 +188,7 @@ impl Default for StreamSettings {
             // and the terrain's nodes take about 9 KiB: 1024 nodes keep the uploads fed at
             // about 9 MiB of meshes.
             max_built_nodes: 1024,
+            props: None,
         }
     }
 }

@@ -122,6 +122,10 @@ impl Streamer {
         renderer
             .set_lighting(&lighting)
             .map_err(|e| StreamError::Settings(BadSetting(e.to_string())))?;
+        if let Some(props) = &settings.props {
+            crate::props::add_props(&mut renderer, props)
+                .map_err(|e| StreamError::Props(e.to_string()))?;
+        }
         let far_blocks = far.path != gpu_backend::render::far::FarPath::Off;
         let source = Arc::new(NodeSource::new(&settings, &palette, blocks, far_blocks));
         let (finished_sender, finished) = channel();

@@ -10,6 +10,8 @@
 //! | G-buffer | [`gbuffer`] | opaque greedy and smooth quads (and raster far blocks) into the G-buffer |
 //! | Hi-Z | [`hiz`] | the depth pyramid of the early phase, for the late cull |
 //! | grass | [`grass`] | clutter units as crossed quads into the G-buffer, culled with their chunks, swaying in the wind (after the opaque phases) |
+//! | prop cull | [`prop_cull`] | glTF prop instances: zero each batch's count, frustum and Hi-Z per instance, one indexed indirect draw per batch (after the opaque phases) |
+//! | props | [`props`] | the batches' visible prop instances into the G-buffer |
 //! | lighting | [`lighting`] | G-buffer and visibility buffers to display-linear HDR, sky and haze |
 //! | transparent | [`transparent`] | transparent quads and far blocks blended into the HDR target |
 //! | tonemap | [`tonemap`] | HDR to the sRGB output (or to `ldr` before anti-aliasing) |
@@ -36,6 +38,8 @@ pub mod grass;
 pub mod hiz;
 pub mod lighting;
 pub mod present;
+pub mod prop_cull;
+pub mod props;
 pub mod quad_raster;
 pub mod shared;
 pub mod targets;

@@ -69,7 +69,27 @@ pub struct Renderer {
     max_page_bytes: u64,
     /// The device's faults: a frame of a lost device is refused by name.
     health: DeviceHealth,
+    /// The glTF props ([`crate::render::props`]).
+    props: GpuProps,
+    /// Their passes and the occlusion stand-in texture, made with the first model.
+    prop_passes: Option<PropPasses>,
 }
+
+/// The prop cull and draw, and the 1 x 1 pyramid bound when the frame culls no occlusion.
+#[derive(Debug)]
+pub(super) struct PropPasses {
+    pub(super) cull: PropCullPass,
+    pub(super) draw: PropsPass,
+    pub(super) no_pyramid: wgpu::TextureView,
+}
+
+use render_model::props::PropPlacement;
+use voxel_scene::props::PropModel;
+
+use crate::device::alloc::create_texture;
+use crate::render::passes::prop_cull::PropCullPass;
+use crate::render::passes::props::PropsPass;
+use crate::render::props::{GpuProps, PropError, PropId, PropModelId};
 
 impl Renderer {
     /// A renderer on `ctx` drawing `palette`'s materials. Needs `INDIRECT_FIRST_INSTANCE`
@@ -132,7 +152,97 @@ impl Renderer {
             max_page_bytes: ctx.capabilities.max_page_bytes(),
             health: ctx.health.clone(),
             config: config.clone(),
+            props: GpuProps::new(),
+            prop_passes: None,
         })
+    }
+
+    /// Uploads a glTF model for [`create_prop`](Self::create_prop); the prop pipelines are
+    /// made with the first model.
+    pub fn add_prop_model(&mut self, model: &PropModel) -> Result<PropModelId, PropError> {
+        let id = self.props.add_model(&self.device, &self.queue, model)?;
+        if self.prop_passes.is_none()
+            && let Some(material_layout) = self.props.material_layout()
+        {
+            let no_pyramid = create_texture(
+                &self.device,
+                &wgpu::TextureDescriptor {
+                    label: Some("no prop pyramid"),
+                    size: wgpu::Extent3d {
+                        width: 1,
+                        height: 1,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: wgpu::TextureFormat::R32Float,
+                    usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                },
+            )?
+            .create_view(&Default::default());
+            self.prop_passes = Some(PropPasses {
+                cull: PropCullPass::new(&self.device),
+                draw: PropsPass::new(&self.device, &self.shared.frame_layout, material_layout),
+                no_pyramid,
+            });
+        }
+        Ok(id)
+    }
+
+    /// Places an instance of `model` (shown); see [`GpuProps::create`].
+    pub fn create_prop(
+        &mut self,
+        model: PropModelId,
+        placement: PropPlacement,
+    ) -> Result<PropId, PropError> {
+        self.props.create(model, placement, true)
+    }
+
+    /// Deletes a prop; its id becomes stale.
+    pub fn delete_prop(&mut self, id: PropId) -> Result<(), PropError> {
+        self.props.delete(id)
+    }
+
+    /// Moves a prop.
+    pub fn set_prop_placement(
+        &mut self,
+        id: PropId,
+        placement: PropPlacement,
+    ) -> Result<(), PropError> {
+        self.props.set_placement(id, placement)
+    }
+
+    /// Shows or hides a prop.
+    pub fn set_prop_visible(&mut self, id: PropId, visible: bool) -> Result<(), PropError> {
+        self.props.set_visible(id, visible)
+    }
+
+    /// Prop instances the last frame's cull kept (the sum of every batch's drawn count, read
+    /// back: waits for the GPU). 0 when no prop instance exists.
+    pub fn read_props_drawn(&self) -> Result<u64, RenderError> {
+        let Some(b) = self.props.buffers() else {
+            return Ok(0);
+        };
+        let bytes = crate::readback::read_buffer(
+            &self.device,
+            &self.queue,
+            &b.batches,
+            0,
+            u64::from(self.props.registry().batch_count()) * 48,
+        )?;
+        let records: Vec<render_model::props::PropBatchRecord> =
+            bytemuck::pod_collect_to_vec(&bytes);
+        Ok(records
+            .iter()
+            .map(|r| u64::from(r.args.instance_count))
+            .sum())
+    }
+
+    /// The props (registry and GPU buffers: tests read the batch records back from them).
+    pub fn props(&self) -> &GpuProps {
+        &self.props
     }
 
     /// Replaces the material palette (kept as it was when the device refuses the new one).

@@ -9,6 +9,8 @@ use render_model::cull::{
 use render_model::frame::{FRAME_SPLAT, FrameShape, FrameUniforms};
 use render_model::grass::{self, GrassCullUniforms, GrassFrame, GrassUniforms};
 
+use render_model::props::{PROP_CULL_FRUSTUM, PROP_CULL_OCCLUSION, PropCullUniforms};
+
 use super::Renderer;
 use crate::render::error::RenderError;
 use crate::render::far::FarPath;
@@ -106,6 +108,36 @@ impl Renderer {
         })
     }
 
+    /// Uploads the props' changed records and this frame's cull uniforms; `None` when no
+    /// prop instance slot exists.
+    fn sync_props(&mut self) -> Result<Option<PropCullUniforms>, RenderError> {
+        if self.prop_passes.is_none() || self.props.registry().slot_count() == 0 {
+            return Ok(None);
+        }
+        self.props
+            .sync(&self.device, &self.queue)
+            .map_err(RenderError::Props)?;
+        let (width, height) = (self.targets.width, self.targets.height);
+        let mut flags = PROP_CULL_FRUSTUM;
+        if self.passes.hiz.is_some() && self.passes.culls.occlusion() {
+            flags |= PROP_CULL_OCCLUSION;
+        }
+        let registry = self.props.registry();
+        let uniforms = PropCullUniforms::new(
+            &self.view.camera,
+            width,
+            height,
+            registry.slot_count(),
+            registry.batch_count(),
+            flags,
+        );
+        if let Some(b) = self.props.buffers() {
+            self.queue
+                .write_buffer(&b.uniforms, 0, bytemuck::bytes_of(&uniforms));
+        }
+        Ok(Some(uniforms))
+    }
+
     /// Records a whole frame into `encoder`, each pass timed by the renderer's
     /// [`GpuTimer`](crate::timing::GpuTimer), then the timer's resolve. Submit the encoder (on
     /// the CPU timing path the timer submits parts of it itself), then call
@@ -129,6 +161,7 @@ impl Renderer {
     pub fn record_frame(&mut self, encoder: &mut CommandEncoder) -> Result<(), RenderError> {
         self.health.check()?;
         self.residency.flush(encoder, &self.queue)?;
+        let prop_uniforms = self.sync_props()?;
         let (width, height) = (self.targets.width, self.targets.height);
         let shape = FrameShape {
             width,
@@ -230,6 +263,21 @@ impl Renderer {
         if let Some((grass, params)) = passes.grass.as_ref().zip(grass_params.as_ref()) {
             grass.record(&ctx, &mut rec, params, culls.visible_bits());
             // The grass wrote depth: the next early G-buffer pass must clear it.
+            passes.gbuffer.depth_drawn();
+        }
+        // The props after the opaque phases: with occlusion culling, tested against this
+        // frame's pyramid (of the early phase's depth).
+        if let (Some(uniforms), Some(prop), Some(buffers)) =
+            (prop_uniforms, &self.prop_passes, self.props.buffers())
+        {
+            let pyramid = passes
+                .hiz
+                .as_ref()
+                .map_or(&prop.no_pyramid, |p| p.texture_view());
+            prop.cull
+                .record(&self.device, &mut rec, buffers, &uniforms, pyramid);
+            prop.draw.record(&ctx, &mut rec, &self.props);
+            // The props wrote depth: the next early G-buffer pass must clear it.
             passes.gbuffer.depth_drawn();
         }
         // The transparent layer, back to front (`render_model::transparent`), and the raster

@@ -1,0 +1,246 @@
+//! A prop model's GPU resources: its vertex and index buffers (every primitive of the model in
+//! one of each) and its base colour textures (`Rgba8UnormSrgb`, one mip: sampled in linear
+//! space as the CPU reference samples them), each draw's material uniform and bind group.
+
+use wgpu::{Buffer, BufferUsages, Device, Queue};
+
+use voxel_scene::props::{AlphaMode, Filter, PropModel, PropSampler, Wrap};
+
+use crate::device::alloc::{AllocError, create_buffer_init, create_texture};
+
+/// The material uniform of one draw (`PropMaterial` in `props.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct PropMaterialUniform {
+    /// Base colour factor, linear RGBA.
+    pub base_colour: [f32; 4],
+    /// Fragments with alpha below this are discarded (the MASK cutoff; 0 for OPAQUE).
+    pub cutoff: f32,
+    /// 1 when the base colour texture is bound.
+    pub textured: u32,
+    /// 1 when back faces are drawn too.
+    pub double_sided: u32,
+    /// Padding to 32 bytes.
+    pub pad: u32,
+}
+
+/// One primitive of a placed mesh: where its indices are in the model's buffers, its
+/// material's draw state.
+#[derive(Debug)]
+pub struct StoredPrimitive {
+    /// First index in the model's index buffer.
+    pub first_index: u32,
+    /// Indices.
+    pub index_count: u32,
+    /// Added to every index.
+    pub base_vertex: i32,
+    /// Bounding sphere, mesh space.
+    pub sphere: ([f32; 3], f32),
+    /// Index of its draw state in [`StoredModel::draws`].
+    pub draw: usize,
+}
+
+/// One material's draw state: uniform, texture and the bind group of both.
+#[derive(Debug)]
+pub struct StoredDraw {
+    /// Group 2 of the prop pipelines.
+    pub group: wgpu::BindGroup,
+    /// Back faces drawn.
+    pub double_sided: bool,
+}
+
+/// A model on the GPU.
+#[derive(Debug)]
+pub struct StoredModel {
+    /// Interleaved `PropVertex`es of every primitive.
+    pub vertices: Buffer,
+    /// `u32` indices of every primitive.
+    pub indices: Buffer,
+    /// Per mesh, its primitives.
+    pub meshes: Vec<Vec<StoredPrimitive>>,
+    /// Per primitive material in use, its draw state.
+    pub draws: Vec<StoredDraw>,
+    /// The model's instances: mesh index and model matrix.
+    pub instances: Vec<(usize, [[f32; 4]; 4])>,
+}
+
+fn address(w: Wrap) -> wgpu::AddressMode {
+    match w {
+        Wrap::Repeat => wgpu::AddressMode::Repeat,
+        Wrap::ClampToEdge => wgpu::AddressMode::ClampToEdge,
+        Wrap::MirroredRepeat => wgpu::AddressMode::MirrorRepeat,
+    }
+}
+
+fn filter(f: Filter) -> wgpu::FilterMode {
+    match f {
+        Filter::Nearest => wgpu::FilterMode::Nearest,
+        Filter::Linear => wgpu::FilterMode::Linear,
+    }
+}
+
+/// The sampler of `s`, without mipmaps (the textures have one level).
+fn sampler(device: &Device, s: &PropSampler) -> wgpu::Sampler {
+    device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("prop sampler"),
+        address_mode_u: address(s.wrap_u),
+        address_mode_v: address(s.wrap_v),
+        mag_filter: filter(s.mag),
+        min_filter: filter(s.min),
+        ..Default::default()
+    })
+}
+
+/// An sRGB texture of `rgba` (`width x height`), one mip.
+fn texture(
+    device: &Device,
+    queue: &Queue,
+    width: u32,
+    height: u32,
+    rgba: &[u8],
+) -> Result<wgpu::TextureView, AllocError> {
+    let size = wgpu::Extent3d {
+        width,
+        height,
+        depth_or_array_layers: 1,
+    };
+    let texture = create_texture(
+        device,
+        &wgpu::TextureDescriptor {
+            label: Some("prop base colour"),
+            size,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba8UnormSrgb,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        },
+    )?;
+    queue.write_texture(
+        texture.as_image_copy(),
+        rgba,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(4 * width),
+            rows_per_image: Some(height),
+        },
+        size,
+    );
+    Ok(texture.create_view(&Default::default()))
+}
+
+impl StoredModel {
+    /// Uploads `model`; `layout` is group 2 of the prop pipelines.
+    pub fn upload(
+        device: &Device,
+        queue: &Queue,
+        layout: &wgpu::BindGroupLayout,
+        model: &PropModel,
+    ) -> Result<StoredModel, AllocError> {
+        let mut vertices = Vec::new();
+        let mut indices = Vec::new();
+        let mut draws = Vec::new();
+        let mut meshes = Vec::new();
+        let white = texture(device, queue, 1, 1, &[255; 4])?;
+        for mesh in &model.meshes {
+            let mut prims = Vec::new();
+            for prim in &mesh.primitives {
+                let material = model.material_of(prim);
+                let uniform = PropMaterialUniform {
+                    base_colour: material.base_colour,
+                    cutoff: match material.alpha_mode {
+                        AlphaMode::Mask { cutoff } => cutoff,
+                        // BLEND is drawn into the G-buffer as a mask at one half (see the
+                        // module docs of `render::props`).
+                        AlphaMode::Blend => 0.5,
+                        AlphaMode::Opaque => f32::NEG_INFINITY,
+                    },
+                    textured: u32::from(material.base_colour_texture.is_some()),
+                    double_sided: u32::from(material.double_sided),
+                    pad: 0,
+                };
+                let (view, samp) = match &material.base_colour_texture {
+                    Some(t) => match model.textures.get(t.texture) {
+                        Some(tex) => (
+                            texture(device, queue, tex.width, tex.height, &tex.rgba)?,
+                            sampler(device, &t.sampler),
+                        ),
+                        None => (white.clone(), sampler(device, &PropSampler::default())),
+                    },
+                    None => (white.clone(), sampler(device, &PropSampler::default())),
+                };
+                let buffer = create_buffer_init(
+                    device,
+                    &wgpu::util::BufferInitDescriptor {
+                        label: Some("prop material"),
+                        contents: bytemuck::bytes_of(&uniform),
+                        usage: BufferUsages::UNIFORM,
+                    },
+                )?;
+                let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("prop material"),
+                    layout,
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: buffer.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: wgpu::BindingResource::TextureView(&view),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 2,
+                            resource: wgpu::BindingResource::Sampler(&samp),
+                        },
+                    ],
+                });
+                draws.push(StoredDraw {
+                    group,
+                    double_sided: material.double_sided,
+                });
+                prims.push(StoredPrimitive {
+                    first_index: indices.len() as u32,
+                    index_count: prim.indices.len() as u32,
+                    base_vertex: vertices.len() as i32,
+                    sphere: prim.bounds.bounding_sphere(),
+                    draw: draws.len() - 1,
+                });
+                vertices.extend_from_slice(&prim.vertices);
+                indices.extend_from_slice(&prim.indices);
+            }
+            meshes.push(prims);
+        }
+        // wgpu refuses empty buffers' bindings; a model without triangles keeps 4 bytes.
+        if indices.is_empty() {
+            indices.push(0);
+        }
+        if vertices.is_empty() {
+            vertices.push(Default::default());
+        }
+        let vertices = create_buffer_init(
+            device,
+            &wgpu::util::BufferInitDescriptor {
+                label: Some("prop vertices"),
+                contents: bytemuck::cast_slice(&vertices),
+                usage: BufferUsages::VERTEX,
+            },
+        )?;
+        let indices = create_buffer_init(
+            device,
+            &wgpu::util::BufferInitDescriptor {
+                label: Some("prop indices"),
+                contents: bytemuck::cast_slice(&indices),
+                usage: BufferUsages::INDEX,
+            },
+        )?;
+        Ok(StoredModel {
+            vertices,
+            indices,
+            meshes,
+            draws,
+            instances: model.instances.iter().map(|i| (i.mesh, i.matrix)).collect(),
+        })
+    }
+}
