@@ -8,6 +8,7 @@
 #                            (symbols kept, for backtraces and profilers)
 #   .gpu/<set>/viewer        the viewer, the same
 #   .gpu/<set>/REV           the commit the binaries were built from (and "+dirty")
+#   .gpu/gltf/               the glTF samples (../shared/data/gltf), for frame.sh's props set
 #   with --cpu:  .gpu/<set>/blocky, .gpu/<set>/batch (the criterion bench binaries),
 #                .gpu/<set>/profile_blocky (benches/examples), .gpu/<set>/voxmesh and
 #                .gpu/vox/ (the sample models), for scripts/gpu/cpu.sh
@@ -118,6 +119,9 @@ done
 ) > "$dest/REV"
 
 cp "$runtime"/*.deb "$root/.gpu/"
+# The glTF samples frame.sh's props set places (a few hundred KB).
+mkdir -p "$root/.gpu/gltf"
+cp "$root"/../shared/data/gltf/*.glb "$root/.gpu/gltf/"
 if [ "$valgrind" = 1 ]; then
     mkdir -p "$root/.gpu/tools"
     (cd "$root/.gpu/tools" && apt-get download valgrind >&2)

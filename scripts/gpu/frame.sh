@@ -27,6 +27,9 @@
 #                level-0 chunks: the grass pass's GPU time and the units it drew; no reference
 #   flight       the viewer's `--flight 30` with its defaults (`--opaque auto`, grass on)
 #   flightpaths  the same with `--opaque compute` and with `--opaque raster`
+#   props        gpu_bench --props: 100,000 instances of the Duck sample on a grid at 1920 x
+#                1080 (and 1,000): prop cull and draw GPU times, instances drawn, CPU per
+#                frame; and the flight with 10,000 Ducks scattered over the terrain
 #   flightnodes  the same with the benchmark's far threshold (`--far-px 1.5`), and with it and
 #                the benchmark's 8^3 nodes (`--node-size 8 --far-px 1.5`)
 #   all          every set above
@@ -79,10 +82,12 @@ if [ "$tiny" = 1 ]; then
     s256=32 s1024=64 s4096=128 s16384=256 frames_few=3 frames=3 frames_cpu=3
     screen=(--width 320 --height 180)
     flight=(--flight 1 --radius 256 --width 320 --height 180)
+    props=1000 scatter=100
 else
     s256=256 s1024=1024 s4096=4096 s16384=16384 frames_few=10 frames=20 frames_cpu=60
     screen=()
     flight=(--flight 30)
+    props=100000 scatter=10000
 fi
 common="--chunk 8 --budget 1 --far splat --far-px 1.5"
 
@@ -103,11 +108,13 @@ declare -A config=(
     [validation-off]="gpu_bench|WGPU_VALIDATION_INDIRECT_CALL=0|--side $s4096 $common --opaque compute --frames $frames_cpu --reference off"
     [validation-on]="gpu_bench|WGPU_VALIDATION_INDIRECT_CALL=1|--side $s4096 $common --opaque compute --frames $frames_cpu --reference off"
     [grass]="gpu_bench||--side $s4096 $common --opaque compute --clutter 2 --frames $frames --reference off"
+    [props]="gpu_bench||--props $props --prop-file .gpu/gltf/Duck.glb"
     [callgrind]="callgrind||--side $s256 $common --opaque compute --occlusion on --reference off"
     [flight]="viewer||${flight[*]}"
     [flight-compute]="viewer||${flight[*]} --opaque compute"
     [flight-raster]="viewer||${flight[*]} --opaque raster"
     [flight-far15]="viewer||${flight[*]} --far-px 1.5"
+    [flight-props]="viewer||${flight[*]} --scatter .gpu/gltf/Duck.glb:$scatter"
     [flight-node8]="viewer||${flight[*]} --node-size 8 --far-px 1.5"
 )
 
@@ -129,10 +136,11 @@ for s in "${sets[@]}"; do
         flight) names+=(flight) ;;
         flightpaths) names+=(flight-compute flight-raster) ;;
         flightnodes) names+=(flight-far15 flight-node8) ;;
+        props) names+=(props flight-props) ;;
         all) names+=(headline paths distance-1024 distance-16384 distance-1024 distance-16384
                      budgets farpx farpaths nodesize-16 nodesize-8 cpu-1024 cpu-4096 cpu-16384
-                     validation-off validation-on validation-off validation-on grass callgrind
-                     flight flight-compute flight-raster flight-far15 flight-node8) ;;
+                     validation-off validation-on validation-off validation-on grass props callgrind
+                     flight flight-compute flight-raster flight-far15 flight-node8 flight-props) ;;
         *) echo "frame.sh: unknown set $s (see the header of $0)" >&2; exit 2 ;;
     esac
 done
@@ -331,7 +339,16 @@ summary() {
         done
     fi
 }
-summary | tee "$out/summary.md"
+props_summary() {
+    local logs=("$out"/props.*.log)
+    [ -e "${logs[0]}" ] || return 0
+    echo
+    for f in "${logs[@]}"; do
+        echo "${f##*/}:"
+        grep -E '^props' "$f" || echo "FAILED (see the log)"
+    done
+}
+{ summary; props_summary; } | tee "$out/summary.md"
 
 # With several builds: the median GPU total of each gpu_bench row per build, and the last
 # build's against the first's.
