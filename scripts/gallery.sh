@@ -25,6 +25,11 @@ shot() {
 shot terrain --radius 512
 shot horizon --radius 512 --camera 0,60,0,40,2 --fov 70
 shot low --radius 512 --camera 40,34,40,200,-12 --fov 70
+# glTF props: Ducks scattered over the terrain, among the grass.
+duck=../shared/data/gltf/Duck.glb
+if [ -f "$duck" ]; then
+    shot props --radius 256 --scatter "$duck:3000" --camera 30,38,30,225,-25 --fov 60
+fi
 # MagicaVoxel models (their palettes, glass, emission).
 for model in chr_knight monu10 T-Rex; do
     if [ -f "$vox/$model.vox" ]; then
