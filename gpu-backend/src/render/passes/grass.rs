@@ -247,35 +247,7 @@ impl GrassPass {
             pass.set_pipeline(&self.cull_pipeline);
             pass.set_bind_group(0, &cull_group, &[]);
             pass.dispatch_workgroups(slots.div_ceil(WORKGROUP), 1, 1);
-            let t = ctx.targets;
-            let attachment = |view| {
-                Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })
-            };
-            let mut pass = rec
-                .encoder()
-                .begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("grass"),
-                    color_attachments: &[attachment(&t.albedo), attachment(&t.normal)],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &t.depth,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Load,
-                            store: wgpu::StoreOp::Store,
-                        }),
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
+            let mut pass = ctx.targets.begin_gbuffer_overlay(rec.encoder(), "grass");
             pass.set_pipeline(&self.draw_pipeline);
             pass.set_bind_group(0, ctx.frame_group, &[]);
             pass.set_bind_group(1, &draw_group, &[]);

@@ -111,35 +111,7 @@ impl PropsPass {
             ],
         });
         rec.step("props", false, |rec| {
-            let t = ctx.targets;
-            let attachment = |view| {
-                Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })
-            };
-            let mut pass = rec
-                .encoder()
-                .begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("props"),
-                    color_attachments: &[attachment(&t.albedo), attachment(&t.normal)],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &t.depth,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Load,
-                            store: wgpu::StoreOp::Store,
-                        }),
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
+            let mut pass = ctx.targets.begin_gbuffer_overlay(rec.encoder(), "props");
             pass.set_bind_group(0, ctx.frame_group, &[]);
             pass.set_bind_group(1, &group, &[]);
             for (b, batch) in props.registry().batch_records().iter().enumerate() {

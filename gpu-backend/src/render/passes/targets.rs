@@ -88,6 +88,41 @@ pub struct RenderTargets {
 }
 
 impl RenderTargets {
+    /// Begins a render pass that draws more geometry into the G-buffer as the opaque phases
+    /// left it (albedo, normal and depth loaded and stored): the grass and prop passes.
+    pub fn begin_gbuffer_overlay<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        label: &str,
+    ) -> wgpu::RenderPass<'e> {
+        let keep = |view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &[keep(&self.albedo), keep(&self.normal)],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+
     /// Textures for `width x height`; [`TargetsError::BadSize`] past the device's texture
     /// limit.
     pub fn new(device: &Device, width: u32, height: u32) -> Result<RenderTargets, TargetsError> {
