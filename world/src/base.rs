@@ -11,6 +11,25 @@ use voxel_scene::terrain::Terrain;
 pub trait Base: Sync {
     /// Fills `out` (of the world's chunk size) with level-0 chunk `coord`.
     fn fill_chunk(&self, coord: ChunkCoord, out: &mut PaletteChunk) -> Result<(), String>;
+
+    /// True when the base has coarse levels of its own ([`fill_padded`](Self::fill_padded)),
+    /// which [`World::use_base_levels`](crate::World::use_base_levels) draws on.
+    fn has_levels(&self) -> bool {
+        false
+    }
+
+    /// Fills `out` (of the world's chunk size) with the padded neighbourhood of node `coord` of
+    /// `level` from the base's own levels, and returns true; false (and `out` untouched) when
+    /// the base has no levels of its own.
+    fn fill_padded(
+        &self,
+        level: u32,
+        coord: ChunkCoord,
+        out: &mut PaddedChunk,
+    ) -> Result<bool, String> {
+        let _ = (level, coord, out);
+        Ok(false)
+    }
 }
 
 /// A base of air: a world whose every non-air block is an edit.
@@ -56,5 +75,19 @@ impl Base for Terrain {
         });
         *out = PaletteChunk::from_dense(&dense);
         Ok(())
+    }
+
+    fn has_levels(&self) -> bool {
+        true
+    }
+
+    /// [`Terrain::fill_node`]: the terrain's coarse levels straight from its height function.
+    fn fill_padded(
+        &self,
+        level: u32,
+        coord: ChunkCoord,
+        out: &mut PaddedChunk,
+    ) -> Result<bool, String> {
+        self.fill_node(out.size(), level, coord, out).map(|_| true)
     }
 }

@@ -33,6 +33,8 @@ pub enum WorldError {
         /// The mesher's error.
         error: mesher::MeshError,
     },
+    /// The world is asked for its base's own levels, and the base has none.
+    NoBaseLevels,
     /// Reading or writing a file failed.
     Io {
         /// The file.
@@ -64,6 +66,10 @@ impl fmt::Display for WorldError {
                 f,
                 "base chunk ({}, {}, {}): {message}",
                 coord.x, coord.y, coord.z
+            ),
+            WorldError::NoBaseLevels => write!(
+                f,
+                "the base has no coarse levels of its own (only the terrain has them)"
             ),
             WorldError::BadLevel { level } => {
                 write!(

@@ -6,6 +6,7 @@
 //! | --- | --- |
 //! | [`base`] | [`Base`]: what the world holds where nothing is edited |
 //! | [`edit`] | [`Edit`] shapes, checked before anything is written |
+//! | [`coarse`] | the base's own levels of detail with the edits downsampled into them |
 //! | [`dirty`] | [`DirtySet`]: the nodes a batch invalidates, each once |
 //! | [`world`] | [`World`]: materialized chunks, edits, level-of-detail rebuilds |
 //! | [`region`] | the region file format (header, version, per-chunk checksums) |
@@ -41,6 +42,7 @@
 //! `voxel-core` stays `no_std` with no dependency on either.
 
 pub mod base;
+pub mod coarse;
 pub mod dirty;
 pub mod edit;
 mod error;

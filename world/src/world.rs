@@ -8,7 +8,8 @@ use mesher::lod::downsample_chunk;
 use voxel_core::storage::{DenseChunk, PaletteChunk, VoxelStorage, WorldMap, gather_neighbourhood};
 use voxel_core::{ChunkCoord, ChunkSize, PaddedChunk, WorldPos};
 
-use crate::{Base, DirtySet, Edit, WorldError};
+use crate::coarse::{CoarseLevels, overlay, padded_interior};
+use crate::{Base, DirtySet, Edit, NodeKey, WorldError};
 
 /// The most levels above level 0 a world tracks: a level-30 voxel is as wide as the world.
 pub const MAX_LEVEL: u32 = 30;
@@ -27,6 +28,11 @@ pub struct World<B> {
     present: HashSet<ChunkCoord>,
     edited: BTreeSet<ChunkCoord>,
     unsaved: BTreeSet<ChunkCoord>,
+    /// The base's own levels with the edits' coarse voxels, once
+    /// [`use_base_levels`](World::use_base_levels) asked for them.
+    coarse: Option<CoarseLevels>,
+    /// Batches that changed a voxel since the world was made.
+    version: u64,
 }
 
 impl<B: Base> World<B> {
@@ -43,7 +49,121 @@ impl<B: Base> World<B> {
             present: HashSet::new(),
             edited: BTreeSet::new(),
             unsaved: BTreeSet::new(),
+            coarse: None,
+            version: 0,
         })
+    }
+
+    /// Makes the levels of detail the base's own levels, except where the edited blocks differ
+    /// from the base (downsampled from the edited data there, with `classes`: see
+    /// [`crate::coarse`]'s rule), instead of downsampling every node from level 0. Far cheaper
+    /// for a base with levels of its own (the terrain): a node costs one base fill, not
+    /// `8^level` chunks. The edits made so far (or loaded) are taken into account at once.
+    pub fn use_base_levels(&mut self, classes: BlockClasses) -> Result<(), WorldError> {
+        if !self.base.has_levels() {
+            return Err(WorldError::NoBaseLevels);
+        }
+        let mut coarse = CoarseLevels::new(classes, self.size);
+        let mut differing = Vec::new();
+        let e = self.size.edge() as i32;
+        for &coord in &self.edited {
+            let mut base = PaletteChunk::new(self.size);
+            self.base
+                .fill_chunk(coord, &mut base)
+                .map_err(|message| WorldError::Base { coord, message })?;
+            for z in 0..e {
+                for y in 0..e {
+                    for x in 0..e {
+                        let local = voxel_core::LocalPos {
+                            x: x as u8,
+                            y: y as u8,
+                            z: z as u8,
+                        };
+                        let Ok(pos) = coord.world_pos(local, self.size) else {
+                            continue;
+                        };
+                        if base.get(local).ok() != Some(self.chunks.get_block(pos)) {
+                            differing.push(pos);
+                        }
+                    }
+                }
+            }
+            coarse.keep_base0(coord, base);
+        }
+        coarse.update(&self.base, &self.chunks, self.top, differing)?;
+        self.coarse = Some(coarse);
+        Ok(())
+    }
+
+    /// True when the levels of detail are the base's own, edited
+    /// ([`use_base_levels`](Self::use_base_levels)).
+    pub fn uses_base_levels(&self) -> bool {
+        self.coarse.is_some()
+    }
+
+    /// How many batches changed a voxel since the world was made: a reader that records it
+    /// with what it read knows whether a later batch made that stale.
+    pub fn version(&self) -> u64 {
+        self.version
+    }
+
+    /// True when node `coord` of `level` or one of its 26 neighbours holds edited data, so its
+    /// padded neighbourhood differs from the base's (with base levels; without them, true for
+    /// any level above 0 over an edited chunk's area, since those nodes are downsampled).
+    pub fn touches(&self, level: u32, coord: ChunkCoord) -> bool {
+        let near = |f: &dyn Fn(ChunkCoord) -> bool| {
+            (-1..=1).any(|dz| {
+                (-1..=1)
+                    .any(|dy| (-1..=1).any(|dx| coord.checked_offset([dx, dy, dz]).is_ok_and(f)))
+            })
+        };
+        match (&self.coarse, level) {
+            (_, 0) => near(&|n| self.edited.contains(&n)),
+            (Some(coarse), _) => near(&|n| coarse.node(&NodeKey { level, coord: n }).is_some()),
+            (None, _) => !self.edited.is_empty(),
+        }
+    }
+
+    /// Fills `out` with the padded neighbourhood of node `coord` of `level` without writing
+    /// anything (so readers can share the world): the base's own fill
+    /// ([`Base::fill_padded`]) with the edited data over it. Needs base levels
+    /// ([`use_base_levels`](Self::use_base_levels)).
+    pub fn gather_over_base(
+        &self,
+        level: u32,
+        coord: ChunkCoord,
+        out: &mut PaddedChunk,
+    ) -> Result<(), WorldError> {
+        let Some(coarse) = &self.coarse else {
+            return Err(WorldError::NoBaseLevels);
+        };
+        if level > MAX_LEVEL {
+            return Err(WorldError::BadLevel { level });
+        }
+        out.reset(self.size);
+        self.base
+            .fill_padded(level, coord, out)
+            .map_err(|message| WorldError::Base {
+                coord,
+                message: format!("level {level}: {message}"),
+            })?;
+        for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let Ok(n) = coord.checked_offset([dx, dy, dz]) else {
+                        continue;
+                    };
+                    if level == 0 {
+                        if self.edited.contains(&n) {
+                            overlay(out, [dx, dy, dz], self.chunks.get(n));
+                        }
+                    } else if let Some(node) = coarse.node(&NodeKey { level, coord: n }) {
+                        overlay(out, [dx, dy, dz], Some(node));
+                    }
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The chunk size.
@@ -171,6 +291,7 @@ impl<B: Base> World<B> {
             .map(|e| e.bounds().map_err(WorldError::Edit))
             .collect::<Result<Vec<_>, _>>()?;
         let mut dirty = DirtySet::new(self.top);
+        let mut changed = Vec::new();
         let size = self.size;
         let e = size.edge() as i32;
         for (edit, (min, max)) in edits.iter().zip(bounds) {
@@ -182,6 +303,17 @@ impl<B: Base> World<B> {
                     for cx in cmin.x..=cmax.x {
                         let coord = ChunkCoord::new(cx, cy, cz);
                         self.materialize(coord)?;
+                        if let Some(coarse) = &mut self.coarse
+                            && !coarse.has_base0(coord)
+                        {
+                            // Not edited before: the stored chunk is still the base's.
+                            let base = self
+                                .chunks
+                                .get(coord)
+                                .cloned()
+                                .unwrap_or_else(|| PaletteChunk::new(size));
+                            coarse.keep_base0(coord, base);
+                        }
                         // The chunk's blocks inside the edit's box, in i64 (no overflow at the
                         // ends of the i32 range).
                         let lo = |c: i32, m: i32| (i64::from(c) * i64::from(e)).max(i64::from(m));
@@ -199,6 +331,7 @@ impl<B: Base> World<B> {
                                     let old = self.chunks.set_block(pos, id);
                                     if old != id {
                                         dirty.add_voxel(pos, coord, size);
+                                        changed.push(pos);
                                         changed_here = true;
                                     }
                                 }
@@ -218,6 +351,12 @@ impl<B: Base> World<B> {
                     }
                 }
             }
+        }
+        if let Some(coarse) = &mut self.coarse {
+            coarse.update(&self.base, &self.chunks, self.top, changed)?;
+        }
+        if !dirty.is_empty() {
+            self.version += 1;
         }
         Ok(dirty)
     }
@@ -243,6 +382,16 @@ impl<B: Base> World<B> {
                 .get(coord)
                 .cloned()
                 .unwrap_or_else(|| PaletteChunk::new(self.size)));
+        }
+        if let Some(coarse) = &self.coarse {
+            if let Some(node) = coarse.node(&NodeKey { level, coord }) {
+                return Ok(node.clone());
+            }
+            let mut padded = PaddedChunk::new(self.size);
+            self.base
+                .fill_padded(level, coord, &mut padded)
+                .map_err(|message| WorldError::Base { coord, message })?;
+            return Ok(padded_interior(&padded));
         }
         let mut children: Vec<PaletteChunk> = Vec::with_capacity(8);
         for d in 0..8i64 {
@@ -285,6 +434,9 @@ impl<B: Base> World<B> {
     ) -> Result<(), WorldError> {
         if level == 0 {
             return self.gather_chunk(coord, out);
+        }
+        if self.coarse.is_some() {
+            return self.gather_over_base(level, coord, out);
         }
         let mut ring: WorldMap<PaletteChunk> = WorldMap::new(self.size);
         for dz in -1..=1 {

@@ -87,6 +87,14 @@ fn coarse_id(children: &[BlockId; 8], classes: &BlockClasses) -> Result<BlockId,
     Ok(best_opaque.or(best_transparent).unwrap_or(BlockId::AIR))
 }
 
+/// The coarse voxel of 8 children by the rule in the [module docs](self), for a caller that
+/// updates single coarse voxels (an edited world's levels of detail) instead of whole chunks.
+/// `children[dx + 2 * dz + 4 * dy]` is the child at offset `(dx, dy, dz)`, so indices 4..8 are
+/// the upper half. The error is a child id the palette does not know.
+pub fn coarse_voxel(children: &[BlockId; 8], classes: &BlockClasses) -> Result<BlockId, BlockId> {
+    coarse_id(children, classes)
+}
+
 /// Downsamples the 8 finer chunks under one coarse chunk into `out` (same edge as the finer
 /// chunks). `fine(dx, dy, dz)` returns the finer chunk at offset `(dx, dy, dz)` in `0..2`, or
 /// `None` where it is missing (read as air).
