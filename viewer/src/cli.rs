@@ -8,7 +8,8 @@ use gpu_backend::render::OpaquePath;
 use gpu_backend::render::far::FarRequest;
 use viewer::stream::settings::{FAR_CHOICES, MAX_RADIUS};
 use viewer::stream::{MesherMode, StreamSettings};
-use voxel_core::ChunkSize;
+use voxel_core::{ChunkSize, WorldPos};
+use voxel_world::Edit;
 
 use viewer::props::{PropFlag, ScatterFlag, parse_prop, parse_scatter};
 
@@ -134,9 +135,36 @@ pub(crate) struct Args {
     /// With --flight: also write the figures as JSON to this file.
     #[arg(long, value_name = "FILE", requires = "flight")]
     pub json: Option<PathBuf>,
+    /// Streamed terrain: set the block at X,Y,Z to BLOCK (a name: air, grass, dirt, stone,
+    /// sand, water, snow; or a palette index) before the first frame. Repeatable; applied
+    /// after every --edit-sphere, in the order given.
+    #[arg(long = "edit", value_name = "X,Y,Z,BLOCK", value_parser = parse_block_edit, allow_hyphen_values = true, conflicts_with_all = ["vox", "chunks"])]
+    pub edits: Vec<Edit>,
+    /// Streamed terrain: fill the ball of radius R around X,Y,Z with BLOCK before the first
+    /// frame. Repeatable, in the order given.
+    #[arg(long = "edit-sphere", value_name = "X,Y,Z,R,BLOCK", value_parser = parse_sphere_edit, allow_hyphen_values = true, conflicts_with_all = ["vox", "chunks"])]
+    pub sphere_edits: Vec<Edit>,
+    /// Streamed terrain: the world folder: its saved edits are loaded (a new world when the
+    /// folder holds none), and the edits made are saved there (headless after the edit
+    /// flags, the window on closing and every 30 s).
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["vox", "chunks"])]
+    pub world: Option<PathBuf>,
+    /// With --flight: carve this many spheres of air of radius 4 per second along the path
+    /// and report the edit-to-screen latency.
+    #[arg(long, value_name = "N", default_value_t = 0.0, value_parser = parse_edit_rate, requires = "flight")]
+    pub edits_per_second: f64,
 }
 
 impl Args {
+    /// Every edit of the flags in the order they apply: spheres, then single blocks.
+    pub(crate) fn all_edits(&self) -> Vec<Edit> {
+        self.sphere_edits
+            .iter()
+            .chain(&self.edits)
+            .copied()
+            .collect()
+    }
+
     /// The frame size: the flags, else 960 x 540 (1920 x 1080 for a flight).
     pub(crate) fn size(&self) -> (u32, u32) {
         let (w, h) = if self.flight.is_some() {
@@ -170,6 +198,69 @@ impl Args {
             far_cell_px: self.far_px.unwrap_or(defaults.far_cell_px),
             ..defaults
         }
+    }
+}
+
+/// `count` comma-separated integers of `text`, for `what`.
+fn integers(text: &str, count: usize, what: &str) -> Result<Vec<i64>, String> {
+    let parts: Vec<&str> = text.split(',').collect();
+    if parts.len() != count {
+        return Err(format!("{text:?} is not {what}"));
+    }
+    parts
+        .iter()
+        .map(|p| {
+            p.trim()
+                .parse::<i64>()
+                .map_err(|_| format!("{p:?} in {text:?} is not an integer ({what})"))
+        })
+        .collect()
+}
+
+/// A block coordinate in the i32 range.
+fn coordinate(v: i64, text: &str) -> Result<i32, String> {
+    i32::try_from(v).map_err(|_| format!("{v} in {text:?} is past the i32 block range"))
+}
+
+/// `X,Y,Z,BLOCK`: a single-block edit.
+fn parse_block_edit(text: &str) -> Result<Edit, String> {
+    let (coords, block) = text
+        .rsplit_once(',')
+        .ok_or_else(|| format!("{text:?} is not X,Y,Z,BLOCK"))?;
+    let v = integers(coords, 3, "X,Y,Z,BLOCK")?;
+    let pos = WorldPos::new(
+        coordinate(v[0], text)?,
+        coordinate(v[1], text)?,
+        coordinate(v[2], text)?,
+    );
+    let id = viewer::edits::parse_block(block)?;
+    Ok(Edit::Block { pos, id })
+}
+
+/// `X,Y,Z,R,BLOCK`: a sphere edit (its size is checked when it is applied).
+fn parse_sphere_edit(text: &str) -> Result<Edit, String> {
+    let (coords, block) = text
+        .rsplit_once(',')
+        .ok_or_else(|| format!("{text:?} is not X,Y,Z,R,BLOCK"))?;
+    let v = integers(coords, 4, "X,Y,Z,R,BLOCK")?;
+    let centre = WorldPos::new(
+        coordinate(v[0], text)?,
+        coordinate(v[1], text)?,
+        coordinate(v[2], text)?,
+    );
+    let radius = u32::try_from(v[3])
+        .map_err(|_| format!("the radius {} in {text:?} is not from 0 to 2^32 - 1", v[3]))?;
+    let id = viewer::edits::parse_block(block)?;
+    Ok(Edit::Sphere { centre, radius, id })
+}
+
+/// Edits per second: finite, from 0 to 100000.
+fn parse_edit_rate(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(r) if r.is_finite() && (0.0..=100_000.0).contains(&r) => Ok(r),
+        _ => Err(format!(
+            "{text:?} is not a number of edits per second from 0 to 100000"
+        )),
     }
 }
 
@@ -277,6 +368,40 @@ fn parse_seconds(text: &str) -> Result<f64, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn edits_parse_and_bad_ones_are_refused_by_name() {
+        let stone = viewer::edits::parse_block("stone").unwrap();
+        assert_eq!(
+            parse_block_edit("1,-2,3,stone"),
+            Ok(Edit::Block {
+                pos: WorldPos::new(1, -2, 3),
+                id: stone
+            })
+        );
+        assert_eq!(
+            parse_sphere_edit("0, 40, -7, 4, air"),
+            Ok(Edit::Sphere {
+                centre: WorldPos::new(0, 40, -7),
+                radius: 4,
+                id: voxel_core::BlockId::AIR
+            })
+        );
+        for (bad, why) in [
+            ("1,2,stone", "not X,Y,Z,BLOCK"),
+            ("1,2,x,stone", "not an integer"),
+            ("1,2,3,lava", "unknown block"),
+            ("3000000000,0,0,air", "i32 block range"),
+        ] {
+            let e = parse_block_edit(bad).unwrap_err();
+            assert!(e.contains(why), "{bad}: {e}");
+        }
+        let e = parse_sphere_edit("0,0,0,-1,air").unwrap_err();
+        assert!(e.contains("radius"), "{e}");
+        assert!(parse_edit_rate("1000").is_ok());
+        assert!(parse_edit_rate("NaN").is_err());
+        assert!(parse_edit_rate("-1").is_err());
+    }
 
     #[test]
     fn sizes_parse_and_bad_ones_are_refused() {

@@ -26,6 +26,7 @@ use glam::DVec3;
 use gpu_backend::{GpuContext, TimingPath};
 use serde::Serialize;
 
+use crate::edits::{Carver, SharedWorld};
 use crate::headless::{draw_frame, load};
 use crate::pass_times::{PassPercentiles, PassSeries};
 use crate::stream::{StreamError, StreamSettings, StreamStatus};
@@ -91,6 +92,12 @@ fn camera_at(pos: DVec3, yaw: f64, pitch: f64, fov_y: f64) -> Camera {
         fov_y,
         near: Camera::DEFAULT_NEAR,
     }
+}
+
+/// The camera's eye, world blocks.
+fn eye_of(camera: &Camera) -> DVec3 {
+    let v = camera.voxel;
+    DVec3::new(f64::from(v.x), f64::from(v.y), f64::from(v.z)) + camera.fraction
 }
 
 /// p50, p99 and the largest of a set of times, milliseconds (nearest rank).
@@ -187,6 +194,27 @@ pub struct FlightReport {
     /// How opaque quads were drawn: `Raster` or `Compute`, or with `--opaque auto` the
     /// measured choice (`auto: compute (GPU time per frame: ...)`).
     pub opaque: String,
+    /// The edits made along the path (`--edits-per-second`), when asked for.
+    pub edits: Option<EditFigures>,
+}
+
+/// What the edits of a flight cost and how soon they were on screen.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct EditFigures {
+    /// Spheres asked for per second of flight.
+    pub per_second: f64,
+    /// Spheres applied.
+    pub spheres: usize,
+    /// Nodes the committed view drew that were rebuilt and swapped in before the next frame.
+    pub swapped_at_once: usize,
+    /// Resident nodes out of view handed to the workers to rebuild.
+    pub rebuilt_later: usize,
+    /// CPU time per frame with edits: applying them, re-meshing and swapping the shown nodes.
+    pub cpu: Percentiles,
+    /// Edit to screen: from the edit call to the end of the GPU work of the first frame
+    /// drawn after it, which shows it (measured when the loop next waits for that frame, so
+    /// it also holds the next frame's CPU time: an upper bound).
+    pub latency: Percentiles,
 }
 
 impl FlightReport {
@@ -250,6 +278,19 @@ impl FlightReport {
             ),
         ]
         .into_iter()
+        .chain(self.edits.as_ref().map(|e| {
+            format!(
+                "flight: edits {} spheres of radius {} ({}/s): {} shown nodes swapped before \
+                 the next frame, {} rebuilt later; CPU per frame with edits {}; edit to screen {}",
+                e.spheres,
+                Carver::RADIUS,
+                e.per_second,
+                e.swapped_at_once,
+                e.rebuilt_later,
+                p(&e.cpu),
+                p(&e.latency)
+            )
+        }))
         .chain(self.memory_note.as_ref().map(|note| {
             format!(
                 "flight: memory forced a budget of {:.2} px: {note}",
@@ -293,12 +334,32 @@ pub fn fly(
     settings: &StreamSettings,
     path: &FlightPath,
     seconds: f64,
+    size: (u32, u32),
+    progress: impl FnMut(&StreamStatus),
+) -> Result<FlightReport, StreamError> {
+    let world = SharedWorld::new(settings.seed, settings.chunk, settings.top_level())
+        .map_err(|e| StreamError::Edit(e.to_string()))?;
+    fly_over(ctx, settings, world, path, seconds, size, 0.0, progress)
+}
+
+/// [`fly`] over `world`, carving `edits_per_second` spheres of air along the path
+/// ([`Carver`]; none for 0) and measuring how soon each frame's edits are on screen.
+#[allow(clippy::too_many_arguments)]
+pub fn fly_over(
+    ctx: &GpuContext,
+    settings: &StreamSettings,
+    world: SharedWorld,
+    path: &FlightPath,
+    seconds: f64,
     (width, height): (u32, u32),
+    edits_per_second: f64,
     mut progress: impl FnMut(&StreamStatus),
 ) -> Result<FlightReport, StreamError> {
     let fov_y = 70f64.to_radians();
     let cameras = path.cameras(seconds, fov_y);
-    let mut view = StreamedView::new(ctx, settings, width, height)?;
+    let mut carver = Carver::new(edits_per_second, FLIGHT_HZ).map_err(StreamError::Edit)?;
+    let terrain = voxel_scene::Terrain::new(settings.seed, voxel_scene::TerrainBlocks::palette().1);
+    let mut view = StreamedView::with_world(ctx, settings, width, height, world)?;
     let loading = Instant::now();
     load(
         &mut view,
@@ -334,9 +395,26 @@ pub fn fly(
         passes.iter().map(ms).sum()
     };
     let mut frames_with_holes = 0;
+    let (mut edit_cpu, mut latency) = (Vec::new(), Vec::new());
+    let (mut spheres, mut swapped, mut queued) = (0, 0, 0);
+    // The start of the edits drawn by the frame in flight, if it had any.
+    let mut edits_in_flight: Option<Instant> = None;
     let started = Instant::now();
     for (i, camera) in cameras.iter().enumerate() {
         let frame_started = Instant::now();
+        let edits = if edits_per_second > 0.0 {
+            carver.next_frame(eye_of(camera), camera.yaw, &terrain)
+        } else {
+            Vec::new()
+        };
+        let edits_started = (!edits.is_empty()).then(Instant::now);
+        if !edits.is_empty() {
+            let done = view.apply_edits(&edits)?;
+            spheres += edits.len();
+            swapped += done.swapped;
+            queued += done.queued;
+            edit_cpu.push(frame_started.elapsed().as_secs_f64() * 1e3);
+        }
         view.update(camera)?;
         let renderer = view.renderer_mut();
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
@@ -353,6 +431,11 @@ pub fn fly(
         {
             gpu.push(gpu_ms(passes));
         }
+        // The frame before is done: its edits are on screen.
+        if let Some(start) = edits_in_flight.take() {
+            latency.push(start.elapsed().as_secs_f64() * 1e3);
+        }
+        edits_in_flight = edits_started;
         loop_frame.push(frame_started.elapsed().as_secs_f64() * 1e3);
         // Checked outside the timed part: it walks every selected node.
         frames_with_holes += usize::from(!view.streamer().holes().is_empty());
@@ -367,6 +450,9 @@ pub fn fly(
         .map_err(StreamError::Renderer)?
     {
         gpu.push(gpu_ms(passes));
+    }
+    if let Some(start) = edits_in_flight.take() {
+        latency.push(start.elapsed().as_secs_f64() * 1e3);
     }
     let wall_seconds = started.elapsed().as_secs_f64();
     // Frame i's GPU time is gpu[i] (collected in order); without timestamps they are zeros.
@@ -427,6 +513,14 @@ pub fn fly(
         far: view.streamer().far_choice().to_string(),
         mesher: settings.mesher.name().to_owned(),
         opaque,
+        edits: (edits_per_second > 0.0).then(|| EditFigures {
+            per_second: edits_per_second,
+            spheres,
+            swapped_at_once: swapped,
+            rebuilt_later: queued,
+            cpu: Percentiles::of(&edit_cpu).unwrap_or(none),
+            latency: Percentiles::of(&latency).unwrap_or(none),
+        }),
     })
 }
 

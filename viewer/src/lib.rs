@@ -14,6 +14,7 @@
 //! and the GPU path share `render_model`'s camera and lighting.
 
 pub mod controls;
+pub mod edits;
 pub mod flight;
 pub mod gpu_view;
 pub mod headless;

@@ -31,7 +31,8 @@ use render_model::antialias::fxaa;
 use render_model::camera::Camera;
 use render_model::lighting::Lighting;
 use viewer::deferred_reference::render_deferred;
-use viewer::flight::{FlightPath, fly};
+use viewer::edits::SharedWorld;
+use viewer::flight::{FlightPath, fly_over};
 use viewer::gpu_view::{GpuViewError, render_scene};
 use viewer::headless::{draw_frame, load};
 use viewer::scene::vox::{VoxError, VoxOptions, load_vox_file_with};
@@ -74,8 +75,59 @@ fn vox_scene(path: &Path, include_hidden: bool) -> Result<Scene, VoxError> {
 enum Shown {
     /// A scene held whole (`--vox`, `--chunks`).
     Fixed(Scene),
-    /// The streamed terrain.
-    Streamed(StreamSettings, Terrain),
+    /// The streamed terrain and its world (edited by the flags, loaded with `--world`).
+    Streamed(StreamSettings, Terrain, SharedWorld),
+}
+
+/// The streamed terrain's world: loaded from `--world` (a new one when the folder holds
+/// none; chunks that did not load are named), with the edit flags applied, and saved back
+/// there when they changed anything.
+fn open_world(args: &Args, settings: &StreamSettings) -> Result<SharedWorld, String> {
+    let top = settings.top_level();
+    let world = match &args.world {
+        Some(dir) => {
+            let (world, report) = SharedWorld::open_or_new(dir, settings.seed, settings.chunk, top)
+                .map_err(|e| format!("world {}: {e}", dir.display()))?;
+            match report {
+                Some(report) => {
+                    eprintln!(
+                        "viewer: world {}: {} edited chunks loaded from {} regions",
+                        dir.display(),
+                        report.chunks,
+                        report.regions
+                    );
+                    for (path, fault) in &report.faults {
+                        eprintln!(
+                            "viewer: warning: {}: {fault}; that chunk is not loaded",
+                            path.display()
+                        );
+                    }
+                }
+                None => eprintln!(
+                    "viewer: world {}: new (nothing saved there yet)",
+                    dir.display()
+                ),
+            }
+            world
+        }
+        None => SharedWorld::new(settings.seed, settings.chunk, top).map_err(|e| e.to_string())?,
+    };
+    let edits = args.all_edits();
+    if !edits.is_empty() {
+        let dirty = world.apply(&edits).map_err(|e| e.to_string())?;
+        eprintln!(
+            "viewer: {} edits changed {} chunks",
+            edits.len(),
+            dirty.changed().count()
+        );
+        if let Some(dir) = &args.world {
+            let chunks = world
+                .save(dir)
+                .map_err(|e| format!("saving the world to {}: {e}", dir.display()))?;
+            eprintln!("viewer: world {}: saved {chunks} chunks", dir.display());
+        }
+    }
+    Ok(world)
 }
 
 fn main() -> ExitCode {
@@ -106,9 +158,17 @@ fn main() -> ExitCode {
                 eprintln!("viewer: {e}");
                 return ExitCode::FAILURE;
             }
+            let world = match open_world(&args, &settings) {
+                Ok(world) => world,
+                Err(e) => {
+                    eprintln!("viewer: {e}");
+                    return ExitCode::FAILURE;
+                }
+            };
             Shown::Streamed(
                 settings,
                 Terrain::new(args.seed, TerrainBlocks::palette().1),
+                world,
             )
         }
     };
@@ -116,7 +176,7 @@ fn main() -> ExitCode {
     // --camera and --fov replace the scene's first view, for the PNG and the window alike.
     let suggested = match &shown {
         Shown::Fixed(scene) => scene.suggested_view,
-        Shown::Streamed(_, terrain) => terrain_view(terrain),
+        Shown::Streamed(_, terrain, _) => terrain_view(terrain),
     };
     let fov_y = args.fov.unwrap_or(suggested.fov_y);
     let view = match args.camera {
@@ -138,7 +198,11 @@ fn main() -> ExitCode {
         };
         let source = match &shown {
             Shown::Fixed(scene) => WindowSource::Fixed(scene),
-            Shown::Streamed(settings, _) => WindowSource::Streamed(settings.clone()),
+            Shown::Streamed(settings, _, world) => WindowSource::Streamed {
+                settings: settings.clone(),
+                world: world.clone(),
+                world_dir: args.world.clone(),
+            },
         };
         match run_window(source, view, options) {
             Ok(report) => {
@@ -155,7 +219,9 @@ fn main() -> ExitCode {
     let started = Instant::now();
     let frame = match &shown {
         Shown::Fixed(scene) => fixed_frame(&args, scene, &view, generated),
-        Shown::Streamed(settings, terrain) => streamed_frame(&args, settings, terrain, &view),
+        Shown::Streamed(settings, terrain, world) => {
+            streamed_frame(&args, settings, terrain, world, &view)
+        }
     };
     let Some((rgba, what)) = frame else {
         return ExitCode::FAILURE;
@@ -231,6 +297,7 @@ fn streamed_frame(
     args: &Args,
     settings: &StreamSettings,
     terrain: &Terrain,
+    world: &SharedWorld,
     view: &Camera,
 ) -> Option<(Vec<u8>, String)> {
     let (width, height) = args.size();
@@ -239,7 +306,14 @@ fn streamed_frame(
     } else {
         match GpuContext::new_headless(&DeviceOptions::default()) {
             Ok(ctx) => {
-                return streamed_gpu_frame(&ctx, settings, view, (width, height), args.wireframe);
+                return streamed_gpu_frame(
+                    &ctx,
+                    settings,
+                    world,
+                    view,
+                    (width, height),
+                    args.wireframe,
+                );
             }
             Err(e) if e.is_no_adapter() && args.wireframe => {
                 eprintln!("viewer: --wireframe needs the GPU renderer: {e}");
@@ -254,8 +328,12 @@ fn streamed_frame(
     };
     let why = no_gpu.unwrap_or_default();
     let top = voxel_scene::TERRAIN_TOP;
+    // The edits over the terrain's function: an edited chunk's blocks, else the function's.
+    let edited = world.read();
     let block_at = |p: WorldPos| {
-        if (0..=top).contains(&p.y) {
+        if let Some(id) = edited.edited_block(p) {
+            id
+        } else if (0..=top).contains(&p.y) {
             terrain.block_at(p.x, p.y, p.z)
         } else {
             BlockId::AIR
@@ -290,35 +368,38 @@ fn streamed_frame(
 fn streamed_gpu_frame(
     ctx: &GpuContext,
     settings: &StreamSettings,
+    world: &SharedWorld,
     view: &Camera,
     (width, height): (u32, u32),
     wireframe: bool,
 ) -> Option<(Vec<u8>, String)> {
     let camera = *view;
     let loaded = Instant::now();
-    let result = StreamedView::new(ctx, settings, width, height).and_then(|mut streamed| {
-        load(&mut streamed, &camera, LOAD_TIMEOUT, |status| {
-            eprintln!("viewer: {}", status.progress_line());
-        })?;
-        let load_time = loaded.elapsed();
-        if let Some(choice) = streamed.choose_opaque_path(OPAQUE_TRIAL_FRAMES)? {
-            eprintln!("viewer: opaque path (auto): {choice}");
-        }
-        streamed.renderer_mut().set_wireframe(wireframe);
-        let passes = draw_frame(ctx, &mut streamed)?;
-        let image = streamed
-            .renderer()
-            .read_image()
-            .map_err(viewer::stream::StreamError::Renderer)?;
-        let status = streamed.streamer().status();
-        Ok((
-            image.rgba,
-            passes,
-            status,
-            load_time,
-            streamed.streamer().far_choice().clone(),
-        ))
-    });
+    let result = StreamedView::with_world(ctx, settings, width, height, world.clone()).and_then(
+        |mut streamed| {
+            load(&mut streamed, &camera, LOAD_TIMEOUT, |status| {
+                eprintln!("viewer: {}", status.progress_line());
+            })?;
+            let load_time = loaded.elapsed();
+            if let Some(choice) = streamed.choose_opaque_path(OPAQUE_TRIAL_FRAMES)? {
+                eprintln!("viewer: opaque path (auto): {choice}");
+            }
+            streamed.renderer_mut().set_wireframe(wireframe);
+            let passes = draw_frame(ctx, &mut streamed)?;
+            let image = streamed
+                .renderer()
+                .read_image()
+                .map_err(viewer::stream::StreamError::Renderer)?;
+            let status = streamed.streamer().status();
+            Ok((
+                image.rgba,
+                passes,
+                status,
+                load_time,
+                streamed.streamer().far_choice().clone(),
+            ))
+        },
+    );
     match result {
         Ok((rgba, passes, status, load_time, far)) => Some((
             rgba,
@@ -418,13 +499,29 @@ fn flight(args: &Args, seconds: f64) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    let world = match open_world(args, &settings) {
+        Ok(world) => world,
+        Err(e) => {
+            eprintln!("viewer: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
     let terrain = Terrain::new(args.seed, TerrainBlocks::palette().1);
     // Above the highest hills at the origin, so the climb starts clear of the ground.
     let height = f64::from(terrain.height(0, 0).max(terrain.sea_level) + 24);
     let path = FlightPath::over_origin(height);
-    let report = match fly(&ctx, &settings, &path, seconds, args.size(), |status| {
-        eprintln!("viewer: {}", status.progress_line());
-    }) {
+    let report = match fly_over(
+        &ctx,
+        &settings,
+        world,
+        &path,
+        seconds,
+        args.size(),
+        args.edits_per_second,
+        |status| {
+            eprintln!("viewer: {}", status.progress_line());
+        },
+    ) {
         Ok(report) => report,
         Err(e) => {
             eprintln!("viewer: flight: {e}");

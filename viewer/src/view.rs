@@ -19,7 +19,10 @@ use gpu_backend::render::{OpaqueChoice, OpaquePath, Renderer};
 use render_model::camera::Camera;
 
 use crate::controls::Controls;
+use crate::edits::SharedWorld;
+use crate::stream::Invalidated;
 use crate::stream::{NodeMemory, StreamError, StreamSettings, StreamStatus, Streamer};
+use voxel_world::Edit;
 
 /// Frames per opaque path that `--opaque auto` draws to choose (see
 /// [`StreamedView::choose_opaque_path`]).
@@ -35,24 +38,67 @@ pub struct StreamedView {
     memory: NodeMemory,
     /// The opaque path measured with `--opaque auto`, kept for replacement renderers.
     opaque_choice: Option<OpaqueChoice>,
+    /// The world both streamers build from.
+    world: SharedWorld,
 }
 
 impl StreamedView {
-    /// A view of the terrain of `settings` drawing `width x height`.
+    /// A view of the terrain of `settings` drawing `width x height`, unedited.
     pub fn new(
         ctx: &GpuContext,
         settings: &StreamSettings,
         width: u32,
         height: u32,
     ) -> Result<StreamedView, StreamError> {
+        let world = SharedWorld::new(settings.seed, settings.chunk, settings.top_level())
+            .map_err(|e| StreamError::Edit(e.to_string()))?;
+        StreamedView::with_world(ctx, settings, width, height, world)
+    }
+
+    /// A view of `world` (the terrain of `settings`' seed, edited or loaded) drawing
+    /// `width x height`.
+    pub fn with_world(
+        ctx: &GpuContext,
+        settings: &StreamSettings,
+        width: u32,
+        height: u32,
+        world: SharedWorld,
+    ) -> Result<StreamedView, StreamError> {
         let memory = NodeMemory::new(settings.memory_bytes);
+        let current =
+            Streamer::with_world(ctx, settings, width, height, memory.clone(), world.clone())?;
         Ok(StreamedView {
-            current: Streamer::with_memory(ctx, settings, width, height, memory.clone())?,
+            current,
             next: None,
             size: (width, height),
             memory,
             opaque_choice: None,
+            world,
         })
+    }
+
+    /// The world the view draws.
+    pub fn world(&self) -> &SharedWorld {
+        &self.world
+    }
+
+    /// Applies `edits` to the world (all or none: a refused edit changes nothing and is an
+    /// error naming it) and makes both streamers' nodes follow: the shown ones are swapped
+    /// before this returns, so the next frame shows the edits (see
+    /// `stream::streamer::edits`). Returns what the drawing streamer did.
+    pub fn apply_edits(&mut self, edits: &[Edit]) -> Result<Invalidated, StreamError> {
+        let dirty = self
+            .world
+            .apply(edits)
+            .map_err(|e| StreamError::Edit(e.to_string()))?;
+        if dirty.is_empty() {
+            return Ok(Invalidated::default());
+        }
+        let done = self.current.invalidate(&dirty)?;
+        if let Some(next) = &mut self.next {
+            next.invalidate(&dirty)?;
+        }
+        Ok(done)
     }
 
     /// One frame's streaming for both streamers; swaps in the new one once it has committed.
@@ -175,8 +221,13 @@ impl StreamedView {
             let (width, height) = self.size;
             // A replaced replacement gives its nodes back to the shared memory when dropped.
             let memory = self.memory.clone();
-            self.next = Some(Streamer::with_memory(
-                ctx, &settings, width, height, memory,
+            self.next = Some(Streamer::with_world(
+                ctx,
+                &settings,
+                width,
+                height,
+                memory,
+                self.world.clone(),
             )?);
         }
         if controls.budget_px != self.current.settings().budget_px {

@@ -134,9 +134,9 @@ impl<B: Base> World<B> {
         coord: ChunkCoord,
         out: &mut PaddedChunk,
     ) -> Result<(), WorldError> {
-        let Some(coarse) = &self.coarse else {
+        if self.coarse.is_none() {
             return Err(WorldError::NoBaseLevels);
-        };
+        }
         if level > MAX_LEVEL {
             return Err(WorldError::BadLevel { level });
         }
@@ -147,6 +147,33 @@ impl<B: Base> World<B> {
                 coord,
                 message: format!("level {level}: {message}"),
             })?;
+        self.overlay_edits(level, coord, out)
+    }
+
+    /// Writes the edited data of node `coord` of `level` and its 26 neighbours over `out`, the
+    /// base's padded neighbourhood of that node ([`Base::fill_padded`]): the second half of
+    /// [`gather_over_base`](Self::gather_over_base), for a reader that fills from the base
+    /// without holding the world (the fill of a coarse node is the slow half). Needs base
+    /// levels ([`use_base_levels`](Self::use_base_levels)).
+    pub fn overlay_edits(
+        &self,
+        level: u32,
+        coord: ChunkCoord,
+        out: &mut PaddedChunk,
+    ) -> Result<(), WorldError> {
+        let Some(coarse) = &self.coarse else {
+            return Err(WorldError::NoBaseLevels);
+        };
+        if out.size() != self.size {
+            return Err(WorldError::Base {
+                coord,
+                message: format!(
+                    "a neighbourhood of {}^3 chunks over a world of {}^3",
+                    out.size().edge(),
+                    self.size.edge()
+                ),
+            });
+        }
         for dz in -1..=1 {
             for dy in -1..=1 {
                 for dx in -1..=1 {
@@ -262,6 +289,16 @@ impl<B: Base> World<B> {
             }
         }
         Ok(())
+    }
+
+    /// The block at `pos` when its chunk holds an edit (`None` elsewhere: the base's block
+    /// stands there), without writing anything: for readers that have the base's blocks
+    /// another way (a raycaster over the terrain's function).
+    pub fn edited_block(&self, pos: WorldPos) -> Option<voxel_core::BlockId> {
+        let (coord, _) = pos.split(self.size);
+        self.edited
+            .contains(&coord)
+            .then(|| self.chunks.get_block(pos))
     }
 
     /// The block at `pos` (materializing its chunk).

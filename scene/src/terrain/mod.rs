@@ -60,6 +60,7 @@ pub struct Terrain {
     height_noise: FastNoiseLite,
     cave_noise: FastNoiseLite,
     blocks: TerrainBlocks,
+    seed: i32,
     /// Height of the sea surface; columns below it are flooded.
     pub sea_level: i32,
     /// Average ground height.
@@ -73,6 +74,7 @@ impl std::fmt::Debug for Terrain {
         // The noise generators have no Debug; their settings are fixed by `Terrain::new`.
         f.debug_struct("Terrain")
             .field("blocks", &self.blocks)
+            .field("seed", &self.seed)
             .field("sea_level", &self.sea_level)
             .field("base_height", &self.base_height)
             .field("amplitude", &self.amplitude)
@@ -97,10 +99,16 @@ impl Terrain {
             height_noise,
             cave_noise,
             blocks,
+            seed,
             sea_level: 14,
             base_height: 18,
             amplitude: 14.0,
         }
+    }
+
+    /// The seed it was made with.
+    pub fn seed(&self) -> i32 {
+        self.seed
     }
 
     /// The block ids this terrain writes.

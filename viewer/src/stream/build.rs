@@ -1,5 +1,5 @@
 //! Building nodes in the background: the terrain's padded neighbourhood of a node
-//! ([`Terrain::fill_node`]), meshed ([`NodeMesher::mesh_padded`]), its hidden layers left out
+//! ([`Terrain::fill_node`]) with the edits of the [`SharedWorld`] over it, meshed ([`NodeMesher::mesh_padded`]), its hidden layers left out
 //! of the upload view, level-0 nodes with grass and flowers on their grass blocks
 //! ([`clutter`](super::clutter)); by the [`Builders`](super::builders::Builders) of a streamer, one
 //! scratch mesher per worker thread.
@@ -15,6 +15,7 @@ use voxel_scene::{NodeContent, Terrain, TerrainBlocks};
 
 use super::selection::NodeKey;
 use super::settings::{Layers, MesherMode, StreamSettings};
+use crate::edits::SharedWorld;
 
 /// What the [`Builders`](super::builders::Builders) build nodes with: the terrain's
 /// [`NodeSource`], or a stand-in in the tests of the worker protocol.
@@ -26,6 +27,8 @@ pub(super) trait BuildNode: Send + Sync + 'static {
 /// Everything a worker needs to build nodes of one streamed terrain (shared, read-only).
 pub(super) struct NodeSource {
     terrain: Terrain,
+    /// The edits over the terrain (the world's base is the same terrain).
+    world: SharedWorld,
     size: voxel_core::ChunkSize,
     /// The classes the mesher meshes with (every opaque block smoothable in smooth mode).
     mesh_classes: BlockClasses,
@@ -39,14 +42,24 @@ pub(super) struct NodeSource {
     layers: Layers,
 }
 
+impl std::fmt::Debug for NodeSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("NodeSource")
+            .field("size", &self.size)
+            .field("layers", &self.layers)
+            .finish_non_exhaustive()
+    }
+}
+
 impl NodeSource {
     /// The source for `settings` with the terrain's `palette` (from [`TerrainBlocks::palette`]);
-    /// far-draw blocks are extracted when `far_blocks`.
+    /// far-draw blocks are extracted when `far_blocks`; the edits of `world` are built in.
     pub(super) fn new(
         settings: &StreamSettings,
         palette: &MaterialPalette,
         blocks: TerrainBlocks,
         far_blocks: bool,
+        world: SharedWorld,
     ) -> NodeSource {
         let classes = BlockClasses::from_palette(palette);
         let mesh_classes = match settings.mesher {
@@ -65,6 +78,7 @@ impl NodeSource {
         let grass = blocks.grass;
         NodeSource {
             terrain: Terrain::new(settings.seed, blocks),
+            world,
             size: settings.chunk,
             mesh_classes,
             classes,
@@ -91,10 +105,25 @@ impl BuildNode for NodeSource {
             let mut scratch = scratch.borrow_mut();
             let (mesher, padded) = &mut *scratch;
             let padded = padded.get_or_insert_with(|| PaddedChunk::new(self.size));
+            // The terrain's fill, without holding the world (a coarse node's fill is slow and
+            // would hold edits back); the edits over it after. An edit landing in between
+            // marks this build stale, and the streamer builds the node again.
             let content = self
                 .terrain
                 .fill_node(self.size, key.level, key.coord, padded)?;
-            if content != NodeContent::Surface {
+            let edited = {
+                let world = self.world.read();
+                let touched = world.touches(key.level, key.coord);
+                if touched {
+                    world
+                        .overlay_edits(key.level, key.coord, padded)
+                        .map_err(|e| format!("node {key:?}: {e}"))?;
+                }
+                touched
+            };
+            // The fill's verdict holds for the terrain alone; an edited node is meshed (an
+            // empty mesh draws nothing).
+            if !edited && content != NodeContent::Surface {
                 return Ok(None);
             }
             let mut node = NodeMesh::default();

@@ -112,6 +112,16 @@ impl Builders {
         self.wake(&mut state);
     }
 
+    /// Queues `keys` before what is queued, in their order (rebuilds after an edit go first),
+    /// and starts workers for them.
+    pub(super) fn queue_front(&self, keys: &[NodeKey]) {
+        let mut state = lock(&self.state);
+        for &key in keys.iter().rev() {
+            state.queue.push_front(key);
+        }
+        self.wake(&mut state);
+    }
+
     /// The streamer is done with `n` nodes it received (uploaded, empty, failed or dropped):
     /// room for the workers to build `n` more.
     pub(super) fn release(&self, n: usize) {

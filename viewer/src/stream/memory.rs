@@ -46,6 +46,12 @@ impl NodeMemory {
             .is_ok()
     }
 
+    /// Takes back `bytes` just given back, past the limit if need be: for a swap that gave
+    /// a node's bytes back for its new data and then keeps the old data after all.
+    pub(super) fn take_anyway(&self, bytes: u64) {
+        self.used.fetch_add(bytes, Ordering::AcqRel);
+    }
+
     /// Gives back `bytes` taken before.
     pub fn give_back(&self, bytes: u64) {
         let before = self.used.fetch_sub(bytes, Ordering::AcqRel);

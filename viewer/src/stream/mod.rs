@@ -77,7 +77,7 @@ use gpu_backend::render::RenderError;
 pub use memory::NodeMemory;
 pub use selection::NodeKey;
 pub use settings::{Layers, MesherMode, StreamSettings, UploadLimit};
-pub use streamer::{StreamCounters, Streamer};
+pub use streamer::{Invalidated, StreamCounters, Streamer};
 
 /// Where a streamer stands.
 #[derive(Clone, Debug, PartialEq)]
@@ -156,6 +156,8 @@ pub enum StreamError {
     Memory(String),
     /// The glTF props could not be added to the renderer (why).
     Props(String),
+    /// The editable world refused a call: an edit, a load or a save (why).
+    Edit(String),
     /// The planning worker vanished (a panic on the pool).
     Planner,
     /// The view did not load in the time allowed.
@@ -175,6 +177,7 @@ impl fmt::Display for StreamError {
             StreamError::Renderer(e) => write!(f, "renderer: {e}"),
             StreamError::Build(why) => write!(f, "building a node: {why}"),
             StreamError::Props(why) => write!(f, "{why}"),
+            StreamError::Edit(why) => write!(f, "world: {why}"),
             StreamError::Upload(key, e) => {
                 write!(
                     f,

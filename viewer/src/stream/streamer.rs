@@ -1,7 +1,11 @@
 //! [`Streamer`]: one renderer and the nodes resident in it, kept to what the committed and
 //! the wanted plans select (see the [module docs](super) for the protocol).
 
-use std::collections::{HashMap, VecDeque};
+mod edits;
+
+pub use edits::Invalidated;
+
+use std::collections::{HashMap, HashSet, VecDeque};
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::time::Instant;
@@ -24,6 +28,7 @@ use super::selection::{Extent, NodeKey};
 use super::settings::{BadSetting, StreamSettings};
 use super::sizing::{far_choice, renderer_config};
 use super::{StreamError, StreamStatus};
+use crate::edits::SharedWorld;
 use render_model::lighting::Lighting;
 
 /// What the streamer knows of a node.
@@ -57,6 +62,8 @@ pub struct StreamCounters {
     pub freed: u64,
     /// Plans committed (anchor or budget moves).
     pub commits: u64,
+    /// Resident nodes rebuilt after edits and swapped in.
+    pub rebuilt: u64,
 }
 
 /// One renderer streaming the terrain around the camera (see the [module docs](super)).
@@ -73,6 +80,14 @@ pub struct Streamer {
     wanted: Option<Wanted>,
     planning: Option<Receiver<Plan>>,
     builders: Builders,
+    /// What the builders build from, for the nodes an edit makes rebuild at once.
+    source: Arc<NodeSource>,
+    /// Nodes whose build, queued or running or finished and not yet uploaded, may have read
+    /// the world before an edit: built again instead of uploaded.
+    stale: HashSet<NodeKey>,
+    /// Resident nodes the workers are rebuilding after an edit (drawn meanwhile as they are;
+    /// no plan commits while it selects one).
+    rebuilding: HashSet<NodeKey>,
     finished: Receiver<Finished>,
     uploads: VecDeque<(NodeKey, BuiltNode)>,
     to_free: VecDeque<NodeKey>,
@@ -98,19 +113,27 @@ impl Streamer {
         height: u32,
     ) -> Result<Streamer, StreamError> {
         let memory = NodeMemory::new(settings.memory_bytes);
-        Streamer::with_memory(ctx, settings, width, height, memory)
+        let world = SharedWorld::new(settings.seed, settings.chunk, settings.top_level())
+            .map_err(|e| StreamError::Edit(e.to_string()))?;
+        Streamer::with_world(ctx, settings, width, height, memory, world)
     }
 
-    /// Like [`new`](Self::new), with node memory shared with other streamers (those of one
-    /// view: `crate::view`).
-    pub fn with_memory(
+    /// Like [`new`](Self::new), with node memory and the world shared with other streamers
+    /// (those of one view: `crate::view`). The world must be the terrain of the settings'
+    /// seed and chunk size, with dirty sets up to their top level (an error names a
+    /// mismatch).
+    pub fn with_world(
         ctx: &GpuContext,
         settings: &StreamSettings,
         width: u32,
         height: u32,
         memory: NodeMemory,
+        world: SharedWorld,
     ) -> Result<Streamer, StreamError> {
         let settings = settings.clone().validate().map_err(StreamError::Settings)?;
+        world
+            .check_matches(settings.seed, settings.chunk, settings.top_level())
+            .map_err(StreamError::Edit)?;
         let far = far_choice(&settings, &ctx.capabilities).map_err(StreamError::Far)?;
         let config = renderer_config(&settings, far.path, (width, height), &ctx.capabilities);
         let (palette, blocks) = TerrainBlocks::palette();
@@ -127,10 +150,16 @@ impl Streamer {
                 .map_err(|e| StreamError::Props(e.to_string()))?;
         }
         let far_blocks = far.path != gpu_backend::render::far::FarPath::Off;
-        let source = Arc::new(NodeSource::new(&settings, &palette, blocks, far_blocks));
+        let source = Arc::new(NodeSource::new(
+            &settings, &palette, blocks, far_blocks, world,
+        ));
         let (finished_sender, finished) = channel();
-        let builders = Builders::new(source, finished_sender, settings.max_built_nodes as usize)
-            .map_err(StreamError::Build)?;
+        let builders = Builders::new(
+            Arc::clone(&source) as Arc<dyn super::build::BuildNode>,
+            finished_sender,
+            settings.max_built_nodes as usize,
+        )
+        .map_err(StreamError::Build)?;
         Ok(Streamer {
             renderer,
             extent: Extent {
@@ -140,6 +169,9 @@ impl Streamer {
             settings,
             far,
             builders,
+            source,
+            stale: HashSet::new(),
+            rebuilding: HashSet::new(),
             entries: HashMap::new(),
             resident: (0, 0),
             committed: None,
@@ -326,6 +358,7 @@ impl Streamer {
 
     /// Forgets `key`, keeping the resident totals; returns its entry.
     fn remove_entry(&mut self, key: &NodeKey) -> Option<Entry> {
+        self.stale.remove(key);
         let old = self.entries.remove(key);
         self.count(old, -1);
         old
@@ -381,11 +414,18 @@ impl Streamer {
         // Queued nodes of the replaced plan that no worker started: forgotten (those this
         // plan wants are queued again below, in its order). Every queued key is `Loading`
         // and counted in `in_flight` (queued once, when it had no entry).
+        let mut rebuilds = Vec::new();
         for key in self.builders.take_queued() {
+            if self.rebuilding.contains(&key) {
+                // An edit's rebuild of a resident node: kept, at the front.
+                rebuilds.push(key);
+                continue;
+            }
             let was = self.remove_entry(&key);
             debug_assert_eq!(was, Some(Entry::Loading), "{key:?} queued");
             self.in_flight -= 1;
         }
+        self.builders.queue_front(&rebuilds);
         // Built nodes of the replaced plan that this one does not want: dropped now, so the
         // builders get their room back at once.
         let before = self.uploads.len();
@@ -428,6 +468,17 @@ impl Streamer {
         while let Ok(Finished { key, result }) = self.finished.try_recv() {
             self.in_flight -= 1;
             self.counters.built += 1;
+            if self.rebuilding.remove(&key) {
+                self.builders.release(1);
+                self.rebuilt(key, result)?;
+                continue;
+            }
+            if self.stale.remove(&key) && self.needed(&key) {
+                // Read the world before an edit: built again (the entry stays `Loading`).
+                self.builders.release(1);
+                self.requeue(key);
+                continue;
+            }
             let built = match result {
                 Ok(built) => built,
                 Err(why) => {
@@ -479,6 +530,13 @@ impl Streamer {
                 self.uploads.pop_front();
                 self.builders.release(1);
                 self.remove_entry(&key);
+                continue;
+            }
+            if self.stale.remove(&key) {
+                self.uploads.pop_front();
+                self.builders.release(1);
+                self.set_entry(key, Entry::Loading);
+                self.requeue(key);
                 continue;
             }
             let size = built.bytes();
@@ -585,7 +643,8 @@ impl Streamer {
 
     /// Frees `key` unless a plan selects it again.
     fn free(&mut self, key: NodeKey) -> Result<(), StreamError> {
-        if self.needed(&key) {
+        // A node being rebuilt is freed when its rebuild comes back (`rebuilt`).
+        if self.needed(&key) || self.rebuilding.contains(&key) {
             return Ok(());
         }
         // Loading or built nodes are dropped when they arrive or are reached instead.
@@ -606,6 +665,12 @@ impl Streamer {
     /// being made: that one's differences are against the committed plan of its request).
     fn commit_if_loaded(&mut self) -> Result<(), StreamError> {
         if self.planning.is_some() || self.wanted.as_ref().is_none_or(|w| w.pending > 0) {
+            return Ok(());
+        }
+        // A node the plan selects that is being rebuilt after an edit holds stale data.
+        if let Some(wanted) = &self.wanted
+            && self.rebuilding.iter().any(|k| wanted.plan.keys.contains(k))
+        {
             return Ok(());
         }
         let Some(wanted) = self.wanted.take() else {

@@ -16,6 +16,7 @@ use winit::window::{Window, WindowId};
 use gpu_backend::FrameSkipped;
 
 use super::camera::{FlyCamera, MoveKeys};
+use super::editing::{Autosave, Brush, click};
 use super::gpu::{Drawn, GpuWindow};
 use super::lines::overlay_lines;
 use super::panel::Panel;
@@ -25,6 +26,9 @@ use render_model::camera::Camera;
 
 /// Pixels of a scroll "line" for touchpads that report pixels.
 const PIXELS_PER_SCROLL_LINE: f64 = 40.0;
+
+/// Pixels a press may move and still be a click (an edit) rather than a look.
+const CLICK_SLOP: f64 = 4.0;
 
 /// How long to wait before trying again after the swapchain gave no image.
 const RETRY_AFTER_SKIP: Duration = Duration::from_millis(50);
@@ -38,6 +42,13 @@ pub(super) struct App<'a> {
     keys: MoveKeys,
     /// A mouse button is held for looking (pressed outside the overlay).
     dragging: bool,
+    /// Pixels the cursor moved since the button went down: a click moves less than
+    /// [`CLICK_SLOP`].
+    dragged: f64,
+    /// What a click writes.
+    brush: Brush,
+    /// `--world`: where and when the edits are saved.
+    autosave: Option<Autosave>,
     cursor: Option<PhysicalPosition<f64>>,
     stats: FrameStats,
     last_frame: Option<Instant>,
@@ -57,7 +68,17 @@ pub(super) struct App<'a> {
 impl<'a> App<'a> {
     /// An app showing `source` from the first `view`.
     pub(super) fn new(source: WindowSource<'a>, view: Camera, options: WindowOptions) -> App<'a> {
+        let autosave = match &source {
+            WindowSource::Streamed {
+                world_dir: Some(dir),
+                ..
+            } => Some(Autosave::new(dir.clone())),
+            _ => None,
+        };
         App {
+            dragged: 0.0,
+            brush: Brush::default(),
+            autosave,
             source,
             camera: FlyCamera::new(view, 32.0),
             panel: Panel {
@@ -116,7 +137,66 @@ impl<'a> App<'a> {
         }
     }
 
+    /// `[`, `]` resize the brush, 1 to 6 pick its block: true when `code` was one of them.
+    fn brush_key(&mut self, code: KeyCode) -> bool {
+        let brush = match code {
+            KeyCode::BracketLeft => self.brush.resized(false),
+            KeyCode::BracketRight => self.brush.resized(true),
+            KeyCode::Digit1 => self.brush.with_block(1),
+            KeyCode::Digit2 => self.brush.with_block(2),
+            KeyCode::Digit3 => self.brush.with_block(3),
+            KeyCode::Digit4 => self.brush.with_block(4),
+            KeyCode::Digit5 => self.brush.with_block(5),
+            KeyCode::Digit6 => self.brush.with_block(6),
+            _ => return false,
+        };
+        self.brush = brush;
+        self.panel.message = Some(format!(
+            "brush: radius {}, block {}",
+            brush.radius, brush.block.0
+        ));
+        true
+    }
+
+    /// A click on the streamed terrain: breaks (or with `place`, places) the brush at the
+    /// block under the cursor; the overlay says what happened.
+    fn edit_at_cursor(&mut self, place: bool) {
+        let (Some(gpu), Some(cursor)) = (self.gpu.as_mut(), self.cursor) else {
+            return;
+        };
+        let size = gpu.size();
+        let camera = self.camera.camera();
+        let Drawn::Streamed(view) = gpu.drawn_mut() else {
+            return;
+        };
+        let px = (cursor.x.max(0.0) as u32).min(size.0.saturating_sub(1));
+        let py = (cursor.y.max(0.0) as u32).min(size.1.saturating_sub(1));
+        let line = match click(view, &camera, (px, py), size, self.brush, place) {
+            Ok(line) => line,
+            Err(e) => format!("edit refused: {e}"),
+        };
+        self.panel.message = Some(line);
+        gpu.window().request_redraw();
+    }
+
+    /// Saves the world of `--world` when it is due (or `now`); the error names the folder.
+    fn save(&mut self, now: bool) -> Result<(), String> {
+        let (Some(autosave), WindowSource::Streamed { world, .. }) =
+            (self.autosave.as_mut(), &self.source)
+        else {
+            return Ok(());
+        };
+        if let Some(line) = autosave.tick(world, now)? {
+            self.panel.message = Some(line);
+        }
+        Ok(())
+    }
+
     fn redraw(&mut self, event_loop: &ActiveEventLoop) {
+        if let Err(why) = self.save(false) {
+            eprintln!("viewer: {why}");
+            self.panel.message = Some(why);
+        }
         let now = Instant::now();
         let dt = self
             .last_frame
@@ -286,6 +366,8 @@ impl ApplicationHandler for App<'_> {
                 } else if code == KeyCode::F12 && pressed {
                     self.screenshot = true;
                     gpu.window().request_redraw();
+                } else if pressed && !consumed && self.brush_key(code) {
+                    // `[`, `]` and 1 to 6 changed the brush.
                 } else if !consumed || !pressed {
                     // Releases always count, so a key never sticks.
                     self.set_key(code, pressed);
@@ -295,13 +377,19 @@ impl ApplicationHandler for App<'_> {
             WindowEvent::MouseInput { state, button, .. } => {
                 let looking = matches!(button, MouseButton::Left | MouseButton::Right);
                 if state == ElementState::Released {
+                    let clicked = self.dragging && self.dragged < CLICK_SLOP;
                     self.dragging = false;
+                    if clicked && looking {
+                        self.edit_at_cursor(button == MouseButton::Right);
+                    }
                 } else if looking && !consumed && !gpu.overlay_wants_pointer() {
                     self.dragging = true;
+                    self.dragged = 0.0;
                 }
             }
             WindowEvent::CursorMoved { position, .. } => {
                 if let (true, Some(last)) = (self.dragging, self.cursor) {
+                    self.dragged += (position.x - last.x).abs() + (position.y - last.y).abs();
                     self.camera.look(position.x - last.x, position.y - last.y);
                 }
                 self.cursor = Some(position);
@@ -322,6 +410,12 @@ impl ApplicationHandler for App<'_> {
     fn exiting(&mut self, _event_loop: &ActiveEventLoop) {
         if self.result.is_none() {
             self.result = self.report().map(Ok);
+        }
+        if let Err(why) = self.save(true) {
+            eprintln!("viewer: {why}");
+            if matches!(self.result, Some(Ok(_))) {
+                self.result = Some(Err(WindowError::Save(why)));
+            }
         }
         // Release the surface and device while the display connection is still open.
         self.gpu = None;

@@ -139,8 +139,11 @@ impl GpuWindow {
                     counts,
                 }
             }
-            WindowSource::Streamed(settings) => Drawn::Streamed(Box::new(
-                StreamedView::new(&ctx, settings, width, height).map_err(WindowError::Stream)?,
+            WindowSource::Streamed {
+                settings, world, ..
+            } => Drawn::Streamed(Box::new(
+                StreamedView::with_world(&ctx, settings, width, height, world.clone())
+                    .map_err(WindowError::Stream)?,
             )),
         };
         let overlay = Overlay::new(&window, &ctx.device, output.format());
@@ -174,6 +177,11 @@ impl GpuWindow {
     /// What the window draws.
     pub(super) fn drawn(&self) -> &Drawn {
         &self.drawn
+    }
+
+    /// What it draws, mutably (edits).
+    pub(super) fn drawn_mut(&mut self) -> &mut Drawn {
+        &mut self.drawn
     }
 
     /// The last drawn frame's cull counters, when the overlay was shown.

@@ -18,13 +18,16 @@
 //! wireframe view (also a checkbox in the overlay), F12 writes a
 //! screenshot (the renderer's frame without the overlay; its path is printed and shown),
 //! Escape closes. On the streamed terrain the overlay also switches the mesher mode, the far
-//! draws, the error budget and the layers ([`Controls`](crate::controls::Controls)).
+//! draws, the error budget and the layers ([`Controls`](crate::controls::Controls)), and a
+//! left click breaks blocks, a right click places them ([`editing`]: `[` `]` brush radius,
+//! 1 to 6 its block; with a world folder, saved every 30 s and on closing).
 //!
 //! With [`WindowOptions::frames`] the window closes by itself after that many presented frames
 //! (tests and smoke runs); [`WindowOptions::resize_to`] resizes it on the way.
 
 mod app;
 pub mod camera;
+pub mod editing;
 mod gpu;
 mod lines;
 pub mod mode;
@@ -41,6 +44,7 @@ use gpu_backend::render::RenderError;
 use winit::error::{EventLoopError, OsError};
 use winit::event_loop::EventLoop;
 
+use crate::edits::SharedWorld;
 use crate::gpu_view::GpuViewError;
 use crate::scene::Scene;
 use crate::stream::{StreamError, StreamSettings};
@@ -52,7 +56,14 @@ pub enum WindowSource<'a> {
     /// A scene held whole (a `.vox` file, a fixed square of terrain).
     Fixed(&'a Scene),
     /// The built-in terrain, streamed around the camera.
-    Streamed(StreamSettings),
+    Streamed {
+        /// How it streams.
+        settings: StreamSettings,
+        /// The world it shows (the terrain of the settings' seed, edited or loaded).
+        world: SharedWorld,
+        /// Where the edits are saved (`--world`): every 30 s and on closing.
+        world_dir: Option<PathBuf>,
+    },
 }
 
 /// How the window is opened.
@@ -157,6 +168,8 @@ pub enum WindowError {
     },
     /// The event loop ended before the window was shown.
     NeverShown,
+    /// The world could not be saved on closing (why, with the folder).
+    Save(String),
 }
 
 impl fmt::Display for WindowError {
@@ -180,6 +193,7 @@ impl fmt::Display for WindowError {
                 }
                 Ok(())
             }
+            WindowError::Save(why) => write!(f, "{why}"),
             WindowError::NeverShown => {
                 write!(f, "the event loop ended before the window was shown")
             }
