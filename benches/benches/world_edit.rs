@@ -1,6 +1,11 @@
 //! One single-block edit, end to end on one core: apply it (the dirty set), then re-mesh every
 //! level-0 chunk it dirties (greedy quads with AO, gathered from the world) and take each
 //! chunk's packed upload view (`ChunkMesh::layers`), as a renderer would before uploading.
+//! The second function is the viewer's own path: the terrain as the world's base with its
+//! own levels (`World::use_base_levels`, dirty sets and coarse voxels up to level 6), each
+//! dirtied level-0 node filled from the terrain with the edits over it
+//! (`World::gather_over_base`) and meshed as the streamer meshes it (`NodeMesher`: quads,
+//! far-draw blocks, skirts per side), its upload view taken.
 //!
 //! ```sh
 //! cargo bench -p benches --bench world_edit
@@ -15,10 +20,12 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use mesher::lod::{NodeMesh, NodeMesher, NodeSettings};
 use mesher::{BlockClasses, ChunkMesh, ChunkMesher, MeshSettings};
 use voxel_core::{
     BlockId, ChunkCoord, ChunkSize, Material, MaterialPalette, PaddedChunk, WorldPos,
 };
+use voxel_scene::{Terrain, TerrainBlocks};
 use voxel_world::{Edit, FnBase, World};
 
 fn world_edit(c: &mut Criterion) {
@@ -72,7 +79,52 @@ fn world_edit(c: &mut Criterion) {
             black_box(bytes)
         })
     });
+    terrain_node_edit(&mut group);
     group.finish();
+}
+
+/// The viewer's path (see the module docs): a block at a chunk corner on the terrain's
+/// surface, toggled between air and stone.
+fn terrain_node_edit(group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>) {
+    let (palette, blocks) = TerrainBlocks::palette();
+    let classes = BlockClasses::from_palette(&palette);
+    let terrain = Terrain::new(1, blocks);
+    let ground = terrain.height(0, 0);
+    let mut world = World::new(terrain, ChunkSize::S16, 6).expect("world");
+    world
+        .use_base_levels(classes.clone())
+        .expect("the terrain has levels");
+    // The surface block at x = z = 0 sits on a chunk corner on x and z.
+    let pos = WorldPos::new(0, ground, 0);
+    let settings = NodeSettings {
+        mesh: MeshSettings::default(),
+        far_blocks: true,
+    };
+    let mut padded = PaddedChunk::new(ChunkSize::S16);
+    let mut mesher = NodeMesher::new();
+    let mut node = NodeMesh::default();
+    let mut toggle = false;
+    group.bench_function("single_block_terrain_nodes_16^3_levels_0_to_6", |b| {
+        b.iter(|| {
+            toggle = !toggle;
+            let id = if toggle { blocks.stone } else { BlockId::AIR };
+            let dirty = world.apply(&[Edit::Block { pos, id }]).expect("edit");
+            let mut bytes = 0u64;
+            let mut nodes = 0usize;
+            for coord in dirty.remesh(0) {
+                world
+                    .gather_over_base(0, coord, &mut padded)
+                    .expect("gather");
+                mesher
+                    .mesh_padded(&padded, coord, 0, &classes, &settings, &mut node)
+                    .expect("mesh");
+                bytes += node.layers().byte_len();
+                nodes += 1;
+            }
+            assert!(nodes >= 4, "the corner edit dirties {nodes} level-0 nodes");
+            black_box(bytes)
+        })
+    });
 }
 
 criterion_group!(benches, world_edit);

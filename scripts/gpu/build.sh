@@ -12,6 +12,7 @@
 #   with --cpu:  .gpu/<set>/blocky, .gpu/<set>/batch (the criterion bench binaries),
 #                .gpu/<set>/profile_blocky (benches/examples), .gpu/<set>/voxmesh and
 #                .gpu/vox/ (the sample models), for scripts/gpu/cpu.sh
+#   with --world: .gpu/<set>/world_edit (the single-edit bench), for scripts/gpu/cpu.sh worldedit
 #   with --cull: .gpu/<set>/gpu_cull_scale (the cull pass's scale test), for scripts/gpu/cull.sh
 #   with --valgrind: .gpu/tools/valgrind_*.deb (`apt-get download valgrind`, Debian 12's), for
 #                scripts/gpu/frame.sh callgrind, which unpacks it under /tmp there
@@ -37,6 +38,7 @@ set_name=.
 rev=
 cpu=0
 cull=0
+world=0
 valgrind=0
 while [ $# -gt 0 ]; do
     case "$1" in
@@ -44,6 +46,7 @@ while [ $# -gt 0 ]; do
         --rev) rev=$2; shift 2 ;;
         --cpu) cpu=1; shift ;;
         --cull) cull=1; shift ;;
+        --world) world=1; shift ;;
         --valgrind) valgrind=1; shift ;;
         -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
         *) echo "build.sh: unknown argument $1 (try --help)" >&2; exit 2 ;;
@@ -92,6 +95,15 @@ if [ "$cpu" = 1 ]; then
     strip --strip-debug -o "$dest/voxmesh" "$target/release/voxmesh"
     mkdir -p "$root/.gpu/vox"
     cp "$root"/../shared/data/vox/*.vox "$root/.gpu/vox/"
+fi
+
+if [ "$world" = 1 ]; then
+    echo "build.sh: building the world_edit bench (release)" >&2
+    build build --release --locked -p benches --bench world_edit --message-format=json \
+        | grep -o '"executable":"[^"]*/deps/world_edit-[0-9a-f]*"' | cut -d'"' -f4 \
+        | while read -r exe; do
+            strip --strip-debug -o "$dest/world_edit" "$exe"
+        done
 fi
 
 if [ "$cull" = 1 ]; then

@@ -6,10 +6,12 @@
 # target/gpu-runs/<UTC time>-cpu/, or with OUT set into $OUT/cpu-runs.tar.gz beside
 # $OUT/cpu-summary.md (as frame.sh's); the tables come last on stdout.
 #
-# Usage: scripts/gpu/cpu.sh [blocky] [batch] [aopair]     (default: blocky batch)
+# Usage: scripts/gpu/cpu.sh [blocky] [batch] [aopair] [worldedit]   (default: blocky batch)
 #
 #   blocky  the blocky bench's interleaved table, every input at 32^3 and 62^3
 #   batch   the batch bench
+#   worldedit  the world_edit bench (one single-block edit: dirty set, re-mesh, upload view),
+#           pinned to one core like the blocky bench (scripts/gpu/build.sh --world)
 #   aopair  AO on against AO off on small chunks, a row of chunks at a time
 #           (`profile_blocky <input> ao-pair 300 <edge>`, edges 8 and 16): the terrain area,
 #           foliage, the shaded and plain Menger sponges L4, `monu1`, `monu10`
@@ -49,11 +51,13 @@ fi
 if [ "${TINY:-0}" = 1 ]; then
     blocky_env=(BLOCKY_INPUTS="${INPUTS:-sphere}" BLOCKY_INTERLEAVED_ROUNDS=5 BLOCKY_INTERLEAVED_SECONDS=1)
     batch_args=(--bench nothing-matches)
+    world_args=(--test)
     batch_env=(BATCH_INTERLEAVED_ROUNDS=3)
 else
     blocky_env=(BLOCKY_INTERLEAVED_SECONDS="${SECS:-3}")
     [ -n "${INPUTS:-}" ] && blocky_env+=(BLOCKY_INPUTS="$INPUTS")
     batch_args=(--bench --warm-up-time 2 --measurement-time 6)
+    world_args=(--bench --warm-up-time 2 --measurement-time 5)
     batch_env=()
 fi
 
@@ -94,7 +98,9 @@ run_one() {
         blocky) cmd=(env BLOCKY_CRITERION=0 BLOCKY_VOX_DIR="$root/.gpu/vox" "${blocky_env[@]}"
                      "${pin[@]}" ".gpu/$b/blocky" --bench) ;;
         batch) cmd=(env "${batch_env[@]}" ".gpu/$b/batch" "${batch_args[@]}") ;;
-        *) echo "cpu.sh: unknown set $set (blocky, batch)" >&2; exit 2 ;;
+        worldedit) bin=world_edit
+            cmd=("${pin[@]}" ".gpu/$b/world_edit" "${world_args[@]}") ;;
+        *) echo "cpu.sh: unknown set $set (blocky, batch, aopair, voxmesh, worldedit)" >&2; exit 2 ;;
     esac
     if [ ! -x ".gpu/$b/$bin" ]; then
         echo "cpu.sh: .gpu/$b/$set is missing (scripts/gpu/build.sh --cpu)" >&2
@@ -145,6 +151,12 @@ done
         echo
         echo "${f##*/}:"
         sed -n '/^machine:/,$p' "$f"
+    done
+    for f in "$out"/worldedit.*.log; do
+        [ -e "$f" ] || continue
+        echo
+        echo "${f##*/}:"
+        grep -E '^world_edit/|time: +\[' "$f"
     done
     for f in "$out"/batch.*.log; do
         [ -e "$f" ] || continue

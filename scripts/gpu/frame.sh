@@ -30,6 +30,8 @@
 #   props        gpu_bench --props: 100,000 instances of the Duck sample on a grid at 1920 x
 #                1080 (and 1,000): prop cull and draw GPU times, instances drawn, CPU per
 #                frame; and the flight with 10,000 Ducks scattered over the terrain
+#   edits        the flight without edits and with `--edits-per-second 1000` (spheres of air of
+#                radius 4 carved along the path): frame times and edit-to-screen latency
 #   flightnodes  the same with the benchmark's far threshold (`--far-px 1.5`), and with it and
 #                the benchmark's 8^3 nodes (`--node-size 8 --far-px 1.5`)
 #   all          every set above
@@ -116,6 +118,7 @@ declare -A config=(
     [flight-far15]="viewer||${flight[*]} --far-px 1.5"
     [flight-props]="viewer||${flight[*]} --scatter .gpu/gltf/Duck.glb:$scatter"
     [flight-node8]="viewer||${flight[*]} --node-size 8 --far-px 1.5"
+    [flight-edits]="viewer||${flight[*]} --edits-per-second 1000"
 )
 
 # Sets -> configurations, in the order given.
@@ -136,11 +139,13 @@ for s in "${sets[@]}"; do
         flight) names+=(flight) ;;
         flightpaths) names+=(flight-compute flight-raster) ;;
         flightnodes) names+=(flight-far15 flight-node8) ;;
+        edits) names+=(flight flight-edits) ;;
         props) names+=(props flight-props) ;;
         all) names+=(headline paths distance-1024 distance-16384 distance-1024 distance-16384
                      budgets farpx farpaths nodesize-16 nodesize-8 cpu-1024 cpu-4096 cpu-16384
                      validation-off validation-on validation-off validation-on grass props callgrind
-                     flight flight-compute flight-raster flight-far15 flight-node8 flight-props) ;;
+                     flight flight-compute flight-raster flight-far15 flight-node8 flight-props
+                     flight-edits) ;;
         *) echo "frame.sh: unknown set $s (see the header of $0)" >&2; exit 2 ;;
     esac
 done
@@ -337,6 +342,16 @@ summary() {
             local stem=${f##*/}; stem=${stem%.log}
             echo "- $stem: $(sed -n 's/^flight: GPU per pass (p50\/p99 ms)  //p' "$f")"
         done
+        local edited
+        edited=$(grep -l '^flight: edits ' "${flights[@]}" 2>/dev/null || true)
+        if [ -n "$edited" ]; then
+            echo
+            echo "Flights with edits:"
+            for f in $edited; do
+                local stem=${f##*/}; stem=${stem%.log}
+                echo "- $stem: $(sed -n 's/^flight: edits //p' "$f")"
+            done
+        fi
     fi
 }
 props_summary() {

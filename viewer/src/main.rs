@@ -124,7 +124,10 @@ fn open_world(args: &Args, settings: &StreamSettings) -> Result<SharedWorld, Str
             let chunks = world
                 .save(dir)
                 .map_err(|e| format!("saving the world to {}: {e}", dir.display()))?;
-            eprintln!("viewer: world {}: saved {chunks} chunks", dir.display());
+            eprintln!(
+                "viewer: world {}: saved {chunks} region files",
+                dir.display()
+            );
         }
     }
     Ok(world)

@@ -119,7 +119,7 @@ impl SharedWorld {
     }
 
     /// Saves the edited chunks changed since the last save into `dir` (atomically: see
-    /// `voxel_world::save`); returns how many chunks it wrote.
+    /// `voxel_world::save`); returns how many region files it wrote.
     pub fn save(&self, dir: &Path) -> Result<usize, WorldError> {
         self.write().save(dir)
     }

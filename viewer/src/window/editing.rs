@@ -153,7 +153,7 @@ impl Autosave {
             .save(&self.dir)
             .map_err(|e| format!("saving the world to {}: {e}", self.dir.display()))?;
         Ok(Some(format!(
-            "saved {chunks} edited chunks to {}",
+            "saved {chunks} region files to {}",
             self.dir.display()
         )))
     }
