@@ -87,16 +87,16 @@ impl StreamedView {
     /// before this returns, so the next frame shows the edits (see
     /// `stream::streamer::edits`). Returns what the drawing streamer did.
     pub fn apply_edits(&mut self, edits: &[Edit]) -> Result<Invalidated, StreamError> {
-        let dirty = self
+        let (dirty, version) = self
             .world
-            .apply(edits)
+            .apply_versioned(edits)
             .map_err(|e| StreamError::Edit(e.to_string()))?;
         if dirty.is_empty() {
             return Ok(Invalidated::default());
         }
-        let done = self.current.invalidate(&dirty)?;
+        let done = self.current.invalidate(&dirty, version)?;
         if let Some(next) = &mut self.next {
-            next.invalidate(&dirty)?;
+            next.invalidate(&dirty, version)?;
         }
         Ok(done)
     }

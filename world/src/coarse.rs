@@ -16,7 +16,7 @@
 //!
 //! A level-0 voxel *differs* when the world's block there is not the base's. A coarse voxel
 //! differs when one of its 8 children does; a differing coarse voxel is the downsampling of its
-//! children, any other is the base's. [`CoarseLevels::update`] re-evaluates, bottom up, only the
+//! children, any other is the base's. `CoarseLevels::update` re-evaluates, bottom up, only the
 //! coarse voxels above the voxels a batch changed; every other coarse voxel's children did not
 //! change, so its value still follows the rule. A loaded world evaluates the same rule from its
 //! differing voxels, so saving and loading gives the same coarse nodes as the edits did.

@@ -1,7 +1,7 @@
 //! The streamed terrain as an editable world: a [`SharedWorld`] (the `voxel-world` crate's
 //! [`World`] over the terrain, with the terrain's own coarse levels) that the streamers' node
 //! builders read and the viewer's edits write, the block names edits use ([`parse_block`]),
-//! picking a block by a ray through the world ([`pick`]), and the flight's carving
+//! picking a block by a ray through the world ([`pick()`]), and the flight's carving
 //! ([`carve`]).
 //!
 //! ```text
@@ -115,7 +115,15 @@ impl SharedWorld {
 
     /// Applies `edits` (all or none) and returns what they dirty.
     pub fn apply(&self, edits: &[Edit]) -> Result<DirtySet, WorldError> {
-        self.write().apply(edits)
+        self.apply_versioned(edits).map(|(dirty, _)| dirty)
+    }
+
+    /// [`apply`](Self::apply), with the world's version after the batch
+    /// ([`World::version`]): a build that read this version or a later one holds the edits.
+    pub fn apply_versioned(&self, edits: &[Edit]) -> Result<(DirtySet, u64), WorldError> {
+        let mut world = self.write();
+        let dirty = world.apply(edits)?;
+        Ok((dirty, world.version()))
     }
 
     /// Saves the edited chunks changed since the last save into `dir` (atomically: see

@@ -20,8 +20,18 @@ use crate::edits::SharedWorld;
 /// What the [`Builders`](super::builders::Builders) build nodes with: the terrain's
 /// [`NodeSource`], or a stand-in in the tests of the worker protocol.
 pub(super) trait BuildNode: Send + Sync + 'static {
-    /// Builds node `key`: `Ok(None)` when it draws nothing.
-    fn build(&self, key: NodeKey) -> Result<Option<BuiltNode>, String>;
+    /// Builds node `key`: `node` is `None` when it draws nothing.
+    fn build(&self, key: NodeKey) -> Result<Built, String>;
+}
+
+/// A build's outcome: the node (`None`: draws nothing) and the world version it read
+/// ([`voxel_world::World::version`]): the streamer swaps data in only when it is newer than
+/// what is resident, and knows it stale when an edit came after.
+pub(super) struct Built {
+    /// The upload, or `None` when the node draws nothing.
+    pub node: Option<BuiltNode>,
+    /// The world version the build read.
+    pub version: u64,
 }
 
 /// Everything a worker needs to build nodes of one streamed terrain (shared, read-only).
@@ -94,9 +104,9 @@ impl NodeSource {
 }
 
 impl BuildNode for NodeSource {
-    /// Builds node `key`: `Ok(None)` when it draws nothing (air, buried, or only hidden
-    /// layers).
-    fn build(&self, key: NodeKey) -> Result<Option<BuiltNode>, String> {
+    /// Builds node `key`: nothing to draw (air, buried, or only hidden layers) is a `None`
+    /// node.
+    fn build(&self, key: NodeKey) -> Result<Built, String> {
         thread_local! {
             static SCRATCH: RefCell<(NodeMesher, Option<PaddedChunk>)> =
                 RefCell::new((NodeMesher::new(), None));
@@ -111,7 +121,7 @@ impl BuildNode for NodeSource {
             let content = self
                 .terrain
                 .fill_node(self.size, key.level, key.coord, padded)?;
-            let edited = {
+            let (edited, version) = {
                 let world = self.world.read();
                 let touched = world.touches(key.level, key.coord);
                 if touched {
@@ -119,12 +129,15 @@ impl BuildNode for NodeSource {
                         .overlay_edits(key.level, key.coord, padded)
                         .map_err(|e| format!("node {key:?}: {e}"))?;
                 }
-                touched
+                (touched, world.version())
             };
             // The fill's verdict holds for the terrain alone; an edited node is meshed (an
             // empty mesh draws nothing).
             if !edited && content != NodeContent::Surface {
-                return Ok(None);
+                return Ok(Built {
+                    node: None,
+                    version,
+                });
             }
             let mut node = NodeMesh::default();
             let settings = if key.level == 0 {
@@ -144,7 +157,10 @@ impl BuildNode for NodeSource {
                 .map_err(|e| format!("meshing node {key:?}: {e}"))?;
             let mut clutter = node.layers().clutter_units.to_vec();
             super::clutter::dress(&mut clutter, self.grass);
-            Ok(BuiltNode::new(node, clutter, self.layers, &self.classes))
+            Ok(Built {
+                node: BuiltNode::new(node, clutter, self.layers, &self.classes),
+                version,
+            })
         })
     }
 }
@@ -232,6 +248,7 @@ impl BuiltNode {
 pub(super) struct Finished {
     /// Which node.
     pub key: NodeKey,
-    /// Its upload (`None`: draws nothing), or why it could not be built.
-    pub result: Result<Option<BuiltNode>, String>,
+    /// Its upload (`None`: draws nothing) and the world version it read, or why it could not
+    /// be built.
+    pub result: Result<Built, String>,
 }

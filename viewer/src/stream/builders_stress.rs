@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 
 use voxel_core::ChunkCoord;
 
-use super::build::{BuildNode, BuiltNode};
+use super::build::{BuildNode, Built};
 use super::builders::Builders;
 use super::selection::NodeKey;
 
@@ -16,8 +16,11 @@ use super::selection::NodeKey;
 struct Instantly;
 
 impl BuildNode for Instantly {
-    fn build(&self, _key: NodeKey) -> Result<Option<BuiltNode>, String> {
-        Ok(None)
+    fn build(&self, _key: NodeKey) -> Result<Built, String> {
+        Ok(Built {
+            node: None,
+            version: 0,
+        })
     }
 }
 

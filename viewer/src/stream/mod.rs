@@ -53,6 +53,13 @@
 //! The node bytes are also counted against a [`NodeMemory`] that the streamers of one view
 //! share (`crate::view`), so a replacement streamer loads in what the drawing one leaves.
 //!
+//! # Edits
+//!
+//! Nodes are built from a [`SharedWorld`](crate::edits::SharedWorld): the terrain with its
+//! edits. [`Streamer::invalidate`] takes an edit's dirty set: the committed plan's nodes are
+//! rebuilt at once and swapped in one step, the others by the workers, and a plan selecting a
+//! node still being rebuilt waits for it (`streamer/edits.rs` has the argument).
+//!
 //! Built meshes waiting for the upload limit are bounded
 //! ([`StreamSettings::max_built_nodes`]): the builders pause at the bound
 //! (`builders.rs`, whose module docs give the worker protocol and why no queued node is left

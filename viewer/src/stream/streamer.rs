@@ -82,11 +82,12 @@ pub struct Streamer {
     builders: Builders,
     /// What the builders build from, for the nodes an edit makes rebuild at once.
     source: Arc<NodeSource>,
-    /// Nodes whose build, queued or running or finished and not yet uploaded, may have read
-    /// the world before an edit: built again instead of uploaded.
-    stale: HashSet<NodeKey>,
-    /// Resident nodes the workers are rebuilding after an edit (drawn meanwhile as they are;
-    /// no plan commits while it selects one).
+    /// The world version each built or resident node's data was read at.
+    read_at: HashMap<NodeKey, u64>,
+    /// The world version of the last edit that dirtied each node: a node whose data was read
+    /// before it is stale (`streamer/edits.rs`).
+    dirty_since: HashMap<NodeKey, u64>,
+    /// Resident nodes the workers are rebuilding after an edit (drawn meanwhile as they are).
     rebuilding: HashSet<NodeKey>,
     finished: Receiver<Finished>,
     uploads: VecDeque<(NodeKey, BuiltNode)>,
@@ -170,7 +171,8 @@ impl Streamer {
             far,
             builders,
             source,
-            stale: HashSet::new(),
+            read_at: HashMap::new(),
+            dirty_since: HashMap::new(),
             rebuilding: HashSet::new(),
             entries: HashMap::new(),
             resident: (0, 0),
@@ -358,7 +360,8 @@ impl Streamer {
 
     /// Forgets `key`, keeping the resident totals; returns its entry.
     fn remove_entry(&mut self, key: &NodeKey) -> Option<Entry> {
-        self.stale.remove(key);
+        self.read_at.remove(key);
+        self.dirty_since.remove(key);
         let old = self.entries.remove(key);
         self.count(old, -1);
         old
@@ -473,19 +476,16 @@ impl Streamer {
                 self.rebuilt(key, result)?;
                 continue;
             }
-            if self.stale.remove(&key) && self.needed(&key) {
-                // Read the world before an edit: built again (the entry stays `Loading`).
-                self.builders.release(1);
-                self.requeue(key);
-                continue;
-            }
-            let built = match result {
-                Ok(built) => built,
+            let (built, version) = match result {
+                Ok(built) => (built.node, built.version),
                 Err(why) => {
                     self.builders.release(1);
                     return Err(StreamError::Build(why));
                 }
             };
+            if self.needed(&key) {
+                self.read_at.insert(key, version);
+            }
             if !self.needed(&key) {
                 self.builders.release(1);
                 self.remove_entry(&key);
@@ -496,6 +496,7 @@ impl Streamer {
             } else {
                 self.builders.release(1);
                 self.mark_resident(key, None);
+                self.rebuild_if_stale(key);
             }
         }
         Ok(())
@@ -532,7 +533,8 @@ impl Streamer {
                 self.remove_entry(&key);
                 continue;
             }
-            if self.stale.remove(&key) {
+            if self.is_stale(&key) {
+                // Read the world before an edit: built again.
                 self.uploads.pop_front();
                 self.builders.release(1);
                 self.set_entry(key, Entry::Loading);
@@ -667,11 +669,11 @@ impl Streamer {
         if self.planning.is_some() || self.wanted.as_ref().is_none_or(|w| w.pending > 0) {
             return Ok(());
         }
-        // A node the plan selects that is being rebuilt after an edit holds stale data.
-        if let Some(wanted) = &self.wanted
-            && self.rebuilding.iter().any(|k| wanted.plan.keys.contains(k))
-        {
-            return Ok(());
+        // Nodes the plan selects that hold data read before an edit: rebuilt now, so the
+        // plan never shows a stale node.
+        if let Some(wanted) = &self.wanted {
+            let plan = Arc::clone(&wanted.plan);
+            self.refresh_now(|key| plan.keys.contains(key))?;
         }
         let Some(wanted) = self.wanted.take() else {
             return Ok(());

@@ -1,25 +1,34 @@
 //! Edits reaching a streamer: which of its nodes a [`DirtySet`] makes stale, the shown ones
 //! rebuilt at once and swapped in one step, the others rebuilt by the workers.
 //!
-//! # Why no frame shows a hole or both meshes
+//! # Stale data, by world version
+//!
+//! Every build records the world version it read ([`World::version`], taken under the same
+//! lock as the edits it overlays), and every edit the version after it. A node whose data was
+//! read before the last edit that dirtied it is *stale*. A build's data replaces a node's only
+//! when it is newer than the resident data, so a slow build never undoes a faster one.
+//!
+//! # Why no frame shows a hole, both meshes, or a stale node
 //!
 //! A swap uploads the node's new data, then frees the old, both before the next frame is
 //! recorded, so that frame draws the new data and no frame draws neither or both (the frame
 //! before, already submitted, keeps reading the old data: the renderer's uploads and frees
-//! are ordered after it on the queue). A node the committed plan selects is rebuilt at once
-//! on the calling thread's rayon pool, so the next frame shows the edit at every level the
-//! plan draws. Other resident nodes are rebuilt by the workers, nearest first, ahead of the
-//! streaming queue, and drawn as they are meanwhile; a plan that selects one does not commit
-//! until its rebuild is swapped in, so a stale node is never newly shown. A build that may
-//! have read the world before the edit (queued, running, or built and waiting to upload) is
-//! marked stale and built again.
+//! are ordered after it on the queue). The nodes the committed plan selects are rebuilt at
+//! once on the calling thread's rayon pool when an edit dirties them, so the next frame
+//! shows the edit at every level the plan draws. Resident nodes only the wanted plan selects
+//! are rebuilt by the workers, nearest first, ahead of the streaming queue; when that plan is
+//! otherwise loaded, the ones still stale (edits keep coming) are rebuilt at once before it
+//! commits, so a stale node is never newly shown and a stream of edits cannot hold a plan
+//! back. A built node waiting to upload that turns stale is built again.
+//!
+//! [`World::version`]: voxel_world::World::version
 
 use rayon::prelude::*;
 use voxel_world::DirtySet;
 
 use super::{Entry, Streamer};
 use crate::stream::StreamError;
-use crate::stream::build::{BuildNode, BuiltNode};
+use crate::stream::build::{BuildNode, Built, BuiltNode};
 use crate::stream::selection::NodeKey;
 use render_model::resident::ChunkMeshData;
 
@@ -30,53 +39,92 @@ pub struct Invalidated {
     pub swapped: usize,
     /// Resident nodes queued for the workers to rebuild.
     pub queued: usize,
-    /// Builds marked stale (queued, running or waiting to upload).
+    /// Builds made stale (queued, running or waiting to upload): built again.
     pub stale: usize,
 }
 
 impl Streamer {
-    /// Makes the nodes `dirty` names stale (see the [module docs](self)): the shown ones are
-    /// rebuilt and swapped before this returns, so the next frame shows the edit.
-    pub fn invalidate(&mut self, dirty: &DirtySet) -> Result<Invalidated, StreamError> {
+    /// Makes the nodes `dirty` names stale as of world `version` (the version after the
+    /// batch; see `stream/streamer/edits.rs`): the shown ones are rebuilt and swapped before
+    /// this returns, so the next frame shows the edit.
+    pub fn invalidate(
+        &mut self,
+        dirty: &DirtySet,
+        version: u64,
+    ) -> Result<Invalidated, StreamError> {
         let mut done = Invalidated::default();
-        let mut now = Vec::new();
         let mut later = Vec::new();
         for world_key in dirty.all_nodes() {
             let key = NodeKey {
                 level: world_key.level,
                 coord: world_key.coord,
             };
-            match self.entries.get(&key) {
-                None => {}
-                Some(Entry::Loading | Entry::Built) => {
-                    done.stale += usize::from(self.stale.insert(key));
-                }
-                Some(Entry::Resident(_)) => {
-                    if self.rebuilding.contains(&key) {
-                        // Its rebuild in flight may have read the world before this batch.
-                        done.stale += usize::from(self.stale.insert(key));
-                    }
+            let Some(entry) = self.entries.get(&key) else {
+                continue;
+            };
+            self.dirty_since.insert(key, version);
+            match entry {
+                Entry::Loading | Entry::Built => done.stale += 1,
+                Entry::Resident(_) => {
                     let shown = self
                         .committed
                         .as_ref()
                         .is_some_and(|c| c.keys.contains(&key));
-                    if shown {
-                        now.push(key);
-                    } else if !self.rebuilding.contains(&key) {
+                    if !shown && !self.rebuilding.contains(&key) {
                         later.push(key);
                     }
                 }
             }
         }
+        let committed = self.committed.clone();
+        done.swapped =
+            self.refresh_now(|key| committed.as_ref().is_some_and(|c| c.keys.contains(key)))?;
+        self.queue_rebuilds(later.clone());
+        done.queued = later.len();
+        Ok(done)
+    }
+
+    /// True when `key`'s data (built or resident) was read before the last edit that
+    /// dirtied it.
+    pub(super) fn is_stale(&self, key: &NodeKey) -> bool {
+        self.dirty_since
+            .get(key)
+            .is_some_and(|&d| self.read_at.get(key).is_none_or(|&r| r < d))
+    }
+
+    /// Rebuilds now (rayon) and swaps in every resident stale node `select` picks; returns
+    /// how many.
+    pub(super) fn refresh_now(
+        &mut self,
+        select: impl Fn(&NodeKey) -> bool,
+    ) -> Result<usize, StreamError> {
+        let now: Vec<NodeKey> = self
+            .dirty_since
+            .keys()
+            .filter(|k| {
+                select(k)
+                    && self.is_stale(k)
+                    && matches!(self.entries.get(k), Some(Entry::Resident(_)))
+            })
+            .copied()
+            .collect();
         let source = &self.source;
-        let built: Vec<(NodeKey, Result<Option<BuiltNode>, String>)> = now
+        let built: Vec<(NodeKey, Result<Built, String>)> = now
             .par_iter()
             .map(|&key| (key, source.build(key)))
             .collect();
         for (key, result) in built {
             let built = result.map_err(StreamError::Build)?;
-            self.swap(key, built)?;
-            done.swapped += 1;
+            self.swap(key, built.node, built.version)?;
+        }
+        Ok(now.len())
+    }
+
+    /// Hands resident nodes to the workers to rebuild, nearest to the camera first, ahead
+    /// of the streaming queue.
+    fn queue_rebuilds(&mut self, mut keys: Vec<NodeKey>) {
+        if keys.is_empty() {
+            return;
         }
         let eye = self.renderer.camera().eye(self.settings.chunk);
         let edge = f64::from(self.settings.chunk.edge());
@@ -84,42 +132,47 @@ impl Streamer {
             let side = edge * f64::from(1u32 << key.level.min(30));
             let centre =
                 [key.coord.x, key.coord.y, key.coord.z].map(|c| (f64::from(c) + 0.5) * side);
-            let eye_chunk = [eye.chunk.x, eye.chunk.y, eye.chunk.z];
+            let chunk = [eye.chunk.x, eye.chunk.y, eye.chunk.z];
             (0..3)
                 .map(|a| {
-                    let e = f64::from(eye_chunk[a]) * edge + f64::from(eye.offset[a]);
+                    let e = f64::from(chunk[a]) * edge + f64::from(eye.offset[a]);
                     (centre[a] - e).powi(2)
                 })
                 .sum::<f64>()
         };
-        later.sort_by(|a, b| distance(a).total_cmp(&distance(b)));
-        for &key in &later {
+        keys.sort_by(|a, b| distance(a).total_cmp(&distance(b)));
+        for &key in &keys {
             self.rebuilding.insert(key);
         }
-        self.in_flight += later.len();
-        self.builders.queue_front(&later);
-        done.queued = later.len();
-        Ok(done)
+        self.in_flight += keys.len();
+        self.builders.queue_front(&keys);
     }
 
-    /// A worker's rebuild of resident node `key` came back: swapped in, built again when an
-    /// edit made it stale, or freed when no plan wants the node any more.
+    /// A stale resident node (an empty one just marked, or a rebuild that came back before
+    /// the last edit) goes back to the workers while a plan selects it.
+    pub(super) fn rebuild_if_stale(&mut self, key: NodeKey) {
+        if self.needed(&key) && self.is_stale(&key) && !self.rebuilding.contains(&key) {
+            self.queue_rebuilds(vec![key]);
+        }
+    }
+
+    /// A worker's rebuild of resident node `key` came back: swapped in when newer than the
+    /// resident data, built again while still stale, or freed when no plan wants the node.
     pub(super) fn rebuilt(
         &mut self,
         key: NodeKey,
-        result: Result<Option<BuiltNode>, String>,
+        result: Result<Built, String>,
     ) -> Result<(), StreamError> {
         let built = result.map_err(StreamError::Build)?;
-        if self.stale.remove(&key) {
-            self.rebuilding.insert(key);
-            self.in_flight += 1;
-            self.builders.queue_front(&[key]);
-            return Ok(());
-        }
         if !self.needed(&key) {
             return self.free(key);
         }
-        self.swap(key, built)
+        let newer = self.read_at.get(&key).is_none_or(|&r| built.version > r);
+        if newer {
+            self.swap(key, built.node, built.version)?;
+        }
+        self.rebuild_if_stale(key);
+        Ok(())
     }
 
     /// Queues node `key` (its entry `Loading`) to be built again, ahead of the streaming.
@@ -128,9 +181,14 @@ impl Streamer {
         self.builders.queue_front(&[key]);
     }
 
-    /// Replaces resident node `key`'s data with `built` in one step: the new data uploaded,
-    /// then the old freed (see the [module docs](self)).
-    fn swap(&mut self, key: NodeKey, built: Option<BuiltNode>) -> Result<(), StreamError> {
+    /// Replaces resident node `key`'s data with `built`, read at world `version`, in one
+    /// step: the new data uploaded, then the old freed (see the [module docs](self)).
+    fn swap(
+        &mut self,
+        key: NodeKey,
+        built: Option<BuiltNode>,
+        version: u64,
+    ) -> Result<(), StreamError> {
         let Some(&Entry::Resident(old)) = self.entries.get(&key) else {
             return Ok(());
         };
@@ -175,6 +233,10 @@ impl Streamer {
                 .map_err(StreamError::Renderer)?;
         }
         self.set_entry(key, Entry::Resident(new));
+        self.read_at.insert(key, version);
+        if !self.is_stale(&key) {
+            self.dirty_since.remove(&key);
+        }
         self.counters.rebuilt += 1;
         if let Some((_, bytes)) = new {
             self.counters.uploaded += 1;
