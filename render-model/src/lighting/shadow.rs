@@ -1,32 +1,53 @@
-//! Sun shadows and sky visibility by rays through block occupancy: the CPU rule that the GPU
-//! lighting pass is to trace on the resident nodes' hiding masks.
+//! Sun shadows and sky visibility by rays through block occupancy: the one rule the GPU
+//! (`gpu_backend`'s shadow pass) and the CPU reference (`voxel_reference`) both trace.
 //!
 //! **Occupancy.** A ray asks an [`Occupancy`] whether a block cell is solid. The cell is in
-//! camera-relative block coordinates (the GPU never sees a large world coordinate). The
-//! occupancy answers from the finest resident data covering the cell, so a cell at a LOD
-//! border is solid exactly when the finer side says so; a coarse node is never asked about a
-//! point a finer resident node covers, which is why a ray crossing a LOD border does not pass
-//! through a gap between the two levels' surfaces.
+//! camera-relative block coordinates: block position less the camera's block (the GPU never
+//! sees a large world coordinate). Only the cells of the camera-centred grid
+//! ([`GRID_CELLS`]^3 one-block cells, [`in_grid`]) can be solid ([`GridClipped`]): the GPU
+//! holds no occupancy outside it, so the CPU reference clips its world the same way, and
+//! surfaces farther than the grid are unshadowed on both.
+//!
+//! **What the GPU marks, and why it equals the CPU's full occupancy.** The GPU fills its grid
+//! from the opaque quads of the nodes the level-of-detail rule selects this frame, skirts
+//! included: the solid cell behind every quad (at a node's level a cell is `2^level` blocks
+//! on each axis). That marks the *shell* of every solid: each solid cell with a face open to
+//! air. A DDA ray steps face to face (6-connected), so coming from air it enters a solid
+//! through a face, and the cell it enters is a shell cell: a march that starts in air stops
+//! at the same cell whether the solid's inside is marked or not. The start is in air because
+//! the shaded point is first moved half a block out of its surface along the normal.
+//!
+//! **No light leaks at LOD borders.** The selected nodes tile space without overlap: every
+//! cell is answered by exactly one level, the one drawn there. A node's skirts are its
+//! border faces (the quads it draws when the neighbour across that side is at another level),
+//! so the shell is closed across every border: the fine side's solids end in marked cells at
+//! the border, the coarse side's too, and a ray crossing the border meets one or the other
+//! before it can enter either solid. Without the skirts a coarse solid whose border face is
+//! hidden by its coarse neighbour's data (which the fine node replaces) would have an open
+//! side there; the test `a_wall_across_a_lod_border_shadows_the_floor_continuously` states the
+//! property on a mixed-level occupancy, and the GPU image tests check it on resident nodes.
 //!
 //! **March** ([`march`]): Amanatides–Woo DDA from the shaded point, first offset along the
 //! surface normal by [`ShadowSettings::normal_bias`] blocks (times the level's cell size the
 //! caller passes, so a point on a coarse surface leaves its own coarse cell), then along the
 //! ray. It stops at the first solid cell (occluded), after [`ShadowSettings::max_steps`]
 //! cells, or beyond [`ShadowSettings::max_distance`] blocks (unoccluded). Both bounds are
-//! checked by [`ShadowSettings::check`].
+//! checked by [`ShadowSettings::check`]. The grid is in blocks, so the renderers pass a cell
+//! size of 1.
 //!
 //! **Sky visibility** ([`sky_visibility`]): the fraction of [`SKY_DIRECTIONS`] (straight up
 //! and four directions 45° from it) whose march escapes; the hemisphere ambient is
 //! multiplied by it, so a cave (every ray blocked) gets no sky light and open ground all of it.
 //!
+//! **Per surface point** ([`surface_visibility`]): both, packed in one word
+//! ([`Visibility::pack`]) as the GPU's shadow pass writes it per pixel; the sun ray is not
+//! marched where the surface faces away from the sun (its sun term is 0 anyway).
+//!
 //! **Why rays and not cascaded shadow maps.** The GPU machine is a compute part with few
 //! raster units (about 0.26 G quads/s in the G-buffer pass), where fragment-heavy work runs
 //! about 30 times slower than compute; a shadow map re-rasterises the scene once per
-//! cascade, while rays through the hiding masks already resident for the far draws' AO cost
-//! compute only. [`ShadowSettings`] switches both features so their cost can be measured.
-//!
-//! **Status.** This module is the CPU rule and its tests; the GPU lighting pass does not
-//! trace it yet, and the CPU reference does not call it yet (see issue 46, item 2).
+//! cascade, while the grid is filled and marched in compute only. [`ShadowSettings`]
+//! switches both features so their cost can be measured.
 
 use core::fmt;
 
@@ -34,6 +55,33 @@ use core::fmt;
 pub trait Occupancy {
     /// Whether the block cell `cell` (camera-relative block coordinates) is solid.
     fn solid(&self, cell: [i32; 3]) -> bool;
+}
+
+impl<F: Fn([i32; 3]) -> bool> Occupancy for F {
+    fn solid(&self, cell: [i32; 3]) -> bool {
+        self(cell)
+    }
+}
+
+/// One-block cells per axis of the camera-centred occupancy grid: cells `-GRID_CELLS / 2 ..
+/// GRID_CELLS / 2` on each axis, camera-relative (the GPU grid holds `GRID_CELLS^3` bits,
+/// 2 MiB).
+pub const GRID_CELLS: i32 = 256;
+
+/// Whether camera-relative `cell` lies in the occupancy grid.
+pub fn in_grid(cell: [i32; 3]) -> bool {
+    cell.iter()
+        .all(|&c| (-(GRID_CELLS / 2)..GRID_CELLS / 2).contains(&c))
+}
+
+/// An occupancy seen through the grid: solid only inside it ([`in_grid`]), as the GPU has it.
+#[derive(Clone, Copy, Debug)]
+pub struct GridClipped<O>(pub O);
+
+impl<O: Occupancy> Occupancy for GridClipped<O> {
+    fn solid(&self, cell: [i32; 3]) -> bool {
+        in_grid(cell) && self.0.solid(cell)
+    }
 }
 
 /// Switches and bounds of the shadow and sky-visibility rays.
@@ -61,6 +109,22 @@ impl Default for ShadowSettings {
             max_distance: 96.0,
             normal_bias: 0.5,
         }
+    }
+}
+
+impl ShadowSettings {
+    /// Both features off (the bounds of the default): the image without shadows.
+    pub const OFF: ShadowSettings = ShadowSettings {
+        sun_shadows: false,
+        sky_visibility: false,
+        max_steps: 128,
+        max_distance: 96.0,
+        normal_bias: 0.5,
+    };
+
+    /// Whether either feature is on (the renderers trace rays only then).
+    pub fn enabled(&self) -> bool {
+        self.sun_shadows || self.sky_visibility
     }
 }
 
@@ -105,6 +169,8 @@ impl fmt::Display for ShadowSettingsError {
         }
     }
 }
+
+impl std::error::Error for ShadowSettingsError {}
 
 /// The most cells a ray may visit: bounds the lighting pass's cost per pixel.
 pub const MAX_STEPS_LIMIT: u32 = 1024;
@@ -252,6 +318,76 @@ pub fn sky_visibility(
     open as f32 / SKY_DIRECTIONS.len() as f32
 }
 
+/// The sun and sky visibility of one surface point (what the GPU's shadow pass writes per
+/// pixel).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Visibility {
+    /// The sun reaches the point (always with sun shadows off; never where the surface faces
+    /// away from the sun).
+    pub sun: bool,
+    /// How many of [`SKY_DIRECTIONS`] escape (all with sky visibility off).
+    pub sky_open: u32,
+}
+
+impl Visibility {
+    /// Nothing blocked: what a point gets with both features off.
+    pub const OPEN: Visibility = Visibility {
+        sun: true,
+        sky_open: SKY_DIRECTIONS.len() as u32,
+    };
+
+    /// The GPU word: bit 0 the sun, bits 1..4 the open sky directions.
+    pub fn pack(self) -> u32 {
+        u32::from(self.sun) | (self.sky_open << 1)
+    }
+
+    /// The inverse of [`pack`](Self::pack) (bits above 3 ignored; a count above 5 reads 5).
+    pub fn unpack(word: u32) -> Visibility {
+        Visibility {
+            sun: word & 1 != 0,
+            sky_open: ((word >> 1) & 7).min(SKY_DIRECTIONS.len() as u32),
+        }
+    }
+
+    /// The sun term's factor: 1 or 0.
+    pub fn sun_factor(self) -> f32 {
+        if self.sun { 1.0 } else { 0.0 }
+    }
+
+    /// The hemisphere ambient's factor: the open fraction of the sky directions.
+    pub fn sky_factor(self) -> f32 {
+        self.sky_open as f32 / SKY_DIRECTIONS.len() as f32
+    }
+}
+
+/// The visibility of the surface point `origin` (camera-relative blocks) with unit `normal`
+/// (the rule in the [module docs](self)): the sun ray only where `dot(normal, sun) > 0`, the
+/// sky rays always, each switched by `settings`; cells of one block.
+pub fn surface_visibility(
+    occupancy: &impl Occupancy,
+    settings: &ShadowSettings,
+    origin: [f32; 3],
+    normal: [f32; 3],
+    sun_direction: [f32; 3],
+) -> Visibility {
+    let l = sun_direction;
+    let facing = normal[0] * l[0] + normal[1] * l[1] + normal[2] * l[2] > 0.0;
+    let sun = if !settings.sun_shadows {
+        true
+    } else {
+        facing && !march(occupancy, settings, origin, normal, 1.0, l)
+    };
+    let sky_open = if !settings.sky_visibility {
+        SKY_DIRECTIONS.len() as u32
+    } else {
+        SKY_DIRECTIONS
+            .iter()
+            .filter(|&&d| !march(occupancy, settings, origin, normal, 1.0, d))
+            .count() as u32
+    };
+    Visibility { sun, sky_open }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -394,5 +530,46 @@ mod tests {
             bias.check(),
             Err(ShadowSettingsError::Bias { .. })
         ));
+    }
+
+    #[test]
+    fn the_grid_clips_the_occupancy() {
+        let clipped = GridClipped(|[_, y, _]: [i32; 3]| y == -1);
+        assert!(clipped.solid([0, -1, 0]));
+        assert!(clipped.solid([-GRID_CELLS / 2, -1, GRID_CELLS / 2 - 1]));
+        assert!(!clipped.solid([GRID_CELLS / 2, -1, 0]));
+        assert!(!clipped.solid([0, -1, -GRID_CELLS / 2 - 1]));
+    }
+
+    #[test]
+    fn visibility_words_round_trip() {
+        for sun in [false, true] {
+            for sky_open in 0..=5 {
+                let v = Visibility { sun, sky_open };
+                assert_eq!(Visibility::unpack(v.pack()), v);
+            }
+        }
+        assert_eq!(Visibility::unpack(u32::MAX).sky_open, 5);
+        assert_eq!(Visibility::OPEN.sky_factor(), 1.0);
+    }
+
+    #[test]
+    fn a_surface_point_gets_both_rays_and_the_switches() {
+        let s = ShadowSettings::default();
+        let shadowed = surface_visibility(&Scene, &s, [2.5, 0.0, 0.5], UP, sun());
+        assert!(!shadowed.sun);
+        let under = surface_visibility(&Scene, &s, [15.5, 0.0, 0.5], UP, sun());
+        assert_eq!(under.sky_open, 0);
+        let open = surface_visibility(&Scene, &s, [-20.5, 0.0, 0.5], UP, sun());
+        assert_eq!(open, Visibility::OPEN);
+        // Facing away from the sun: no sun, whatever the occupancy.
+        let down = surface_visibility(&Scene, &s, [-20.5, 0.0, 0.5], [0.0, -1.0, 0.0], sun());
+        assert!(!down.sun);
+        assert_eq!(
+            surface_visibility(&Scene, &ShadowSettings::OFF, [15.5, 0.0, 0.5], UP, sun()),
+            Visibility::OPEN
+        );
+        assert!(!ShadowSettings::OFF.enabled());
+        assert!(s.enabled());
     }
 }
