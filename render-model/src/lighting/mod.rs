@@ -56,7 +56,10 @@ pub use shade::{AO_FLOOR, ao_factor, blend, hemisphere_ambient, shade, shade_vis
 pub use tonemap::{
     COMPRESSION_START, DESATURATION, linear_to_srgb8, neutral, output_rgba8, srgb_to_linear,
 };
-pub use uniforms::LightingUniforms;
+pub use uniforms::{
+    LightingUniforms, SHADOW_FILL_LOD, SHADOW_SKY, SHADOW_SUN, ShadowFillUniforms,
+    ShadowTraceUniforms,
+};
 
 use core::fmt;
 
