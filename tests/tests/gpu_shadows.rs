@@ -17,7 +17,8 @@ mod image_support;
 
 use gpu_backend::DeviceOptions;
 use gpu_backend::GpuContext;
-use gpu_backend::render::{Renderer, RendererConfig};
+use gpu_backend::render::far::{FarPath, FarRequest};
+use gpu_backend::render::{FullscreenPath, Renderer, RendererConfig};
 use gpu_backend::test_support::headless_or_skip;
 use image_support::scenes::{
     HEIGHT, MAX_DISTANCE, TestScene, WIDTH, cpu_render_lit, scene_from_fn,
@@ -52,6 +53,14 @@ struct Lod {
     top: u32,
 }
 
+/// How the frame is drawn besides the scene: the full-screen passes' path, and whether
+/// every node is far-drawn by the compute splat.
+#[derive(Clone, Copy, Debug, Default)]
+struct Draw {
+    fullscreen: FullscreenPath,
+    splat: bool,
+}
+
 /// What one GPU frame gave.
 struct GpuFrame {
     image: Image,
@@ -68,12 +77,29 @@ fn gpu_frame(
     lighting: &Lighting,
     lod: Option<&Lod>,
 ) -> GpuFrame {
-    let config = RendererConfig::new(WIDTH, HEIGHT, scene.world.size());
+    gpu_frame_drawn(ctx, scene, lighting, lod, Draw::default())
+}
+
+/// [`gpu_frame`] drawn the `draw` way.
+fn gpu_frame_drawn(
+    ctx: &GpuContext,
+    scene: &TestScene,
+    lighting: &Lighting,
+    lod: Option<&Lod>,
+    draw: Draw,
+) -> GpuFrame {
+    let mut config = RendererConfig {
+        fullscreen: draw.fullscreen,
+        ..RendererConfig::new(WIDTH, HEIGHT, scene.world.size())
+    };
+    if draw.splat {
+        config = config.with_far(FarRequest::Path(FarPath::Splat), 1 << 22);
+    }
     let mut renderer = Renderer::new(ctx, &config, &scene.palette).expect("renderer");
     let classes = BlockClasses::from_palette(&scene.palette);
     let settings = NodeSettings {
         mesh: mesher::MeshSettings::default(),
-        far_blocks: false,
+        far_blocks: draw.splat,
     };
     let coords = |world: &voxel_core::storage::WorldMap<_>| {
         let mut c: Vec<ChunkCoord> = world.iter().map(|(c, _)| c).collect();
@@ -93,6 +119,14 @@ fn gpu_frame(
         }
         renderer.set_lod(Some(lod.settings)).expect("lod settings");
         renderer.set_lod_anchor(lod.anchor);
+    } else if draw.splat {
+        // Level 0 everywhere, every node far-drawn.
+        let far = LodSettings {
+            budget_px: 0.0,
+            far_cell_px: 1e9,
+            ..LodSettings::default()
+        };
+        renderer.set_lod(Some(far)).expect("lod settings");
     }
     renderer.set_camera(&scene.camera);
     renderer
@@ -317,6 +351,44 @@ fn a_pillar_casts_its_shadow_where_the_reference_puts_it() {
     // For a reader: the frames with and without shadows, under target/image-tests/.
     image_support::write_pngs("shadow_pillar", &gpu.image, &reference);
     image_support::write_pngs("shadow_pillar_off", &off.image, &reference);
+}
+
+#[test]
+fn the_compute_lighting_and_far_drawn_blocks_are_shadowed_alike() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let scene = pillar();
+    let lighting = shadowed();
+    let cpu = cpu_visibility(&scene, &lighting);
+    let reference = cpu_render_lit(&scene, &scene.camera, &lighting);
+    let mut draws = vec![(
+        "compute",
+        Draw {
+            fullscreen: FullscreenPath::Compute,
+            splat: false,
+        },
+    )];
+    if ctx.capabilities.int64_atomics {
+        draws.push((
+            "splat",
+            Draw {
+                fullscreen: FullscreenPath::default(),
+                splat: true,
+            },
+        ));
+    } else {
+        gpu_backend::test_support::skip("the splat needs 64-bit atomics, which this device lacks");
+    }
+    for (name, draw) in draws {
+        let gpu = gpu_frame_drawn(&ctx, &scene, &lighting, None, draw);
+        if draw.splat {
+            assert!(gpu.stats.far_nodes > 0, "{name}: {:?}", gpu.stats);
+        }
+        assert_visibility_agrees(name, &gpu, &cpu);
+        let name = format!("shadow_pillar_{name}");
+        assert_images_match(&name, &gpu.image, &reference, &Tolerance::LAVAPIPE);
+    }
 }
 
 /// A 2-block roof 6 blocks over a floor, held by four pillars, and a closed stone box with
