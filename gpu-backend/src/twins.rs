@@ -698,7 +698,10 @@ mod shadow {
                     offset_of!(ShadowTraceUniforms, max_distance)
                 ),
                 ("normal_bias", offset_of!(ShadowTraceUniforms, normal_bias)),
-                ("pad", offset_of!(ShadowTraceUniforms, pad)),
+                (
+                    "sky_distance",
+                    offset_of!(ShadowTraceUniforms, sky_distance)
+                ),
             ]
         );
         let (members, size) = layout(SHADOW_FILL, "ShadowFillUniforms");

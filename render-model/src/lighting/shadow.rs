@@ -31,8 +31,9 @@
 //! surface normal by [`ShadowSettings::normal_bias`] blocks (times the level's cell size the
 //! caller passes, so a point on a coarse surface leaves its own coarse cell), then along the
 //! ray. It stops at the first solid cell (occluded), after [`ShadowSettings::max_steps`]
-//! cells, or beyond [`ShadowSettings::max_distance`] blocks (unoccluded). Both bounds are
-//! checked by [`ShadowSettings::check`]. The grid is in blocks, so the renderers pass a cell
+//! cells, or beyond [`ShadowSettings::max_distance`] blocks for the sun ray and
+//! [`ShadowSettings::sky_distance`] for the sky rays (unoccluded). The bounds are checked by
+//! [`ShadowSettings::check`]. The grid is in blocks, so the renderers pass a cell
 //! size of 1.
 //!
 //! **Sky visibility** ([`sky_visibility`]): the fraction of [`SKY_DIRECTIONS`] (straight up
@@ -93,20 +94,25 @@ pub struct ShadowSettings {
     pub sky_visibility: bool,
     /// Cells a ray visits at most.
     pub max_steps: u32,
-    /// Blocks a ray travels at most.
+    /// Blocks the sun ray travels at most.
     pub max_distance: f32,
+    /// Blocks a sky ray travels at most: sky light is hidden by what is near (a roof, a
+    /// cave), so these rays are shorter than the sun's.
+    pub sky_distance: f32,
     /// Offset along the normal before marching, in cells of the surface's level.
     pub normal_bias: f32,
 }
 
 impl Default for ShadowSettings {
-    /// Both features on, 128 cells, 96 blocks, half a cell of bias.
+    /// Both features on, 128 cells, sun rays of 96 blocks, sky rays of 32, half a cell of
+    /// bias.
     fn default() -> Self {
         ShadowSettings {
             sun_shadows: true,
             sky_visibility: true,
             max_steps: 128,
             max_distance: 96.0,
+            sky_distance: 32.0,
             normal_bias: 0.5,
         }
     }
@@ -119,6 +125,7 @@ impl ShadowSettings {
         sky_visibility: false,
         max_steps: 128,
         max_distance: 96.0,
+        sky_distance: 32.0,
         normal_bias: 0.5,
     };
 
@@ -140,6 +147,11 @@ pub enum ShadowSettingsError {
     Distance {
         /// The rejected value.
         max_distance: f32,
+    },
+    /// `sky_distance` is not finite or not positive.
+    SkyDistance {
+        /// The rejected value.
+        sky_distance: f32,
     },
     /// `normal_bias` is not finite or is outside `0..=2` cells.
     Bias {
@@ -163,6 +175,12 @@ impl fmt::Display for ShadowSettingsError {
                     "shadow max_distance {max_distance} is not a positive finite number"
                 )
             }
+            ShadowSettingsError::SkyDistance { sky_distance } => {
+                write!(
+                    f,
+                    "shadow sky_distance {sky_distance} is not a positive finite number"
+                )
+            }
             ShadowSettingsError::Bias { normal_bias } => {
                 write!(f, "shadow normal_bias {normal_bias} is outside 0..=2 cells")
             }
@@ -176,8 +194,8 @@ impl std::error::Error for ShadowSettingsError {}
 pub const MAX_STEPS_LIMIT: u32 = 1024;
 
 impl ShadowSettings {
-    /// Checks that the bounds are usable: steps in `1..=MAX_STEPS_LIMIT`, a positive finite
-    /// distance, a bias in `0..=2` cells.
+    /// Checks that the bounds are usable: steps in `1..=MAX_STEPS_LIMIT`, positive finite
+    /// distances, a bias in `0..=2` cells.
     pub fn check(&self) -> Result<(), ShadowSettingsError> {
         if self.max_steps == 0 || self.max_steps > MAX_STEPS_LIMIT {
             return Err(ShadowSettingsError::Steps {
@@ -187,6 +205,11 @@ impl ShadowSettings {
         if !self.max_distance.is_finite() || self.max_distance <= 0.0 {
             return Err(ShadowSettingsError::Distance {
                 max_distance: self.max_distance,
+            });
+        }
+        if !self.sky_distance.is_finite() || self.sky_distance <= 0.0 {
+            return Err(ShadowSettingsError::SkyDistance {
+                sky_distance: self.sky_distance,
             });
         }
         if !self.normal_bias.is_finite() || !(0.0..=2.0).contains(&self.normal_bias) {
@@ -224,7 +247,8 @@ pub const SKY_DIRECTIONS: [[f32; 3]; 5] = [
 ];
 
 /// Whether the ray from `origin` (camera-relative blocks), offset by `normal * normal_bias *
-/// cell_size`, along unit `direction` reaches a solid cell within the settings' bounds.
+/// cell_size`, along unit `direction` reaches a solid cell within the settings' bounds (the
+/// sun ray's distance, [`ShadowSettings::max_distance`]).
 pub fn march(
     occupancy: &impl Occupancy,
     settings: &ShadowSettings,
@@ -232,6 +256,28 @@ pub fn march(
     normal: [f32; 3],
     cell_size: f32,
     direction: [f32; 3],
+) -> bool {
+    march_within(
+        occupancy,
+        settings,
+        origin,
+        normal,
+        cell_size,
+        direction,
+        settings.max_distance,
+    )
+}
+
+/// [`march`] over at most `max_distance` blocks (the sky rays pass
+/// [`ShadowSettings::sky_distance`]).
+pub fn march_within(
+    occupancy: &impl Occupancy,
+    settings: &ShadowSettings,
+    origin: [f32; 3],
+    normal: [f32; 3],
+    cell_size: f32,
+    direction: [f32; 3],
+    max_distance: f32,
 ) -> bool {
     let bias = settings.normal_bias * cell_size;
     let p = [0, 1, 2].map(|i| origin[i] + normal[i] * bias);
@@ -265,13 +311,33 @@ pub fn march(
         } else {
             2
         };
-        if next[axis] > settings.max_distance {
+        if next[axis] > max_distance {
             return false;
         }
         cell[axis] += step[axis];
         next[axis] += delta[axis];
     }
     false
+}
+
+/// Whether one sky ray is blocked: [`march_within`] over the sky distance.
+fn sky_ray(
+    occupancy: &impl Occupancy,
+    settings: &ShadowSettings,
+    origin: [f32; 3],
+    normal: [f32; 3],
+    cell_size: f32,
+    direction: [f32; 3],
+) -> bool {
+    march_within(
+        occupancy,
+        settings,
+        origin,
+        normal,
+        cell_size,
+        direction,
+        settings.sky_distance,
+    )
 }
 
 /// The sun's visibility at a point: 0 in shadow, 1 lit (always 1 with shadows off).
@@ -313,7 +379,7 @@ pub fn sky_visibility(
     }
     let open = SKY_DIRECTIONS
         .iter()
-        .filter(|&&d| !march(occupancy, settings, origin, normal, cell_size, d))
+        .filter(|&&d| !sky_ray(occupancy, settings, origin, normal, cell_size, d))
         .count();
     open as f32 / SKY_DIRECTIONS.len() as f32
 }
@@ -362,7 +428,9 @@ impl Visibility {
 
 /// The visibility of the surface point `origin` (camera-relative blocks) with unit `normal`
 /// (the rule in the [module docs](self)): the sun ray only where `dot(normal, sun) > 0`, the
-/// sky rays always, each switched by `settings`; cells of one block.
+/// sky rays always, each switched by `settings`; cells of one block. A point outside the
+/// grid ([`in_grid`] of its cell) is [`Visibility::OPEN`]: the grid holds the shadows, and
+/// the GPU spends nothing on the pixels beyond it.
 pub fn surface_visibility(
     occupancy: &impl Occupancy,
     settings: &ShadowSettings,
@@ -370,6 +438,9 @@ pub fn surface_visibility(
     normal: [f32; 3],
     sun_direction: [f32; 3],
 ) -> Visibility {
+    if !in_grid(origin.map(|c| c.floor() as i32)) {
+        return Visibility::OPEN;
+    }
     let l = sun_direction;
     let facing = normal[0] * l[0] + normal[1] * l[1] + normal[2] * l[2] > 0.0;
     let sun = if !settings.sun_shadows {
@@ -382,7 +453,7 @@ pub fn surface_visibility(
     } else {
         SKY_DIRECTIONS
             .iter()
-            .filter(|&&d| !march(occupancy, settings, origin, normal, 1.0, d))
+            .filter(|&&d| !sky_ray(occupancy, settings, origin, normal, 1.0, d))
             .count() as u32
     };
     Visibility { sun, sky_open }
@@ -462,11 +533,22 @@ mod tests {
     #[test]
     fn the_march_stops_at_its_distance_bound() {
         let s = ShadowSettings {
-            max_distance: 3.0,
+            sky_distance: 3.0,
             ..ShadowSettings::default()
         };
         // The roof is 6 blocks above: beyond the bound, the ray escapes.
         assert_eq!(sky_visibility(&Scene, &s, [15.5, 0.0, 0.5], UP, 1.0), 1.0);
+        // The sun ray has its own bound: the roof shadows the floor below it.
+        let sun_up = sun_visibility(&Scene, &s, [15.5, 0.0, 0.5], UP, 1.0, UP);
+        assert_eq!(sun_up, 0.0);
+        let short = ShadowSettings {
+            max_distance: 3.0,
+            ..ShadowSettings::default()
+        };
+        assert_eq!(
+            sun_visibility(&Scene, &short, [15.5, 0.0, 0.5], UP, 1.0, UP),
+            1.0
+        );
     }
 
     #[test]
@@ -522,6 +604,14 @@ mod tests {
             far.check(),
             Err(ShadowSettingsError::Distance { .. })
         ));
+        let sky = ShadowSettings {
+            sky_distance: 0.0,
+            ..d
+        };
+        assert_eq!(
+            sky.check(),
+            Err(ShadowSettingsError::SkyDistance { sky_distance: 0.0 })
+        );
         let bias = ShadowSettings {
             normal_bias: -1.0,
             ..d
@@ -570,6 +660,15 @@ mod tests {
             Visibility::OPEN
         );
         assert!(!ShadowSettings::OFF.enabled());
+        // Beyond the grid: open, even under a roof over everything.
+        let roofed = |[_, y, _]: [i32; 3]| y == 6;
+        let inside = [0.5, 0.0, GRID_CELLS as f32 / 2.0 - 0.5];
+        let beyond = [0.5, 0.0, GRID_CELLS as f32 / 2.0 + 0.5];
+        assert_eq!(surface_visibility(&roofed, &s, inside, UP, UP).sky_open, 0);
+        assert_eq!(
+            surface_visibility(&roofed, &s, beyond, UP, UP),
+            Visibility::OPEN
+        );
         assert!(s.enabled());
     }
 }

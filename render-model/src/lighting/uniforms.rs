@@ -89,8 +89,8 @@ pub struct ShadowTraceUniforms {
     pub max_distance: f32,
     /// [`ShadowSettings::normal_bias`] (times a cell of one block).
     pub normal_bias: f32,
-    /// Zero.
-    pub pad: u32,
+    /// [`ShadowSettings::sky_distance`].
+    pub sky_distance: f32,
 }
 
 const _: () = assert!(size_of::<ShadowTraceUniforms>() == 32);
@@ -111,7 +111,7 @@ impl ShadowTraceUniforms {
             max_steps: settings.max_steps,
             max_distance: settings.max_distance,
             normal_bias: settings.normal_bias,
-            pad: 0,
+            sky_distance: settings.sky_distance,
         }
     }
 }

@@ -11,7 +11,7 @@ struct ShadowTraceUniforms {
     max_steps: u32,
     max_distance: f32,
     normal_bias: f32,
-    pad: u32,
+    sky_distance: f32,
 }
 
 // Twins of render_model::lighting::{SHADOW_SUN, SHADOW_SKY, shadow::GRID_CELLS} (a test
@@ -48,8 +48,10 @@ fn grid_solid(cell: vec3<i32>) -> bool {
     return ((grid[bit >> 5u] >> (bit & 31u)) & 1u) != 0u;
 }
 
-// Twin of shadow::march with a cell size of 1.
-fn march(origin: vec3<f32>, normal: vec3<f32>, dir: vec3<f32>) -> bool {
+// Twin of shadow::march_within with a cell size of 1, and one shortcut: a ray that leaves
+// the grid is unoccluded (cells outside it are never solid, and a ray never comes back into
+// the box it left), which is the CPU rule's answer without its remaining steps.
+fn march(origin: vec3<f32>, normal: vec3<f32>, dir: vec3<f32>, max_distance: f32) -> bool {
     let bias = t.normal_bias * 1.0;
     let p = origin + normal * bias;
     var cell = vec3<i32>(floor(p));
@@ -66,8 +68,17 @@ fn march(origin: vec3<f32>, normal: vec3<f32>, dir: vec3<f32>) -> bool {
             }
         }
     }
+    let half = GRID_CELLS / 2;
     for (var s = 0u; s < t.max_steps; s += 1u) {
-        if grid_solid(cell) {
+        let g = cell + vec3<i32>(half);
+        if any(g < vec3<i32>(0)) || any(g >= vec3<i32>(GRID_CELLS)) {
+            // Outside the grid: leaving it for good when the ray points away from it.
+            let away = (g < vec3<i32>(0) & step < vec3<i32>(0))
+                | (g >= vec3<i32>(GRID_CELLS) & step > vec3<i32>(0));
+            if any(away) {
+                return false;
+            }
+        } else if grid_solid(cell) {
             return true;
         }
         var axis = 2u;
@@ -76,7 +87,7 @@ fn march(origin: vec3<f32>, normal: vec3<f32>, dir: vec3<f32>) -> bool {
         } else if next.y <= next.z {
             axis = 1u;
         }
-        if next[axis] > t.max_distance {
+        if next[axis] > max_distance {
             return false;
         }
         cell[axis] += step[axis];
@@ -87,11 +98,15 @@ fn march(origin: vec3<f32>, normal: vec3<f32>, dir: vec3<f32>) -> bool {
 
 // Twin of shadow::surface_visibility, packed as Visibility::pack.
 fn surface_visibility(origin: vec3<f32>, n: vec3<f32>) -> u32 {
+    let g = vec3<i32>(floor(origin)) + vec3<i32>(GRID_CELLS / 2);
+    if any(g < vec3<i32>(0)) || any(g >= vec3<i32>(GRID_CELLS)) {
+        return 1u | (SKY_COUNT << 1u);
+    }
     let l = frame.lighting.sun_direction;
     let facing = n.x * l.x + n.y * l.y + n.z * l.z > 0.0;
     var sun = true;
     if (t.flags & SHADOW_SUN) != 0u {
-        sun = facing && !march(origin, n, l);
+        sun = facing && !march(origin, n, l, t.max_distance);
     }
     var open = SKY_COUNT;
     if (t.flags & SHADOW_SKY) != 0u {
@@ -106,7 +121,7 @@ fn surface_visibility(origin: vec3<f32>, n: vec3<f32>) -> u32 {
         );
         open = 0u;
         for (var i = 0u; i < SKY_COUNT; i += 1u) {
-            if !march(origin, n, sky[i]) {
+            if !march(origin, n, sky[i], t.sky_distance) {
                 open += 1u;
             }
         }
