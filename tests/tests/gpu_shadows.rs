@@ -356,7 +356,7 @@ fn a_pillar_casts_its_shadow_where_the_reference_puts_it() {
 }
 
 #[test]
-fn the_compute_lighting_and_far_drawn_blocks_are_shadowed_alike() {
+fn the_fragment_lighting_and_far_drawn_blocks_are_shadowed_alike() {
     let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
         return;
     };
@@ -364,10 +364,11 @@ fn the_compute_lighting_and_far_drawn_blocks_are_shadowed_alike() {
     let lighting = shadowed();
     let cpu = cpu_visibility(&scene, &lighting);
     let reference = cpu_render_lit(&scene, &scene.camera, &lighting);
+    // The default full-screen path is compute (the other tests); here the fragment one.
     let mut draws = vec![(
-        "compute",
+        "fragment",
         Draw {
-            fullscreen: FullscreenPath::Compute,
+            fullscreen: FullscreenPath::Fragment,
             splat: false,
         },
     )];
