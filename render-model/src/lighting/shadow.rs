@@ -104,15 +104,17 @@ pub struct ShadowSettings {
 }
 
 impl Default for ShadowSettings {
-    /// Both features on, 128 cells, sun rays of 96 blocks, sky rays of 32, half a cell of
-    /// bias.
+    /// Both features on, 128 cells, sun rays of 64 blocks, sky rays of 16, half a cell of
+    /// bias. A ray that meets nothing costs its whole distance, so the distances set the
+    /// trace's cost: 64 blocks holds the shadow of a 40-block cliff under a sun 35 degrees
+    /// high; 16 blocks of sky ray darken caves and overhangs, not open valleys.
     fn default() -> Self {
         ShadowSettings {
             sun_shadows: true,
             sky_visibility: true,
             max_steps: 128,
-            max_distance: 96.0,
-            sky_distance: 32.0,
+            max_distance: 64.0,
+            sky_distance: 16.0,
             normal_bias: 0.5,
         }
     }
@@ -124,8 +126,8 @@ impl ShadowSettings {
         sun_shadows: false,
         sky_visibility: false,
         max_steps: 128,
-        max_distance: 96.0,
-        sky_distance: 32.0,
+        max_distance: 64.0,
+        sky_distance: 16.0,
         normal_bias: 0.5,
     };
 
