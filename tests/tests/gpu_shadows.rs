@@ -118,7 +118,6 @@ fn gpu_frame_drawn(
             upload_nodes(&mut renderer, &nodes).expect("upload");
         }
         renderer.set_lod(Some(lod.settings)).expect("lod settings");
-        renderer.set_lod_anchor(lod.anchor);
     } else if draw.splat {
         // Level 0 everywhere, every node far-drawn.
         let far = LodSettings {
@@ -129,6 +128,10 @@ fn gpu_frame_drawn(
         renderer.set_lod(Some(far)).expect("lod settings");
     }
     renderer.set_camera(&scene.camera);
+    // After the camera, which moves the anchor with it.
+    if let Some(lod) = lod {
+        renderer.set_lod_anchor(lod.anchor);
+    }
     renderer
         .set_lighting(lighting)
         .expect("the lighting renders");
@@ -551,6 +554,8 @@ fn a_shadow_across_a_lod_border_does_not_leak() {
         "both levels are drawn: {:?}",
         gpu.stats.per_level
     );
+    // The x >= 0 half casts from level-1 nodes only: a grid without them differs from the
+    // reference on about an eighth of the pixels here (the visibility check fails).
     let cpu = cpu_visibility(&scene, &lighting);
     assert_visibility_agrees("lod_border", &gpu, &cpu);
     // No light in the wall's shadow on either side of the border at x = 0.
@@ -587,11 +592,12 @@ fn a_shadow_across_a_lod_border_does_not_leak() {
         .count();
     assert_eq!(near_border, 0, "light leaks through the LOD border");
     let reference = cpu_render_lit(&scene, &scene.camera, &lighting);
-    // Level 1 interpolates its AO over 2-block cells where the wall meets the floor: more
-    // colour outliers than a level-0 scene has (all within 8 codes).
+    // Level 1 interpolates its AO over 2-block cells where the wall meets the floor: a few
+    // more colour outliers than a level-0 scene has, within 4 codes (lavapipe: 132 pixels
+    // past 2 codes, none past 3).
     let tolerance = Tolerance {
-        colour: 8,
-        colour_outliers: 0.08,
+        colour: 4,
+        colour_outliers: 0.02,
         ..Tolerance::LAVAPIPE
     };
     assert_images_match("shadow_lod_border", &gpu.image, &reference, &tolerance);
