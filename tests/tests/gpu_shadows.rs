@@ -275,6 +275,11 @@ fn mean_brightness(image: &Image, select: impl Fn(usize) -> bool) -> (f64, usize
 /// A 2 x 8 x 2 stone pillar on a 25 x 25 grass floor, seen from above the side its shadow
 /// falls on (the default sun: up, towards +x and +z).
 fn pillar() -> TestScene {
+    pillar_at(0)
+}
+
+/// [`pillar`] with the scene and the camera moved by `shift` blocks on every axis.
+fn pillar_at(shift: i32) -> TestScene {
     let mut palette = MaterialPalette::new();
     let floor = palette.push(Material::opaque(120, 160, 90)).unwrap();
     let stone = palette.push(Material::opaque(170, 170, 180)).unwrap();
@@ -283,7 +288,7 @@ fn pillar() -> TestScene {
         ChunkSize::S16,
         [-12, -1, -12],
         [12, 8, 12],
-        0,
+        shift,
         move |x, y, z| {
             if y == -1 {
                 floor
@@ -295,7 +300,7 @@ fn pillar() -> TestScene {
         },
     );
     scene.camera = Camera {
-        voxel: WorldPos::new(-2, 20, 10),
+        voxel: WorldPos::new(-2 + shift, 20 + shift, 10 + shift),
         fraction: glam::DVec3::new(0.3, 0.4, 0.6),
         yaw: 0.0,
         pitch: -1.0,
@@ -655,6 +660,23 @@ fn shadows_off_is_the_image_without_shadows() {
     let cpu_plain = cpu_render_lit(&scene, &scene.camera, &Lighting::default());
     let cpu_off = cpu_render_lit(&scene, &scene.camera, &off);
     assert_eq!(cpu_plain.rgba, cpu_off.rgba);
+}
+
+#[test]
+fn shadows_near_2_pow_30_match_the_origin() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let lighting = shadowed();
+    let here = gpu_frame(&ctx, &pillar_at(0), &lighting, None);
+    let far = gpu_frame(&ctx, &pillar_at(1 << 30), &lighting, None);
+    let (a, b) = (
+        here.visibility.expect("words"),
+        far.visibility.expect("words"),
+    );
+    assert!(a.iter().any(|v| !v.sun), "the origin's frame has a shadow");
+    assert_eq!(a, b, "the visibility near 2^30 differs from the origin's");
+    assert_eq!(here.image.rgba, far.image.rgba);
 }
 
 #[test]
