@@ -43,6 +43,7 @@ fn small_lod_terrain_runs() {
         fullscreen: vec![FullscreenPath::Compute],
         occlusion: vec![true],
         opaque: vec![OpaquePath::Raster, OpaquePath::Compute],
+        lighting: Default::default(),
     };
     let mut scene = SceneSummary::default();
     let (runs, images, choices) = run(&ctx, &terrain, &config, &mut scene).unwrap();

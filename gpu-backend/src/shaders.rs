@@ -104,6 +104,27 @@ pub const LIGHTING: ShaderSpec = ShaderSpec {
     ),
 };
 
+/// The shadow grid fill (entry point `shadow_fill`; see
+/// [`crate::render::passes::shadow`]).
+pub const SHADOW_FILL: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "shadow_fill",
+    body: concat!(
+        include_str!("shaders/lod.wgsl"),
+        include_str!("render/passes/shadow_fill.wgsl")
+    ),
+};
+
+/// The shadow trace (entry point `shadow_trace`; see [`crate::render::passes::shadow`]).
+pub const SHADOW_TRACE: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "shadow_trace",
+    body: concat!(
+        include_str!("shaders/render_common.wgsl"),
+        include_str!("render/passes/shadow_trace.wgsl")
+    ),
+};
+
 /// The tonemap pass (entry points `vs_fullscreen`, `fs_tonemap`, `cs_tonemap`; see
 /// [`crate::render::passes::tonemap`]).
 pub const TONEMAP: ShaderSpec = ShaderSpec {
@@ -287,6 +308,8 @@ pub const ALL_SHADERS: &[ShaderSpec] = &[
     GBUFFER,
     TRANSPARENT,
     LIGHTING,
+    SHADOW_FILL,
+    SHADOW_TRACE,
     TONEMAP,
     ANTIALIAS,
     PRESENT,

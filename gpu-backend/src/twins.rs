@@ -662,3 +662,107 @@ mod props {
         assert_eq!(value("PROP_CULL_OCCLUSION"), PROP_CULL_OCCLUSION);
     }
 }
+
+mod shadow {
+    use std::mem::offset_of;
+
+    use render_model::frame::{FRAME_SHADOWS, FRAME_SPLAT};
+    use render_model::lighting::shadow::{GRID_CELLS, SKY_DIRECTIONS, Visibility};
+    use render_model::lighting::{
+        SHADOW_FILL_LOD, SHADOW_SKY, SHADOW_SUN, ShadowFillUniforms, ShadowTraceUniforms,
+    };
+
+    use crate::shaders::{LIGHTING, SHADOW_FILL, SHADOW_TRACE, struct_layout, validate};
+
+    fn layout(spec: crate::shaders::ShaderSpec, name: &str) -> (Vec<(String, usize)>, usize) {
+        let module = validate(spec.name, &spec.source()).unwrap_or_else(|e| panic!("{e}"));
+        struct_layout(&module, name)
+    }
+
+    fn names(members: &[(String, usize)]) -> Vec<(&str, usize)> {
+        members.iter().map(|(n, o)| (n.as_str(), *o)).collect()
+    }
+
+    #[test]
+    fn uniforms_match_their_wgsl_twins() {
+        let (members, size) = layout(SHADOW_TRACE, "ShadowTraceUniforms");
+        assert_eq!(size, size_of::<ShadowTraceUniforms>());
+        assert_eq!(
+            names(&members),
+            [
+                ("fraction", offset_of!(ShadowTraceUniforms, fraction)),
+                ("flags", offset_of!(ShadowTraceUniforms, flags)),
+                ("max_steps", offset_of!(ShadowTraceUniforms, max_steps)),
+                (
+                    "max_distance",
+                    offset_of!(ShadowTraceUniforms, max_distance)
+                ),
+                ("normal_bias", offset_of!(ShadowTraceUniforms, normal_bias)),
+                (
+                    "sky_distance",
+                    offset_of!(ShadowTraceUniforms, sky_distance)
+                ),
+            ]
+        );
+        let (members, size) = layout(SHADOW_FILL, "ShadowFillUniforms");
+        assert_eq!(size, size_of::<ShadowFillUniforms>());
+        assert_eq!(
+            names(&members),
+            [
+                ("lod", offset_of!(ShadowFillUniforms, lod)),
+                ("camera_chunk", offset_of!(ShadowFillUniforms, camera_chunk)),
+                ("slot_bound", offset_of!(ShadowFillUniforms, slot_bound)),
+                ("camera_block", offset_of!(ShadowFillUniforms, camera_block)),
+                ("chunk_edge", offset_of!(ShadowFillUniforms, chunk_edge)),
+                ("flags", offset_of!(ShadowFillUniforms, flags)),
+                ("page", offset_of!(ShadowFillUniforms, page)),
+                (
+                    "page_capacity",
+                    offset_of!(ShadowFillUniforms, page_capacity)
+                ),
+                (
+                    "bound_capacity",
+                    offset_of!(ShadowFillUniforms, bound_capacity)
+                ),
+            ]
+        );
+    }
+
+    #[test]
+    fn constants_match_their_wgsl_twins() {
+        let fill = SHADOW_FILL.source();
+        let trace = SHADOW_TRACE.source();
+        let lighting = LIGHTING.source();
+        let grid = format!("const GRID_CELLS: i32 = {GRID_CELLS};");
+        assert!(fill.contains(&grid) && trace.contains(&grid));
+        assert!(fill.contains(&format!("const SHADOW_FILL_LOD: u32 = {SHADOW_FILL_LOD}u;")));
+        assert!(trace.contains(&format!("const SHADOW_SUN: u32 = {SHADOW_SUN}u;")));
+        assert!(trace.contains(&format!("const SHADOW_SKY: u32 = {SHADOW_SKY}u;")));
+        let sky = SKY_DIRECTIONS.len();
+        assert!(trace.contains(&format!("const SKY_COUNT: u32 = {sky}u;")));
+        for source in [&trace, &lighting] {
+            assert!(source.contains(&format!("const FRAME_SPLAT: u32 = {FRAME_SPLAT}u;")));
+            assert!(source.contains(&format!("const FRAME_SHADOWS: u32 = {FRAME_SHADOWS}u;")));
+        }
+        // The sky directions: straight up and four at 45 degrees (the trace writes them with
+        // h = 1 / sqrt(2) rounded to f32).
+        let h = core::f32::consts::FRAC_1_SQRT_2;
+        assert_eq!(format!("{h}"), "0.70710677");
+        assert!(trace.contains("let h = 0.70710677;"));
+        for d in SKY_DIRECTIONS {
+            let term = |c: f32| match c {
+                0.0 => "0.0".to_owned(),
+                1.0 => "1.0".to_owned(),
+                c if c == h => "h".to_owned(),
+                c if c == -h => "-h".to_owned(),
+                c => panic!("unexpected sky component {c}"),
+            };
+            let v = format!("vec3<f32>({}, {}, {})", term(d[0]), term(d[1]), term(d[2]));
+            assert!(trace.contains(&v), "{v} missing from the trace");
+        }
+        // The lighting pass unpacks the words as Visibility does.
+        assert!(lighting.contains("f32(min((w >> 1u) & 7u, 5u)) / 5.0"));
+        assert_eq!(Visibility::OPEN.pack(), 1 | (5 << 1));
+        assert!(trace.contains("shadow_out[at] = 1u | (SKY_COUNT << 1u);"));
+    }
+}

@@ -3,10 +3,14 @@
 //!
 //! Same rays and hits as [`reference_raycast`](crate::reference_raycast) (one ray per pixel
 //! centre, DDA through voxels), shaded with the deferred lighting model's CPU twin
-//! ([`render_model::lighting`]): no shadow rays, per-vertex ambient occlusion
+//! ([`render_model::lighting`]): sun-shadow and sky-visibility rays by the shared rule
+//! ([`render_model::lighting::shadow`]: the same grid around the camera's block, the same
+//! march and bias, from the hit point) when [`Lighting::shadows`] switches them on,
+//! per-vertex ambient occlusion
 //! interpolated over each face exactly as the GPU interpolates it over a quad (the mesher's AO
 //! rule per corner, the same diagonal flip, linear interpolation over the triangle the hit point
-//! lies in), transparent surfaces lit the same way and blended back to front, the same sky
+//! lies in), transparent surfaces lit the same way (without shadow rays, as the GPU's transparent pass
+//! lights them) and blended back to front, the same sky
 //! and distance haze (the hit's distance along the unit ray, which the GPU recovers from its
 //! depth buffer) and the same tonemap.
 //!
@@ -17,8 +21,9 @@
 //! repeat along both axes, the shading differs slightly.
 
 use glam::DVec3;
+use render_model::lighting::shadow::{GridClipped, Visibility, surface_visibility};
 use render_model::lighting::sky::{apply_haze, sky_background};
-use render_model::lighting::{Lighting, blend, output_rgba8, shade, srgb_to_linear};
+use render_model::lighting::{Lighting, blend, output_rgba8, shade, shade_visible, srgb_to_linear};
 use voxel_core::{BlockId, FaceDirection, MaterialPalette, WorldPos};
 
 use crate::reference_raycast::{RenderedImage, render_pixels, trace_ray};
@@ -118,7 +123,8 @@ fn material(palette: &MaterialPalette, block: BlockId) -> ([f32; 3], f32, f32) {
 }
 
 /// The lit colour of the face of `voxel` facing `normal`, at the point `distance` along the
-/// ray `direction` from the camera.
+/// ray `direction` from the camera; `shadowed` traces its shadow and sky rays (opaque
+/// surfaces: the GPU's transparent pass shades without them).
 #[expect(
     clippy::too_many_arguments,
     reason = "one surface point, fully described"
@@ -133,6 +139,7 @@ fn shade_face(
     voxel: WorldPos,
     normal: [i32; 3],
     distance: f64,
+    shadowed: bool,
 ) -> [f32; 3] {
     let (albedo, _, emission) = material(palette, block);
     let n = normal.map(|c| c as f32);
@@ -153,7 +160,38 @@ fn shade_face(
     let p = p.to_array();
     let ao = face_ao(block_at, palette, voxel, face);
     let ao = interpolate_ao(ao, face, p[face.width_axis()], p[face.height_axis()]);
-    shade(params, albedo, n, ao, emission)
+    let seen = if shadowed && params.shadows.enabled() {
+        // Camera-relative, as the GPU marches: the camera's fraction plus the ray.
+        let origin = (camera.fraction + direction * distance)
+            .as_vec3()
+            .to_array();
+        let solid = |c: [i32; 3]| {
+            let at = WorldPos::new(
+                camera.voxel.x.wrapping_add(c[0]),
+                camera.voxel.y.wrapping_add(c[1]),
+                camera.voxel.z.wrapping_add(c[2]),
+            );
+            palette.class(block_at(at)).is_ok_and(|c| c.is_opaque())
+        };
+        surface_visibility(
+            &GridClipped(solid),
+            &params.shadows,
+            origin,
+            n,
+            params.sun_direction,
+        )
+    } else {
+        Visibility::OPEN
+    };
+    shade_visible(
+        params,
+        albedo,
+        n,
+        ao,
+        emission,
+        seen.sun_factor(),
+        seen.sky_factor(),
+    )
 }
 
 /// Renders `width x height` pixels like the GPU renderer (see the [module docs](self)):
@@ -178,19 +216,25 @@ pub fn render_deferred(
             max_distance,
         );
         let unit = dir.as_vec3().to_array();
-        let face = |block, voxel, normal, distance: f64| {
+        let face = |block, voxel, normal, distance: f64, shadowed| {
             let lit = shade_face(
-                block_at, palette, params, camera, dir, block, voxel, normal, distance,
+                block_at, palette, params, camera, dir, block, voxel, normal, distance, shadowed,
             );
             apply_haze(params, lit, unit, distance as f32)
         };
         let mut colour = match &trace.hit {
-            Some(hit) => face(hit.block, hit.voxel, hit.normal, hit.distance),
+            Some(hit) => face(hit.block, hit.voxel, hit.normal, hit.distance, true),
             None => sky_background(params, unit),
         };
         for layer in trace.layers.iter().rev().flatten() {
             let (_, alpha, _) = material(palette, layer.block);
-            let surface = face(layer.block, layer.voxel, layer.normal, layer.distance);
+            let surface = face(
+                layer.block,
+                layer.voxel,
+                layer.normal,
+                layer.distance,
+                false,
+            );
             colour = blend(colour, surface, alpha);
         }
         (

@@ -53,6 +53,10 @@ const _: () = assert!(size_of::<FrameUniforms>() == 272);
 /// and the lighting pass resolves them.
 pub const FRAME_SPLAT: u32 = 1;
 
+/// `FrameUniforms::flags` bit: the shadow pass wrote this frame's per-pixel sun and sky
+/// visibility (`lighting::shadow::Visibility` words), and the lighting pass shades with it.
+pub const FRAME_SHADOWS: u32 = 2;
+
 /// What [`FrameUniforms::new`] needs besides the camera and lighting.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FrameShape {

@@ -114,6 +114,10 @@ struct Args {
     /// clutter, no grass pass; the viewer grows 2).
     #[arg(long, default_value_t = 0.0)]
     clutter: f32,
+    /// Sun shadows and sky visibility on (`ShadowSettings::default()`; the shadow pass's
+    /// steps are timed as `shadow grid` and `shadow trace`).
+    #[arg(long)]
+    shadows: bool,
     /// Terrain seed.
     #[arg(long, default_value_t = 1)]
     seed: i32,
@@ -307,6 +311,14 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
                 Opaque::Compute => OpaquePath::Compute,
             })
             .collect(),
+        lighting: render_model::lighting::Lighting {
+            shadows: if args.shadows {
+                render_model::lighting::shadow::ShadowSettings::default()
+            } else {
+                render_model::lighting::shadow::ShadowSettings::OFF
+            },
+            ..Default::default()
+        },
     };
     let (runs, images, choices) = run(&ctx, &terrain, &config, &mut scene)?;
     for choice in &choices {

@@ -65,6 +65,9 @@ pub struct BenchConfig {
     pub occlusion: Vec<bool>,
     /// Opaque quad paths to measure (one renderer each, per far path and occlusion setting).
     pub opaque: Vec<OpaquePath>,
+    /// The light of every run (with `Lighting::shadows` on, the shadow pass's steps are
+    /// timed as `shadow grid` and `shadow trace`).
+    pub lighting: Lighting,
 }
 
 /// Why the benchmark stopped.
@@ -365,8 +368,8 @@ pub fn run(
             let mut renderer = renderer_with(ctx, terrain, size, far, occlusion, opaque)?;
             renderer.set_camera(&camera);
             renderer
-                .set_lighting(&Lighting::default())
-                .expect("the default lighting renders");
+                .set_lighting(&config.lighting)
+                .map_err(|e| BenchError::BadConfig(e.to_string()))?;
             upload_terrain_where(&mut renderer, terrain, |n| n.level == 0)?;
             renderer.set_lod(None)?;
             for &fullscreen in &config.fullscreen {
@@ -397,8 +400,8 @@ pub fn run(
         choices.push(far_choice.clone());
         renderer.set_camera(&camera);
         renderer
-            .set_lighting(&Lighting::default())
-            .expect("the default lighting renders");
+            .set_lighting(&config.lighting)
+            .map_err(|e| BenchError::BadConfig(e.to_string()))?;
         scene.upload_ms = upload_terrain_where(&mut renderer, terrain, |n| {
             selected_by_any(&params, n.level, n.coord)
         })?;

@@ -45,6 +45,7 @@ pub fn measure(
         fullscreen: vec![FullscreenPath::Compute],
         occlusion: vec![true],
         opaque: vec![OpaquePath::Compute],
+        lighting: Default::default(),
     };
     let mut scene = SceneSummary {
         adapter: ctx.capabilities.adapter.to_string(),

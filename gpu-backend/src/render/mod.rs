@@ -17,7 +17,10 @@
 //!                  into the G-buffer (passes::grass; rules in render_model::grass)
 //!    prop cull (glTF props: per instance, frustum and this frame's pyramid) ─► props (one
 //!       indexed indirect draw per batch into the G-buffer; see [`props`])
-//!    cull transparent (ordered, back to front) ─► lighting (compute or fragment)
+//!    cull transparent (ordered, back to front)
+//!    [─► shadow grid ─► shadow trace] (shadows on: the drawn nodes' quads into a bit grid
+//!       around the eye, then per pixel the sun and sky rays through it; passes::shadow)
+//!    ─► lighting (compute or fragment)
 //!    ─► transparent (blended, hidden behind the depth and the visibility buffer)
 //!    ─► tonemap ─► Rgba8 sRGB output (read back with read_image; present blits it to a
 //!       window)

@@ -52,6 +52,8 @@ struct FrameUniforms {
 
 // Far draws were splatted into the visibility buffers this frame (render::FRAME_SPLAT).
 const FRAME_SPLAT: u32 = 1u;
+// The shadow pass wrote this frame's visibility words (render::FRAME_SHADOWS).
+const FRAME_SHADOWS: u32 = 2u;
 
 // The ray direction through the centre of pixel p (unit component along forward).
 fn pixel_ray(p: vec2<u32>) -> vec3<f32> {
@@ -87,11 +89,17 @@ fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
 // Exposed (display-linear) colour of a surface point: hemisphere ambient scaled by AO
 // (0..=3), Lambert sun, emission, times the exposure. The twin of lighting::shade.
 fn shade(albedo: vec3<f32>, n: vec3<f32>, ao: f32, emission: f32) -> vec3<f32> {
+    return shade_visible(albedo, n, ao, emission, 1.0, 1.0);
+}
+
+// shade with the sun term scaled by `sun` and the hemisphere ambient by `sky` (the shadow
+// pass's visibility); the twin of lighting::shade_visible.
+fn shade_visible(albedo: vec3<f32>, n: vec3<f32>, ao: f32, emission: f32, sun: f32, sky: f32) -> vec3<f32> {
     let l = frame.lighting;
     let hemisphere = 0.5 + 0.5 * n.y;
     let ambient = l.ground_colour + (l.sky_colour - l.ground_colour) * hemisphere;
-    let occlusion = (l.ao_floor + (1.0 - l.ao_floor) * (ao / 3.0)) * l.ambient_strength;
-    let n_dot_l = max(n.x * l.sun_direction.x + n.y * l.sun_direction.y + n.z * l.sun_direction.z, 0.0);
+    let occlusion = (l.ao_floor + (1.0 - l.ao_floor) * (ao / 3.0)) * l.ambient_strength * sky;
+    let n_dot_l = max(n.x * l.sun_direction.x + n.y * l.sun_direction.y + n.z * l.sun_direction.z, 0.0) * sun;
     let light = ambient * occlusion + l.sun_colour * n_dot_l;
     return (albedo * light + albedo * (emission * l.emissive_scale)) * l.exposure;
 }

@@ -42,7 +42,9 @@
 //! radius.
 //!
 //! **Shadows and sky visibility** ([`shadow`]): the rule of the sun-shadow and
-//! sky-visibility rays through block occupancy, with its bounds and switches.
+//! sky-visibility rays through block occupancy, with its bounds and switches
+//! ([`Lighting::shadows`]): the sun term is multiplied by the sun's visibility (0 or 1) and
+//! the hemisphere ambient by the sky's (the open fraction of 5 rays), [`shade_visible`].
 
 mod shade;
 pub mod shadow;
@@ -50,13 +52,18 @@ pub mod sky;
 mod tonemap;
 mod uniforms;
 
-pub use shade::{AO_FLOOR, ao_factor, blend, hemisphere_ambient, shade};
+pub use shade::{AO_FLOOR, ao_factor, blend, hemisphere_ambient, shade, shade_visible};
 pub use tonemap::{
     COMPRESSION_START, DESATURATION, linear_to_srgb8, neutral, output_rgba8, srgb_to_linear,
 };
-pub use uniforms::LightingUniforms;
+pub use uniforms::{
+    LightingUniforms, SHADOW_FILL_LOD, SHADOW_SKY, SHADOW_SUN, ShadowFillUniforms,
+    ShadowTraceUniforms,
+};
 
 use core::fmt;
+
+use shadow::{ShadowSettings, ShadowSettingsError};
 
 /// Light, sky and haze of a frame. Light colours are linear radiance; sky colours are
 /// display-linear (what the tonemap receives); the sun direction points towards the sun.
@@ -90,10 +97,13 @@ pub struct Lighting {
     /// Distance, blocks, at which haze hides everything (transmittance 1/255);
     /// `f32::INFINITY` turns haze off.
     pub haze_distance: f32,
+    /// Sun shadows and sky visibility ([`shadow`]); [`ShadowSettings::OFF`] draws without
+    /// them.
+    pub shadows: ShadowSettings,
 }
 
 impl Default for Lighting {
-    /// The viewer's default daylight, haze off.
+    /// The viewer's default daylight, haze and shadows off.
     fn default() -> Self {
         let d = [0.45f32, 0.8, 0.35];
         let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
@@ -111,6 +121,7 @@ impl Default for Lighting {
             sun_disc_brightness: 20.0,
             sun_halo: 0.35,
             haze_distance: f32::INFINITY,
+            shadows: ShadowSettings::OFF,
         }
     }
 }
@@ -144,6 +155,8 @@ pub enum LightingError {
         /// The value given.
         value: f32,
     },
+    /// The shadow settings are refused.
+    Shadows(ShadowSettingsError),
 }
 
 impl fmt::Display for LightingError {
@@ -162,6 +175,7 @@ impl fmt::Display for LightingError {
             LightingError::HazeDistanceNotPositive { value } => {
                 write!(f, "lighting: the haze distance {value} is not positive")
             }
+            LightingError::Shadows(e) => write!(f, "lighting: {e}"),
         }
     }
 }
@@ -171,7 +185,8 @@ impl std::error::Error for LightingError {}
 impl Lighting {
     /// Checks that every parameter can be rendered: finite, non-negative where a negative
     /// value has no meaning, a unit sun direction, some head-on light in every channel, a
-    /// positive haze distance.
+    /// positive haze distance, usable shadow settings ([`ShadowSettings::check`], also when
+    /// both features are off).
     pub fn check(&self) -> Result<(), LightingError> {
         let vectors: [(&'static str, [f32; 3], bool); 6] = [
             ("sun_direction", self.sun_direction, false),
@@ -209,7 +224,7 @@ impl Lighting {
                 value: self.haze_distance,
             });
         }
-        Ok(())
+        self.shadows.check().map_err(LightingError::Shadows)
     }
 
     /// The linear light a surface facing the sun receives, unoccluded (AO 3): the sun plus
@@ -295,5 +310,15 @@ mod tests {
             Err(LightingError::HazeDistanceNotPositive { .. })
         ));
         assert_eq!(bad(|l| l.haze_distance = 300.0), Ok(()));
+        assert_eq!(
+            bad(|l| l.shadows.max_steps = 0),
+            Err(LightingError::Shadows(ShadowSettingsError::Steps {
+                max_steps: 0
+            }))
+        );
+        assert!(matches!(
+            bad(|l| l.shadows.normal_bias = f32::NAN),
+            Err(LightingError::Shadows(ShadowSettingsError::Bias { .. }))
+        ));
     }
 }

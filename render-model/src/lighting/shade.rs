@@ -19,7 +19,7 @@ pub fn hemisphere_ambient(params: &Lighting, normal: [f32; 3]) -> [f32; 3] {
 }
 
 /// Exposed (display-linear) colour of a surface point (the formula in the
-/// [module docs](super)).
+/// [module docs](super)), unshadowed: [`shade_visible`] with sun and sky factors 1.
 ///
 /// `albedo` linear, `normal` unit length, `ao` interpolated `0..=3`, `emission` `0..=1`.
 pub fn shade(
@@ -29,10 +29,25 @@ pub fn shade(
     ao: f32,
     emission: f32,
 ) -> [f32; 3] {
+    shade_visible(params, albedo, normal, ao, emission, 1.0, 1.0)
+}
+
+/// [`shade`] with the sun term scaled by `sun` and the hemisphere ambient by `sky`
+/// (`shadow::Visibility::sun_factor` and `sky_factor`, `0..=1`); the WGSL twin is
+/// `shade_visible` in `render_common.wgsl`.
+pub fn shade_visible(
+    params: &Lighting,
+    albedo: [f32; 3],
+    normal: [f32; 3],
+    ao: f32,
+    emission: f32,
+    sun: f32,
+    sky: f32,
+) -> [f32; 3] {
     let ambient = hemisphere_ambient(params, normal);
-    let occlusion = ao_factor(ao) * params.ambient_strength;
+    let occlusion = ao_factor(ao) * params.ambient_strength * sky;
     let l = params.sun_direction;
-    let n_dot_l = (normal[0] * l[0] + normal[1] * l[1] + normal[2] * l[2]).max(0.0);
+    let n_dot_l = (normal[0] * l[0] + normal[1] * l[1] + normal[2] * l[2]).max(0.0) * sun;
     let exposure = params.exposure_rgb();
     core::array::from_fn(|i| {
         let light = ambient[i] * occlusion + params.sun_colour[i] * n_dot_l;
@@ -75,5 +90,22 @@ mod tests {
         for i in 0..3 {
             assert!((c[i] - ambient[i] * params.ambient_strength * exposure[i]).abs() < 1e-6);
         }
+    }
+
+    #[test]
+    fn shadow_removes_the_sun_and_a_closed_sky_the_ambient() {
+        let params = Lighting::default();
+        let n = params.sun_direction;
+        let lit = shade(&params, [1.0; 3], n, 3.0, 0.0);
+        assert_eq!(shade_visible(&params, [1.0; 3], n, 3.0, 0.0, 1.0, 1.0), lit);
+        let shadowed = shade_visible(&params, [1.0; 3], n, 3.0, 0.0, 0.0, 1.0);
+        let ambient = hemisphere_ambient(&params, n);
+        let exposure = params.exposure_rgb();
+        for i in 0..3 {
+            let expected = ambient[i] * params.ambient_strength * exposure[i];
+            assert!((shadowed[i] - expected).abs() < 1e-6);
+        }
+        let cave = shade_visible(&params, [1.0; 3], n, 3.0, 0.0, 0.0, 0.0);
+        assert_eq!(cave, [0.0; 3]);
     }
 }

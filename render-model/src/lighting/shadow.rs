@@ -1,32 +1,54 @@
-//! Sun shadows and sky visibility by rays through block occupancy: the CPU rule that the GPU
-//! lighting pass is to trace on the resident nodes' hiding masks.
+//! Sun shadows and sky visibility by rays through block occupancy: the one rule the GPU
+//! (`gpu_backend`'s shadow pass) and the CPU reference (`voxel_reference`) both trace.
 //!
 //! **Occupancy.** A ray asks an [`Occupancy`] whether a block cell is solid. The cell is in
-//! camera-relative block coordinates (the GPU never sees a large world coordinate). The
-//! occupancy answers from the finest resident data covering the cell, so a cell at a LOD
-//! border is solid exactly when the finer side says so; a coarse node is never asked about a
-//! point a finer resident node covers, which is why a ray crossing a LOD border does not pass
-//! through a gap between the two levels' surfaces.
+//! camera-relative block coordinates: block position less the camera's block (the GPU never
+//! sees a large world coordinate). Only the cells of the camera-centred grid
+//! ([`GRID_CELLS`]^3 one-block cells, [`in_grid`]) can be solid ([`GridClipped`]): the GPU
+//! holds no occupancy outside it, so the CPU reference clips its world the same way, and
+//! surfaces farther than the grid are unshadowed on both.
+//!
+//! **What the GPU marks, and why it equals the CPU's full occupancy.** The GPU fills its grid
+//! from the opaque quads of the nodes the level-of-detail rule selects this frame, skirts
+//! included: the solid cell behind every quad (at a node's level a cell is `2^level` blocks
+//! on each axis). That marks the *shell* of every solid: each solid cell with a face open to
+//! air. A DDA ray steps face to face (6-connected), so coming from air it enters a solid
+//! through a face, and the cell it enters is a shell cell: a march that starts in air stops
+//! at the same cell whether the solid's inside is marked or not. The start is in air because
+//! the shaded point is first moved half a block out of its surface along the normal.
+//!
+//! **No light leaks at LOD borders.** The selected nodes tile space without overlap: every
+//! cell is answered by exactly one level, the one drawn there. A node's skirts are its
+//! border faces (the quads it draws when the neighbour across that side is at another level),
+//! so the shell is closed across every border: the fine side's solids end in marked cells at
+//! the border, the coarse side's too, and a ray crossing the border meets one or the other
+//! before it can enter either solid. Without the skirts a coarse solid whose border face is
+//! hidden by its coarse neighbour's data (which the fine node replaces) would have an open
+//! side there; the test `a_wall_across_a_lod_border_shadows_the_floor_continuously` states the
+//! property on a mixed-level occupancy, and the GPU image tests check it on resident nodes.
 //!
 //! **March** ([`march`]): Amanatides–Woo DDA from the shaded point, first offset along the
 //! surface normal by [`ShadowSettings::normal_bias`] blocks (times the level's cell size the
 //! caller passes, so a point on a coarse surface leaves its own coarse cell), then along the
 //! ray. It stops at the first solid cell (occluded), after [`ShadowSettings::max_steps`]
-//! cells, or beyond [`ShadowSettings::max_distance`] blocks (unoccluded). Both bounds are
-//! checked by [`ShadowSettings::check`].
+//! cells, or beyond [`ShadowSettings::max_distance`] blocks for the sun ray and
+//! [`ShadowSettings::sky_distance`] for the sky rays (unoccluded). The bounds are checked by
+//! [`ShadowSettings::check`]. The grid is in blocks, so the renderers pass a cell
+//! size of 1.
 //!
 //! **Sky visibility** ([`sky_visibility`]): the fraction of [`SKY_DIRECTIONS`] (straight up
 //! and four directions 45° from it) whose march escapes; the hemisphere ambient is
 //! multiplied by it, so a cave (every ray blocked) gets no sky light and open ground all of it.
 //!
+//! **Per surface point** ([`surface_visibility`]): both, packed in one word
+//! ([`Visibility::pack`]) as the GPU's shadow pass writes it per pixel; the sun ray is not
+//! marched where the surface faces away from the sun (its sun term is 0 anyway).
+//!
 //! **Why rays and not cascaded shadow maps.** The GPU machine is a compute part with few
 //! raster units (about 0.26 G quads/s in the G-buffer pass), where fragment-heavy work runs
 //! about 30 times slower than compute; a shadow map re-rasterises the scene once per
-//! cascade, while rays through the hiding masks already resident for the far draws' AO cost
-//! compute only. [`ShadowSettings`] switches both features so their cost can be measured.
-//!
-//! **Status.** This module is the CPU rule and its tests; the GPU lighting pass does not
-//! trace it yet, and the CPU reference does not call it yet (see issue 46, item 2).
+//! cascade, while the grid is filled and marched in compute only. [`ShadowSettings`]
+//! switches both features so their cost can be measured.
 
 use core::fmt;
 
@@ -34,6 +56,33 @@ use core::fmt;
 pub trait Occupancy {
     /// Whether the block cell `cell` (camera-relative block coordinates) is solid.
     fn solid(&self, cell: [i32; 3]) -> bool;
+}
+
+impl<F: Fn([i32; 3]) -> bool> Occupancy for F {
+    fn solid(&self, cell: [i32; 3]) -> bool {
+        self(cell)
+    }
+}
+
+/// One-block cells per axis of the camera-centred occupancy grid: cells `-GRID_CELLS / 2 ..
+/// GRID_CELLS / 2` on each axis, camera-relative (the GPU grid holds `GRID_CELLS^3` bits,
+/// 2 MiB).
+pub const GRID_CELLS: i32 = 256;
+
+/// Whether camera-relative `cell` lies in the occupancy grid.
+pub fn in_grid(cell: [i32; 3]) -> bool {
+    cell.iter()
+        .all(|&c| (-(GRID_CELLS / 2)..GRID_CELLS / 2).contains(&c))
+}
+
+/// An occupancy seen through the grid: solid only inside it ([`in_grid`]), as the GPU has it.
+#[derive(Clone, Copy, Debug)]
+pub struct GridClipped<O>(pub O);
+
+impl<O: Occupancy> Occupancy for GridClipped<O> {
+    fn solid(&self, cell: [i32; 3]) -> bool {
+        in_grid(cell) && self.0.solid(cell)
+    }
 }
 
 /// Switches and bounds of the shadow and sky-visibility rays.
@@ -45,22 +94,46 @@ pub struct ShadowSettings {
     pub sky_visibility: bool,
     /// Cells a ray visits at most.
     pub max_steps: u32,
-    /// Blocks a ray travels at most.
+    /// Blocks the sun ray travels at most.
     pub max_distance: f32,
+    /// Blocks a sky ray travels at most: sky light is hidden by what is near (a roof, a
+    /// cave), so these rays are shorter than the sun's.
+    pub sky_distance: f32,
     /// Offset along the normal before marching, in cells of the surface's level.
     pub normal_bias: f32,
 }
 
 impl Default for ShadowSettings {
-    /// Both features on, 128 cells, 96 blocks, half a cell of bias.
+    /// Both features on, 128 cells, sun rays of 64 blocks, sky rays of 16, half a cell of
+    /// bias. A ray that meets nothing costs its whole distance, so the distances set the
+    /// trace's cost: 64 blocks holds the shadow of a 40-block cliff under a sun 35 degrees
+    /// high; 16 blocks of sky ray darken caves and overhangs, not open valleys.
     fn default() -> Self {
         ShadowSettings {
             sun_shadows: true,
             sky_visibility: true,
             max_steps: 128,
-            max_distance: 96.0,
+            max_distance: 64.0,
+            sky_distance: 16.0,
             normal_bias: 0.5,
         }
+    }
+}
+
+impl ShadowSettings {
+    /// Both features off (the bounds of the default): the image without shadows.
+    pub const OFF: ShadowSettings = ShadowSettings {
+        sun_shadows: false,
+        sky_visibility: false,
+        max_steps: 128,
+        max_distance: 64.0,
+        sky_distance: 16.0,
+        normal_bias: 0.5,
+    };
+
+    /// Whether either feature is on (the renderers trace rays only then).
+    pub fn enabled(&self) -> bool {
+        self.sun_shadows || self.sky_visibility
     }
 }
 
@@ -76,6 +149,11 @@ pub enum ShadowSettingsError {
     Distance {
         /// The rejected value.
         max_distance: f32,
+    },
+    /// `sky_distance` is not finite or not positive.
+    SkyDistance {
+        /// The rejected value.
+        sky_distance: f32,
     },
     /// `normal_bias` is not finite or is outside `0..=2` cells.
     Bias {
@@ -99,6 +177,12 @@ impl fmt::Display for ShadowSettingsError {
                     "shadow max_distance {max_distance} is not a positive finite number"
                 )
             }
+            ShadowSettingsError::SkyDistance { sky_distance } => {
+                write!(
+                    f,
+                    "shadow sky_distance {sky_distance} is not a positive finite number"
+                )
+            }
             ShadowSettingsError::Bias { normal_bias } => {
                 write!(f, "shadow normal_bias {normal_bias} is outside 0..=2 cells")
             }
@@ -106,12 +190,14 @@ impl fmt::Display for ShadowSettingsError {
     }
 }
 
+impl std::error::Error for ShadowSettingsError {}
+
 /// The most cells a ray may visit: bounds the lighting pass's cost per pixel.
 pub const MAX_STEPS_LIMIT: u32 = 1024;
 
 impl ShadowSettings {
-    /// Checks that the bounds are usable: steps in `1..=MAX_STEPS_LIMIT`, a positive finite
-    /// distance, a bias in `0..=2` cells.
+    /// Checks that the bounds are usable: steps in `1..=MAX_STEPS_LIMIT`, positive finite
+    /// distances, a bias in `0..=2` cells.
     pub fn check(&self) -> Result<(), ShadowSettingsError> {
         if self.max_steps == 0 || self.max_steps > MAX_STEPS_LIMIT {
             return Err(ShadowSettingsError::Steps {
@@ -121,6 +207,11 @@ impl ShadowSettings {
         if !self.max_distance.is_finite() || self.max_distance <= 0.0 {
             return Err(ShadowSettingsError::Distance {
                 max_distance: self.max_distance,
+            });
+        }
+        if !self.sky_distance.is_finite() || self.sky_distance <= 0.0 {
+            return Err(ShadowSettingsError::SkyDistance {
+                sky_distance: self.sky_distance,
             });
         }
         if !self.normal_bias.is_finite() || !(0.0..=2.0).contains(&self.normal_bias) {
@@ -158,7 +249,8 @@ pub const SKY_DIRECTIONS: [[f32; 3]; 5] = [
 ];
 
 /// Whether the ray from `origin` (camera-relative blocks), offset by `normal * normal_bias *
-/// cell_size`, along unit `direction` reaches a solid cell within the settings' bounds.
+/// cell_size`, along unit `direction` reaches a solid cell within the settings' bounds (the
+/// sun ray's distance, [`ShadowSettings::max_distance`]).
 pub fn march(
     occupancy: &impl Occupancy,
     settings: &ShadowSettings,
@@ -166,6 +258,28 @@ pub fn march(
     normal: [f32; 3],
     cell_size: f32,
     direction: [f32; 3],
+) -> bool {
+    march_within(
+        occupancy,
+        settings,
+        origin,
+        normal,
+        cell_size,
+        direction,
+        settings.max_distance,
+    )
+}
+
+/// [`march`] over at most `max_distance` blocks (the sky rays pass
+/// [`ShadowSettings::sky_distance`]).
+pub fn march_within(
+    occupancy: &impl Occupancy,
+    settings: &ShadowSettings,
+    origin: [f32; 3],
+    normal: [f32; 3],
+    cell_size: f32,
+    direction: [f32; 3],
+    max_distance: f32,
 ) -> bool {
     let bias = settings.normal_bias * cell_size;
     let p = [0, 1, 2].map(|i| origin[i] + normal[i] * bias);
@@ -199,13 +313,33 @@ pub fn march(
         } else {
             2
         };
-        if next[axis] > settings.max_distance {
+        if next[axis] > max_distance {
             return false;
         }
         cell[axis] += step[axis];
         next[axis] += delta[axis];
     }
     false
+}
+
+/// Whether one sky ray is blocked: [`march_within`] over the sky distance.
+fn sky_ray(
+    occupancy: &impl Occupancy,
+    settings: &ShadowSettings,
+    origin: [f32; 3],
+    normal: [f32; 3],
+    cell_size: f32,
+    direction: [f32; 3],
+) -> bool {
+    march_within(
+        occupancy,
+        settings,
+        origin,
+        normal,
+        cell_size,
+        direction,
+        settings.sky_distance,
+    )
 }
 
 /// The sun's visibility at a point: 0 in shadow, 1 lit (always 1 with shadows off).
@@ -247,9 +381,84 @@ pub fn sky_visibility(
     }
     let open = SKY_DIRECTIONS
         .iter()
-        .filter(|&&d| !march(occupancy, settings, origin, normal, cell_size, d))
+        .filter(|&&d| !sky_ray(occupancy, settings, origin, normal, cell_size, d))
         .count();
     open as f32 / SKY_DIRECTIONS.len() as f32
+}
+
+/// The sun and sky visibility of one surface point (what the GPU's shadow pass writes per
+/// pixel).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Visibility {
+    /// The sun reaches the point (always with sun shadows off; never where the surface faces
+    /// away from the sun).
+    pub sun: bool,
+    /// How many of [`SKY_DIRECTIONS`] escape (all with sky visibility off).
+    pub sky_open: u32,
+}
+
+impl Visibility {
+    /// Nothing blocked: what a point gets with both features off.
+    pub const OPEN: Visibility = Visibility {
+        sun: true,
+        sky_open: SKY_DIRECTIONS.len() as u32,
+    };
+
+    /// The GPU word: bit 0 the sun, bits 1..4 the open sky directions.
+    pub fn pack(self) -> u32 {
+        u32::from(self.sun) | (self.sky_open << 1)
+    }
+
+    /// The inverse of [`pack`](Self::pack) (bits above 3 ignored; a count above 5 reads 5).
+    pub fn unpack(word: u32) -> Visibility {
+        Visibility {
+            sun: word & 1 != 0,
+            sky_open: ((word >> 1) & 7).min(SKY_DIRECTIONS.len() as u32),
+        }
+    }
+
+    /// The sun term's factor: 1 or 0.
+    pub fn sun_factor(self) -> f32 {
+        if self.sun { 1.0 } else { 0.0 }
+    }
+
+    /// The hemisphere ambient's factor: the open fraction of the sky directions.
+    pub fn sky_factor(self) -> f32 {
+        self.sky_open as f32 / SKY_DIRECTIONS.len() as f32
+    }
+}
+
+/// The visibility of the surface point `origin` (camera-relative blocks) with unit `normal`
+/// (the rule in the [module docs](self)): the sun ray only where `dot(normal, sun) > 0`, the
+/// sky rays always, each switched by `settings`; cells of one block. A point outside the
+/// grid ([`in_grid`] of its cell) is [`Visibility::OPEN`]: the grid holds the shadows, and
+/// the GPU spends nothing on the pixels beyond it.
+pub fn surface_visibility(
+    occupancy: &impl Occupancy,
+    settings: &ShadowSettings,
+    origin: [f32; 3],
+    normal: [f32; 3],
+    sun_direction: [f32; 3],
+) -> Visibility {
+    if !in_grid(origin.map(|c| c.floor() as i32)) {
+        return Visibility::OPEN;
+    }
+    let l = sun_direction;
+    let facing = normal[0] * l[0] + normal[1] * l[1] + normal[2] * l[2] > 0.0;
+    let sun = if !settings.sun_shadows {
+        true
+    } else {
+        facing && !march(occupancy, settings, origin, normal, 1.0, l)
+    };
+    let sky_open = if !settings.sky_visibility {
+        SKY_DIRECTIONS.len() as u32
+    } else {
+        SKY_DIRECTIONS
+            .iter()
+            .filter(|&&d| !sky_ray(occupancy, settings, origin, normal, 1.0, d))
+            .count() as u32
+    };
+    Visibility { sun, sky_open }
 }
 
 #[cfg(test)]
@@ -326,11 +535,22 @@ mod tests {
     #[test]
     fn the_march_stops_at_its_distance_bound() {
         let s = ShadowSettings {
-            max_distance: 3.0,
+            sky_distance: 3.0,
             ..ShadowSettings::default()
         };
         // The roof is 6 blocks above: beyond the bound, the ray escapes.
         assert_eq!(sky_visibility(&Scene, &s, [15.5, 0.0, 0.5], UP, 1.0), 1.0);
+        // The sun ray has its own bound: the roof shadows the floor below it.
+        let sun_up = sun_visibility(&Scene, &s, [15.5, 0.0, 0.5], UP, 1.0, UP);
+        assert_eq!(sun_up, 0.0);
+        let short = ShadowSettings {
+            max_distance: 3.0,
+            ..ShadowSettings::default()
+        };
+        assert_eq!(
+            sun_visibility(&Scene, &short, [15.5, 0.0, 0.5], UP, 1.0, UP),
+            1.0
+        );
     }
 
     #[test]
@@ -386,6 +606,14 @@ mod tests {
             far.check(),
             Err(ShadowSettingsError::Distance { .. })
         ));
+        let sky = ShadowSettings {
+            sky_distance: 0.0,
+            ..d
+        };
+        assert_eq!(
+            sky.check(),
+            Err(ShadowSettingsError::SkyDistance { sky_distance: 0.0 })
+        );
         let bias = ShadowSettings {
             normal_bias: -1.0,
             ..d
@@ -394,5 +622,55 @@ mod tests {
             bias.check(),
             Err(ShadowSettingsError::Bias { .. })
         ));
+    }
+
+    #[test]
+    fn the_grid_clips_the_occupancy() {
+        let clipped = GridClipped(|[_, y, _]: [i32; 3]| y == -1);
+        assert!(clipped.solid([0, -1, 0]));
+        assert!(clipped.solid([-GRID_CELLS / 2, -1, GRID_CELLS / 2 - 1]));
+        assert!(!clipped.solid([GRID_CELLS / 2, -1, 0]));
+        assert!(!clipped.solid([0, -1, -GRID_CELLS / 2 - 1]));
+    }
+
+    #[test]
+    fn visibility_words_round_trip() {
+        for sun in [false, true] {
+            for sky_open in 0..=5 {
+                let v = Visibility { sun, sky_open };
+                assert_eq!(Visibility::unpack(v.pack()), v);
+            }
+        }
+        assert_eq!(Visibility::unpack(u32::MAX).sky_open, 5);
+        assert_eq!(Visibility::OPEN.sky_factor(), 1.0);
+    }
+
+    #[test]
+    fn a_surface_point_gets_both_rays_and_the_switches() {
+        let s = ShadowSettings::default();
+        let shadowed = surface_visibility(&Scene, &s, [2.5, 0.0, 0.5], UP, sun());
+        assert!(!shadowed.sun);
+        let under = surface_visibility(&Scene, &s, [15.5, 0.0, 0.5], UP, sun());
+        assert_eq!(under.sky_open, 0);
+        let open = surface_visibility(&Scene, &s, [-20.5, 0.0, 0.5], UP, sun());
+        assert_eq!(open, Visibility::OPEN);
+        // Facing away from the sun: no sun, whatever the occupancy.
+        let down = surface_visibility(&Scene, &s, [-20.5, 0.0, 0.5], [0.0, -1.0, 0.0], sun());
+        assert!(!down.sun);
+        assert_eq!(
+            surface_visibility(&Scene, &ShadowSettings::OFF, [15.5, 0.0, 0.5], UP, sun()),
+            Visibility::OPEN
+        );
+        assert!(!ShadowSettings::OFF.enabled());
+        // Beyond the grid: open, even under a roof over everything.
+        let roofed = |[_, y, _]: [i32; 3]| y == 6;
+        let inside = [0.5, 0.0, GRID_CELLS as f32 / 2.0 - 0.5];
+        let beyond = [0.5, 0.0, GRID_CELLS as f32 / 2.0 + 0.5];
+        assert_eq!(surface_visibility(&roofed, &s, inside, UP, UP).sky_open, 0);
+        assert_eq!(
+            surface_visibility(&roofed, &s, beyond, UP, UP),
+            Visibility::OPEN
+        );
+        assert!(s.enabled());
     }
 }

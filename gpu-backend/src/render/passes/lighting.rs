@@ -10,7 +10,11 @@
 //! | group | bindings                                                                        |
 //! | ----- | ------------------------------------------------------------------------------- |
 //! | 0     | the frame (`Shared::frame_layout`)                                              |
-//! | 1     | 0 albedo, 1 normal, 2 depth, 4 opaque and 5 transparent visibility, 6 HDR out (compute) |
+//! | 1     | 0 albedo, 1 normal, 2 depth, 4 opaque and 5 transparent visibility, 6 HDR out (compute), 7 the shadow pass's visibility words |
+//!
+//! With shadows on (`FRAME_SHADOWS`), the sun term and the hemisphere ambient of every opaque
+//! surface are scaled by the shadow pass's words ([`super::shadow`]); without, a stand-in
+//! buffer is bound and never read.
 
 use wgpu::{BindGroupLayout, BufferBindingType, Device, TextureSampleType};
 
@@ -42,6 +46,7 @@ impl LightingPass {
             texture_layout_entry(2, screen, TextureSampleType::Depth),
             buffer_layout_entry(4, screen, storage),
             buffer_layout_entry(5, screen, storage),
+            buffer_layout_entry(7, screen, storage),
         ];
         if path == FullscreenPath::Compute {
             entries.push(storage_texture_entry(6, HDR_FORMAT));
@@ -66,12 +71,14 @@ impl LightingPass {
     }
 
     /// Records the pass, timed as `lighting`. `transparent` is the transparent visibility
-    /// buffer that goes with the frame's opaque one (`ctx.visibility`).
+    /// buffer that goes with the frame's opaque one (`ctx.visibility`); `shadow` the shadow
+    /// pass's words when the frame has shadows.
     pub fn record(
         &self,
         ctx: &FrameCtx<'_>,
         rec: &mut Recorder<'_, '_>,
         transparent: Option<&wgpu::Buffer>,
+        shadow: Option<&wgpu::Buffer>,
     ) {
         let t = ctx.targets;
         let texture = |binding, view| wgpu::BindGroupEntry {
@@ -89,6 +96,7 @@ impl LightingPass {
             texture(2, &t.depth),
             buffer_entry(4, visibility),
             buffer_entry(5, transparent),
+            buffer_entry(7, shadow.unwrap_or(none)),
         ];
         if self.path() == FullscreenPath::Compute {
             entries.push(texture(6, &t.hdr));

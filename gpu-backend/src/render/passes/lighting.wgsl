@@ -18,6 +18,20 @@
 // The compute pass's output.
 @group(1) @binding(6) var hdr_out: texture_storage_2d<rgba16float, write>;
 
+// The shadow pass's per-pixel Visibility words (render::passes::shadow), read when
+// FRAME_SHADOWS is set.
+@group(1) @binding(7) var<storage, read> shadow_visibility: array<u32>;
+
+// The sun and sky factors of pixel `at` (twin of shadow::Visibility's): 1 and 1 without
+// shadows.
+fn seen_light(at: u32) -> vec2<f32> {
+    if (frame.flags & FRAME_SHADOWS) == 0u {
+        return vec2<f32>(1.0);
+    }
+    let w = shadow_visibility[at];
+    return vec2<f32>(f32(w & 1u), f32(min((w >> 1u) & 7u, 5u)) / 5.0);
+}
+
 // A splat payload (render::far): block id, face, AO in 255ths of 3.
 struct Splat {
     block: u32,
@@ -29,12 +43,13 @@ fn splat_of(payload: u32) -> Splat {
     return Splat(payload & 0xffffu, (payload >> 16u) & 7u, f32((payload >> 19u) & 0xffu) / 85.0);
 }
 
-// The shaded colour of a splatted surface.
-fn shade_splat(s: Splat) -> vec4<f32> {
+// The shaded colour of a splatted surface, its sun and sky scaled by `seen`.
+fn shade_splat(s: Splat, seen: vec2<f32>) -> vec4<f32> {
     let m = material_of(s.block);
     let srgba = material_srgba(m);
     let n = vec3<f32>(face_normal(s.face));
-    return vec4<f32>(shade(srgb_to_linear(srgba.rgb), n, s.ao, material_emission(m)), srgba.a);
+    let albedo = srgb_to_linear(srgba.rgb);
+    return vec4<f32>(shade_visible(albedo, n, s.ao, material_emission(m), seen.x, seen.y), srgba.a);
 }
 
 // Display-linear colour of pixel p: the nearer of the G-buffer and the opaque far draws
@@ -52,7 +67,7 @@ fn lit_pixel(p: vec2<u32>) -> vec3<f32> {
         // Reversed-Z: nearer is greater; 0 is the cleared far plane.
         if d > depth {
             depth = d;
-            surface = shade_splat(splat_of(v.x)).rgb;
+            surface = shade_splat(splat_of(v.x), seen_light(at)).rgb;
             splatted = true;
         }
     }
@@ -61,7 +76,9 @@ fn lit_pixel(p: vec2<u32>) -> vec3<f32> {
         let normal_material = textureLoad(gbuffer_normal, texel, 0);
         let n = oct32_decode(normal_material.x);
         let m = material_of(normal_material.y);
-        surface = shade(srgb_to_linear(albedo_ao.rgb), n, albedo_ao.a * 3.0, material_emission(m));
+        let albedo = srgb_to_linear(albedo_ao.rgb);
+        let seen = seen_light(at);
+        surface = shade_visible(albedo, n, albedo_ao.a * 3.0, material_emission(m), seen.x, seen.y);
     }
     let ray = pixel_ray(p);
     var colour: vec3<f32>;
@@ -75,7 +92,8 @@ fn lit_pixel(p: vec2<u32>) -> vec3<f32> {
         let t = transparent[at];
         let d = bitcast<f32>(t.y);
         if d > depth {
-            let over = shade_splat(splat_of(t.x));
+            // Transparent surfaces are not shadowed (as the transparent pass shades them).
+            let over = shade_splat(splat_of(t.x), vec2<f32>(1.0));
             let seen = eye_ray(p, d);
             colour = mix(colour, apply_haze(over.rgb, seen.dir, seen.distance), over.a);
         }

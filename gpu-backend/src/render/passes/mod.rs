@@ -12,6 +12,7 @@
 //! | grass | [`grass`] | clutter units as crossed quads into the G-buffer, culled with their chunks, swaying in the wind (after the opaque phases) |
 //! | prop cull | [`prop_cull`] | glTF prop instances: zero each batch's count, frustum and Hi-Z per instance, one indexed indirect draw per batch (after the opaque phases) |
 //! | props | [`props`] | the batches' visible prop instances into the G-buffer |
+//! | shadow | [`shadow`] | the camera-centred occupancy grid from the drawn nodes' quads, then per pixel the sun and sky visibility rays through it (with shadows on) |
 //! | lighting | [`lighting`] | G-buffer and visibility buffers to display-linear HDR, sky and haze |
 //! | transparent | [`transparent`] | transparent quads and far blocks blended into the HDR target |
 //! | tonemap | [`tonemap`] | HDR to the sRGB output (or to `ldr` before anti-aliasing) |
@@ -41,6 +42,7 @@ pub mod present;
 pub mod prop_cull;
 pub mod props;
 pub mod quad_raster;
+pub mod shadow;
 pub mod shared;
 pub mod targets;
 pub mod tonemap;

@@ -22,6 +22,7 @@ use crate::render::passes::grass::GrassPass;
 use crate::render::passes::hiz::DepthPyramid;
 use crate::render::passes::lighting::LightingPass;
 use crate::render::passes::quad_raster::QuadRaster;
+use crate::render::passes::shadow::ShadowPass;
 use crate::render::passes::shared::Shared;
 use crate::render::passes::tonemap::TonemapPass;
 use crate::render::passes::transparent::TransparentPass;
@@ -47,6 +48,8 @@ pub(super) struct Passes {
     pub(super) grass: Option<GrassPass>,
     /// The depth pyramid of two-phase occlusion culling.
     pub(super) hiz: Option<DepthPyramid>,
+    /// The shadow pass, made with the first frame that has shadows on.
+    pub(super) shadow: Option<ShadowPass>,
     /// The lighting pass.
     pub(super) lighting: LightingPass,
     /// The transparent pass.
@@ -169,6 +172,7 @@ impl Passes {
             gbuffer: GbufferPass::new(device, &shared),
             grass,
             hiz,
+            shadow: None,
             lighting: LightingPass::new(device, &shared, config.fullscreen),
             transparent: TransparentPass::new(device, &shared),
             tonemap: TonemapPass::new(device, &shared, config.fullscreen),

@@ -495,6 +495,9 @@ impl Renderer {
         if let Some(grass) = &self.passes.grass {
             out.push(("grass draws", grass.resident_bytes()));
         }
+        if let Some(shadow) = &self.passes.shadow {
+            out.push(("shadow grid and visibility", shadow.resident_bytes()));
+        }
         if let Some(splat) = &self.passes.far_splat {
             out.push((
                 "far visibility buffers",

@@ -6,8 +6,9 @@ use render_model::cull::CullView;
 use render_model::cull::{
     CullParams, LodParams, OcclusionView, PHASE_EARLY, PHASE_LATE, PHASE_TEST, lod,
 };
-use render_model::frame::{FRAME_SPLAT, FrameShape, FrameUniforms};
+use render_model::frame::{FRAME_SHADOWS, FRAME_SPLAT, FrameShape, FrameUniforms};
 use render_model::grass::{self, GrassCullUniforms, GrassFrame, GrassUniforms};
+use render_model::lighting::{SHADOW_FILL_LOD, ShadowFillUniforms, ShadowTraceUniforms};
 
 use render_model::props::{PROP_CULL_FRUSTUM, PROP_CULL_OCCLUSION, PropCullUniforms};
 
@@ -18,6 +19,7 @@ use crate::render::passes::cull::FrameCullParams;
 use crate::render::passes::far_raster::FarRasterDraw;
 use crate::render::passes::frame::{FrameCtx, Phase, Recorder};
 use crate::render::passes::grass::GrassParams;
+use crate::render::passes::shadow::{ShadowParams, ShadowPass};
 
 impl Renderer {
     /// The level-of-detail selection's inputs of the next frame (anchor, budget, focal
@@ -108,6 +110,48 @@ impl Renderer {
         })
     }
 
+    /// The shadow pass's parameters of the next frame, after making the pass (and fitting it
+    /// to the targets and the quad pages) when the lighting switches shadows on; `None` with
+    /// shadows off.
+    fn prepare_shadows(&mut self) -> Result<Option<ShadowParams>, RenderError> {
+        let settings = self.view.lighting.shadows;
+        if !settings.enabled() {
+            return Ok(None);
+        }
+        let (width, height) = (self.targets.width, self.targets.height);
+        let pass = match &mut self.passes.shadow {
+            Some(pass) => pass,
+            none => none.insert(
+                ShadowPass::new(&self.device, &self.shared, width, height)
+                    .map_err(RenderError::Alloc)?,
+            ),
+        };
+        pass.fit(width, height).map_err(RenderError::Alloc)?;
+        let pages = self
+            .residency
+            .gigabuffer()
+            .layout(voxel_core::formats::DataKind::Quads)
+            .page_count;
+        pass.fit_pages(pages).map_err(RenderError::Alloc)?;
+        let camera = &self.view.camera;
+        let edge = self.config.chunk_size.edge() as i32;
+        let v = camera.voxel;
+        let lod = self.cull_params(false, PHASE_TEST).lod;
+        let fill = ShadowFillUniforms {
+            lod: lod.unwrap_or_default(),
+            camera_chunk: [v.x, v.y, v.z].map(|c| c.div_euclid(edge)),
+            slot_bound: self.residency.table().slot_bound(),
+            camera_block: [v.x, v.y, v.z].map(|c| c.rem_euclid(edge)),
+            chunk_edge: edge as u32,
+            flags: if lod.is_some() { SHADOW_FILL_LOD } else { 0 },
+            page: 0,
+            page_capacity: 1,
+            bound_capacity: 0,
+        };
+        let trace = ShadowTraceUniforms::new(&settings, camera.fraction.to_array());
+        Ok(Some(ShadowParams { fill, trace }))
+    }
+
     /// Uploads the props' changed records and this frame's cull uniforms; `None` when no
     /// prop instance slot exists.
     fn sync_props(&mut self) -> Result<Option<PropCullUniforms>, RenderError> {
@@ -150,7 +194,8 @@ impl Renderer {
     ///                                                                   visible last frame)
     ///          [─► depth pyramid ─► the same four, late, for the rest]  occlusion only
     ///          [─► grass (cull and draw)]                               with clutter
-    ///          ─► cull transparent (back to front) ─► lighting ─► transparent ─► tonemap
+    ///          ─► cull transparent (back to front) [─► shadow grid ─► shadow trace]
+    ///          ─► lighting ─► transparent ─► tonemap                    (shadows: with them on)
     ///          [─► antialias]                                           when configured
     /// ```
     ///
@@ -162,6 +207,7 @@ impl Renderer {
         self.health.check()?;
         self.residency.flush(encoder, &self.queue)?;
         let prop_uniforms = self.sync_props()?;
+        let shadow_params = self.prepare_shadows()?;
         let (width, height) = (self.targets.width, self.targets.height);
         let shape = FrameShape {
             width,
@@ -172,6 +218,10 @@ impl Renderer {
             smooth_origin: self.config.smooth.origin,
             flags: if self.passes.far_splat.is_some() {
                 FRAME_SPLAT
+            } else {
+                0
+            } | if shadow_params.is_some() {
+                FRAME_SHADOWS
             } else {
                 0
             },
@@ -233,6 +283,10 @@ impl Renderer {
         if let Some(far) = &far_raster {
             far.raster.clear(encoder);
         }
+        let shadow = passes.shadow.as_ref().zip(shadow_params.as_ref());
+        if let Some((shadow, _)) = shadow {
+            shadow.clear(encoder);
+        }
         let pyramid = passes.hiz.as_ref().map(|p| p.texture_view());
         let prepared = culls.prepare(&ctx, encoder, &view, &uniforms, &params, pyramid)?;
 
@@ -289,9 +343,16 @@ impl Renderer {
                 .as_ref()
                 .and_then(|f| f.record_all_args(rec.encoder()))
         });
-        passes
-            .lighting
-            .record(&ctx, &mut rec, splat.map(|s| s.transparent()));
+        // Shadows after every opaque draw (the trace reads the final depth and normals).
+        if let Some((shadow, params)) = shadow {
+            shadow.record(&ctx, &mut rec, params);
+        }
+        passes.lighting.record(
+            &ctx,
+            &mut rec,
+            splat.map(|s| s.transparent()),
+            shadow.map(|(s, _)| s.visibility()),
+        );
         let far = far_raster.as_ref().zip(far_group.as_ref());
         passes
             .transparent

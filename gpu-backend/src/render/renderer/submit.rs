@@ -91,4 +91,24 @@ impl Renderer {
             SplatStats::from_words(&words),
         ))
     }
+
+    /// The last frame's per-pixel sun and sky visibility (row-major, the shadow pass's
+    /// words), or `None` when no frame has had shadows on.
+    pub fn read_shadow_visibility(
+        &self,
+    ) -> Result<Option<Vec<render_model::lighting::shadow::Visibility>>, RenderError> {
+        let Some(shadow) = &self.passes.shadow else {
+            return Ok(None);
+        };
+        let buffer = shadow.visibility();
+        let bytes =
+            crate::readback::read_buffer(&self.device, &self.queue, buffer, 0, buffer.size())?;
+        let words: Vec<u32> = bytemuck::pod_collect_to_vec(&bytes);
+        Ok(Some(
+            words
+                .into_iter()
+                .map(render_model::lighting::shadow::Visibility::unpack)
+                .collect(),
+        ))
+    }
 }

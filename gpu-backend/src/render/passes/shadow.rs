@@ -1,0 +1,303 @@
+//! The shadow pass: sun shadows and sky visibility per pixel by rays through a camera-centred
+//! occupancy grid, the rule of [`render_model::lighting::shadow`] (which states it, why the
+//! grid's shell of quads is enough, and why it does not leak at LOD borders).
+//!
+//! Two compute steps, each timed:
+//!
+//! | step | timer | shader | what |
+//! | ---- | ----- | ------ | ---- |
+//! | fill | `shadow grid` | `shadow_fill.wgsl` | clears the grid ([`GRID_CELLS`]^3 bits, 2 MiB), then one workgroup per chunk-table slot and quad page marks the solid cell behind every opaque quad (skirts included) of the nodes the cull draws (the same level-of-detail rule, every direction: casters outside the view count) |
+//! | trace | `shadow trace` | `shadow_trace.wgsl` | per pixel (8 x 8 per workgroup), the surface the lighting pass shades, its sun ray and 5 sky rays marched through the grid, one [`Visibility`] word out |
+//!
+//! The lighting pass reads the words (binding 7, `FRAME_SHADOWS` set) and scales the sun term
+//! and the hemisphere ambient by them. The grid is filled every frame: it follows the
+//! resident set and the camera without bookkeeping, for about the cost of a 2 MiB clear and
+//! one pass over the quads of the nodes inside it.
+//!
+//! Made with the first frame that switches shadows on ([`Lighting::shadows`]); frames
+//! without them record nothing of it, bind a stand-in buffer, and are the image without
+//! shadows to the bit.
+//!
+//! **Bounds.** Only surfaces within [`GRID_CELLS`] / 2 blocks of the eye (per axis) are shadowed,
+//! and only casters inside the grid cast; farther surfaces are lit as without shadows. Smooth
+//! (NoCubes) layers and far-draw blocks do not mark the grid: they neither cast nor, beyond
+//! their quads' shell, receive exact shadows.
+//!
+//! [`Lighting::shadows`]: render_model::lighting::Lighting::shadows
+//! [`Visibility`]: render_model::lighting::shadow::Visibility
+//! [`GRID_CELLS`]: render_model::lighting::shadow::GRID_CELLS
+
+use wgpu::{
+    BindGroupLayout, Buffer, BufferBindingType, BufferUsages, ComputePipeline, Device,
+    ShaderStages, TextureSampleType,
+};
+
+use render_model::lighting::shadow::GRID_CELLS;
+use render_model::lighting::{ShadowFillUniforms, ShadowTraceUniforms};
+use voxel_core::formats::DataKind;
+
+use super::frame::{FrameCtx, Recorder};
+use super::shared::{
+    Shared, bind_layout, buffer_layout_entry, compute_pipeline, texture_layout_entry,
+};
+use crate::bind::buffer_entry;
+use crate::device::alloc::{AllocError, create_buffer};
+use crate::shaders::{SHADOW_FILL, SHADOW_TRACE};
+
+/// Slots per row of the fill's folded dispatch (`FILL_ROW` in `shadow_fill.wgsl`).
+const FILL_ROW: u32 = 65_535;
+/// Bytes of the grid: one bit per cell.
+pub const GRID_BYTES: u64 = (GRID_CELLS as u64).pow(3) / 8;
+
+/// The shadow pass (see the [module docs](self)).
+#[derive(Debug)]
+pub struct ShadowPass {
+    device: Device,
+    fill_layout: BindGroupLayout,
+    fill_pipeline: ComputePipeline,
+    trace_layout: BindGroupLayout,
+    trace_pipeline: ComputePipeline,
+    grid: Buffer,
+    /// One uniform buffer per quad page (each fill dispatch reads its page's).
+    fill_uniforms: Vec<Buffer>,
+    trace_uniforms: Buffer,
+    /// One `Visibility` word per pixel.
+    visibility: Buffer,
+    /// The pixels `visibility` holds.
+    pixels: u64,
+}
+
+/// What one frame's shadow pass needs besides the frame context.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadowParams {
+    /// The fill's uniforms (`page`, `bound_capacity` set per page by the pass).
+    pub fill: ShadowFillUniforms,
+    /// The trace's uniforms.
+    pub trace: ShadowTraceUniforms,
+}
+
+impl ShadowPass {
+    /// The pass, with its grid and a visibility buffer for `width x height` pixels.
+    pub fn new(
+        device: &Device,
+        shared: &Shared,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, AllocError> {
+        let compute = ShaderStages::COMPUTE;
+        let storage = |read_only| BufferBindingType::Storage { read_only };
+        let fill_layout = bind_layout(
+            device,
+            "shadow fill",
+            &[
+                buffer_layout_entry(0, compute, BufferBindingType::Uniform),
+                buffer_layout_entry(1, compute, storage(true)),
+                buffer_layout_entry(2, compute, storage(false)),
+                buffer_layout_entry(3, compute, storage(true)),
+            ],
+        );
+        let fill_module = SHADOW_FILL.create_module(device);
+        let fill_pipeline = compute_pipeline(
+            device,
+            "shadow fill",
+            &fill_module,
+            "shadow_fill",
+            &[&fill_layout],
+        );
+        let trace_layout = bind_layout(
+            device,
+            "shadow trace",
+            &[
+                buffer_layout_entry(0, compute, BufferBindingType::Uniform),
+                buffer_layout_entry(1, compute, storage(true)),
+                texture_layout_entry(2, compute, TextureSampleType::Uint),
+                texture_layout_entry(3, compute, TextureSampleType::Depth),
+                buffer_layout_entry(4, compute, storage(true)),
+                buffer_layout_entry(5, compute, storage(false)),
+            ],
+        );
+        let trace_module = SHADOW_TRACE.create_module(device);
+        let trace_pipeline = compute_pipeline(
+            device,
+            "shadow trace",
+            &trace_module,
+            "shadow_trace",
+            &[&shared.frame_layout, &trace_layout],
+        );
+        let grid = create_buffer(
+            device,
+            &wgpu::BufferDescriptor {
+                label: Some("shadow grid"),
+                size: GRID_BYTES,
+                usage: BufferUsages::STORAGE | BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            },
+        )?;
+        let trace_uniforms = uniform_buffer(
+            device,
+            "shadow trace uniforms",
+            size_of::<ShadowTraceUniforms>(),
+        )?;
+        let pixels = pixel_count(width, height);
+        Ok(ShadowPass {
+            device: device.clone(),
+            fill_layout,
+            fill_pipeline,
+            trace_layout,
+            trace_pipeline,
+            grid,
+            fill_uniforms: Vec::new(),
+            trace_uniforms,
+            visibility: visibility_buffer(device, pixels)?,
+            pixels,
+        })
+    }
+
+    /// Makes the visibility buffer fit `width x height` pixels (a new one when the size
+    /// changed).
+    pub fn fit(&mut self, width: u32, height: u32) -> Result<(), AllocError> {
+        let pixels = pixel_count(width, height);
+        if pixels != self.pixels {
+            self.visibility = visibility_buffer(&self.device, pixels)?;
+            self.pixels = pixels;
+        }
+        Ok(())
+    }
+
+    /// Makes a fill uniform buffer for each of `pages` quad pages.
+    pub fn fit_pages(&mut self, pages: u32) -> Result<(), AllocError> {
+        while self.fill_uniforms.len() < pages as usize {
+            let b = uniform_buffer(
+                &self.device,
+                "shadow fill uniforms",
+                size_of::<ShadowFillUniforms>(),
+            )?;
+            self.fill_uniforms.push(b);
+        }
+        Ok(())
+    }
+
+    /// The per-pixel `Visibility` words of the last frame (row-major), which the lighting
+    /// pass reads.
+    pub fn visibility(&self) -> &Buffer {
+        &self.visibility
+    }
+
+    /// GPU bytes the pass holds.
+    pub fn resident_bytes(&self) -> u64 {
+        self.grid.size() + self.visibility.size()
+    }
+
+    /// Clears the grid (a frame's first commands).
+    pub fn clear(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.clear_buffer(&self.grid, 0, None);
+    }
+
+    /// Records the fill (timed `shadow grid`) and the trace (timed `shadow trace`), after
+    /// every opaque draw and before lighting. [`fit_pages`](Self::fit_pages) must have made
+    /// a uniform buffer per quad page.
+    pub fn record(&self, ctx: &FrameCtx<'_>, rec: &mut Recorder<'_, '_>, params: &ShadowParams) {
+        let gigabuffer = ctx.residency.gigabuffer();
+        let layout = gigabuffer.layout(DataKind::Quads);
+        let table = ctx.residency.table().buffer();
+        let cache = &ctx.shared.bind_cache;
+        let slots = params.fill.slot_bound;
+        let mut fills = Vec::new();
+        for (page, uniforms) in (0..layout.page_count).zip(&self.fill_uniforms) {
+            let Some(quads) = gigabuffer.page(DataKind::Quads, page) else {
+                continue;
+            };
+            let bound_capacity = if page + 1 == layout.page_count {
+                layout.last_page_capacity
+            } else {
+                layout.page_capacity
+            };
+            let fill = ShadowFillUniforms {
+                page,
+                page_capacity: layout.page_capacity,
+                bound_capacity,
+                ..params.fill
+            };
+            ctx.queue
+                .write_buffer(uniforms, 0, bytemuck::bytes_of(&fill));
+            fills.push(cache.get(
+                &self.device,
+                "shadow fill",
+                &self.fill_layout,
+                &[
+                    buffer_entry(0, uniforms),
+                    buffer_entry(1, table),
+                    buffer_entry(2, &self.grid),
+                    buffer_entry(3, quads),
+                ],
+            ));
+        }
+        rec.step("shadow grid", true, |rec| {
+            if slots == 0 {
+                return;
+            }
+            let pass = rec.compute();
+            pass.set_pipeline(&self.fill_pipeline);
+            for group in &fills {
+                pass.set_bind_group(0, group, &[]);
+                pass.dispatch_workgroups(slots.min(FILL_ROW), slots.div_ceil(FILL_ROW), 1);
+            }
+        });
+        ctx.queue
+            .write_buffer(&self.trace_uniforms, 0, bytemuck::bytes_of(&params.trace));
+        let t = ctx.targets;
+        let texture = |binding, view| wgpu::BindGroupEntry {
+            binding,
+            resource: wgpu::BindingResource::TextureView(view),
+        };
+        let trace = cache.get(
+            &self.device,
+            "shadow trace",
+            &self.trace_layout,
+            &[
+                buffer_entry(0, &self.trace_uniforms),
+                buffer_entry(1, &self.grid),
+                texture(2, &t.normal),
+                texture(3, &t.depth),
+                buffer_entry(4, ctx.visibility.unwrap_or(&ctx.shared.no_visibility)),
+                buffer_entry(5, &self.visibility),
+            ],
+        );
+        let (width, height) = ctx.size();
+        rec.step("shadow trace", true, |rec| {
+            let pass = rec.compute();
+            pass.set_pipeline(&self.trace_pipeline);
+            pass.set_bind_group(0, ctx.frame_group, &[]);
+            pass.set_bind_group(1, &trace, &[]);
+            pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
+        });
+    }
+}
+
+fn pixel_count(width: u32, height: u32) -> u64 {
+    u64::from(width.max(1)) * u64::from(height.max(1))
+}
+
+fn uniform_buffer(device: &Device, label: &str, size: usize) -> Result<Buffer, AllocError> {
+    create_buffer(
+        device,
+        &wgpu::BufferDescriptor {
+            label: Some(label),
+            size: size as u64,
+            usage: BufferUsages::UNIFORM | BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        },
+    )
+}
+
+fn visibility_buffer(device: &Device, pixels: u64) -> Result<Buffer, AllocError> {
+    create_buffer(
+        device,
+        &wgpu::BufferDescriptor {
+            label: Some("shadow visibility"),
+            size: pixels * 4,
+            usage: BufferUsages::STORAGE | BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        },
+    )
+}

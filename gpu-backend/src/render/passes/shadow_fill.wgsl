@@ -1,0 +1,112 @@
+// The shadow grid fill: the camera-centred grid of GRID_CELLS^3 one-block cells, one bit each,
+// marked from the opaque quads (skirts included) of every node the cull draws this frame:
+// the solid cell behind each quad, 2^level blocks on each axis at the node's level
+// (render_model::lighting::shadow states why that shell is enough and why it closes at LOD
+// borders). One workgroup per table slot of the bound quad page; the grid is cleared before.
+// FORMATS_WGSL and lod.wgsl come before this body.
+
+// Twin of render_model::lighting::ShadowFillUniforms.
+struct ShadowFillUniforms {
+    lod: LodParams,
+    camera_chunk: vec3<i32>,
+    slot_bound: u32,
+    camera_block: vec3<i32>,
+    chunk_edge: u32,
+    flags: u32,
+    page: u32,
+    page_capacity: u32,
+    bound_capacity: u32,
+}
+
+// Twins of render_model::lighting::{SHADOW_FILL_LOD, shadow::GRID_CELLS} (a test compares).
+const SHADOW_FILL_LOD: u32 = 1u;
+const GRID_CELLS: i32 = 256;
+const FILL_WORKGROUP: u32 = 64u;
+// Slots per row of the folded dispatch.
+const FILL_ROW: u32 = 65535u;
+
+@group(0) @binding(0) var<uniform> u: ShadowFillUniforms;
+@group(0) @binding(1) var<storage, read> table: array<MeshedChunkInfo>;
+@group(0) @binding(2) var<storage, read_write> grid: array<atomic<u32>>;
+@group(0) @binding(3) var<storage, read> quads: array<PackedQuad>;
+
+// Marks the grid cells of the block box [lo, hi) (camera-relative blocks), clipped to the grid.
+fn mark_box(lo: vec3<i32>, hi: vec3<i32>) {
+    let half = GRID_CELLS / 2;
+    let a = max(lo, vec3<i32>(-half)) + vec3<i32>(half);
+    let b = min(hi, vec3<i32>(half)) + vec3<i32>(half);
+    if any(b <= a) {
+        return;
+    }
+    for (var z = a.z; z < b.z; z += 1) {
+        for (var y = a.y; y < b.y; y += 1) {
+            let row = u32(y + z * GRID_CELLS) * u32(GRID_CELLS);
+            // The row's x cells, a word at a time.
+            var x = a.x;
+            while x < b.x {
+                let bit = row + u32(x);
+                let first = bit & 31u;
+                let n = min(32u - first, u32(b.x - x));
+                let mask = select(((1u << n) - 1u) << first, 0xffffffffu, n == 32u);
+                atomicOr(&grid[bit >> 5u], mask);
+                x += i32(n);
+            }
+        }
+    }
+}
+
+@compute @workgroup_size(64)
+fn shadow_fill(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let slot = wid.x + wid.y * FILL_ROW;
+    if slot >= u.slot_bound {
+        return;
+    }
+    let coord = vec3<i32>(table[slot].chunk_x, table[slot].chunk_y, table[slot].chunk_z);
+    let level = min(table[slot].lod, 15u);
+    var selected = level == 0u;
+    if (u.flags & SHADOW_FILL_LOD) != 0u {
+        selected = lod_selected(u.lod, coord, level);
+    }
+    if !selected {
+        return;
+    }
+    let range = table[slot].opaque_quads;
+    let total = face_layer_range_total(range);
+    if total == 0u || range.offset / u.page_capacity != u.page {
+        return;
+    }
+    let start = range.offset % u.page_capacity;
+    if start > u.bound_capacity || total > u.bound_capacity - start {
+        return;
+    }
+    // The node's corner relative to the eye's block. Chunk differences beyond 2^20 are far
+    // outside the grid (and kept from overflowing when scaled to blocks).
+    let rel = (coord << vec3<u32>(level)) - u.camera_chunk;
+    let far = vec3<i32>(1 << 20u);
+    if any(rel > far) || any(rel < -far) {
+        return;
+    }
+    let edge = i32(u.chunk_edge);
+    let node_lo = rel * edge - u.camera_block;
+    let cell = 1 << level;
+    let half = GRID_CELLS / 2;
+    let size = edge * cell;
+    if any(node_lo >= vec3<i32>(half)) || any(node_lo + vec3<i32>(size) <= vec3<i32>(-half)) {
+        return;
+    }
+    for (var i = lid; i < total; i += FILL_WORKGROUP) {
+        let q = quads[start + i];
+        let face = packed_quad_face(q);
+        if face > 5u {
+            continue;
+        }
+        let lo = node_lo + vec3<i32>(packed_quad_position(q)) * cell;
+        var extent = vec3<i32>(cell);
+        extent[face_width_axis(face)] = i32(packed_quad_width(q)) * cell;
+        extent[face_height_axis(face)] = i32(packed_quad_height(q)) * cell;
+        mark_box(lo, lo + extent);
+    }
+}
