@@ -30,6 +30,8 @@
 #   props        gpu_bench --props: 100,000 instances of the Duck sample on a grid at 1920 x
 #                1080 (and 1,000): prop cull and draw GPU times, instances drawn, CPU per
 #                frame; and the flight with 10,000 Ducks scattered over the terrain
+#   shadows      the headline frame with sun shadows and sky visibility (`gpu_bench --shadows`,
+#                no reference) and the flight with `--shadows on` (compare: headline, flight)
 #   edits        the flight without edits and with `--edits-per-second 1000` (spheres of air of
 #                radius 4 carved along the path): frame times and edit-to-screen latency
 #   flightnodes  the same with the benchmark's far threshold (`--far-px 1.5`), and with it and
@@ -119,6 +121,8 @@ declare -A config=(
     [flight-props]="viewer||${flight[*]} --scatter .gpu/gltf/Duck.glb:$scatter"
     [flight-node8]="viewer||${flight[*]} --node-size 8 --far-px 1.5"
     [flight-edits]="viewer||${flight[*]} --edits-per-second 1000"
+    [shadows]="gpu_bench||--side $s4096 $common --opaque compute --frames $frames --shadows --reference off"
+    [flight-shadows]="viewer||${flight[*]} --shadows on"
 )
 
 # Sets -> configurations, in the order given.
@@ -140,12 +144,13 @@ for s in "${sets[@]}"; do
         flightpaths) names+=(flight-compute flight-raster) ;;
         flightnodes) names+=(flight-far15 flight-node8) ;;
         edits) names+=(flight flight-edits) ;;
+        shadows) names+=(shadows flight-shadows) ;;
         props) names+=(props flight-props) ;;
         all) names+=(headline paths distance-1024 distance-16384 distance-1024 distance-16384
                      budgets farpx farpaths nodesize-16 nodesize-8 cpu-1024 cpu-4096 cpu-16384
                      validation-off validation-on validation-off validation-on grass props callgrind
                      flight flight-compute flight-raster flight-far15 flight-node8 flight-props
-                     flight-edits) ;;
+                     flight-edits shadows flight-shadows) ;;
         *) echo "frame.sh: unknown set $s (see the header of $0)" >&2; exit 2 ;;
     esac
 done

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use clap::Parser;
 use gpu_backend::render::OpaquePath;
 use gpu_backend::render::far::FarRequest;
+use render_model::lighting::shadow::ShadowSettings;
 use viewer::stream::settings::{FAR_CHOICES, MAX_RADIUS};
 use viewer::stream::{MesherMode, StreamSettings};
 use voxel_core::{ChunkSize, WorldPos};
@@ -81,6 +82,10 @@ pub(crate) struct Args {
     /// neither placed nor stored, and the renderer has no grass pass.
     #[arg(long, value_name = "on|off", default_value = "on", value_parser = parse_on_off, conflicts_with_all = ["vox", "chunks"])]
     pub clutter: bool,
+    /// Sun shadows and sky visibility (rays through an occupancy grid of the 256 blocks
+    /// around the camera, `render_model::lighting::shadow`), GPU and `--cpu` alike.
+    #[arg(long, value_name = "on|off", default_value = "off", value_parser = parse_on_off)]
+    pub shadows: bool,
     /// Streamed terrain: how opaque quads are drawn, `raster` (the G-buffer pass), `compute`
     /// (the compute rasteriser: faster on GPUs with few raster units; needs 64-bit atomics) or
     /// `auto` (both drawn at the first view and the faster kept; raster where the compute path
@@ -185,8 +190,18 @@ impl Args {
             far: self.far,
             opaque: self.opaque,
             clutter: self.clutter,
+            shadows: self.shadow_settings(),
             memory_bytes: self.memory << 20,
             ..self.node_settings()
+        }
+    }
+
+    /// The shadows of `--shadows`: the default settings, or none.
+    pub(crate) fn shadow_settings(&self) -> ShadowSettings {
+        if self.shadows {
+            ShadowSettings::default()
+        } else {
+            ShadowSettings::OFF
         }
     }
 

@@ -241,7 +241,10 @@ fn fixed_frame(
     generated: Duration,
 ) -> Option<(Vec<u8>, String)> {
     let (width, height) = args.size();
-    let lighting = Lighting::default();
+    let lighting = Lighting {
+        shadows: args.shadow_settings(),
+        ..Lighting::default()
+    };
     let gpu = if args.cpu {
         Err("--cpu given".to_owned())
     } else {
@@ -347,6 +350,7 @@ fn streamed_frame(
     // ends it at the streamed radius.
     let lighting = Lighting {
         haze_distance: CPU_TERRAIN_DISTANCE as f32,
+        shadows: settings.shadows,
         ..Lighting::default()
     };
     let image = render_deferred(

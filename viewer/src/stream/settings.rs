@@ -144,6 +144,8 @@ pub struct StreamSettings {
     /// Grass and flowers on the clutter-bearing blocks of level-0 nodes, drawn by the grass
     /// pass (`--clutter on|off`).
     pub clutter: bool,
+    /// Sun shadows and sky visibility (`--shadows on|off`; off: the lighting without them).
+    pub shadows: render_model::lighting::shadow::ShadowSettings,
     /// Nodes whose cells span at most this many pixels are far-drawn.
     pub far_cell_px: f32,
     /// Hysteresis of the anchor, blocks.
@@ -175,6 +177,7 @@ impl Default for StreamSettings {
             opaque: OpaquePath::Raster,
             budget_px: 1.0,
             clutter: true,
+            shadows: render_model::lighting::shadow::ShadowSettings::OFF,
             // The benchmark's choice on the H100 (BENCHMARKS.md): 2 px far cells.
             far_cell_px: 2.0,
             hysteresis: 16.0,

@@ -141,6 +141,7 @@ impl Streamer {
         let mut renderer = Renderer::new(ctx, &config, &palette).map_err(StreamError::Renderer)?;
         let lighting = Lighting {
             haze_distance: settings.haze_distance(),
+            shadows: settings.shadows,
             ..Lighting::default()
         };
         renderer
