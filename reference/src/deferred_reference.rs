@@ -6,7 +6,9 @@
 //! ([`render_model::lighting`]): no shadow rays, per-vertex ambient occlusion
 //! interpolated over each face exactly as the GPU interpolates it over a quad (the mesher's AO
 //! rule per corner, the same diagonal flip, linear interpolation over the triangle the hit point
-//! lies in), transparent surfaces lit the same way and blended back to front, the same sky
+//! lies in), the same materials (specular lobe, metalness: `lighting::surface`), transparent
+//! surfaces by the same layer rule (depth tint of volumes, Fresnel) composited back to front,
+//! the same sky
 //! and distance haze (the hit's distance along the unit ray, which the GPU recovers from its
 //! depth buffer) and the same tonemap.
 //!
@@ -18,8 +20,11 @@
 
 use glam::DVec3;
 use render_model::lighting::sky::{apply_haze, sky_background};
-use render_model::lighting::{Lighting, blend, output_rgba8, shade, srgb_to_linear};
-use voxel_core::{BlockId, FaceDirection, MaterialPalette, WorldPos};
+use render_model::lighting::surface::{
+    SurfaceMaterial, haze_layer, over, shade_surface, transparent_layer,
+};
+use render_model::lighting::{Lighting, output_rgba8};
+use voxel_core::{BlockId, FaceDirection, Material, MaterialPalette, WorldPos};
 
 use crate::reference_raycast::{RenderedImage, render_pixels, trace_ray};
 use render_model::Camera;
@@ -102,43 +107,29 @@ pub fn interpolate_ao(ao: [u8; 4], face: FaceDirection, u: f64, v: f64) -> f32 {
     value as f32
 }
 
-/// Linear albedo, alpha and emission of `block` (white, opaque, dark for an unknown id).
-fn material(palette: &MaterialPalette, block: BlockId) -> ([f32; 3], f32, f32) {
+/// The shading rule's material of `block` (white, opaque, fully rough for an unknown id).
+fn material(palette: &MaterialPalette, block: BlockId) -> SurfaceMaterial {
     match palette.get(block) {
-        Ok(m) => {
-            let [r, g, b, a] = m.colour;
-            (
-                [r, g, b].map(srgb_to_linear),
-                f32::from(a) / 255.0,
-                f32::from(m.emission) / 255.0,
-            )
-        }
-        Err(_) => ([1.0; 3], 1.0, 0.0),
+        Ok(m) => SurfaceMaterial::of(m),
+        Err(_) => SurfaceMaterial::of(&Material::opaque(255, 255, 255)),
     }
 }
 
-/// The lit colour of the face of `voxel` facing `normal`, at the point `distance` along the
-/// ray `direction` from the camera.
-#[expect(
-    clippy::too_many_arguments,
-    reason = "one surface point, fully described"
-)]
-fn shade_face(
+/// The normal and AO (`0..=3`) of the face of `voxel` facing `normal`, at the point
+/// `distance` along the ray `direction` from the camera.
+fn face_point(
     block_at: &impl Fn(WorldPos) -> BlockId,
     palette: &MaterialPalette,
-    params: &Lighting,
     camera: &Camera,
     direction: DVec3,
-    block: BlockId,
     voxel: WorldPos,
     normal: [i32; 3],
     distance: f64,
-) -> [f32; 3] {
-    let (albedo, _, emission) = material(palette, block);
+) -> ([f32; 3], f32) {
     let n = normal.map(|c| c as f32);
     let Some(face) = face_of(normal) else {
         // The eye is inside a block: no face was crossed; shade unoccluded.
-        return shade(params, albedo, n, 3.0, emission);
+        return (n, 3.0);
     };
     // The hit point relative to the voxel, from small numbers only: the voxel difference is
     // an exact integer (i64), the fraction and the ray step are small.
@@ -152,8 +143,10 @@ fn shade_face(
         + direction * distance;
     let p = p.to_array();
     let ao = face_ao(block_at, palette, voxel, face);
-    let ao = interpolate_ao(ao, face, p[face.width_axis()], p[face.height_axis()]);
-    shade(params, albedo, n, ao, emission)
+    (
+        n,
+        interpolate_ao(ao, face, p[face.width_axis()], p[face.height_axis()]),
+    )
 }
 
 /// Renders `width x height` pixels like the GPU renderer (see the [module docs](self)):
@@ -178,20 +171,27 @@ pub fn render_deferred(
             max_distance,
         );
         let unit = dir.as_vec3().to_array();
-        let face = |block, voxel, normal, distance: f64| {
-            let lit = shade_face(
-                block_at, palette, params, camera, dir, block, voxel, normal, distance,
-            );
-            apply_haze(params, lit, unit, distance as f32)
+        let point = |voxel, normal, distance| {
+            face_point(block_at, palette, camera, dir, voxel, normal, distance)
         };
         let mut colour = match &trace.hit {
-            Some(hit) => face(hit.block, hit.voxel, hit.normal, hit.distance),
+            Some(hit) => {
+                let (n, ao) = point(hit.voxel, hit.normal, hit.distance);
+                let m = material(palette, hit.block);
+                let lit = shade_surface(params, &m, n, ao, unit);
+                apply_haze(params, lit, unit, hit.distance as f32)
+            }
             None => sky_background(params, unit),
         };
+        // Each transparent surface is tinted by the distance to the opaque hit behind it,
+        // as the transparent pass measures it from the depth buffer (infinite over the sky).
+        let behind = trace.hit.map_or(f32::INFINITY, |h| h.distance as f32);
         for layer in trace.layers.iter().rev().flatten() {
-            let (_, alpha, _) = material(palette, layer.block);
-            let surface = face(layer.block, layer.voxel, layer.normal, layer.distance);
-            colour = blend(colour, surface, alpha);
+            let (n, ao) = point(layer.voxel, layer.normal, layer.distance);
+            let m = material(palette, layer.block);
+            let distance = layer.distance as f32;
+            let lit = transparent_layer(params, &m, n, ao, unit, behind - distance);
+            colour = over(colour, haze_layer(params, lit, unit, distance));
         }
         (
             output_rgba8(colour),

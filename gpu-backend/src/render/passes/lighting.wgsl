@@ -29,12 +29,10 @@ fn splat_of(payload: u32) -> Splat {
     return Splat(payload & 0xffffu, (payload >> 16u) & 7u, f32((payload >> 19u) & 0xffu) / 85.0);
 }
 
-// The shaded colour of a splatted surface.
-fn shade_splat(s: Splat) -> vec4<f32> {
-    let m = material_of(s.block);
-    let srgba = material_srgba(m);
-    let n = vec3<f32>(face_normal(s.face));
-    return vec4<f32>(shade(srgb_to_linear(srgba.rgb), n, s.ao, material_emission(m)), srgba.a);
+// The shaded colour of a splatted surface seen along unit dir.
+fn shade_splat(s: Splat, dir: vec3<f32>) -> vec3<f32> {
+    let m = surface_material(material_of(s.block));
+    return shade_surface(m, vec3<f32>(face_normal(s.face)), s.ao, dir);
 }
 
 // Display-linear colour of pixel p: the nearer of the G-buffer and the opaque far draws
@@ -46,13 +44,14 @@ fn lit_pixel(p: vec2<u32>) -> vec3<f32> {
     var surface = vec3<f32>(0.0);
     var splatted = false;
     let at = p.y * frame.width + p.x;
+    let view_dir = normalize(pixel_ray(p));
     if (frame.flags & FRAME_SPLAT) != 0u {
         let v = visibility[at];
         let d = bitcast<f32>(v.y);
         // Reversed-Z: nearer is greater; 0 is the cleared far plane.
         if d > depth {
             depth = d;
-            surface = shade_splat(splat_of(v.x)).rgb;
+            surface = shade_splat(splat_of(v.x), view_dir);
             splatted = true;
         }
     }
@@ -60,8 +59,10 @@ fn lit_pixel(p: vec2<u32>) -> vec3<f32> {
         let albedo_ao = textureLoad(gbuffer_albedo, texel, 0);
         let normal_material = textureLoad(gbuffer_normal, texel, 0);
         let n = oct32_decode(normal_material.x);
-        let m = material_of(normal_material.y);
-        surface = shade(srgb_to_linear(albedo_ao.rgb), n, albedo_ao.a * 3.0, material_emission(m));
+        // The G-buffer's albedo (a prop's texel, or the palette's), the material's lobe.
+        var m = surface_material(material_of(normal_material.y));
+        m.albedo = srgb_to_linear(albedo_ao.rgb);
+        surface = shade_surface(m, n, albedo_ao.a * 3.0, view_dir);
     }
     let ray = pixel_ray(p);
     var colour: vec3<f32>;
@@ -75,9 +76,13 @@ fn lit_pixel(p: vec2<u32>) -> vec3<f32> {
         let t = transparent[at];
         let d = bitcast<f32>(t.y);
         if d > depth {
-            let over = shade_splat(splat_of(t.x));
+            // A transparent far block, tinted as one block deep (lighting::surface).
+            let over = splat_of(t.x);
             let seen = eye_ray(p, d);
-            colour = mix(colour, apply_haze(over.rgb, seen.dir, seen.distance), over.a);
+            let m = surface_material(material_of(over.block));
+            let n = vec3<f32>(face_normal(over.face));
+            let layer = haze_layer(transparent_layer(m, n, over.ao, seen.dir, 1.0), seen.dir, seen.distance);
+            colour = layer.rgb + colour * (1.0 - layer.a);
         }
     }
     return colour;
