@@ -48,7 +48,16 @@ pub fn gpu_materials(palette: &MaterialPalette) -> Vec<GpuMaterial> {
         .as_slice()
         .iter()
         .enumerate()
-        .map(|(id, m)| (if id == 0 { Material { roughness: 255, ..*m } } else { *m }))
+        .map(|(id, m)| {
+            if id == 0 {
+                Material {
+                    roughness: 255,
+                    ..*m
+                }
+            } else {
+                *m
+            }
+        })
         .map(|m| GpuMaterial {
             colour: u32::from_le_bytes(m.colour),
             properties: u32::from(m.roughness)
@@ -79,6 +88,10 @@ mod tests {
         assert_eq!(gpu[1].colour, 0x0403_0201);
         assert_eq!(gpu[1].properties, 0x0702_0605);
         assert_eq!(gpu[2].properties, 0x0712_0605);
-        assert_eq!(gpu[0].properties & 0xff, 255, "air (props, grass) is fully rough");
+        assert_eq!(
+            gpu[0].properties & 0xff,
+            255,
+            "air (props, grass) is fully rough"
+        );
     }
 }

@@ -7,8 +7,8 @@ mod samples;
 
 use std::collections::BTreeMap;
 
-use voxel_core::{ChunkSize, MaterialClass};
 use voxel_core::storage::VoxelStorage;
+use voxel_core::{ChunkSize, MaterialClass};
 use voxel_scene::vox::{VoxMaterialKind, load_vox_bytes, load_vox_file};
 
 /// The samples' material chunks, counted in the raw bytes: T-Rex and deer carry a `MATT`

@@ -375,15 +375,24 @@ fn glass_alpha_and_media_volumes_reach_the_renderer() {
         // `_alpha` without `_trans`: opacity, so transparency 1 - 0.6.
         .matl(1, &[("_type", "_glass"), ("_alpha", "0.6")])
         // `_trans` wins over `_alpha`.
-        .matl(2, &[("_type", "_glass"), ("_trans", "0.5"), ("_alpha", "0.9")])
+        .matl(
+            2,
+            &[("_type", "_glass"), ("_trans", "0.5"), ("_alpha", "0.9")],
+        )
         .matl(3, &[("_type", "_media"), ("_trans", "0.8")]);
     let scene = load(&w.bytes());
     let m = &scene.materials;
     assert!((m[1].transparency - 0.4).abs() < 1e-6, "{:?}", m[1]);
     assert_eq!(m[2].transparency, 0.5);
     let p = |id| *scene.palette.get(voxel_core::BlockId(id)).unwrap();
-    assert_eq!((p(1).class, p(1).colour[3], p(1).volume), (MaterialClass::Transparent, 153, false));
-    assert_eq!((p(3).class, p(3).colour[3], p(3).volume), (MaterialClass::Transparent, 51, true));
+    assert_eq!(
+        (p(1).class, p(1).colour[3], p(1).volume),
+        (MaterialClass::Transparent, 153, false)
+    );
+    assert_eq!(
+        (p(3).class, p(3).colour[3], p(3).volume),
+        (MaterialClass::Transparent, 51, true)
+    );
 }
 
 #[test]

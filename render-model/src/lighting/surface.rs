@@ -118,9 +118,8 @@ fn schlick(f0: f32, c: f32) -> f32 {
 /// The specular lobe of a surface point (the sky reflection plus the sun's highlight,
 /// display-linear) and the mean Fresnel reflectance towards the eye, both before `gloss`.
 fn lobe(params: &Lighting, m: &SurfaceMaterial, n: [f32; 3], dir: [f32; 3]) -> ([f32; 3], f32) {
-    let f0: [f32; 3] = core::array::from_fn(|i| {
-        DIELECTRIC_F0 + (m.albedo[i] - DIELECTRIC_F0) * m.metalness
-    });
+    let f0: [f32; 3] =
+        core::array::from_fn(|i| DIELECTRIC_F0 + (m.albedo[i] - DIELECTRIC_F0) * m.metalness);
     let v = dir.map(|c| -c);
     let n_dot_v = dot(n, v).max(0.0);
     let d_dot_n = dot(dir, n);
@@ -142,8 +141,8 @@ fn lobe(params: &Lighting, m: &SurfaceMaterial, n: [f32; 3], dir: [f32; 3]) -> (
         let sun = d * schlick(f0[i], v_dot_h) * 0.25 * n_dot_l * params.sun_colour[i];
         schlick(f0[i], n_dot_v) * sky[i] + sun * exposure[i]
     });
-    let fresnel = (schlick(f0[0], n_dot_v) + schlick(f0[1], n_dot_v) + schlick(f0[2], n_dot_v))
-        * (1.0 / 3.0);
+    let fresnel =
+        (schlick(f0[0], n_dot_v) + schlick(f0[1], n_dot_v) + schlick(f0[2], n_dot_v)) * (1.0 / 3.0);
     (light, fresnel)
 }
 

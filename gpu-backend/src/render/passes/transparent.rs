@@ -23,8 +23,8 @@
 //! visibility buffer.
 
 use wgpu::{
-    BindGroup, BindGroupLayout, BlendState, ColorTargetState, Device, RenderPipeline,
-    ShaderStages, TextureSampleType,
+    BindGroup, BindGroupLayout, BlendState, ColorTargetState, Device, RenderPipeline, ShaderStages,
+    TextureSampleType,
 };
 
 use super::cull::CullOutput;
