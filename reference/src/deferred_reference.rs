@@ -219,9 +219,7 @@ mod tests {
     #[test]
     fn a_lone_block_is_unoccluded_and_a_floor_corner_is_dark() {
         let mut palette = MaterialPalette::new();
-        let stone = palette
-            .push(voxel_core::Material::opaque(100, 100, 100))
-            .unwrap();
+        let stone = palette.push(Material::opaque(100, 100, 100)).unwrap();
         let lone = |p: WorldPos| {
             if p == WorldPos::new(0, 0, 0) {
                 stone

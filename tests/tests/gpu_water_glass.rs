@@ -8,7 +8,6 @@
 
 #[allow(dead_code, reason = "each test file uses part of the shared helpers")]
 mod image_support;
-#[allow(dead_code, reason = "the vox writer serves many test files")]
 #[path = "../../scene/tests/support/writer.rs"]
 mod writer;
 

@@ -263,9 +263,7 @@ mod tests {
         let layer = transparent_layer(&params, &m, UP, 3.0, DOWN, 7.0);
         let lit = shade(&params, m.albedo, UP, 3.0, 0.0);
         assert_eq!(layer.coverage, m.alpha);
-        for i in 0..3 {
-            assert_eq!(layer.colour[i], m.alpha * lit[i]);
-        }
+        assert_eq!(layer.colour, lit.map(|c| m.alpha * c));
     }
 
     #[test]
