@@ -12,10 +12,13 @@ mod image_support;
 mod writer;
 
 use gpu_backend::DeviceOptions;
+use gpu_backend::render::{OpaquePath, Renderer, RendererConfig};
 use gpu_backend::test_support::headless_or_skip;
-use image_support::scenes::{TestScene, WIDTH, cpu_render, gpu_render, scene_from_fn};
+use image_support::scenes::{HEIGHT, TestScene, WIDTH, cpu_render, gpu_render, scene_from_fn};
 use image_support::{Image, Tolerance, assert_images_match};
+use mesher::MeshSettings;
 use render_model::camera::Camera;
+use viewer::gpu_view::upload_world_with;
 use viewer::reference_raycast::{Trace, trace_ray};
 use voxel_core::{BlockId, ChunkSize, Material, MaterialClass, MaterialPalette, WorldPos};
 
@@ -23,7 +26,7 @@ const TOLERANCE: Tolerance = Tolerance::LAVAPIPE;
 
 /// The reference's ray of every pixel (row-major), for choosing pixels by what they show.
 fn traces(scene: &TestScene, camera: &Camera) -> Vec<Trace> {
-    let (w, h) = (WIDTH, image_support::scenes::HEIGHT);
+    let (w, h) = (WIDTH, HEIGHT);
     let block_at = |p| scene.world.get_block(p);
     (0..h)
         .flat_map(|py| (0..w).map(move |px| (px, py)))
@@ -184,6 +187,48 @@ fn deep_water_is_more_tinted_than_shallow_water() {
         (deep_flat[0] - shallow_flat[0]).abs() < 12.0,
         "without the depth tint deep {deep_flat:?} and shallow {shallow_flat:?} look alike"
     );
+}
+
+/// The water pit with the opaque quads rasterised in compute: they are not in the depth
+/// attachment, so the transparent pass measures the depth tint from the visibility buffer,
+/// and the image must still match the reference.
+#[test]
+fn the_depth_tint_reads_the_compute_rasterised_depth() {
+    let scene = pool(true);
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    if !ctx.capabilities.int64_atomics {
+        gpu_backend::test_support::skip("the compute rasteriser needs 64-bit atomics");
+        return;
+    }
+    let config = RendererConfig {
+        opaque: OpaquePath::Compute,
+        ..RendererConfig::new(WIDTH, HEIGHT, scene.world.size())
+    };
+    let mut renderer = Renderer::new(&ctx, &config, &scene.palette).expect("renderer");
+    upload_world_with(
+        &mut renderer,
+        &scene.world,
+        &scene.palette,
+        &MeshSettings::default(),
+    )
+    .expect("upload");
+    renderer.set_camera(&scene.camera);
+    renderer.render().expect("frame");
+    let frame = renderer.read_image().expect("readback");
+    let cpu = cpu_render(&scene, &scene.camera);
+    // The depth attachment holds no opaque surface on this path: compare the colour, with
+    // the reference's depth standing in for the GPU's.
+    assert!(frame.depth.iter().all(|&d| d == 0.0 || d.is_finite()));
+    let gpu = Image {
+        width: WIDTH,
+        height: HEIGHT,
+        rgba: frame.rgba,
+        depth: cpu.depth.clone(),
+        surfaces: None,
+    };
+    assert_images_match("water_pit_compute_opaque", &gpu, &cpu, &TOLERANCE);
 }
 
 /// Thin, faint water over a dark floor, smooth or fully rough.
