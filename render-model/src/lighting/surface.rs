@@ -20,7 +20,10 @@
 //! With roughness 1 the lobe is zero and the result is exactly [`shade`]'s (the code skips
 //! the lobe; `kd` is 1), which is what every palette without MagicaVoxel materials draws.
 //! A smooth metal loses its diffuse light and reflects the sky and the sun tinted by its
-//! colour; a fully rough metal is drawn like a diffuse surface of its colour.
+//! colour; a fully rough metal is drawn like a diffuse surface of its colour. The diffuse
+//! share `kd` scales a metal's emission too. The reflection is of the sky alone, in the
+//! mirror direction (below the horizon, the horizon's colour): no ground or block is
+//! reflected, and neither the reflection nor the highlight is shadowed here.
 //!
 //! **Transparent layers.** A transparent surface of opacity `alpha` (its palette alpha) lets
 //! through `T` of what lies behind and adds its own lit colour in proportion `1 - T`:
