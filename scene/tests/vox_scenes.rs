@@ -356,6 +356,15 @@ fn matl_materials_map_to_kinds_and_values() {
     );
     let lamp = scene.palette.get(voxel_core::BlockId(3)).unwrap();
     assert_eq!((lamp.class, lamp.emission), (MaterialClass::Opaque, 255));
+    // Its emission of 1.5 is reported, not saturated silently.
+    assert_eq!(scene.report.saturated_emission, vec![3]);
+    assert!(
+        scene
+            .report
+            .notes()
+            .join(" ")
+            .contains("materials [3] emit more")
+    );
     // Glass is a thin layer with its roughness; metal keeps metalness and roughness; a
     // diffuse index is fully rough, not metal.
     assert_eq!((glass.volume, glass.roughness), (false, 51));

@@ -86,7 +86,9 @@ impl VoxMaterial {
     /// The renderer's material (the rule in the [module docs](self)): transparent when
     /// light passes through, a volume for a medium, emission, roughness and metalness as
     /// bytes. The renderer's format holds emission up to 1 (255): brighter emission (up to
-    /// `_emit * (1 + _flux)`) is drawn at full strength there (voxmesh exports it in full).
+    /// `_emit * (1 + _flux)`) is drawn at full strength there, and the loader lists it in
+    /// [`LoadReport::saturated_emission`](super::LoadReport::saturated_emission) (voxmesh
+    /// exports it in full).
     pub fn to_material(&self) -> Material {
         let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
         let mut m = Material::opaque(self.colour[0], self.colour[1], self.colour[2]);
