@@ -256,7 +256,7 @@ mod frame {
                 &module,
                 "GpuMaterial",
                 8,
-                &[("colour", 0), ("roughness_emission_class", 4)],
+                &[("colour", 0), ("properties", 4)],
             );
         }
         let module = validate(GBUFFER.name, &GBUFFER.source()).unwrap();

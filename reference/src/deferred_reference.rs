@@ -9,8 +9,9 @@
 //! per-vertex ambient occlusion
 //! interpolated over each face exactly as the GPU interpolates it over a quad (the mesher's AO
 //! rule per corner, the same diagonal flip, linear interpolation over the triangle the hit point
-//! lies in), transparent surfaces lit the same way (without shadow rays, as the GPU's transparent pass
-//! lights them) and blended back to front, the same sky
+//! lies in), the same materials (specular lobe, metalness: `lighting::surface`), transparent
+//! surfaces by the same layer rule (depth tint of volumes, Fresnel) composited back to front,
+//! the same sky
 //! and distance haze (the hit's distance along the unit ray, which the GPU recovers from its
 //! depth buffer) and the same tonemap.
 //!
@@ -23,8 +24,11 @@
 use glam::DVec3;
 use render_model::lighting::shadow::{GridClipped, Visibility, surface_visibility};
 use render_model::lighting::sky::{apply_haze, sky_background};
-use render_model::lighting::{Lighting, blend, output_rgba8, shade, shade_visible, srgb_to_linear};
-use voxel_core::{BlockId, FaceDirection, MaterialPalette, WorldPos};
+use render_model::lighting::surface::{
+    SurfaceMaterial, haze_layer, over, shade_surface_visible, transparent_layer,
+};
+use render_model::lighting::{Lighting, output_rgba8};
+use voxel_core::{BlockId, FaceDirection, Material, MaterialPalette, WorldPos};
 
 use crate::reference_raycast::{RenderedImage, render_pixels, trace_ray};
 use render_model::Camera;
@@ -107,45 +111,29 @@ pub fn interpolate_ao(ao: [u8; 4], face: FaceDirection, u: f64, v: f64) -> f32 {
     value as f32
 }
 
-/// Linear albedo, alpha and emission of `block` (white, opaque, dark for an unknown id).
-fn material(palette: &MaterialPalette, block: BlockId) -> ([f32; 3], f32, f32) {
+/// The shading rule's material of `block` (white, opaque, fully rough for an unknown id).
+fn material(palette: &MaterialPalette, block: BlockId) -> SurfaceMaterial {
     match palette.get(block) {
-        Ok(m) => {
-            let [r, g, b, a] = m.colour;
-            (
-                [r, g, b].map(srgb_to_linear),
-                f32::from(a) / 255.0,
-                f32::from(m.emission) / 255.0,
-            )
-        }
-        Err(_) => ([1.0; 3], 1.0, 0.0),
+        Ok(m) => SurfaceMaterial::of(m),
+        Err(_) => SurfaceMaterial::of(&Material::opaque(255, 255, 255)),
     }
 }
 
-/// The lit colour of the face of `voxel` facing `normal`, at the point `distance` along the
-/// ray `direction` from the camera; `shadowed` traces its shadow and sky rays (opaque
-/// surfaces: the GPU's transparent pass shades without them).
-#[expect(
-    clippy::too_many_arguments,
-    reason = "one surface point, fully described"
-)]
-fn shade_face(
+/// The normal and AO (`0..=3`) of the face of `voxel` facing `normal`, at the point
+/// `distance` along the ray `direction` from the camera.
+fn face_point(
     block_at: &impl Fn(WorldPos) -> BlockId,
     palette: &MaterialPalette,
-    params: &Lighting,
     camera: &Camera,
     direction: DVec3,
-    block: BlockId,
     voxel: WorldPos,
     normal: [i32; 3],
     distance: f64,
-    shadowed: bool,
-) -> [f32; 3] {
-    let (albedo, _, emission) = material(palette, block);
+) -> ([f32; 3], f32) {
     let n = normal.map(|c| c as f32);
     let Some(face) = face_of(normal) else {
         // The eye is inside a block: no face was crossed; shade unoccluded.
-        return shade(params, albedo, n, 3.0, emission);
+        return (n, 3.0);
     };
     // The hit point relative to the voxel, from small numbers only: the voxel difference is
     // an exact integer (i64), the fraction and the ray step are small.
@@ -159,38 +147,45 @@ fn shade_face(
         + direction * distance;
     let p = p.to_array();
     let ao = face_ao(block_at, palette, voxel, face);
-    let ao = interpolate_ao(ao, face, p[face.width_axis()], p[face.height_axis()]);
-    let seen = if shadowed && params.shadows.enabled() {
-        // Camera-relative, as the GPU marches: the camera's fraction plus the ray.
-        let origin = (camera.fraction + direction * distance)
-            .as_vec3()
-            .to_array();
-        let solid = |c: [i32; 3]| {
-            let at = WorldPos::new(
-                camera.voxel.x.wrapping_add(c[0]),
-                camera.voxel.y.wrapping_add(c[1]),
-                camera.voxel.z.wrapping_add(c[2]),
-            );
-            palette.class(block_at(at)).is_ok_and(|c| c.is_opaque())
-        };
-        surface_visibility(
-            &GridClipped(solid),
-            &params.shadows,
-            origin,
-            n,
-            params.sun_direction,
-        )
-    } else {
-        Visibility::OPEN
-    };
-    shade_visible(
-        params,
-        albedo,
+    (
         n,
-        ao,
-        emission,
-        seen.sun_factor(),
-        seen.sky_factor(),
+        interpolate_ao(ao, face, p[face.width_axis()], p[face.height_axis()]),
+    )
+}
+
+/// The sun and sky visibility of the opaque surface point `distance` along the ray
+/// `direction` with unit normal `n` (the shadow rule, camera-relative as the GPU marches it);
+/// open when the lighting has no shadows.
+fn visibility(
+    block_at: &impl Fn(WorldPos) -> BlockId,
+    palette: &MaterialPalette,
+    params: &Lighting,
+    camera: &Camera,
+    direction: DVec3,
+    distance: f64,
+    n: [f32; 3],
+) -> Visibility {
+    if !params.shadows.enabled() {
+        return Visibility::OPEN;
+    }
+    // Camera-relative, as the GPU marches: the camera's fraction plus the ray.
+    let origin = (camera.fraction + direction * distance)
+        .as_vec3()
+        .to_array();
+    let solid = |c: [i32; 3]| {
+        let at = WorldPos::new(
+            camera.voxel.x.wrapping_add(c[0]),
+            camera.voxel.y.wrapping_add(c[1]),
+            camera.voxel.z.wrapping_add(c[2]),
+        );
+        palette.class(block_at(at)).is_ok_and(|c| c.is_opaque())
+    };
+    surface_visibility(
+        &GridClipped(solid),
+        &params.shadows,
+        origin,
+        n,
+        params.sun_direction,
     )
 }
 
@@ -216,26 +211,37 @@ pub fn render_deferred(
             max_distance,
         );
         let unit = dir.as_vec3().to_array();
-        let face = |block, voxel, normal, distance: f64, shadowed| {
-            let lit = shade_face(
-                block_at, palette, params, camera, dir, block, voxel, normal, distance, shadowed,
-            );
-            apply_haze(params, lit, unit, distance as f32)
+        let point = |voxel, normal, distance| {
+            face_point(block_at, palette, camera, dir, voxel, normal, distance)
         };
         let mut colour = match &trace.hit {
-            Some(hit) => face(hit.block, hit.voxel, hit.normal, hit.distance, true),
+            Some(hit) => {
+                let (n, ao) = point(hit.voxel, hit.normal, hit.distance);
+                let m = material(palette, hit.block);
+                let seen = visibility(block_at, palette, params, camera, dir, hit.distance, n);
+                let lit = shade_surface_visible(
+                    params,
+                    &m,
+                    n,
+                    ao,
+                    unit,
+                    seen.sun_factor(),
+                    seen.sky_factor(),
+                );
+                apply_haze(params, lit, unit, hit.distance as f32)
+            }
             None => sky_background(params, unit),
         };
+        // Each transparent surface is tinted by the distance to the opaque hit behind it,
+        // as the transparent pass measures it from the depth buffer (infinite over the sky),
+        // and not shadowed, as the transparent pass shades it.
+        let behind = trace.hit.map_or(f32::INFINITY, |h| h.distance as f32);
         for layer in trace.layers.iter().rev().flatten() {
-            let (_, alpha, _) = material(palette, layer.block);
-            let surface = face(
-                layer.block,
-                layer.voxel,
-                layer.normal,
-                layer.distance,
-                false,
-            );
-            colour = blend(colour, surface, alpha);
+            let (n, ao) = point(layer.voxel, layer.normal, layer.distance);
+            let m = material(palette, layer.block);
+            let distance = layer.distance as f32;
+            let lit = transparent_layer(params, &m, n, ao, unit, behind - distance);
+            colour = over(colour, haze_layer(params, lit, unit, distance));
         }
         (
             output_rgba8(colour),
@@ -263,9 +269,7 @@ mod tests {
     #[test]
     fn a_lone_block_is_unoccluded_and_a_floor_corner_is_dark() {
         let mut palette = MaterialPalette::new();
-        let stone = palette
-            .push(voxel_core::Material::opaque(100, 100, 100))
-            .unwrap();
+        let stone = palette.push(Material::opaque(100, 100, 100)).unwrap();
         let lone = |p: WorldPos| {
             if p == WorldPos::new(0, 0, 0) {
                 stone

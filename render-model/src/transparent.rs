@@ -17,6 +17,12 @@
 //! centre can swap order when seen edge-on, and with several quad pages the order holds
 //! within each page.
 //!
+//! **The colour of a layer** is the lighting model's
+//! ([`lighting::surface`](crate::lighting::surface)): a thin pane is tinted once by its
+//! alpha, a volume (water) by the distance from its surface to the opaque surface behind it,
+//! and a smooth layer reflects the sky by Schlick's Fresnel and the sun by GGX. Each layer is
+//! premultiplied (`colour + behind * (1 - coverage)`), so the order rule above is unchanged.
+//!
 //! [`depth_key`]: crate::cull::depth_key
 
 #[cfg(test)]

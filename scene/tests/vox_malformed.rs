@@ -381,6 +381,11 @@ fn bad_materials_are_refused() {
         (&[("_type", "_emit"), ("_emit", "NaN")][..], "_emit"),
         (&[("_type", "_emit"), ("_flux", "inf")][..], "_flux"),
         (&[("_rough", "rough")][..], "_rough"),
+        (&[("_type", "_metal"), ("_metal", "NaN")][..], "_metal"),
+        (&[("_type", "_metal"), ("_rough", "-inf")][..], "_rough"),
+        (&[("_type", "_glass"), ("_alpha", "1.5")][..], "_alpha"),
+        (&[("_type", "_glass"), ("_alpha", "nan")][..], "_alpha"),
+        (&[("_type", "_emit"), ("_emit", "-0.5")][..], "_emit"),
         // Each value finite, their product not: no infinite light reaches a renderer or a
         // glTF file (where it would be written as `null`).
         (

@@ -7,9 +7,45 @@ mod samples;
 
 use std::collections::BTreeMap;
 
-use voxel_core::ChunkSize;
 use voxel_core::storage::VoxelStorage;
-use voxel_scene::vox::{load_vox_bytes, load_vox_file};
+use voxel_core::{ChunkSize, MaterialClass};
+use voxel_scene::vox::{VoxMaterialKind, load_vox_bytes, load_vox_file};
+
+/// The samples' material chunks, counted in the raw bytes: T-Rex and deer carry a `MATT`
+/// (the pre-0.99 material chunk) for each of 255 colour indices, all of type 0 (diffuse,
+/// weight 1); no sample carries `MATL`. The loader reads each as diffuse, and the renderer's
+/// material of a diffuse index is fully rough and not metal, so these models are drawn
+/// Lambertian, exactly as before materials were honoured.
+#[test]
+fn sample_material_chunks_load_as_diffuse_and_draw_lambertian() {
+    let files = samples::sample_vox_files();
+    let mut with_materials = 0;
+    for path in &files {
+        let name = path.file_name().unwrap().to_string_lossy();
+        let bytes = std::fs::read(path).unwrap();
+        let count = |id: &[u8; 4]| bytes.windows(4).filter(|w| *w == id).count();
+        let (matt, matl) = (count(b"MATT"), count(b"MATL"));
+        if matt + matl == 0 {
+            continue;
+        }
+        with_materials += 1;
+        assert_eq!((matt, matl), (255, 0), "{name}");
+        let scene = load_vox_file(path, ChunkSize::S32, 1 << 24).unwrap();
+        for (index, m) in scene.materials.iter().enumerate().skip(1) {
+            assert_eq!(m.kind, VoxMaterialKind::Diffuse, "{name}: index {index}");
+            let r = m.to_material();
+            assert_eq!(
+                (r.roughness, r.metalness, r.emission, r.volume, r.class),
+                (255, 0, 0, false, MaterialClass::Opaque),
+                "{name}: index {index}"
+            );
+        }
+    }
+    assert!(
+        files.is_empty() || with_materials >= 2,
+        "T-Rex and deer carry material chunks"
+    );
+}
 
 #[test]
 fn every_sample_loads_and_matches_dot_vox() {

@@ -356,6 +356,52 @@ fn matl_materials_map_to_kinds_and_values() {
     );
     let lamp = scene.palette.get(voxel_core::BlockId(3)).unwrap();
     assert_eq!((lamp.class, lamp.emission), (MaterialClass::Opaque, 255));
+    // Its emission of 1.5 is reported, not saturated silently.
+    assert_eq!(scene.report.saturated_emission, vec![3]);
+    assert!(
+        scene
+            .report
+            .notes()
+            .join(" ")
+            .contains("materials [3] emit more")
+    );
+    // Glass is a thin layer with its roughness; metal keeps metalness and roughness; a
+    // diffuse index is fully rough, not metal.
+    assert_eq!((glass.volume, glass.roughness), (false, 51));
+    let metal = scene.palette.get(voxel_core::BlockId(2)).unwrap();
+    assert_eq!(
+        (metal.class, metal.metalness, metal.roughness),
+        (MaterialClass::Opaque, 204, 77)
+    );
+    let matte = scene.palette.get(voxel_core::BlockId(4)).unwrap();
+    assert_eq!((matte.metalness, matte.roughness), (0, 255));
+}
+
+#[test]
+fn glass_alpha_and_media_volumes_reach_the_renderer() {
+    let mut w = VoxWriter::new();
+    w.model([3, 1, 1], &[[0, 0, 0, 1], [1, 0, 0, 2], [2, 0, 0, 3]])
+        // `_alpha` without `_trans`: opacity, so transparency 1 - 0.6.
+        .matl(1, &[("_type", "_glass"), ("_alpha", "0.6")])
+        // `_trans` wins over `_alpha`.
+        .matl(
+            2,
+            &[("_type", "_glass"), ("_trans", "0.5"), ("_alpha", "0.9")],
+        )
+        .matl(3, &[("_type", "_media"), ("_trans", "0.8")]);
+    let scene = load(&w.bytes());
+    let m = &scene.materials;
+    assert!((m[1].transparency - 0.4).abs() < 1e-6, "{:?}", m[1]);
+    assert_eq!(m[2].transparency, 0.5);
+    let p = |id| *scene.palette.get(voxel_core::BlockId(id)).unwrap();
+    assert_eq!(
+        (p(1).class, p(1).colour[3], p(1).volume),
+        (MaterialClass::Transparent, 153, false)
+    );
+    assert_eq!(
+        (p(3).class, p(3).colour[3], p(3).volume),
+        (MaterialClass::Transparent, 51, true)
+    );
 }
 
 #[test]

@@ -38,10 +38,18 @@ impl MaterialClass {
 pub struct Material {
     /// Base colour, sRGB-encoded RGBA; alpha is the opacity of transparent blocks.
     pub colour: [u8; 4],
-    /// Perceptual roughness, 0 (mirror) to 255 (fully rough).
+    /// Perceptual roughness, 0 (mirror) to 255 (fully rough). A fully rough surface has no
+    /// specular lobe: it is drawn Lambertian.
     pub roughness: u8,
     /// Emitted light, 0 (none) to 255 (brightest), multiplied by the colour when shading.
     pub emission: u8,
+    /// Metalness, 0 (dielectric) to 255 (metal): a metal's specular reflection is tinted by
+    /// its colour and it has no diffuse light in proportion to its smoothness.
+    pub metalness: u8,
+    /// For transparent blocks: the block fills a volume (water), so what is seen through it
+    /// is tinted by the distance the view ray travels inside it; `false` is a thin layer
+    /// (a glass pane), tinted once by its alpha. Ignored for other classes.
+    pub volume: bool,
     /// How the block is meshed and drawn.
     pub class: MaterialClass,
 }
@@ -52,15 +60,19 @@ impl Material {
         colour: [0; 4],
         roughness: 0,
         emission: 0,
+        metalness: 0,
+        volume: false,
         class: MaterialClass::Air,
     };
 
-    /// An opaque material of the given sRGB colour, fully rough, not emissive.
+    /// An opaque material of the given sRGB colour, fully rough, not metal, not emissive.
     pub const fn opaque(r: u8, g: u8, b: u8) -> Material {
         Material {
             colour: [r, g, b, 255],
             roughness: 255,
             emission: 0,
+            metalness: 0,
+            volume: false,
             class: MaterialClass::Opaque,
         }
     }

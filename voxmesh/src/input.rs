@@ -107,7 +107,8 @@ fn load_world(dir: &std::path::Path, size: ChunkSize) -> Result<Scene, Error> {
 }
 
 /// The export material of one of the renderer's materials (the built-in terrain's):
-/// transparent ones see-through by their alpha, emission and roughness from their bytes.
+/// transparent ones see-through by their alpha, emission, roughness and metalness from their
+/// bytes.
 fn material_of(m: &voxel_core::Material) -> VoxMaterial {
     let mut out = VoxMaterial::diffuse(m.colour);
     if m.class == MaterialClass::Transparent {
@@ -117,6 +118,10 @@ fn material_of(m: &voxel_core::Material) -> VoxMaterial {
     }
     out.roughness = f32::from(m.roughness) / 255.0;
     out.emission = f32::from(m.emission) / 255.0;
+    out.metalness = f32::from(m.metalness) / 255.0;
+    if out.metalness > 0.0 && m.class != MaterialClass::Transparent {
+        out.kind = VoxMaterialKind::Metal;
+    }
     if out.emission > 0.0 {
         out.kind = VoxMaterialKind::Emit;
     }

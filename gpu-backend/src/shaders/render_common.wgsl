@@ -64,7 +64,8 @@ fn pixel_ray(p: vec2<u32>) -> vec3<f32> {
 
 struct GpuMaterial {
     colour: u32,
-    roughness_emission_class: u32,
+    // Roughness 0..8, emission 8..16, class 16..20, volume bit 20, metalness 24..32.
+    properties: u32,
 }
 
 // Material `id`, or entry 0 for an id past the palette (never an out-of-bounds read).
@@ -79,7 +80,22 @@ fn material_srgba(m: GpuMaterial) -> vec4<f32> {
 
 // Emission, 0..=1.
 fn material_emission(m: GpuMaterial) -> f32 {
-    return f32((m.roughness_emission_class >> 8u) & 0xffu) / 255.0;
+    return f32((m.properties >> 8u) & 0xffu) / 255.0;
+}
+
+// Perceptual roughness, 0..=1.
+fn material_roughness(m: GpuMaterial) -> f32 {
+    return f32(m.properties & 0xffu) / 255.0;
+}
+
+// Metalness, 0..=1.
+fn material_metalness(m: GpuMaterial) -> f32 {
+    return f32(m.properties >> 24u) / 255.0;
+}
+
+// A transparent volume (materials::VOLUME_BIT).
+fn material_volume(m: GpuMaterial) -> bool {
+    return (m.properties & 0x100000u) != 0u;
 }
 
 fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
@@ -102,6 +118,114 @@ fn shade_visible(albedo: vec3<f32>, n: vec3<f32>, ao: f32, emission: f32, sun: f
     let n_dot_l = max(n.x * l.sun_direction.x + n.y * l.sun_direction.y + n.z * l.sun_direction.z, 0.0) * sun;
     let light = ambient * occlusion + l.sun_colour * n_dot_l;
     return (albedo * light + albedo * (emission * l.emissive_scale)) * l.exposure;
+}
+
+// lighting::surface: a surface's material as the shading rule reads it.
+struct SurfaceMaterial {
+    albedo: vec3<f32>,
+    alpha: f32,
+    emission: f32,
+    roughness: f32,
+    metalness: f32,
+    volume: bool,
+}
+
+fn surface_material(m: GpuMaterial) -> SurfaceMaterial {
+    let srgba = material_srgba(m);
+    return SurfaceMaterial(srgb_to_linear(srgba.rgb), srgba.a, material_emission(m), material_roughness(m), material_metalness(m), material_volume(m));
+}
+
+// lighting::surface::{DIELECTRIC_F0, MIN_GGX_ALPHA, MAX_INSIDE}.
+const DIELECTRIC_F0: f32 = 0.04;
+const MIN_GGX_ALPHA: f32 = 0.02;
+const MAX_INSIDE: f32 = 1.0e6;
+const PI: f32 = 3.14159265358979;
+
+fn schlick(f0: vec3<f32>, c: f32) -> vec3<f32> {
+    let x = 1.0 - c;
+    let x2 = x * x;
+    return f0 + (1.0 - f0) * (x2 * x2 * x);
+}
+
+// The specular lobe (sky reflection scaled by the sky visibility seen.y plus sun highlight
+// scaled by the sun visibility seen.x, display-linear) in xyz and the mean Fresnel reflectance
+// towards the eye in w, both before gloss; the twin of lighting::surface::lobe. dir: unit,
+// eye to point.
+fn specular_lobe(m: SurfaceMaterial, n: vec3<f32>, dir: vec3<f32>, seen: vec2<f32>) -> vec4<f32> {
+    let l = frame.lighting;
+    let f0 = DIELECTRIC_F0 + (m.albedo - DIELECTRIC_F0) * m.metalness;
+    let v = -dir;
+    let n_dot_v = max(dot(n, v), 0.0);
+    let r = dir - 2.0 * dot(dir, n) * n;
+    let sky = haze_colour(r);
+    let n_dot_l = max(dot(n, l.sun_direction), 0.0);
+    let h_raw = l.sun_direction + v;
+    let h = h_raw / max(length(h_raw), 1e-6);
+    let n_dot_h = max(dot(n, h), 0.0);
+    let v_dot_h = max(dot(v, h), 0.0);
+    let a = max(m.roughness * m.roughness, MIN_GGX_ALPHA);
+    let a2 = a * a;
+    let k = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+    let d = a2 / (PI * k * k);
+    let f_view = schlick(f0, n_dot_v);
+    let sun = d * schlick(f0, v_dot_h) * 0.25 * n_dot_l * l.sun_colour;
+    let light = f_view * sky * seen.y + sun * l.exposure * seen.x;
+    return vec4<f32>(light, (f_view.x + f_view.y + f_view.z) * (1.0 / 3.0));
+}
+
+// The diffuse colour, the specular light times gloss, and gloss times the mean Fresnel
+// (lighting::surface::parts).
+struct SurfaceParts {
+    diffuse: vec3<f32>,
+    specular: vec3<f32>,
+    fresnel: f32,
+}
+
+// seen: the sun (x) and sky (y) visibility of the shadow rule; (1, 1) unshadowed.
+fn surface_parts(m: SurfaceMaterial, n: vec3<f32>, ao: f32, dir: vec3<f32>, seen: vec2<f32>) -> SurfaceParts {
+    let gloss = 1.0 - m.roughness;
+    let kd = 1.0 - m.metalness * gloss;
+    let diffuse = shade_visible(m.albedo * kd, n, ao, m.emission, seen.x, seen.y);
+    if gloss <= 0.0 {
+        return SurfaceParts(diffuse, vec3<f32>(0.0), 0.0);
+    }
+    let lobe = specular_lobe(m, n, dir, seen);
+    return SurfaceParts(diffuse, lobe.xyz * gloss, lobe.w * gloss);
+}
+
+// Exposed colour of an opaque surface point seen along unit dir: Lambert (shade) plus the
+// specular lobe; exactly shade() for a fully rough material. The twin of
+// lighting::surface::shade_surface.
+fn shade_surface(m: SurfaceMaterial, n: vec3<f32>, ao: f32, dir: vec3<f32>) -> vec3<f32> {
+    return shade_surface_visible(m, n, ao, dir, vec2<f32>(1.0));
+}
+
+// shade_surface with the sun and sky scaled by the visibility seen (x sun, y sky); the twin
+// of lighting::surface::shade_surface_visible.
+fn shade_surface_visible(m: SurfaceMaterial, n: vec3<f32>, ao: f32, dir: vec3<f32>, seen: vec2<f32>) -> vec3<f32> {
+    let p = surface_parts(m, n, ao, dir, seen);
+    return p.diffuse + p.specular;
+}
+
+// The opacity of a layer over `inside` blocks (lighting::surface::layer_opacity).
+fn layer_opacity(m: SurfaceMaterial, inside: f32) -> f32 {
+    if !m.volume || m.alpha <= 0.0 {
+        return m.alpha;
+    }
+    if m.alpha >= 1.0 {
+        return 1.0;
+    }
+    let d = clamp(inside, 0.0, MAX_INSIDE);
+    return 1.0 - exp2(d * log2(1.0 - m.alpha));
+}
+
+// A transparent surface point as premultiplied colour (rgb) and coverage (a), the opaque
+// surface `inside` blocks behind it. The twin of lighting::surface::transparent_layer.
+fn transparent_layer(m: SurfaceMaterial, n: vec3<f32>, ao: f32, dir: vec3<f32>, inside: f32) -> vec4<f32> {
+    let p = surface_parts(m, n, ao, dir, vec2<f32>(1.0));
+    let o = layer_opacity(m, inside);
+    let through = (1.0 - p.fresnel) * o;
+    return vec4<f32>(through * p.diffuse + p.specular, o + p.fresnel * (1.0 - o));
 }
 
 // The sky's colour towards unit direction dir without the sun disc (the haze's colour):
@@ -141,6 +265,15 @@ fn apply_haze(colour: vec3<f32>, dir: vec3<f32>, distance: f32) -> vec3<f32> {
     let t = exp(-HAZE_DENSITY * (x2 * x2));
     let haze = haze_colour(dir);
     return haze + (colour - haze) * t;
+}
+
+// A premultiplied layer seen through the haze (lighting::surface::haze_layer).
+fn haze_layer(layer: vec4<f32>, dir: vec3<f32>, distance: f32) -> vec4<f32> {
+    let x = distance * frame.lighting.haze_inverse_distance;
+    let x2 = x * x;
+    let t = exp(-HAZE_DENSITY * (x2 * x2));
+    let h = haze_colour(dir) * layer.a;
+    return vec4<f32>(h + (layer.rgb - h) * t, layer.a);
 }
 
 // Reversed-Z depth (near / view_z, > 0) at pixel centre p to the distance from the eye and

@@ -145,11 +145,12 @@ fn gbuffer_texels(block: u32, ao: f32, normal: vec3<f32>) -> GBufferOut {
 }
 
 // A transparent surface point at fragment position `position` lit (forward) with the
-// deferred lighting model and seen through the haze; alpha is the palette's.
-fn transparent_colour(block: u32, ao: f32, normal: vec3<f32>, position: vec4<f32>) -> vec4<f32> {
-    let m = material_of(block);
-    let srgba = material_srgba(m);
-    let colour = shade(srgb_to_linear(srgba.rgb), normal, ao, material_emission(m));
+// lighting model's transparent-layer rule (lighting::surface) and seen through the haze:
+// premultiplied colour and coverage, for a premultiplied-alpha blend. `inside`: blocks from the
+// point to the opaque surface behind it along the view ray.
+fn transparent_colour(block: u32, ao: f32, normal: vec3<f32>, position: vec4<f32>, inside: f32) -> vec4<f32> {
+    let m = surface_material(material_of(block));
     let seen = eye_ray(vec2<u32>(floor(position.xy)), position.z);
-    return vec4<f32>(apply_haze(colour, seen.dir, seen.distance), srgba.a);
+    let layer = transparent_layer(m, normalize(normal), ao, seen.dir, inside);
+    return haze_layer(layer, seen.dir, seen.distance);
 }

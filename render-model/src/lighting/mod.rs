@@ -41,6 +41,11 @@
 //! the end of the loaded world vanishes into the sky when `haze_distance` is the streamed
 //! radius.
 //!
+//! **Materials, water and glass** ([`surface`]): a specular lobe (Schlick Fresnel sky
+//! reflection, GGX sun highlight) for surfaces that are not fully rough, metalness, and
+//! transparent layers tinted with the distance the view ray travels inside them. A fully
+//! rough dielectric is shaded exactly by the formula above.
+//!
 //! **Shadows and sky visibility** ([`shadow`]): the rule of the sun-shadow and
 //! sky-visibility rays through block occupancy, with its bounds and switches
 //! ([`Lighting::shadows`]): the sun term is multiplied by the sun's visibility (0 or 1) and
@@ -49,6 +54,7 @@
 mod shade;
 pub mod shadow;
 pub mod sky;
+pub mod surface;
 mod tonemap;
 mod uniforms;
 

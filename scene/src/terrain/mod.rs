@@ -47,6 +47,8 @@ impl TerrainBlocks {
                 colour: [40, 90, 170, 140],
                 roughness: 20,
                 emission: 0,
+                metalness: 0,
+                volume: true,
                 class: MaterialClass::Transparent,
             }),
             snow: add(Material::opaque(240, 240, 245)),

@@ -9,13 +9,22 @@
 //! | [`kind`](VoxMaterial::kind) | `_type` (`_diffuse`, `_metal`, `_plastic`, `_glass`, `_emit`, `_blend`, `_media`; another type is drawn diffuse and named in [`LoadReport`](super::LoadReport)); `MATT` type 0-3 |
 //! | [`metalness`](VoxMaterial::metalness) | `_metal`; for a metal without it `_weight` (older files), else 1; 0 for other kinds |
 //! | [`roughness`](VoxMaterial::roughness) | `_rough`, else 0.1 (MagicaVoxel's default); always 1 for diffuse, which MagicaVoxel renders as Lambertian |
-//! | [`transparency`](VoxMaterial::transparency) | glass, blend and media: `_trans`, else `_weight` (older files), else 0.5; 0 for other kinds |
+//! | [`transparency`](VoxMaterial::transparency) | glass, blend and media: `_trans`, else `1 - _alpha`, else `_weight` (older files), else 0.5; 0 for other kinds |
 //! | [`emission`](VoxMaterial::emission) | emissive and blend: `(_emit, else _weight, else 1) * (1 + _flux)`; 0 for other kinds |
 //!
-//! Fractions (`_metal`, `_rough`, `_trans`, `_weight`) must be numbers from 0 to 1, `_emit`
-//! and `_flux` numbers of at least 0; anything else is refused with the material and the key
-//! named. Properties without a counterpart here (`_ior`, `_att`, `_spec`, `_ldr`, `_d`, ...)
-//! are not used.
+//! Fractions (`_metal`, `_rough`, `_trans`, `_alpha`, `_weight`) must be numbers from 0 to 1,
+//! `_emit` and `_flux` numbers of at least 0; anything else (NaN, infinities, text, a value
+//! out of range) is refused with the material and the key named, never clamped. Properties
+//! without a counterpart here (`_ior`, `_att`, `_spec`, `_ldr`, `_d`, ...) are not used: the
+//! renderer's Fresnel reflectance of every dielectric is 0.04 (an index of refraction of 1.5).
+//!
+//! # To the renderer's [`Material`]
+//!
+//! [`VoxMaterial::to_material`]: transparent where light passes (alpha `1 - transparency`),
+//! roughness, metalness and emission as bytes (fractions times 255). A glass block is a thin
+//! layer (tinted once by its alpha where the view enters it, as MagicaVoxel draws a pane); a
+//! medium (`_media`, cloud and smoke) fills a volume, tinted by the distance the view travels
+//! in it. A diffuse material is fully rough and not metal, so it is drawn Lambertian.
 
 use voxel_core::{Material, MaterialClass, MaterialPalette};
 
@@ -74,18 +83,23 @@ impl VoxMaterial {
         }
     }
 
-    /// The renderer's material: transparent when light passes through, emission and
-    /// roughness as bytes. The viewer's format holds emission up to 1 (255): brighter
-    /// emission is drawn at full strength there (voxmesh exports it in full).
+    /// The renderer's material (the rule in the [module docs](self)): transparent when
+    /// light passes through, a volume for a medium, emission, roughness and metalness as
+    /// bytes. The renderer's format holds emission up to 1 (255): brighter emission (up to
+    /// `_emit * (1 + _flux)`) is drawn at full strength there, and the loader lists it in
+    /// [`LoadReport::saturated_emission`](super::LoadReport::saturated_emission) (voxmesh
+    /// exports it in full).
     pub fn to_material(&self) -> Material {
         let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
         let mut m = Material::opaque(self.colour[0], self.colour[1], self.colour[2]);
         if self.transparency > 0.0 {
             m.class = MaterialClass::Transparent;
             m.colour[3] = byte(1.0 - self.transparency);
+            m.volume = self.kind == VoxMaterialKind::Media;
         }
         m.emission = byte(self.emission);
         m.roughness = byte(self.roughness);
+        m.metalness = byte(self.metalness);
         m
     }
 }
@@ -229,7 +243,7 @@ fn from_matl(
     let weight = get("_weight", FRACTION)?;
     let rough = get("_rough", FRACTION)?;
     let metal = get("_metal", FRACTION)?;
-    let trans = get("_trans", FRACTION)?;
+    let trans = get("_trans", FRACTION)?.or(get("_alpha", FRACTION)?.map(|a| 1.0 - a));
     let emit = get("_emit", SCALE)?;
     let flux = get("_flux", SCALE)?;
     use VoxMaterialKind as K;

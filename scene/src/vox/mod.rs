@@ -112,6 +112,10 @@ pub struct LoadReport {
     pub unknown_chunks: Vec<ChunkAt>,
     /// Material types not known here (colour index and `_type`), drawn as diffuse.
     pub unknown_material_types: Vec<(u8, String)>,
+    /// Colour indices whose emission (`_emit * (1 + _flux)`) is above 1, which the
+    /// renderer's material holds at most ([`VoxMaterial::to_material`]): drawn at full
+    /// strength.
+    pub saturated_emission: Vec<u8>,
 }
 
 impl LoadReport {
@@ -153,6 +157,13 @@ impl LoadReport {
         for (index, kind) in &self.unknown_material_types {
             notes.push(format!(
                 "material {index} has the unknown type {kind:?} and is drawn as diffuse"
+            ));
+        }
+        if !self.saturated_emission.is_empty() {
+            notes.push(format!(
+                "materials {:?} emit more than the renderer's brightest emission (1) and are \
+                 drawn at it",
+                self.saturated_emission
             ));
         }
         notes
@@ -265,6 +276,9 @@ pub fn load_vox_with(bytes: &[u8], options: &VoxOptions) -> Result<VoxScene, Vox
         repeated_voxels: file.models.iter().map(|m| m.repeated).sum(),
         unknown_chunks: file.unknown,
         unknown_material_types,
+        saturated_emission: (1..=255u8)
+            .filter(|&i| materials[usize::from(i)].emission > 1.0)
+            .collect(),
     };
     Ok(VoxScene {
         world,

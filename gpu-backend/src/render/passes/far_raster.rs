@@ -257,7 +257,8 @@ impl FarRaster {
                 groups: [frame_layout, &draw_layout],
                 targets: &[Some(ColorTargetState {
                     format: HDR_FORMAT,
-                    blend: Some(BlendState::ALPHA_BLENDING),
+                    // transparent_colour is premultiplied (lighting::surface).
+                    blend: Some(BlendState::PREMULTIPLIED_ALPHA_BLENDING),
                     write_mask: wgpu::ColorWrites::ALL,
                 })],
                 depth: depth_state(false),

@@ -43,13 +43,11 @@ fn splat_of(payload: u32) -> Splat {
     return Splat(payload & 0xffffu, (payload >> 16u) & 7u, f32((payload >> 19u) & 0xffu) / 85.0);
 }
 
-// The shaded colour of a splatted surface, its sun and sky scaled by `seen`.
-fn shade_splat(s: Splat, seen: vec2<f32>) -> vec4<f32> {
-    let m = material_of(s.block);
-    let srgba = material_srgba(m);
-    let n = vec3<f32>(face_normal(s.face));
-    let albedo = srgb_to_linear(srgba.rgb);
-    return vec4<f32>(shade_visible(albedo, n, s.ao, material_emission(m), seen.x, seen.y), srgba.a);
+// The shaded colour of a splatted surface seen along unit dir, its sun and sky scaled by
+// `seen`.
+fn shade_splat(s: Splat, dir: vec3<f32>, seen: vec2<f32>) -> vec3<f32> {
+    let m = surface_material(material_of(s.block));
+    return shade_surface_visible(m, vec3<f32>(face_normal(s.face)), s.ao, dir, seen);
 }
 
 // Display-linear colour of pixel p: the nearer of the G-buffer and the opaque far draws
@@ -61,13 +59,14 @@ fn lit_pixel(p: vec2<u32>) -> vec3<f32> {
     var surface = vec3<f32>(0.0);
     var splatted = false;
     let at = p.y * frame.width + p.x;
+    let view_dir = normalize(pixel_ray(p));
     if (frame.flags & FRAME_SPLAT) != 0u {
         let v = visibility[at];
         let d = bitcast<f32>(v.y);
         // Reversed-Z: nearer is greater; 0 is the cleared far plane.
         if d > depth {
             depth = d;
-            surface = shade_splat(splat_of(v.x), seen_light(at)).rgb;
+            surface = shade_splat(splat_of(v.x), view_dir, seen_light(at));
             splatted = true;
         }
     }
@@ -75,10 +74,10 @@ fn lit_pixel(p: vec2<u32>) -> vec3<f32> {
         let albedo_ao = textureLoad(gbuffer_albedo, texel, 0);
         let normal_material = textureLoad(gbuffer_normal, texel, 0);
         let n = oct32_decode(normal_material.x);
-        let m = material_of(normal_material.y);
-        let albedo = srgb_to_linear(albedo_ao.rgb);
-        let seen = seen_light(at);
-        surface = shade_visible(albedo, n, albedo_ao.a * 3.0, material_emission(m), seen.x, seen.y);
+        // The G-buffer's albedo (a prop's texel, or the palette's), the material's lobe.
+        var m = surface_material(material_of(normal_material.y));
+        m.albedo = srgb_to_linear(albedo_ao.rgb);
+        surface = shade_surface_visible(m, n, albedo_ao.a * 3.0, view_dir, seen_light(at));
     }
     let ray = pixel_ray(p);
     var colour: vec3<f32>;
@@ -92,10 +91,13 @@ fn lit_pixel(p: vec2<u32>) -> vec3<f32> {
         let t = transparent[at];
         let d = bitcast<f32>(t.y);
         if d > depth {
-            // Transparent surfaces are not shadowed (as the transparent pass shades them).
-            let over = shade_splat(splat_of(t.x), vec2<f32>(1.0));
+            // A transparent far block, tinted as one block deep (lighting::surface).
+            let over = splat_of(t.x);
             let seen = eye_ray(p, d);
-            colour = mix(colour, apply_haze(over.rgb, seen.dir, seen.distance), over.a);
+            let m = surface_material(material_of(over.block));
+            let n = vec3<f32>(face_normal(over.face));
+            let layer = haze_layer(transparent_layer(m, n, over.ao, seen.dir, 1.0), seen.dir, seen.distance);
+            colour = layer.rgb + colour * (1.0 - layer.a);
         }
     }
     return colour;

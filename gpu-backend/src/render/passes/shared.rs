@@ -308,9 +308,20 @@ pub(crate) struct PipelineDesc<'a> {
 
 /// The render pipeline `desc` describes (no vertex buffers: every pass pulls its vertices).
 pub(crate) fn pipeline(device: &Device, desc: PipelineDesc<'_>) -> RenderPipeline {
+    pipeline_with_groups(device, desc, &[])
+}
+
+/// [`pipeline`] with bind groups after `desc.groups` (group 2 onwards).
+pub(crate) fn pipeline_with_groups(
+    device: &Device,
+    desc: PipelineDesc<'_>,
+    more: &[&BindGroupLayout],
+) -> RenderPipeline {
+    let mut groups = vec![Some(desc.groups[0]), Some(desc.groups[1])];
+    groups.extend(more.iter().map(|g| Some(*g)));
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(desc.label),
-        bind_group_layouts: &[Some(desc.groups[0]), Some(desc.groups[1])],
+        bind_group_layouts: &groups,
         immediate_size: 0,
     });
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {

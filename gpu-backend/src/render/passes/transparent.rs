@@ -3,25 +3,43 @@
 //! commands, one multi-draw per quad page, lit forward with the deferred lighting model and
 //! blended into the HDR target over the lit opaque image (depth-tested, not written). The
 //! order (chunks back to front, faces within a chunk unsorted) and its artefacts are
-//! `render_model::transparent`'s.
+//! `render_model::transparent`'s; the colour of a layer (depth tint of volumes, Fresnel sky
+//! reflection, sun highlight) is `render_model::lighting::surface`'s, premultiplied, so the
+//! blend is `src + dst * (1 - src.a)`.
+//!
+//! The G-buffer depth is the pass's depth attachment, read-only, and is bound as a texture
+//! too (group 2): a volume (water) is tinted by the distance from its surface to the opaque
+//! surface behind. The raster far draws' transparent blocks are tinted as one block deep.
+//!
+//! | group | bindings                                            |
+//! | ----- | --------------------------------------------------- |
+//! | 0     | the frame (`Shared::frame_layout`)                  |
+//! | 1     | the quad page (`Shared::quad_layout`)               |
+//! | 2     | 0 the opaque depth (the depth attachment, read-only) |
 //!
 //! Transparent quads are not grown like opaque ones (see the G-buffer pass): an overlap would
 //! be blended twice. Splatted far blocks and compute-rasterised quads are not in the depth
 //! attachment, so `fs_transparent_over_visibility` also hides the quads behind the opaque
 //! visibility buffer.
 
-use wgpu::{BindGroup, BlendState, ColorTargetState, Device, RenderPipeline};
+use wgpu::{
+    BindGroup, BindGroupLayout, BlendState, ColorTargetState, Device, RenderPipeline, ShaderStages,
+    TextureSampleType,
+};
 
 use super::cull::CullOutput;
 use super::far_raster::FarRasterDraw;
 use super::frame::{FrameCtx, Recorder};
-use super::shared::{PipelineDesc, Shared, depth_state, pipeline};
+use super::shared::{
+    PipelineDesc, Shared, bind_layout, depth_state, pipeline_with_groups, texture_layout_entry,
+};
 use super::targets::HDR_FORMAT;
 use crate::shaders::TRANSPARENT;
 
 /// The transparent pass (see the [module docs](self)).
 #[derive(Debug)]
 pub struct TransparentPass {
+    depth_layout: BindGroupLayout,
     pipeline: RenderPipeline,
 }
 
@@ -29,7 +47,16 @@ impl TransparentPass {
     /// Compiles the pass's shader and builds its pipeline.
     pub fn new(device: &Device, shared: &Shared) -> TransparentPass {
         let module = TRANSPARENT.create_module(device);
-        let pipeline = pipeline(
+        let depth_layout = bind_layout(
+            device,
+            "transparent depth",
+            &[texture_layout_entry(
+                0,
+                ShaderStages::FRAGMENT,
+                TextureSampleType::Depth,
+            )],
+        );
+        let pipeline = pipeline_with_groups(
             device,
             PipelineDesc {
                 label: "transparent quads",
@@ -39,14 +66,19 @@ impl TransparentPass {
                 groups: [&shared.frame_layout, &shared.quad_layout],
                 targets: &[Some(ColorTargetState {
                     format: HDR_FORMAT,
-                    blend: Some(BlendState::ALPHA_BLENDING),
+                    // transparent_colour is premultiplied (lighting::surface).
+                    blend: Some(BlendState::PREMULTIPLIED_ALPHA_BLENDING),
                     write_mask: wgpu::ColorWrites::ALL,
                 })],
                 depth: depth_state(false),
                 cull_back: true,
             },
+            &[&depth_layout],
         );
-        TransparentPass { pipeline }
+        TransparentPass {
+            depth_layout,
+            pipeline,
+        }
     }
 
     /// Records the pass, timed as `transparent`: the ordered cull's `commands`, and the raster
@@ -59,8 +91,17 @@ impl TransparentPass {
         commands: &CullOutput,
         far: Option<(&FarRasterDraw<'_>, &BindGroup)>,
     ) {
+        let t = ctx.targets;
+        let depth_group = ctx.shared.bind_cache.get(
+            ctx.device,
+            "transparent depth",
+            &self.depth_layout,
+            &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&t.depth),
+            }],
+        );
         rec.step("transparent", false, |rec| {
-            let t = ctx.targets;
             let mut pass = rec
                 .encoder()
                 .begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -74,12 +115,10 @@ impl TransparentPass {
                             store: wgpu::StoreOp::Store,
                         },
                     })],
+                    // Read-only (no depth ops), so that the depth is also bound as a texture.
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                         view: &t.depth,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Load,
-                            store: wgpu::StoreOp::Store,
-                        }),
+                        depth_ops: None,
                         stencil_ops: None,
                     }),
                     timestamp_writes: None,
@@ -91,6 +130,7 @@ impl TransparentPass {
             }
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, ctx.frame_group, &[]);
+            pass.set_bind_group(2, &depth_group, &[]);
             pass.set_index_buffer(ctx.shared.quad_indices.slice(..), wgpu::IndexFormat::Uint32);
             for page in 0..commands.layout().page_count {
                 let group =
