@@ -14,17 +14,22 @@ out=docs/gallery
 mkdir -p "$out"
 vox=../shared/data/vox
 size=(--width 640 --height 360)
+# Every frame with sun shadows and sky visibility, as a user would look at it.
 shot() {
     local name=$1
     shift
     echo "== $name: $*"
-    "$viewer" --headless "${size[@]}" --out "$out/$name.png" "$@"
+    "$viewer" --headless "${size[@]}" --shadows on --out "$out/$name.png" "$@"
 }
 # The built-in terrain: the default first view, towards the horizon (sky, sun, haze at the
 # streamed radius), and low over the ground.
 shot terrain --radius 512
 shot horizon --radius 512 --camera 0,60,0,40,2 --fov 70
 shot low --radius 512 --camera 40,34,40,200,-12 --fov 70
+# Edits: a crater carved into the hill in front of the first view, a stone tower beside it,
+# and a sphere of water poured into the crater's floor.
+shot edits --radius 512 --edit-sphere 4,24,12,10,air --edit-sphere 4,12,12,6,water \
+    --edit-sphere -14,28,18,3,stone --edit-sphere -14,33,18,3,stone --edit-sphere -14,38,18,3,stone
 # glTF props: Ducks scattered over the terrain, among the grass.
 duck=../shared/data/gltf/Duck.glb
 if [ -f "$duck" ]; then

@@ -80,11 +80,11 @@ pub(crate) struct Args {
     pub far: FarRequest,
     /// Streamed terrain: grass and flowers on grass blocks (`on` or `off`); with `off` they are
     /// neither placed nor stored, and the renderer has no grass pass.
-    #[arg(long, value_name = "on|off", default_value = "on", value_parser = parse_on_off, conflicts_with_all = ["vox", "chunks"])]
+    #[arg(long, value_name = "on|off", default_value = "on", value_parser = parse_on_off, action = clap::ArgAction::Set, conflicts_with_all = ["vox", "chunks"])]
     pub clutter: bool,
     /// Sun shadows and sky visibility (rays through an occupancy grid of the 256 blocks
     /// around the camera, `render_model::lighting::shadow`), GPU and `--cpu` alike.
-    #[arg(long, value_name = "on|off", default_value = "off", value_parser = parse_on_off)]
+    #[arg(long, value_name = "on|off", default_value = "off", value_parser = parse_on_off, action = clap::ArgAction::Set)]
     pub shadows: bool,
     /// Streamed terrain: how opaque quads are drawn, `raster` (the G-buffer pass), `compute`
     /// (the compute rasteriser: faster on GPUs with few raster units; needs 64-bit atomics) or
@@ -383,6 +383,18 @@ fn parse_seconds(text: &str) -> Result<f64, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn on_off_flags_take_their_value() {
+        let args = Args::try_parse_from(["viewer", "--clutter", "off", "--shadows", "on"]).unwrap();
+        assert!(!args.clutter && args.shadows);
+        let args = Args::try_parse_from(["viewer"]).unwrap();
+        assert!(
+            args.clutter && !args.shadows,
+            "defaults: grass on, shadows off"
+        );
+        assert!(Args::try_parse_from(["viewer", "--shadows", "maybe"]).is_err());
+    }
 
     #[test]
     fn edits_parse_and_bad_ones_are_refused_by_name() {

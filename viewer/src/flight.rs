@@ -211,9 +211,11 @@ pub struct EditFigures {
     pub rebuilt_later: usize,
     /// CPU time per frame with edits: applying them, re-meshing and swapping the shown nodes.
     pub cpu: Percentiles,
-    /// Edit to screen: from the edit call to the end of the GPU work of the first frame
-    /// drawn after it, which shows it (measured when the loop next waits for that frame, so
-    /// it also holds the next frame's CPU time: an upper bound).
+    /// Edit to screen: from the edit call to the end of the GPU work of the frame drawn right
+    /// after it, which shows it. With timestamps: the time from the edit call until that
+    /// frame is submitted and the frame before it is done (its GPU work cannot start
+    /// earlier), plus its own GPU time. Without: the time until the loop next waits for that
+    /// frame (which also holds the next frame's CPU time: an upper bound).
     pub latency: Percentiles,
 }
 
@@ -396,6 +398,9 @@ pub fn fly_over(
     };
     let mut frames_with_holes = 0;
     let (mut edit_cpu, mut latency) = (Vec::new(), Vec::new());
+    // Frames with edits: their index and the time from the edit call to the loop's end (the
+    // frame submitted, the one before it done).
+    let mut edit_frames: Vec<(usize, f64)> = Vec::new();
     let (mut spheres, mut swapped, mut queued) = (0, 0, 0);
     // The start of the edits drawn by the frame in flight, if it had any.
     let mut edits_in_flight: Option<Instant> = None;
@@ -435,6 +440,9 @@ pub fn fly_over(
         if let Some(start) = edits_in_flight.take() {
             latency.push(start.elapsed().as_secs_f64() * 1e3);
         }
+        if let Some(start) = edits_started {
+            edit_frames.push((i, start.elapsed().as_secs_f64() * 1e3));
+        }
         edits_in_flight = edits_started;
         loop_frame.push(frame_started.elapsed().as_secs_f64() * 1e3);
         // Checked outside the timed part: it walks every selected node.
@@ -455,6 +463,12 @@ pub fn fly_over(
         latency.push(start.elapsed().as_secs_f64() * 1e3);
     }
     let wall_seconds = started.elapsed().as_secs_f64();
+    if timestamps && gpu.len() == cameras.len() {
+        latency = edit_frames
+            .iter()
+            .map(|&(i, until_submitted)| until_submitted + gpu[i])
+            .collect();
+    }
     // Frame i's GPU time is gpu[i] (collected in order); without timestamps they are zeros.
     let frame: Vec<f64> = loop_frame
         .iter()

@@ -30,6 +30,13 @@ pub trait Base: Sync {
         let _ = (level, coord, out);
         Ok(false)
     }
+
+    /// The voxel of cell `cell` (in cells of `level`) of the base's own levels: the value
+    /// [`fill_padded`](Self::fill_padded) gives there. Only asked of a base with levels.
+    fn level_cell(&self, level: u32, cell: [i32; 3]) -> Result<BlockId, String> {
+        let _ = (level, cell);
+        Err("the base has no coarse levels of its own".to_owned())
+    }
 }
 
 /// A base of air: a world whose every non-air block is an edit.
@@ -79,6 +86,11 @@ impl Base for Terrain {
 
     fn has_levels(&self) -> bool {
         true
+    }
+
+    /// [`Terrain::node_cell`]: one cell by the rule of its fill.
+    fn level_cell(&self, level: u32, cell: [i32; 3]) -> Result<BlockId, String> {
+        self.node_cell(level, cell.map(i64::from))
     }
 
     /// [`Terrain::fill_node`]: the terrain's coarse levels straight from its height function.

@@ -20,6 +20,13 @@
 //! coarse voxels above the voxels a batch changed; every other coarse voxel's children did not
 //! change, so its value still follows the rule. A loaded world evaluates the same rule from its
 //! differing voxels, so saving and loading gives the same coarse nodes as the edits did.
+//!
+//! # What is stored
+//!
+//! Only the differing coarse voxels, per node: every other voxel is the base's, which a
+//! reader fills from the base anyway. An edit reads the base's value of single cells
+//! ([`Base::level_cell`], cached), never a whole coarse node, whose fill costs as much as the
+//! area it covers (a top-level node of the terrain: millions of column heights).
 
 use std::collections::{BTreeSet, HashMap};
 
@@ -30,24 +37,23 @@ use voxel_core::{BlockId, ChunkCoord, ChunkSize, LocalPos, PaddedChunk, WorldPos
 
 use crate::{Base, NodeKey, WorldError};
 
-/// One coarse node that holds a differing voxel: its voxels, the base's, and which differ.
-#[derive(Clone, Debug)]
-struct CoarseNode {
-    value: PaletteChunk,
-    base: PaletteChunk,
-    /// One bit per voxel, index `x + e * (y + e * z)`.
-    differs: Vec<u64>,
-}
+/// The differing voxels of one coarse node: index `x + e * (y + e * z)` to id.
+pub(crate) type DifferingCells = HashMap<u16, BlockId>;
 
-/// The coarse nodes above edits, and the base's version of every edited level-0 chunk (see
-/// the [module docs](self)).
+/// Base cell values kept before the cache is emptied (about 40 MB).
+const BASE_CELL_CACHE: usize = 1 << 20;
+
+/// The differing coarse voxels above edits, and the base's version of every edited level-0
+/// chunk (see the [module docs](self)).
 #[derive(Clone, Debug)]
 pub(crate) struct CoarseLevels {
     classes: BlockClasses,
     size: ChunkSize,
-    nodes: HashMap<NodeKey, CoarseNode>,
+    nodes: HashMap<NodeKey, DifferingCells>,
     /// The base's blocks of each level-0 chunk that holds an edit.
     base0: HashMap<ChunkCoord, PaletteChunk>,
+    /// Base values of coarse cells read so far, by level and cell.
+    base_cells: HashMap<(u32, [i32; 3]), BlockId>,
 }
 
 impl CoarseLevels {
@@ -58,6 +64,7 @@ impl CoarseLevels {
             size,
             nodes: HashMap::new(),
             base0: HashMap::new(),
+            base_cells: HashMap::new(),
         }
     }
 
@@ -71,9 +78,9 @@ impl CoarseLevels {
         self.base0.entry(coord).or_insert(chunk);
     }
 
-    /// The coarse node `key` when a voxel under it differs from the base.
-    pub(crate) fn node(&self, key: &NodeKey) -> Option<&PaletteChunk> {
-        self.nodes.get(key).map(|n| &n.value)
+    /// The differing voxels of coarse node `key`, when it has any.
+    pub(crate) fn node(&self, key: &NodeKey) -> Option<&DifferingCells> {
+        self.nodes.get(key)
     }
 
     /// Re-evaluates the coarse voxels above `changed` (level-0 positions) at levels
@@ -87,12 +94,14 @@ impl CoarseLevels {
     ) -> Result<(), WorldError> {
         let mut cells: BTreeSet<[i32; 3]> = changed.into_iter().map(|p| [p.x, p.y, p.z]).collect();
         let e = self.size.edge() as i32;
+        if self.base_cells.len() > BASE_CELL_CACHE {
+            self.base_cells.clear();
+        }
         for level in 1..=top {
             // Arithmetic shift: the parent of a negative cell is floor(cell / 2).
             let parents: BTreeSet<[i32; 3]> = cells.iter().map(|c| c.map(|v| v >> 1)).collect();
             for &cell in &parents {
                 let (key, local) = split(level, cell, e);
-                self.ensure(base, key)?;
                 let mut children = [BlockId::AIR; 8];
                 let mut any = false;
                 for (d, child) in children.iter_mut().enumerate() {
@@ -103,31 +112,27 @@ impl CoarseLevels {
                         2 * cell[1] + ((d >> 2) & 1),
                         2 * cell[2] + ((d >> 1) & 1),
                     ];
-                    let (id, differs) = self.fine(level - 1, pos, chunks, e);
+                    let (id, differs) = self.fine(base, level - 1, pos, chunks, e)?;
                     *child = id;
                     any |= differs;
                 }
-                let node = self.nodes.get_mut(&key).expect("ensured above");
-                let id = if any {
-                    coarse_voxel(&children, &self.classes).map_err(|id| WorldError::Mesh {
-                        level,
-                        coord: key.coord,
-                        error: mesher::MeshError::UnknownBlock {
-                            id,
-                            position: [local.x, local.y, local.z].map(u32::from),
-                        },
-                    })?
-                } else {
-                    node.base.get(local).unwrap_or(BlockId::AIR)
-                };
-                // `local` lies in the node: neither call can refuse it.
-                let _ = node.value.set(local, id);
-                let bit = bit_index(local, e);
-                let word = &mut node.differs[bit / 64];
+                let index = bit_index(local, e);
                 if any {
-                    *word |= 1 << (bit % 64);
-                } else {
-                    *word &= !(1 << (bit % 64));
+                    let id =
+                        coarse_voxel(&children, &self.classes).map_err(|id| WorldError::Mesh {
+                            level,
+                            coord: key.coord,
+                            error: mesher::MeshError::UnknownBlock {
+                                id,
+                                position: [local.x, local.y, local.z].map(u32::from),
+                            },
+                        })?;
+                    self.nodes.entry(key).or_default().insert(index, id);
+                } else if let Some(node) = self.nodes.get_mut(&key) {
+                    node.remove(&index);
+                    if node.is_empty() {
+                        self.nodes.remove(&key);
+                    }
                 }
             }
             cells = parents;
@@ -136,13 +141,14 @@ impl CoarseLevels {
     }
 
     /// The voxel at `cell` of `level` and whether it differs from the base.
-    fn fine(
-        &self,
+    fn fine<B: Base>(
+        &mut self,
+        base: &B,
         level: u32,
         cell: [i32; 3],
         chunks: &WorldMap<PaletteChunk>,
         e: i32,
-    ) -> (BlockId, bool) {
+    ) -> Result<(BlockId, bool), WorldError> {
         if level == 0 {
             let pos = WorldPos::new(cell[0], cell[1], cell[2]);
             let id = chunks.get_block(pos);
@@ -151,49 +157,27 @@ impl CoarseLevels {
                 .base0
                 .get(&coord)
                 .is_some_and(|b| b.get(local).unwrap_or(BlockId::AIR) != id);
-            return (id, differs);
+            return Ok((id, differs));
         }
         let (key, local) = split(level, cell, e);
-        match self.nodes.get(&key) {
-            Some(node) => {
-                let bit = bit_index(local, e);
-                (
-                    node.value.get(local).unwrap_or(BlockId::AIR),
-                    node.differs[bit / 64] & (1 << (bit % 64)) != 0,
-                )
-            }
-            // Every child of a parent being re-evaluated lies in one node, the node of the
-            // changed cell under it, which the level below ensured.
-            None => (BlockId::AIR, false),
+        if let Some(&id) = self
+            .nodes
+            .get(&key)
+            .and_then(|n| n.get(&bit_index(local, e)))
+        {
+            return Ok((id, true));
         }
-    }
-
-    /// Stores coarse node `key` from the base unless it is stored.
-    fn ensure<B: Base>(&mut self, base: &B, key: NodeKey) -> Result<(), WorldError> {
-        if self.nodes.contains_key(&key) {
-            return Ok(());
+        if let Some(&id) = self.base_cells.get(&(level, cell)) {
+            return Ok((id, false));
         }
-        let mut padded = PaddedChunk::new(self.size);
-        let supported = base
-            .fill_padded(key.level, key.coord, &mut padded)
+        let id = base
+            .level_cell(level, cell)
             .map_err(|message| WorldError::Base {
                 coord: key.coord,
-                message: format!("level {}: {message}", key.level),
+                message: format!("level {level}: {message}"),
             })?;
-        if !supported {
-            return Err(WorldError::NoBaseLevels);
-        }
-        let chunk = padded_interior(&padded);
-        let words = (self.size.edge_usize().pow(3)).div_ceil(64);
-        self.nodes.insert(
-            key,
-            CoarseNode {
-                value: chunk.clone(),
-                base: chunk,
-                differs: vec![0; words],
-            },
-        );
-        Ok(())
+        self.base_cells.insert((level, cell), id);
+        Ok((id, false))
     }
 }
 
@@ -214,9 +198,9 @@ fn split(level: u32, cell: [i32; 3], e: i32) -> (NodeKey, LocalPos) {
     )
 }
 
-fn bit_index(local: LocalPos, e: i32) -> usize {
-    let e = e as usize;
-    usize::from(local.x) + e * (usize::from(local.y) + e * usize::from(local.z))
+fn bit_index(local: LocalPos, e: i32) -> u16 {
+    let e = e as u16;
+    u16::from(local.x) + e * (u16::from(local.y) + e * u16::from(local.z))
 }
 
 /// The centre chunk of a padded neighbourhood (what a node holds without its border).
@@ -258,6 +242,21 @@ pub(crate) fn overlay(out: &mut PaddedChunk, offset: [i32; 3], chunk: Option<&Pa
                 // In range by construction.
                 let _ = out.set(px, py, pz, id);
             }
+        }
+    }
+}
+
+/// Writes the differing voxels `cells` of the neighbour at `offset` (each axis in `-1..=1`)
+/// of a padded neighbourhood's centre over the part of `out` they fall in.
+pub(crate) fn overlay_cells(out: &mut PaddedChunk, offset: [i32; 3], cells: &DifferingCells) {
+    let e = out.size().edge() as i32;
+    for (&index, &id) in cells {
+        let i = i32::from(index);
+        let local = [i % e, (i / e) % e, i / (e * e)];
+        let p: [i32; 3] = core::array::from_fn(|a| local[a] + 1 + offset[a] * e);
+        if p.iter().all(|&c| (0..=e + 1).contains(&c)) {
+            // In range: checked above.
+            let _ = out.set(p[0] as u32, p[1] as u32, p[2] as u32, id);
         }
     }
 }

@@ -8,7 +8,7 @@ use mesher::lod::downsample_chunk;
 use voxel_core::storage::{DenseChunk, PaletteChunk, VoxelStorage, WorldMap, gather_neighbourhood};
 use voxel_core::{ChunkCoord, ChunkSize, PaddedChunk, WorldPos};
 
-use crate::coarse::{CoarseLevels, overlay, padded_interior};
+use crate::coarse::{CoarseLevels, overlay, overlay_cells, padded_interior};
 use crate::{Base, DirtySet, Edit, NodeKey, WorldError};
 
 /// The most levels above level 0 a world tracks: a level-30 voxel is as wide as the world.
@@ -185,7 +185,7 @@ impl<B: Base> World<B> {
                             overlay(out, [dx, dy, dz], self.chunks.get(n));
                         }
                     } else if let Some(node) = coarse.node(&NodeKey { level, coord: n }) {
-                        overlay(out, [dx, dy, dz], Some(node));
+                        overlay_cells(out, [dx, dy, dz], node);
                     }
                 }
             }
@@ -421,13 +421,13 @@ impl<B: Base> World<B> {
                 .unwrap_or_else(|| PaletteChunk::new(self.size)));
         }
         if let Some(coarse) = &self.coarse {
-            if let Some(node) = coarse.node(&NodeKey { level, coord }) {
-                return Ok(node.clone());
-            }
             let mut padded = PaddedChunk::new(self.size);
             self.base
                 .fill_padded(level, coord, &mut padded)
                 .map_err(|message| WorldError::Base { coord, message })?;
+            if let Some(node) = coarse.node(&NodeKey { level, coord }) {
+                overlay_cells(&mut padded, [0, 0, 0], node);
+            }
             return Ok(padded_interior(&padded));
         }
         let mut children: Vec<PaletteChunk> = Vec::with_capacity(8);

@@ -111,6 +111,26 @@ impl Terrain {
         })
     }
 
+    /// The voxel of cell `cell` (in cells of `level`, `2^level` blocks wide) by the rule of
+    /// [`fill_node`](Self::fill_node): the same value the fill gives at that cell, for a
+    /// caller that needs a few cells without filling a whole node. Reads the `4^level`
+    /// column heights under the cell.
+    pub fn node_cell(&self, level: u32, cell: [i64; 3]) -> Result<BlockId, String> {
+        if level > 30 {
+            return Err(format!(
+                "level {level} has cells of 2^{level} blocks, wider than the i32 world"
+            ));
+        }
+        let width = 1i64 << level;
+        let column = self.cell_column(cell[0] * width, cell[2] * width, width);
+        let y0 = cell[1] * width;
+        Ok(if level == 0 {
+            self.exact_block(&column, y0)
+        } else {
+            self.cell_block(&column, y0, y0 + width)
+        })
+    }
+
     /// The heights under the `cell x cell` columns from block `(x0, z0)`.
     fn cell_column(&self, x0: i64, z0: i64, cell: i64) -> CellColumn {
         let world = i64::from(i32::MIN)..=i64::from(i32::MAX);
@@ -172,6 +192,34 @@ impl Terrain {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn single_cells_equal_the_fill() {
+        let t = terrain();
+        let size = ChunkSize::S8;
+        for (level, coord) in [
+            (0, ChunkCoord::new(0, 1, 0)),
+            (1, ChunkCoord::new(-1, 0, 2)),
+            (3, ChunkCoord::new(0, 0, 0)),
+        ] {
+            let mut padded = PaddedChunk::new(size);
+            t.fill_node(size, level, coord, &mut padded).unwrap();
+            let e = i64::from(size.edge());
+            for (px, py, pz) in [(0, 0, 0), (1, 1, 1), (4, 3, 7), (9, 9, 9), (5, 2, 0)] {
+                let cell = [
+                    i64::from(coord.x) * e - 1 + px,
+                    i64::from(coord.y) * e - 1 + py,
+                    i64::from(coord.z) * e - 1 + pz,
+                ];
+                assert_eq!(
+                    t.node_cell(level, cell).unwrap(),
+                    padded.get(px as u32, py as u32, pz as u32).unwrap(),
+                    "level {level} cell {cell:?}"
+                );
+            }
+        }
+        assert!(t.node_cell(31, [0, 0, 0]).is_err());
+    }
     use crate::terrain::{TerrainBlocks, terrain_scene};
     use voxel_core::storage::gather_neighbourhood;
 
