@@ -1,7 +1,8 @@
 //! [`World`]: level-0 chunks from a [`Base`], changed by [`Edit`]s, with the [`DirtySet`] of
 //! every batch and the level-of-detail nodes rebuilt from the edited data.
 
-use std::collections::{BTreeSet, HashSet};
+use std::collections::{BTreeSet, HashMap, HashSet, VecDeque};
+use std::sync::{Mutex, PoisonError};
 
 use mesher::BlockClasses;
 use mesher::lod::downsample_chunk;
@@ -33,6 +34,33 @@ pub struct World<B> {
     coarse: Option<CoarseLevels>,
     /// Batches that changed a voxel since the world was made.
     version: u64,
+    /// The base's padded fills of nodes read through [`gather_over_base`](World::gather_over_base)
+    /// most recently: the nodes an edit dirties are read again and again while a user edits
+    /// one place, and the base's fill (its noise) is most of a rebuild's cost.
+    fills: Mutex<FillCache>,
+}
+
+/// The base's fills of the nodes gathered most recently, oldest first out.
+#[derive(Debug, Default)]
+struct FillCache {
+    fills: HashMap<NodeKey, PaddedChunk>,
+    order: VecDeque<NodeKey>,
+}
+
+impl FillCache {
+    /// Fills kept (about 6 MB of 16^3 nodes).
+    const CAPACITY: usize = 512;
+
+    fn insert(&mut self, key: NodeKey, fill: PaddedChunk) {
+        if self.fills.insert(key, fill).is_none() {
+            self.order.push_back(key);
+        }
+        while self.order.len() > Self::CAPACITY {
+            if let Some(old) = self.order.pop_front() {
+                self.fills.remove(&old);
+            }
+        }
+    }
 }
 
 impl<B: Base> World<B> {
@@ -51,6 +79,7 @@ impl<B: Base> World<B> {
             unsaved: BTreeSet::new(),
             coarse: None,
             version: 0,
+            fills: Mutex::default(),
         })
     }
 
@@ -126,8 +155,9 @@ impl<B: Base> World<B> {
 
     /// Fills `out` with the padded neighbourhood of node `coord` of `level` without writing
     /// anything (so readers can share the world): the base's own fill
-    /// ([`Base::fill_padded`]) with the edited data over it. Needs base levels
-    /// ([`use_base_levels`](Self::use_base_levels)).
+    /// ([`Base::fill_padded`]; the last few hundred nodes' fills are kept, so the nodes of
+    /// repeated edits in one place are not filled again) with the edited data over it. Needs
+    /// base levels ([`use_base_levels`](Self::use_base_levels)).
     pub fn gather_over_base(
         &self,
         level: u32,
@@ -140,13 +170,31 @@ impl<B: Base> World<B> {
         if level > MAX_LEVEL {
             return Err(WorldError::BadLevel { level });
         }
-        out.reset(self.size);
-        self.base
-            .fill_padded(level, coord, out)
-            .map_err(|message| WorldError::Base {
-                coord,
-                message: format!("level {level}: {message}"),
-            })?;
+        let key = NodeKey { level, coord };
+        // A poisoned cache holds whole fills only (inserted after they are made).
+        let cached = self
+            .fills
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .fills
+            .get(&key)
+            .cloned();
+        match cached {
+            Some(fill) => *out = fill,
+            None => {
+                out.reset(self.size);
+                self.base
+                    .fill_padded(level, coord, out)
+                    .map_err(|message| WorldError::Base {
+                        coord,
+                        message: format!("level {level}: {message}"),
+                    })?;
+                self.fills
+                    .lock()
+                    .unwrap_or_else(PoisonError::into_inner)
+                    .insert(key, out.clone());
+            }
+        }
         self.overlay_edits(level, coord, out)
     }
 

@@ -115,21 +115,37 @@ impl BuildNode for NodeSource {
             let mut scratch = scratch.borrow_mut();
             let (mesher, padded) = &mut *scratch;
             let padded = padded.get_or_insert_with(|| PaddedChunk::new(self.size));
-            // The terrain's fill, without holding the world (a coarse node's fill is slow and
-            // would hold edits back); the edits over it after. An edit landing in between
-            // marks this build stale, and the streamer builds the node again.
-            let content = self
-                .terrain
-                .fill_node(self.size, key.level, key.coord, padded)?;
-            let (edited, version) = {
+            // Level 0 near an edit: the world's gather (its cache of fills spares re-filling
+            // the terrain while a place is edited again and again). Elsewhere the terrain's
+            // fill, without holding the world (a coarse node's fill is slow and would hold
+            // edits back), and the edits over it after. An edit landing in between makes
+            // the build stale (its version is older), and the streamer builds it again.
+            let gathered = {
                 let world = self.world.read();
-                let touched = world.touches(key.level, key.coord);
-                if touched {
+                if key.level == 0 && world.touches(0, key.coord) {
                     world
-                        .overlay_edits(key.level, key.coord, padded)
+                        .gather_over_base(0, key.coord, padded)
                         .map_err(|e| format!("node {key:?}: {e}"))?;
+                    Some(world.version())
+                } else {
+                    None
                 }
-                (touched, world.version())
+            };
+            let (content, edited, version) = match gathered {
+                Some(version) => (NodeContent::Surface, true, version),
+                None => {
+                    let content = self
+                        .terrain
+                        .fill_node(self.size, key.level, key.coord, padded)?;
+                    let world = self.world.read();
+                    let touched = world.touches(key.level, key.coord);
+                    if touched {
+                        world
+                            .overlay_edits(key.level, key.coord, padded)
+                            .map_err(|e| format!("node {key:?}: {e}"))?;
+                    }
+                    (content, touched, world.version())
+                }
             };
             // The fill's verdict holds for the terrain alone; an edited node is meshed (an
             // empty mesh draws nothing).
