@@ -29,6 +29,7 @@ shot low --radius 512 --camera 40,34,40,200,-12 --fov 70
 # Edits: a crater carved into the hill in front of the first view, a stone tower beside it,
 # and a sphere of water poured into the crater's floor.
 shot edits --radius 512 --edit-sphere 4,24,12,10,air --edit-sphere 4,12,12,6,water \
+    --edit-sphere -14,13,18,3,stone --edit-sphere -14,18,18,3,stone --edit-sphere -14,23,18,3,stone \
     --edit-sphere -14,28,18,3,stone --edit-sphere -14,33,18,3,stone --edit-sphere -14,38,18,3,stone
 # glTF props: Ducks scattered over the terrain, among the grass.
 duck=../shared/data/gltf/Duck.glb
