@@ -211,6 +211,13 @@ pub struct EditFigures {
     pub rebuilt_later: usize,
     /// CPU time per frame with edits: applying them, re-meshing and swapping the shown nodes.
     pub cpu: Percentiles,
+    /// Of it, the world's part: filling the chunks the edits reach, writing them, the dirty
+    /// set and the coarse voxels.
+    pub world: Percentiles,
+    /// Of it, re-meshing and swapping the shown nodes.
+    pub rebuild: Percentiles,
+    /// The most shown nodes one frame's edits swapped.
+    pub most_swapped: usize,
     /// Edit to screen: from the edit call to the end of the GPU work of the frame drawn right
     /// after it, which shows it. With timestamps: the time from the edit call until that
     /// frame is submitted and the frame before it is done (its GPU work cannot start
@@ -283,13 +290,17 @@ impl FlightReport {
         .chain(self.edits.as_ref().map(|e| {
             format!(
                 "flight: edits {} spheres of radius {} ({}/s): {} shown nodes swapped before \
-                 the next frame, {} rebuilt later; CPU per frame with edits {}; edit to screen {}",
+                 the next frame (at most {} in one), {} rebuilt later; CPU per frame with edits \
+                 {} (the world {}, re-meshing and swapping {}); edit to screen {}",
                 e.spheres,
                 Carver::RADIUS,
                 e.per_second,
                 e.swapped_at_once,
+                e.most_swapped,
                 e.rebuilt_later,
                 p(&e.cpu),
+                p(&e.world),
+                p(&e.rebuild),
                 p(&e.latency)
             )
         }))
@@ -401,7 +412,8 @@ pub fn fly_over(
     // Frames with edits: their index and the time from the edit call to the loop's end (the
     // frame submitted, the one before it done).
     let mut edit_frames: Vec<(usize, f64)> = Vec::new();
-    let (mut spheres, mut swapped, mut queued) = (0, 0, 0);
+    let (mut spheres, mut swapped, mut queued, mut most_swapped) = (0, 0, 0, 0);
+    let (mut world_ms, mut rebuild_ms) = (Vec::new(), Vec::new());
     // The start of the edits drawn by the frame in flight, if it had any.
     let mut edits_in_flight: Option<Instant> = None;
     let started = Instant::now();
@@ -418,6 +430,9 @@ pub fn fly_over(
             spheres += edits.len();
             swapped += done.swapped;
             queued += done.queued;
+            most_swapped = most_swapped.max(done.swapped);
+            world_ms.push(done.world.as_secs_f64() * 1e3);
+            rebuild_ms.push(done.rebuild.as_secs_f64() * 1e3);
             edit_cpu.push(frame_started.elapsed().as_secs_f64() * 1e3);
         }
         view.update(camera)?;
@@ -533,6 +548,9 @@ pub fn fly_over(
             swapped_at_once: swapped,
             rebuilt_later: queued,
             cpu: Percentiles::of(&edit_cpu).unwrap_or(none),
+            world: Percentiles::of(&world_ms).unwrap_or(none),
+            rebuild: Percentiles::of(&rebuild_ms).unwrap_or(none),
+            most_swapped,
             latency: Percentiles::of(&latency).unwrap_or(none),
         }),
     })

@@ -87,14 +87,20 @@ impl StreamedView {
     /// before this returns, so the next frame shows the edits (see
     /// `stream::streamer::edits`). Returns what the drawing streamer did.
     pub fn apply_edits(&mut self, edits: &[Edit]) -> Result<Invalidated, StreamError> {
+        let started = std::time::Instant::now();
         let (dirty, version) = self
             .world
             .apply_versioned(edits)
             .map_err(|e| StreamError::Edit(e.to_string()))?;
+        let world = started.elapsed();
         if dirty.is_empty() {
-            return Ok(Invalidated::default());
+            return Ok(Invalidated {
+                world,
+                ..Invalidated::default()
+            });
         }
-        let done = self.current.invalidate(&dirty, version)?;
+        let mut done = self.current.invalidate(&dirty, version)?;
+        done.world = world;
         if let Some(next) = &mut self.next {
             next.invalidate(&dirty, version)?;
         }

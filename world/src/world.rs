@@ -298,11 +298,33 @@ impl<B: Base> World<B> {
         Ok(())
     }
 
-    /// Copies chunk `coord` from the base unless it is stored already.
-    pub fn materialize(&mut self, coord: ChunkCoord) -> Result<(), WorldError> {
-        if self.present.contains(&coord) {
-            return Ok(());
+    /// The level-0 chunks `edits` reach that are not stored yet: what [`apply`](Self::apply)
+    /// would fill from the base first. A caller that shares the world fills them elsewhere
+    /// (in parallel, without holding it: [`base_chunk`](Self::base_chunk)) and stores them
+    /// with [`insert_base_chunk`](Self::insert_base_chunk). An edit that is refused is an
+    /// error here too.
+    pub fn unmaterialized(&self, edits: &[Edit]) -> Result<Vec<ChunkCoord>, WorldError> {
+        let mut out = BTreeSet::new();
+        for edit in edits {
+            let (min, max) = edit.bounds().map_err(WorldError::Edit)?;
+            let (cmin, _) = min.split(self.size);
+            let (cmax, _) = max.split(self.size);
+            for z in cmin.z..=cmax.z {
+                for y in cmin.y..=cmax.y {
+                    for x in cmin.x..=cmax.x {
+                        let c = ChunkCoord::new(x, y, z);
+                        if !self.present.contains(&c) {
+                            out.insert(c);
+                        }
+                    }
+                }
+            }
         }
+        Ok(out.into_iter().collect())
+    }
+
+    /// Chunk `coord` as the base fills it, without storing it.
+    pub fn base_chunk(&self, coord: ChunkCoord) -> Result<PaletteChunk, WorldError> {
         let mut chunk = PaletteChunk::new(self.size);
         self.base
             .fill_chunk(coord, &mut chunk)
@@ -317,12 +339,40 @@ impl<B: Base> World<B> {
                 ),
             });
         }
+        Ok(chunk)
+    }
+
+    /// Stores `chunk`, the base's chunk `coord` ([`base_chunk`](Self::base_chunk)), unless
+    /// the chunk is stored already (then it is left as it is: it may hold edits).
+    pub fn insert_base_chunk(
+        &mut self,
+        coord: ChunkCoord,
+        chunk: PaletteChunk,
+    ) -> Result<(), WorldError> {
+        if self.present.contains(&coord) {
+            return Ok(());
+        }
+        if chunk.size() != self.size {
+            return Err(WorldError::Base {
+                coord,
+                message: format!("a chunk of {:?}, not {:?}", chunk.size(), self.size),
+            });
+        }
         if chunk.non_air_count() > 0 {
             // Sizes match: insert cannot refuse it.
             let _ = self.chunks.insert(coord, chunk);
         }
         self.present.insert(coord);
         Ok(())
+    }
+
+    /// Copies chunk `coord` from the base unless it is stored already.
+    pub fn materialize(&mut self, coord: ChunkCoord) -> Result<(), WorldError> {
+        if self.present.contains(&coord) {
+            return Ok(());
+        }
+        let chunk = self.base_chunk(coord)?;
+        self.insert_base_chunk(coord, chunk)
     }
 
     /// Materializes chunk `coord` and its 26 neighbours: everything a gather of `coord` reads.

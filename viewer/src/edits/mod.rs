@@ -17,6 +17,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, RwLock, RwLockReadGuard, RwLockWriteGuard};
 
 use mesher::BlockClasses;
+use rayon::prelude::*;
 use voxel_core::{BlockId, ChunkSize};
 use voxel_scene::{Terrain, TerrainBlocks};
 use voxel_world::{DirtySet, Edit, LoadReport, World, WorldError};
@@ -120,8 +121,22 @@ impl SharedWorld {
 
     /// [`apply`](Self::apply), with the world's version after the batch
     /// ([`World::version`]): a build that read this version or a later one holds the edits.
+    /// The chunks the edits reach that are not stored yet are filled from the terrain first,
+    /// in parallel (rayon) and without holding the world for writing, so readers (the node
+    /// builders) wait only for the edits themselves.
     pub fn apply_versioned(&self, edits: &[Edit]) -> Result<(DirtySet, u64), WorldError> {
+        let filled = {
+            let world = self.read();
+            let missing = world.unmaterialized(edits)?;
+            missing
+                .par_iter()
+                .map(|&c| world.base_chunk(c).map(|chunk| (c, chunk)))
+                .collect::<Result<Vec<_>, _>>()?
+        };
         let mut world = self.write();
+        for (coord, chunk) in filled {
+            world.insert_base_chunk(coord, chunk)?;
+        }
         let dirty = world.apply(edits)?;
         Ok((dirty, world.version()))
     }

@@ -37,6 +37,11 @@ use render_model::resident::ChunkMeshData;
 pub struct Invalidated {
     /// Shown nodes rebuilt and swapped in at once.
     pub swapped: usize,
+    /// The time the world took to apply the batch (filling the chunks it reaches, writing,
+    /// the dirty set and the coarse voxels); set by the view, which applies it.
+    pub world: std::time::Duration,
+    /// The time the shown nodes took to rebuild and swap.
+    pub rebuild: std::time::Duration,
     /// Resident nodes queued for the workers to rebuild.
     pub queued: usize,
     /// Builds made stale (queued, running or waiting to upload): built again.
@@ -77,8 +82,10 @@ impl Streamer {
             }
         }
         let committed = self.committed.clone();
+        let started = std::time::Instant::now();
         done.swapped =
             self.refresh_now(|key| committed.as_ref().is_some_and(|c| c.keys.contains(key)))?;
+        done.rebuild = started.elapsed();
         self.queue_rebuilds(later.clone());
         done.queued = later.len();
         Ok(done)
