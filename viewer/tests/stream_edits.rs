@@ -1,7 +1,8 @@
 //! Edits of the streamed terrain on the local Vulkan adapter (lavapipe here), at small sizes:
 //! the frame right after an edit equals the frame of a view loaded from the edited world (so
 //! the edit is on screen the next frame at every level that shows it, and nothing else moved);
-//! a world saved and loaded draws the identical frame; a flight carving spheres draws no frame
+//! a world saved and loaded draws the identical frame; the window's click breaks the block under
+//! the cursor and places one in front of it; a flight carving spheres draws no frame
 //! with a hole and reports its edit-to-screen latency. Without an adapter each test prints
 //! `skipped: ...` (and fails under `CI=true`).
 
@@ -201,4 +202,59 @@ fn a_flight_carving_spheres_draws_no_hole_and_reports_latency() {
         "{:?}",
         report.lines()
     );
+}
+
+#[test]
+fn a_click_breaks_the_block_under_the_cursor_and_places_one_in_front() {
+    use viewer::window::editing::{Brush, click};
+    let Some(ctx) = context() else { return };
+    let camera = camera_over(0, 0);
+    let mut view = loaded(&ctx, world(), &camera);
+    let centre = (SIZE.0 / 2, SIZE.1 / 2);
+    let hit = |view: &StreamedView| {
+        let mut w = view.world().write();
+        let v = camera.voxel;
+        let origin =
+            glam::DVec3::new(f64::from(v.x), f64::from(v.y), f64::from(v.z)) + camera.fraction;
+        let dir = camera.ray_direction(centre.0, centre.1, SIZE.0, SIZE.1);
+        viewer::edits::pick(&mut w, origin, dir, 256.0)
+            .unwrap()
+            .unwrap()
+    };
+    let before = hit(&view);
+    let line = click(&mut view, &camera, centre, SIZE, Brush::default(), false).unwrap();
+    assert!(line.starts_with("broke"), "{line}");
+    assert_eq!(
+        view.world().write().block(before.hit).unwrap(),
+        BlockId::AIR
+    );
+    let after = hit(&view);
+    assert_ne!(
+        after.hit, before.hit,
+        "the next pick goes past the broken block"
+    );
+    let stone = TerrainBlocks::palette().1.stone;
+    let brush = Brush::default();
+    assert_eq!(brush.block, stone);
+    let line = click(&mut view, &camera, centre, SIZE, brush, true).unwrap();
+    assert!(line.starts_with("placed"), "{line}");
+    let placed = after.before.expect("the ray crossed air before the hit");
+    assert_eq!(view.world().write().block(placed).unwrap(), stone);
+    // The frame shows it: drawn like a view loaded from the edited world.
+    let edited = frame(&ctx, &mut view, &camera);
+    let again = world();
+    again
+        .apply(&[
+            Edit::Block {
+                pos: before.hit,
+                id: BlockId::AIR,
+            },
+            Edit::Block {
+                pos: placed,
+                id: stone,
+            },
+        ])
+        .unwrap();
+    let mut fresh = loaded(&ctx, again, &camera);
+    assert_eq!(differing(&edited, &frame(&ctx, &mut fresh, &camera)), 0);
 }
