@@ -164,6 +164,49 @@ mod tests {
     use super::*;
 
     #[test]
+    fn autosave_saves_unsaved_edits_when_due_and_names_a_bad_folder() {
+        let world = SharedWorld::new(1, voxel_core::ChunkSize::S16, 2).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let mut autosave = Autosave::new(dir.path().join("world"));
+        assert_eq!(autosave.tick(&world, true), Ok(None), "nothing to save");
+        world
+            .apply(&[Edit::Block {
+                pos: voxel_core::WorldPos::new(0, 60, 0),
+                id: TerrainBlocks::palette().1.stone,
+            }])
+            .unwrap();
+        assert_eq!(autosave.tick(&world, false), Ok(None), "not due yet");
+        let line = autosave.tick(&world, true).unwrap().unwrap();
+        assert!(line.contains("saved 1 region files"), "{line}");
+        assert!(!world.unsaved());
+        let (again, report) =
+            SharedWorld::load(&dir.path().join("world"), 1, voxel_core::ChunkSize::S16, 2).unwrap();
+        assert_eq!(report.chunks, 1);
+        assert_eq!(
+            again
+                .write()
+                .block(voxel_core::WorldPos::new(0, 60, 0))
+                .unwrap(),
+            TerrainBlocks::palette().1.stone
+        );
+        // A folder under a file cannot be made: the error names it.
+        let file = dir.path().join("file");
+        std::fs::write(&file, b"x").unwrap();
+        let mut bad = Autosave::new(file.join("world"));
+        world
+            .apply(&[Edit::Block {
+                pos: voxel_core::WorldPos::new(1, 60, 0),
+                id: TerrainBlocks::palette().1.stone,
+            }])
+            .unwrap();
+        let e = bad.tick(&world, true).unwrap_err();
+        assert!(
+            e.contains("saving the world to") && e.contains("file"),
+            "{e}"
+        );
+    }
+
+    #[test]
     fn the_brush_stays_in_range_and_picks_blocks() {
         let b = Brush::default();
         assert_eq!(b.resized(false).radius, 0);
