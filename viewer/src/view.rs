@@ -120,6 +120,8 @@ impl StreamedView {
                 .map_err(StreamError::Renderer)?;
         }
         if let Some(next) = &mut self.next {
+            // The replacement loads in the memory the drawn view leaves: no cache beside it.
+            self.current.drop_cache()?;
             next.update(camera)?;
             next.renderer_mut()
                 .flush_uploads()

@@ -163,7 +163,9 @@ fn a_replacement_streamer_shares_the_view_s_memory() {
     let (mut most, mut raised) = (0, false);
     load_checking(&mut view, &camera(), |view| {
         let (current, next) = view.status();
-        let together = current.node_bytes + next.as_ref().map_or(0, |n| n.node_bytes);
+        let together = current.node_bytes
+            + current.cached_bytes
+            + next.as_ref().map_or(0, |n| n.node_bytes + n.cached_bytes);
         assert!(
             together <= memory,
             "{together} node bytes resident in the two streamers, memory {memory}"
@@ -177,7 +179,11 @@ fn a_replacement_streamer_shares_the_view_s_memory() {
         "the replacement loaded beside the drawn view at a raised budget"
     );
     assert!(most > greedy_bytes, "{most} bytes at most");
-    assert_eq!(view.memory().used(), view.streamer().status().node_bytes);
+    let status = view.streamer().status();
+    assert_eq!(
+        view.memory().used(),
+        status.node_bytes + status.cached_bytes
+    );
     assert!(view.streamer().holes().is_empty());
 }
 

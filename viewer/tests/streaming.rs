@@ -110,8 +110,8 @@ fn streaming_converges_and_follows_the_camera() {
         "levels of detail beyond the near ring"
     );
 
-    // 300 blocks east: the nodes of the old view that the new one lacks are freed, the new
-    // ones loaded.
+    // 300 blocks east: the nodes of the old view that the new one lacks leave the entries
+    // (freed, or kept in the cache of dropped nodes), the new ones are loaded.
     let before = view.streamer().counters();
     let moved = Camera {
         voxel: WorldPos::new(first.voxel.x + 300 / 16 * 16, first.voxel.y, first.voxel.z),
@@ -128,7 +128,8 @@ fn streaming_converges_and_follows_the_camera() {
         "left nodes freed"
     );
     let after = view.streamer().counters();
-    assert!(after.freed > before.freed, "{after:?}");
+    let cached = view.streamer().status().cached_nodes;
+    assert!(after.freed > before.freed || cached > 0, "{after:?}");
     assert!(after.uploaded > before.uploaded);
     assert_eq!(
         view.renderer().chunk_count(),

@@ -1,4 +1,4 @@
-//! Surfaces with a material ([`SurfaceMaterial`]): the Lambertian model of [`shade`] plus a
+//! Surfaces with a material ([`SurfaceMaterial`]): the Lambertian model of [`shade`](super::shade) plus a
 //! specular lobe, and transparent layers (water, glass) tinted with the distance the view ray
 //! travels inside them. The WGSL twin is `render_common.wgsl`'s `shade_surface` and
 //! `transparent_layer`, operation for operation.
@@ -17,7 +17,7 @@
 //!
 //! The sun's lobe uses the implicit visibility term (`G / (4 n.l n.v)` with
 //! `G = n.l n.v`), so its peak falls with roughness twice: through `gloss` and through `D`.
-//! With roughness 1 the lobe is zero and the result is exactly [`shade`]'s (the code skips
+//! With roughness 1 the lobe is zero and the result is exactly [`shade`](super::shade)'s (the code skips
 //! the lobe; `kd` is 1), which is what every palette without MagicaVoxel materials draws.
 //! A smooth metal loses its diffuse light and reflects the sky and the sun tinted by its
 //! colour; a fully rough metal is drawn like a diffuse surface of its colour. The diffuse
@@ -38,7 +38,7 @@
 //! out      = colour + behind * (1 - coverage)
 //! ```
 //!
-//! `lit` is the surface's [`shade`] colour: a deep volume reads as its material's colour, a
+//! `lit` is the surface's [`shade`](super::shade) colour: a deep volume reads as its material's colour, a
 //! shallow one as the floor tinted by it. One block of water seen straight down is tinted
 //! exactly as a thin pane of the same alpha, and a rough layer reflects nothing, so without
 //! the volume flag and with roughness 1 the layer is plain alpha blending. `d` is measured

@@ -53,6 +53,13 @@
 //! The node bytes are also counted against a [`NodeMemory`] that the streamers of one view
 //! share (`crate::view`), so a replacement streamer loads in what the drawing one leaves.
 //!
+//! # The cache of dropped nodes
+//!
+//! Nodes no plan selects any more are not freed at once but kept resident in a
+//! least-recently-used cache (`streamer/cache.rs`), so a plan that wants one again takes it
+//! back without meshing or uploading; the cache is the first to go when memory or the node
+//! table is short.
+//!
 //! # Edits
 //!
 //! Nodes are built from a [`SharedWorld`](crate::edits::SharedWorld): the terrain with its
@@ -107,6 +114,10 @@ pub struct StreamStatus {
     pub memory_floor_px: Option<f32>,
     /// Why the memory last forced a coarser budget (the refusal, named), when it did.
     pub memory_note: Option<String>,
+    /// Nodes the plans dropped, kept resident for a return (`StreamSettings::cache_nodes`).
+    pub cached_nodes: usize,
+    /// Bytes of the cached nodes' data (counted in the view's node memory).
+    pub cached_bytes: u64,
     /// Nodes being built.
     pub in_flight: usize,
     /// Built nodes waiting for the upload limit.

@@ -161,6 +161,11 @@ pub struct StreamSettings {
     /// The builders pause at this many (back-pressure), so a slow upload or a full GPU never
     /// piles meshes up in memory.
     pub max_built_nodes: u32,
+    /// Nodes the plans dropped kept resident (a least-recently-used cache, `streamer/cache.rs`),
+    /// so flying back over ground just left reuses them without meshing or uploading; their
+    /// bytes count against `memory_bytes` and they are the first to go when memory or the
+    /// node table is short. 0: dropped nodes are freed at once.
+    pub cache_nodes: u32,
     /// glTF props every renderer of the stream draws (`--prop`, `--scatter`).
     pub props: Option<std::sync::Arc<crate::props::PropScene>>,
 }
@@ -191,6 +196,9 @@ impl Default for StreamSettings {
             // and the terrain's nodes take about 9 KiB: 1024 nodes keep the uploads fed at
             // about 9 MiB of meshes.
             max_built_nodes: 1024,
+            // About what a view selects beyond the committed and the wanted plan in the
+            // default node table (65,536 slots, some 46,000 nodes a view).
+            cache_nodes: 8192,
             props: None,
         }
     }

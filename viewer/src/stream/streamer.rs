@@ -1,6 +1,7 @@
 //! [`Streamer`]: one renderer and the nodes resident in it, kept to what the committed and
 //! the wanted plans select (see the [module docs](super) for the protocol).
 
+mod cache;
 mod edits;
 
 pub use edits::Invalidated;
@@ -64,6 +65,10 @@ pub struct StreamCounters {
     pub commits: u64,
     /// Resident nodes rebuilt after edits and swapped in.
     pub rebuilt: u64,
+    /// Nodes a plan took back from the cache of dropped nodes (no meshing, no upload).
+    pub cache_hits: u64,
+    /// Nodes evicted from that cache.
+    pub evicted: u64,
 }
 
 /// One renderer streaming the terrain around the camera (see the [module docs](super)).
@@ -89,6 +94,8 @@ pub struct Streamer {
     dirty_since: HashMap<NodeKey, u64>,
     /// Resident nodes the workers are rebuilding after an edit (drawn meanwhile as they are).
     rebuilding: HashSet<NodeKey>,
+    /// Nodes the plans dropped, kept resident for a return (`streamer/cache.rs`).
+    cache: cache::NodeCache,
     finished: Receiver<Finished>,
     uploads: VecDeque<(NodeKey, BuiltNode)>,
     to_free: VecDeque<NodeKey>,
@@ -175,6 +182,7 @@ impl Streamer {
             read_at: HashMap::new(),
             dirty_since: HashMap::new(),
             rebuilding: HashSet::new(),
+            cache: cache::NodeCache::default(),
             entries: HashMap::new(),
             resident: (0, 0),
             committed: None,
@@ -295,6 +303,8 @@ impl Streamer {
             budget_px: self.committed.as_ref().map(|c| c.params.budget_px),
             memory_floor_px: (self.memory_floor_px > 0.0).then_some(self.memory_floor_px),
             memory_note: self.memory_note.clone(),
+            cached_nodes: self.cached().0,
+            cached_bytes: self.cached().1,
             in_flight: self.in_flight,
             queued_uploads: self.uploads.len(),
             freeing: self.to_free.len(),
@@ -448,9 +458,10 @@ impl Streamer {
         let mut pending = 0;
         let mut queue = Vec::new();
         for &key in &plan.load {
-            match self.entries.get(&key) {
+            match self.entries.get(&key).copied() {
                 Some(Entry::Resident(_)) => {}
                 Some(_) => pending += 1,
+                None if self.take_cached(key) => {}
                 None => {
                     pending += 1;
                     queue.push(key);
@@ -641,6 +652,8 @@ impl Streamer {
         while let Some(key) = self.to_free.pop_front() {
             self.free(key)?;
         }
+        // The cache goes before any detail the view needs.
+        self.evict_all()?;
         Ok(self.counters.freed > before)
     }
 
@@ -648,6 +661,9 @@ impl Streamer {
     fn free(&mut self, key: NodeKey) -> Result<(), StreamError> {
         // A node being rebuilt is freed when its rebuild comes back (`rebuilt`).
         if self.needed(&key) || self.rebuilding.contains(&key) {
+            return Ok(());
+        }
+        if self.cache_dropped(key)? {
             return Ok(());
         }
         // Loading or built nodes are dropped when they arrive or are reached instead.
@@ -744,7 +760,7 @@ impl Drop for Streamer {
     /// Gives the resident nodes' bytes back to the shared node memory (their renderer goes
     /// with the streamer).
     fn drop(&mut self) {
-        self.memory.give_back(self.resident.1);
+        self.memory.give_back(self.resident.1 + self.cache.bytes());
     }
 }
 

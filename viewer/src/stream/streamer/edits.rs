@@ -64,6 +64,8 @@ impl Streamer {
                 level: world_key.level,
                 coord: world_key.coord,
             };
+            // A cached node's data is stale now: freed, built afresh if a plan wants it.
+            self.evict(key)?;
             let Some(entry) = self.entries.get(&key) else {
                 continue;
             };
