@@ -196,9 +196,9 @@ impl Default for StreamSettings {
             // and the terrain's nodes take about 9 KiB: 1024 nodes keep the uploads fed at
             // about 9 MiB of meshes.
             max_built_nodes: 1024,
-            // About what a view selects beyond the committed and the wanted plan in the
-            // default node table (65,536 slots, some 46,000 nodes a view).
-            cache_nodes: 8192,
+            // A few seconds of flight's worth of dropped nodes (the flight streams about 1,100
+            // nodes a second), small beside a view's 46,000 in the 65,536-slot table.
+            cache_nodes: 4096,
             props: None,
         }
     }

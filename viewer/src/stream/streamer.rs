@@ -652,9 +652,9 @@ impl Streamer {
         while let Some(key) = self.to_free.pop_front() {
             self.free(key)?;
         }
-        // The cache goes before any detail the view needs.
-        self.evict_all()?;
-        Ok(self.counters.freed > before)
+        // The cache goes before any detail the view needs, its older half at a time.
+        let evicted = self.evict_older_half()?;
+        Ok(self.counters.freed > before || evicted)
     }
 
     /// Frees `key` unless a plan selects it again.

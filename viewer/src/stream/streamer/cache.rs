@@ -12,7 +12,8 @@
 //! # Memory
 //!
 //! Cached bytes stay taken from the view's [`NodeMemory`](crate::stream::NodeMemory). When an
-//! upload finds no room, in the memory or in the node table, the cache is emptied first
+//! upload finds no room, in the memory, a gigabuffer or the node table, the older half of the
+//! cache goes first, again until the upload fits or the cache is empty
 //! (`Streamer::free_unneeded`), before the budget is raised: the view's own detail never
 //! gives way to it. A node an edit dirties is dropped from the cache (its data is stale).
 
@@ -131,6 +132,20 @@ impl Streamer {
         }
         self.counters.evicted += 1;
         Ok(())
+    }
+
+    /// Evicts the older half of the cache (at least one node): true when it held any. An
+    /// upload that finds no room calls it until the upload fits, so a short gigabuffer costs
+    /// the few oldest nodes, not the whole cache in one frame.
+    pub(super) fn evict_older_half(&mut self) -> Result<bool, StreamError> {
+        let n = self.cache.len().div_ceil(2);
+        for _ in 0..n {
+            let Some(oldest) = self.cache.oldest() else {
+                break;
+            };
+            self.evict(oldest)?;
+        }
+        Ok(n > 0)
     }
 
     /// Empties the cache: true when that gave memory or table room back.

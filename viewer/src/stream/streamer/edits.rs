@@ -208,8 +208,10 @@ impl Streamer {
             None => None,
             Some(built) => {
                 let size = built.bytes();
-                let fits = self.memory.try_take(size)
-                    || (self.free_unneeded()? && self.memory.try_take(size));
+                let mut fits = self.memory.try_take(size);
+                while !fits && self.free_unneeded()? {
+                    fits = self.memory.try_take(size);
+                }
                 if !fits {
                     self.memory.take_anyway(old_bytes);
                     return Err(StreamError::Memory(format!(
@@ -226,12 +228,16 @@ impl Streamer {
                     lod: key.level,
                     layers: built.layers(),
                 };
-                match self.renderer.upload_chunk(&data) {
-                    Ok(handle) => Some((handle, size)),
-                    Err(e) => {
-                        self.memory.give_back(size);
-                        self.memory.take_anyway(old_bytes);
-                        return Err(StreamError::Upload(key, e));
+                loop {
+                    match self.renderer.upload_chunk(&data) {
+                        Ok(handle) => break Some((handle, size)),
+                        // No room in a gigabuffer or the table: what no view needs goes first.
+                        Err(e) if super::out_of_room(&e) && self.free_unneeded()? => {}
+                        Err(e) => {
+                            self.memory.give_back(size);
+                            self.memory.take_anyway(old_bytes);
+                            return Err(StreamError::Upload(key, e));
+                        }
                     }
                 }
             }
