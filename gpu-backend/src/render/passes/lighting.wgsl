@@ -91,12 +91,18 @@ fn lit_pixel(p: vec2<u32>) -> vec3<f32> {
         let t = transparent[at];
         let d = bitcast<f32>(t.y);
         if d > depth {
-            // A transparent far block, tinted as one block deep (lighting::surface).
+            // A transparent far block, tinted by the distance to the opaque surface behind it
+            // (lighting::surface; unbounded over the sky), as the transparent pass tints a
+            // meshed layer.
             let over = splat_of(t.x);
             let seen = eye_ray(p, d);
+            var inside = MAX_INSIDE;
+            if depth > 0.0 {
+                inside = eye_ray(p, depth).distance - seen.distance;
+            }
             let m = surface_material(material_of(over.block));
             let n = vec3<f32>(face_normal(over.face));
-            let layer = haze_layer(transparent_layer(m, n, over.ao, seen.dir, 1.0), seen.dir, seen.distance);
+            let layer = haze_layer(transparent_layer(m, n, over.ao, seen.dir, inside), seen.dir, seen.distance);
             colour = layer.rgb + colour * (1.0 - layer.a);
         }
     }
