@@ -48,7 +48,10 @@ impl TerrainBlocks {
                 roughness: 20,
                 emission: 0,
                 metalness: 0,
-                volume: true,
+                // A thin layer: the far paths that draw transparent blocks without the depth
+                // behind them (sprites, camera quads) could not tint a volume alike, and a
+                // level-of-detail border would show it.
+                volume: false,
                 class: MaterialClass::Transparent,
             }),
             snow: add(Material::opaque(240, 240, 245)),
