@@ -378,7 +378,7 @@ fn matl_metal_and_emission_match_the_reference() {
 /// The terrain's water is a smooth volume (so `terrain_patch` in `gpu_images` draws it with
 /// the depth tint and the Fresnel reflection on both renderers).
 #[test]
-fn the_terrain_water_is_a_smooth_thin_layer() {
+fn the_terrain_water_is_a_smooth_volume() {
     let palette_water = viewer::scene::terrain_scene(7, ChunkSize::S16, 1, 1, 1).palette;
     let water = palette_water
         .as_slice()
@@ -386,6 +386,5 @@ fn the_terrain_water_is_a_smooth_thin_layer() {
         .find(|m| m.class == MaterialClass::Transparent)
         .copied()
         .expect("the terrain has water");
-    // Smooth (Fresnel sky, sun highlight) and thin: every far path draws it alike.
-    assert!(!water.volume && water.roughness < 255, "{water:?}");
+    assert!(water.volume && water.roughness < 255, "{water:?}");
 }

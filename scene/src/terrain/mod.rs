@@ -48,10 +48,8 @@ impl TerrainBlocks {
                 roughness: 20,
                 emission: 0,
                 metalness: 0,
-                // A thin layer: the far paths that draw transparent blocks without the depth
-                // behind them (sprites, camera quads) could not tint a volume alike, and a
-                // level-of-detail border would show it.
-                volume: false,
+                // A volume: tinted by the depth of water over the ground behind it.
+                volume: true,
                 class: MaterialClass::Transparent,
             }),
             snow: add(Material::opaque(240, 240, 245)),

@@ -24,7 +24,7 @@ use voxel_core::formats::DataKind;
 
 use super::cull::CullFrame;
 use super::frame::FrameCtx;
-use super::shared::{PipelineDesc, depth_state, pipeline};
+use super::shared::{PipelineDesc, depth_state, pipeline, pipeline_with_groups};
 use super::targets::{ALBEDO_FORMAT, HDR_FORMAT, NORMAL_FORMAT};
 use crate::bind::{BindGroupCache, buffer_entry};
 use crate::device::alloc::AllocError;
@@ -110,8 +110,10 @@ impl<'a> FarRasterDraw<'a> {
         pass: &mut RenderPass<'_>,
         frame_group: &BindGroup,
         group: &BindGroup,
+        opaque_depth: &BindGroup,
     ) {
-        self.raster.draw_transparent(pass, frame_group, group);
+        self.raster
+            .draw_transparent(pass, frame_group, group, opaque_depth);
     }
 }
 
@@ -192,6 +194,7 @@ impl FarRaster {
         path: FarPath,
         capacity: u32,
         frame_layout: &BindGroupLayout,
+        opaque_depth_layout: &BindGroupLayout,
     ) -> Result<FarRaster, AllocError> {
         let vertices_per_block = match path {
             FarPath::Sprite => 6,
@@ -247,7 +250,7 @@ impl FarRaster {
                 cull_back: false,
             },
         );
-        let transparent = pipeline(
+        let transparent = pipeline_with_groups(
             device,
             PipelineDesc {
                 label: "transparent far blocks",
@@ -264,6 +267,7 @@ impl FarRaster {
                 depth: depth_state(false),
                 cull_back: false,
             },
+            &[opaque_depth_layout],
         );
         let compute_only = ShaderStages::COMPUTE;
         let range_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -449,13 +453,16 @@ impl FarRaster {
         self.draw(pass, &self.opaque, frame_group, group);
     }
 
-    /// Draws the transparent blocks of the listed entries into the transparent pass.
+    /// Draws the transparent blocks of the listed entries into the transparent pass, tinted by
+    /// the opaque depth behind them (`opaque_depth`, of `Shared::opaque_depth_layout`).
     pub fn draw_transparent(
         &self,
         pass: &mut RenderPass<'_>,
         frame_group: &BindGroup,
         group: &BindGroup,
+        opaque_depth: &BindGroup,
     ) {
+        pass.set_bind_group(2, opaque_depth, &[]);
         self.draw(pass, &self.transparent, frame_group, group);
     }
 

@@ -258,8 +258,7 @@ fn fs_sprite_transparent(in: SpriteVaryings) -> SpriteTransparentOut {
     var out: SpriteTransparentOut;
     out.depth = min(hit.depth, in.position.z);
     let at = vec4<f32>(in.position.xy, out.depth, 1.0);
-    // Far blocks are tinted as one block deep (their depth behind is not bound here).
-    out.colour = transparent_colour(in.bits >> 16u, hit.ao, vec3<f32>(face_normal(hit.face)), at, 1.0);
+    out.colour = transparent_colour(in.bits >> 16u, hit.ao, vec3<f32>(face_normal(hit.face)), at, inside_to_opaque_depth(at));
     return out;
 }
 

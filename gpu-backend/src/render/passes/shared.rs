@@ -36,6 +36,9 @@ pub struct Shared {
     pub quad_layout: BindGroupLayout,
     /// Group 1 of the smooth pipelines.
     pub smooth_layout: BindGroupLayout,
+    /// Group 2 of the transparent pipelines (quads and raster far blocks): the opaque depth
+    /// behind them, which tints volumes.
+    pub opaque_depth_layout: BindGroupLayout,
     /// The frame uniforms (`FrameUniforms`), copied in at the start of each frame.
     pub frame_uniforms: Buffer,
     materials: Buffer,
@@ -85,6 +88,15 @@ impl Shared {
                 buffer_layout_entry(4, vertex, storage),
             ],
         );
+        let opaque_depth_layout = bind_layout(
+            device,
+            "transparent depth",
+            &[texture_layout_entry(
+                0,
+                ShaderStages::FRAGMENT,
+                wgpu::TextureSampleType::Depth,
+            )],
+        );
         let indices = render_model::cull::quad_indices(max_quads_per_draw);
         let quad_indices = crate::device::alloc::create_buffer_init(
             device,
@@ -118,6 +130,7 @@ impl Shared {
             frame_layout,
             quad_layout,
             smooth_layout,
+            opaque_depth_layout,
             frame_uniforms,
             materials,
             material_count,

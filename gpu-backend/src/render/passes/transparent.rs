@@ -9,7 +9,7 @@
 //!
 //! The G-buffer depth is the pass's depth attachment, read-only, and is bound as a texture
 //! too (group 2): a volume (water) is tinted by the distance from its surface to the opaque
-//! surface behind. The raster far draws' transparent blocks are tinted as one block deep.
+//! surface behind, for the raster far draws' transparent blocks as for the quads.
 //!
 //! | group | bindings                                            |
 //! | ----- | --------------------------------------------------- |
@@ -47,15 +47,7 @@ impl TransparentPass {
     /// Compiles the pass's shader and builds its pipeline.
     pub fn new(device: &Device, shared: &Shared) -> TransparentPass {
         let module = TRANSPARENT.create_module(device);
-        let depth_layout = bind_layout(
-            device,
-            "transparent depth",
-            &[texture_layout_entry(
-                0,
-                ShaderStages::FRAGMENT,
-                TextureSampleType::Depth,
-            )],
-        );
+        let depth_layout = shared.opaque_depth_layout.clone();
         let pipeline = pipeline_with_groups(
             device,
             PipelineDesc {
@@ -126,7 +118,7 @@ impl TransparentPass {
                     multiview_mask: None,
                 });
             if let Some((far, group)) = far {
-                far.draw_transparent(&mut pass, ctx.frame_group, group);
+                far.draw_transparent(&mut pass, ctx.frame_group, group, &depth_group);
             }
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, ctx.frame_group, &[]);

@@ -135,6 +135,7 @@ impl Passes {
                 far_choice.path,
                 culls.pass().layout().far_capacity,
                 &shared.frame_layout,
+                &shared.opaque_depth_layout,
             )?)
         } else {
             None
