@@ -94,7 +94,7 @@ impl Shared {
             &[texture_layout_entry(
                 0,
                 ShaderStages::FRAGMENT,
-                wgpu::TextureSampleType::Depth,
+                TextureSampleType::Depth,
             )],
         );
         let indices = render_model::cull::quad_indices(max_quads_per_draw);

@@ -22,17 +22,12 @@
 //! attachment, so `fs_transparent_over_visibility` also hides the quads behind the opaque
 //! visibility buffer.
 
-use wgpu::{
-    BindGroup, BindGroupLayout, BlendState, ColorTargetState, Device, RenderPipeline, ShaderStages,
-    TextureSampleType,
-};
+use wgpu::{BindGroup, BindGroupLayout, BlendState, ColorTargetState, Device, RenderPipeline};
 
 use super::cull::CullOutput;
 use super::far_raster::FarRasterDraw;
 use super::frame::{FrameCtx, Recorder};
-use super::shared::{
-    PipelineDesc, Shared, bind_layout, depth_state, pipeline_with_groups, texture_layout_entry,
-};
+use super::shared::{PipelineDesc, Shared, depth_state, pipeline_with_groups};
 use super::targets::HDR_FORMAT;
 use crate::shaders::TRANSPARENT;
 
