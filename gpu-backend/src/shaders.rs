@@ -111,6 +111,7 @@ pub const SHADOW_FILL: ShaderSpec = ShaderSpec {
     name: "shadow_fill",
     body: concat!(
         include_str!("shaders/lod.wgsl"),
+        include_str!("shaders/shadow_grid.wgsl"),
         include_str!("render/passes/shadow_fill.wgsl")
     ),
 };
@@ -121,6 +122,7 @@ pub const SHADOW_TRACE: ShaderSpec = ShaderSpec {
     name: "shadow_trace",
     body: concat!(
         include_str!("shaders/render_common.wgsl"),
+        include_str!("shaders/shadow_grid.wgsl"),
         include_str!("render/passes/shadow_trace.wgsl")
     ),
 };

@@ -3,7 +3,7 @@
 // the solid cell behind each quad, 2^level blocks on each axis at the node's level
 // (render_model::lighting::shadow states why that shell is enough and why it closes at LOD
 // borders). One workgroup per table slot of the bound quad page; the grid is cleared before.
-// FORMATS_WGSL and lod.wgsl come before this body.
+// FORMATS_WGSL, lod.wgsl and shadow_grid.wgsl (the grid's layout) come before this body.
 
 // Twin of render_model::lighting::ShadowFillUniforms.
 struct ShadowFillUniforms {
@@ -40,15 +40,13 @@ fn mark_box(lo: vec3<i32>, hi: vec3<i32>) {
     }
     for (var z = a.z; z < b.z; z += 1) {
         for (var y = a.y; y < b.y; y += 1) {
-            let row = u32(y + z * GRID_CELLS) * u32(GRID_CELLS);
-            // The row's x cells, a word at a time.
+            // The row's x cells, a word (8 cells of a brick) at a time.
             var x = a.x;
             while x < b.x {
-                let bit = row + u32(x);
-                let first = bit & 31u;
-                let n = min(32u - first, u32(b.x - x));
-                let mask = select(((1u << n) - 1u) << first, 0xffffffffu, n == 32u);
-                atomicOr(&grid[bit >> 5u], mask);
+                let g = vec3<i32>(x, y, z);
+                let first = grid_bit(g);
+                let n = min(8u - u32(x & 7), u32(b.x - x));
+                atomicOr(&grid[grid_word(g)], ((1u << n) - 1u) << first);
                 x += i32(n);
             }
         }

@@ -2,7 +2,8 @@
 // shades (the nearer of the G-buffer's and the opaque visibility buffer's), by the DDA march
 // of render_model::lighting::shadow through the shadow grid (the same operations in the same
 // order), written as a Visibility word (bit 0 sun, bits 1..4 open sky directions) for the
-// lighting pass. 8 x 8 pixels per workgroup. render_common.wgsl comes before this body.
+// lighting pass. 8 x 8 pixels per workgroup. render_common.wgsl and shadow_grid.wgsl (the
+// grid's layout) come before this body.
 
 // Twin of render_model::lighting::ShadowTraceUniforms.
 struct ShadowTraceUniforms {
@@ -44,8 +45,7 @@ fn grid_solid(cell: vec3<i32>) -> bool {
     if any(g < vec3<i32>(0)) || any(g >= vec3<i32>(GRID_CELLS)) {
         return false;
     }
-    let bit = u32(g.x + (g.y + g.z * GRID_CELLS) * GRID_CELLS);
-    return ((grid[bit >> 5u] >> (bit & 31u)) & 1u) != 0u;
+    return ((grid[grid_word(g)] >> grid_bit(g)) & 1u) != 0u;
 }
 
 // Twin of shadow::march_within with a cell size of 1, and one shortcut: a ray that leaves
