@@ -744,3 +744,79 @@ fn the_terrain_and_a_model_are_shadowed_like_the_reference() {
         image_support::write_pngs(&name, &gpu.image, &reference);
     }
 }
+
+/// The level-0 nodes of `scene`, meshed as the image tests mesh them.
+fn level0_nodes(scene: &TestScene) -> Vec<mesher::lod::NodeMesh> {
+    let classes = BlockClasses::from_palette(&scene.palette);
+    let mut coords: Vec<ChunkCoord> = scene.world.iter().map(|(c, _)| c).collect();
+    coords.sort_unstable();
+    mesh_nodes(&scene.world, 0, &coords, &classes, &NodeSettings::default()).expect("level 0")
+}
+
+/// The grid is kept only while neither the camera nor the resident set changes: under a still
+/// camera, swapping the floor's nodes for the pillar's shows the pillar's shadow in the next
+/// frame, a frame with nothing changed gives the same pixels, and swapping back removes it.
+#[test]
+fn the_grid_follows_the_resident_set_under_a_still_camera() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let with_pillar = pillar();
+    let mut palette = MaterialPalette::new();
+    let floor_id = palette.push(Material::opaque(120, 160, 90)).unwrap();
+    palette.push(Material::opaque(170, 170, 180)).unwrap();
+    let floor_only = scene_from_fn(
+        palette,
+        ChunkSize::S16,
+        [-12, -1, -12],
+        [12, 8, 12],
+        0,
+        move |_, y, _| if y == -1 { floor_id } else { BlockId::AIR },
+    );
+    let config = RendererConfig::new(WIDTH, HEIGHT, with_pillar.world.size());
+    let mut renderer = Renderer::new(&ctx, &config, &with_pillar.palette).expect("renderer");
+    renderer.set_camera(&with_pillar.camera);
+    renderer
+        .set_lighting(&shadowed())
+        .expect("the lighting renders");
+    let frame = |renderer: &mut Renderer| {
+        renderer.render().expect("frame");
+        let visibility = renderer
+            .read_shadow_visibility()
+            .expect("visibility readback")
+            .expect("shadows are on");
+        let sunlit = visibility.iter().filter(|v| v.sun).count();
+        (renderer.read_image().expect("readback").rgba, sunlit)
+    };
+    let floor_handles = upload_nodes(&mut renderer, &level0_nodes(&floor_only)).expect("upload");
+    let (_, open) = frame(&mut renderer);
+    for handle in floor_handles {
+        renderer.free_chunk(handle).expect("free");
+    }
+    let pillar_handles = upload_nodes(&mut renderer, &level0_nodes(&with_pillar)).expect("upload");
+    let (shadowed_rgba, lit) = frame(&mut renderer);
+    let (again, lit_again) = frame(&mut renderer);
+    // The pillar hides part of the floor from the sun (and hides some floor from the camera).
+    let cpu = cpu_visibility(&with_pillar, &shadowed());
+    let dark = cpu.iter().flatten().filter(|c| !c.seen.sun).count();
+    assert!(dark >= 100, "the reference shadows only {dark} pixels");
+    assert!(
+        lit + dark / 2 < open,
+        "the pillar's shadow is not in the frame after the upload: {lit} sunlit pixels, \
+         {open} before it"
+    );
+    assert_eq!(lit_again, lit, "a frame with nothing changed");
+    assert!(
+        again == shadowed_rgba,
+        "a frame with nothing changed drew other pixels"
+    );
+    for handle in pillar_handles {
+        renderer.free_chunk(handle).expect("free");
+    }
+    upload_nodes(&mut renderer, &level0_nodes(&floor_only)).expect("upload");
+    let (_, open_again) = frame(&mut renderer);
+    assert_eq!(
+        open_again, open,
+        "the shadow stays after the pillar is gone"
+    );
+}

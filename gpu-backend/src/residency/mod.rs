@@ -76,6 +76,8 @@ pub struct Residency {
     smooth_chunks: u32,
     chunk_size: ChunkSize,
     smooth: SmoothFrame,
+    /// Uploads and frees so far (see [`Residency::changes`]).
+    changes: u64,
 }
 
 impl Residency {
@@ -99,6 +101,7 @@ impl Residency {
             smooth_chunks: 0,
             chunk_size: config.chunk_size,
             smooth: config.smooth,
+            changes: 0,
         })
     }
 
@@ -159,6 +162,12 @@ impl Residency {
         out
     }
 
+    /// Uploads and frees so far: two equal counts mean the same resident nodes with the same
+    /// data, so a pass that derives data from them (the shadow grid) may keep what it made.
+    pub fn changes(&self) -> u64 {
+        self.changes
+    }
+
     /// Uploads a node's mesh (its bytes reach the GPU with the next [`flush`](Self::flush))
     /// and returns its handle. On error nothing stays allocated.
     pub fn upload(&mut self, mesh: &ChunkMeshData<'_>) -> Result<ChunkHandle, ResidencyError> {
@@ -193,6 +202,7 @@ impl Residency {
                 smooth,
             },
         );
+        self.changes += 1;
         Ok(uploaded.handle)
     }
 
@@ -233,6 +243,7 @@ impl Residency {
         self.table.remove(resident.slot)?;
         self.nodes.remove(resident.slot)?;
         self.gigabuffer.free(handle)?;
+        self.changes += 1;
         Ok(())
     }
 

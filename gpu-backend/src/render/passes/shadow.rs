@@ -10,9 +10,10 @@
 //! | trace | `shadow trace` | `shadow_trace.wgsl` | per pixel (8 x 8 per workgroup), the surface the lighting pass shades, its sun ray and 5 sky rays marched through the grid, one [`Visibility`] word out |
 //!
 //! The lighting pass reads the words (binding 7, `FRAME_SHADOWS` set) and scales the sun term
-//! and the hemisphere ambient by them. The grid is filled every frame: it follows the
-//! resident set and the camera without bookkeeping, for about the cost of a 2 MiB clear and
-//! one pass over the quads of the nodes inside it.
+//! and the hemisphere ambient by them. The grid is filled again whenever the camera, its
+//! level-of-detail anchor or the resident set changed ([`ShadowPass::needs_fill`]), for about
+//! the cost of a 2 MiB clear and one pass over the quads of the nodes inside it; a still view
+//! keeps it.
 //!
 //! Made with the first frame that switches shadows on ([`Lighting::shadows`]); frames
 //! without them record nothing of it, bind a stand-in buffer, and are the image without
@@ -26,6 +27,8 @@
 //! [`Lighting::shadows`]: render_model::lighting::Lighting::shadows
 //! [`Visibility`]: render_model::lighting::shadow::Visibility
 //! [`GRID_CELLS`]: render_model::lighting::shadow::GRID_CELLS
+
+use std::cell::Cell;
 
 use wgpu::{
     BindGroupLayout, Buffer, BufferBindingType, BufferUsages, ComputePipeline, Device,
@@ -65,6 +68,10 @@ pub struct ShadowPass {
     visibility: Buffer,
     /// The pixels `visibility` holds.
     pixels: u64,
+    /// What the grid holds: the fill of these uniforms over the resident set after this many
+    /// changes ([`Residency::changes`](crate::residency::Residency::changes)); `None` before
+    /// the first fill.
+    filled: Cell<Option<(ShadowFillUniforms, u64)>>,
 }
 
 /// What one frame's shadow pass needs besides the frame context.
@@ -72,8 +79,13 @@ pub struct ShadowPass {
 pub struct ShadowParams {
     /// The fill's uniforms (`page`, `bound_capacity` set per page by the pass).
     pub fill: ShadowFillUniforms,
+    /// [`Residency::changes`](crate::residency::Residency::changes) of the frame.
+    pub changes: u64,
     /// The trace's uniforms.
     pub trace: ShadowTraceUniforms,
+    /// Whether the grid is cleared and filled this frame: false when it already holds the
+    /// fill of the same uniforms over the same resident set ([`ShadowPass::needs_fill`]).
+    pub refill: bool,
 }
 
 impl ShadowPass {
@@ -150,6 +162,7 @@ impl ShadowPass {
             trace_uniforms,
             visibility: visibility_buffer(device, pixels)?,
             pixels,
+            filled: Cell::new(None),
         })
     }
 
@@ -188,7 +201,15 @@ impl ShadowPass {
         self.grid.size() + self.visibility.size()
     }
 
-    /// Clears the grid (a frame's first commands).
+    /// Whether the grid must be filled again for `fill` over a resident set after `changes`
+    /// uploads and frees. The grid depends on nothing else (the level-of-detail rule from the
+    /// camera, the camera's block, the table and the quads), so a still camera over an
+    /// unchanged resident set keeps its grid and skips both the clear and the fill.
+    pub fn needs_fill(&self, fill: &ShadowFillUniforms, changes: u64) -> bool {
+        self.filled.get() != Some((*fill, changes))
+    }
+
+    /// Clears the grid (a frame's first commands, when [`ShadowParams::refill`] is set).
     pub fn clear(&self, encoder: &mut wgpu::CommandEncoder) {
         encoder.clear_buffer(&self.grid, 0, None);
     }
@@ -232,8 +253,12 @@ impl ShadowPass {
                 ],
             ));
         }
+        if params.refill {
+            // Recorded now, after the frame's clear: the grid holds this fill from here on.
+            self.filled.set(Some((params.fill, params.changes)));
+        }
         rec.step("shadow grid", true, |rec| {
-            if slots == 0 {
+            if slots == 0 || !params.refill {
                 return;
             }
             let pass = rec.compute();

@@ -149,7 +149,18 @@ impl Renderer {
             bound_capacity: 0,
         };
         let trace = ShadowTraceUniforms::new(&settings, camera.fraction.to_array());
-        Ok(Some(ShadowParams { fill, trace }))
+        let changes = self.residency.changes();
+        let refill = self
+            .passes
+            .shadow
+            .as_ref()
+            .is_none_or(|pass| pass.needs_fill(&fill, changes));
+        Ok(Some(ShadowParams {
+            fill,
+            changes,
+            trace,
+            refill,
+        }))
     }
 
     /// Uploads the props' changed records and this frame's cull uniforms; `None` when no
@@ -284,7 +295,7 @@ impl Renderer {
             far.raster.clear(encoder);
         }
         let shadow = passes.shadow.as_ref().zip(shadow_params.as_ref());
-        if let Some((shadow, _)) = shadow {
+        if let Some((shadow, _)) = shadow.filter(|(_, params)| params.refill) {
             shadow.clear(encoder);
         }
         let pyramid = passes.hiz.as_ref().map(|p| p.texture_view());
