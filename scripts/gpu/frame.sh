@@ -32,6 +32,9 @@
 #                frame; and the flight with 10,000 Ducks scattered over the terrain
 #   shadows      the headline frame with sun shadows and sky visibility (`gpu_bench --shadows`,
 #                no reference) and the flight with `--shadows on` (compare: headline, flight)
+#   features     the headline frame with each image feature (FXAA, shadows, haze, grass) alone
+#                and all together against none (`gpu_bench --features`): GPU cost and image
+#                difference per row; its JSON is docs/data/gpu_bench_features.json's form
 #   edits        the flight without edits and with `--edits-per-second 1000` (spheres of air of
 #                radius 4 carved along the path): frame times and edit-to-screen latency
 #   flightnodes  the same with the benchmark's far threshold (`--far-px 1.5`), and with it and
@@ -123,6 +126,7 @@ declare -A config=(
     [flight-edits]="viewer||${flight[*]} --edits-per-second 1000"
     [shadows]="gpu_bench||--side $s4096 $common --opaque compute --frames $frames --shadows --reference off"
     [flight-shadows]="viewer||${flight[*]} --shadows on"
+    [features]="gpu_bench||--side $s4096 $common --opaque compute --frames $frames --features --reference off"
 )
 
 # Sets -> configurations, in the order given.
@@ -145,12 +149,13 @@ for s in "${sets[@]}"; do
         flightnodes) names+=(flight-far15 flight-node8) ;;
         edits) names+=(flight flight-edits) ;;
         shadows) names+=(shadows flight-shadows) ;;
+        features) names+=(features) ;;
         props) names+=(props flight-props) ;;
         all) names+=(headline paths distance-1024 distance-16384 distance-1024 distance-16384
                      budgets farpx farpaths nodesize-16 nodesize-8 cpu-1024 cpu-4096 cpu-16384
                      validation-off validation-on validation-off validation-on grass props callgrind
                      flight flight-compute flight-raster flight-far15 flight-node8 flight-props
-                     flight-edits shadows flight-shadows) ;;
+                     flight-edits shadows flight-shadows features) ;;
         *) echo "frame.sh: unknown set $s (see the header of $0)" >&2; exit 2 ;;
     esac
 done

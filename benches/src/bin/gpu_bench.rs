@@ -141,6 +141,99 @@ struct Args {
     /// Write the full-detail image to this PNG.
     #[arg(long)]
     reference_png: Option<std::path::PathBuf>,
+    /// Instead of the settings table: the image features (FXAA, sun shadows and sky
+    /// visibility, distance haze, grass) none, each alone and all, at the first budget, far
+    /// path, far threshold, occlusion, opaque and full-screen setting given: each row's GPU
+    /// cost and its image difference from the row without any (`benches::gpu_bench::features`).
+    /// Grass needs clutter: `--clutter` defaults to the viewer's 2 with it.
+    #[arg(long)]
+    features: bool,
+}
+
+/// The renderer's far request for a command-line far path.
+fn far_request(far: Far) -> FarRequest {
+    match far {
+        Far::Off => FarRequest::Off,
+        Far::Splat => FarRequest::Path(FarPath::Splat),
+        Far::Sprite => FarRequest::Path(FarPath::Sprite),
+        Far::Quads3 => FarRequest::Path(FarPath::CameraQuads),
+        Far::Auto => FarRequest::Auto,
+    }
+}
+
+/// `--features`: the feature table on one renderer of `terrain`, written to `--out` and
+/// `--json` when given.
+fn bench_features_at(
+    args: &Args,
+    ctx: &GpuContext,
+    terrain: &LodTerrain,
+    params: &[render_model::cull::LodParams],
+    mut lines: Vec<String>,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let first = |what: &str| format!("--features needs at least one {what}");
+    let far = far_request(*args.far.first().ok_or_else(|| first("--far"))?);
+    let occlusion = *args.occlusion.first().ok_or_else(|| first("--occlusion"))?;
+    let opaque = match args.opaque.first().ok_or_else(|| first("--opaque"))? {
+        Opaque::Raster => OpaquePath::Raster,
+        Opaque::Compute => OpaquePath::Compute,
+    };
+    let fullscreen = match args
+        .fullscreen
+        .first()
+        .ok_or_else(|| first("--fullscreen"))?
+    {
+        Screen::Compute => FullscreenPath::Compute,
+        Screen::Fragment => FullscreenPath::Fragment,
+    };
+    let budget = *args.budget.first().ok_or_else(|| first("--budget"))?;
+    let far_px = *args.far_px.first().ok_or_else(|| first("--far-px"))?;
+    let mut renderer = benches::gpu_bench::renderer_with(
+        ctx,
+        terrain,
+        (args.width, args.height),
+        far,
+        occlusion,
+        opaque,
+    )?;
+    renderer.set_camera(&bench_camera());
+    benches::gpu_bench::upload_terrain_where(&mut renderer, terrain, |n| {
+        selected_by_any(params, n.level, n.coord)
+    })?;
+    renderer.set_fullscreen_path(fullscreen);
+    renderer.set_lod(Some(render_model::cull::LodSettings {
+        budget_px: budget,
+        far_cell_px: far_px,
+        ..Default::default()
+    }))?;
+    let setting = format!(
+        "{}² columns in {}³ chunks, budget {budget} px, far {:?} at {far_px} px, occlusion {}, \
+         opaque {opaque:?}, full-screen {fullscreen:?}, {} x {}",
+        terrain.side,
+        terrain.size.edge(),
+        renderer.far_choice().path,
+        if occlusion { "on" } else { "off" },
+        args.width,
+        args.height
+    );
+    let haze = terrain.side as f32 / 2.0;
+    let report = benches::gpu_bench::features::bench_features(
+        ctx,
+        &mut renderer,
+        args.frames,
+        haze,
+        setting,
+    )?;
+    let table = benches::gpu_bench::features::features_markdown(&report);
+    println!("{table}");
+    lines.push(String::new());
+    lines.push(table);
+    if let Some(path) = &args.out {
+        std::fs::write(path, lines.join("\n"))?;
+    }
+    if let Some(path) = &args.json {
+        std::fs::write(path, serde_json::to_string_pretty(&report)?)?;
+    }
+    Ok(())
 }
 
 /// `on` or `off`.
@@ -215,12 +308,18 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         (reference && level == 0) || selected_by_any(&params, level, coord)
     };
     let started = Instant::now();
-    let clutter = if args.clutter > 0.0 {
+    // The feature table's grass row needs clutter: the viewer's density unless given.
+    let density = if args.features && args.clutter == 0.0 {
+        2.0
+    } else {
+        args.clutter
+    };
+    let clutter = if density > 0.0 {
         Some(
-            mesher::ClutterParams::new(args.clutter, args.seed as u64)
+            mesher::ClutterParams::new(density, args.seed as u64)
                 .map_err(|e| format!("--clutter: {e}"))?,
         )
-    } else if args.clutter == 0.0 {
+    } else if density == 0.0 {
         None
     } else {
         return Err(format!("--clutter {} must be at least 0", args.clutter).into());
@@ -276,23 +375,16 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     for line in &lines {
         eprintln!("{line}");
     }
+    if args.features {
+        return bench_features_at(args, &ctx, &terrain, &params, lines);
+    }
     let config = BenchConfig {
         width: args.width,
         height: args.height,
         frames: args.frames,
         budgets: args.budget.clone(),
         reference,
-        far: args
-            .far
-            .iter()
-            .map(|f| match f {
-                Far::Off => FarRequest::Off,
-                Far::Splat => FarRequest::Path(FarPath::Splat),
-                Far::Sprite => FarRequest::Path(FarPath::Sprite),
-                Far::Quads3 => FarRequest::Path(FarPath::CameraQuads),
-                Far::Auto => FarRequest::Auto,
-            })
-            .collect(),
+        far: args.far.iter().map(|&f| far_request(f)).collect(),
         far_cell_px: args.far_px.clone(),
         fullscreen: args
             .fullscreen

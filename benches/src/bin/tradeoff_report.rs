@@ -3,7 +3,8 @@
 //!
 //! ```sh
 //! cargo run --release -p benches --bin tradeoff_report -- --out docs \
-//!     --gpu-json docs/data/gpu_bench_h100_budgets.json
+//!     --gpu-json docs/data/gpu_bench_h100_budgets.json \
+//!     --features-json docs/data/gpu_bench_features.json
 //! ```
 
 use std::path::PathBuf;
@@ -23,6 +24,10 @@ struct Args {
     /// A `gpu_bench --json` file with the budget sweep (the image section says so when absent).
     #[arg(long)]
     gpu_json: Option<PathBuf>,
+    /// A `gpu_bench --features --json` file with the image features' table (the section says
+    /// so when absent).
+    #[arg(long)]
+    features_json: Option<PathBuf>,
     /// Folder of the `.vox` sample models.
     #[arg(long, default_value = "../shared/data/vox")]
     vox_dir: PathBuf,
@@ -51,6 +56,7 @@ fn main() -> ExitCode {
         }
     };
     config.gpu_json = args.gpu_json;
+    config.features_json = args.features_json;
     config.runs = args.runs.max(1);
     config.terrain_side = args.terrain_side;
     config.local_gpu_side = args.local_gpu_side;

@@ -9,6 +9,7 @@
 //!
 //! Each setting gets three untimed frames first (the first uploads, and the driver settles).
 
+pub mod features;
 mod image_error;
 pub mod props;
 mod report;

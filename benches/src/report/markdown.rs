@@ -7,11 +7,12 @@ use super::plot::Plot;
 use super::recommend::recommend;
 
 /// The section headings, in order (the smoke test checks each is present).
-pub const SECTIONS: [&str; 5] = [
+pub const SECTIONS: [&str; 6] = [
     "## Recommended defaults",
     "## CPU meshing",
     "## Geometry",
     "## Image",
+    "## Image features",
     "## Extremes",
 ];
 
@@ -34,8 +35,14 @@ pub fn render(m: &Measurements, plots: &[Plot]) -> String {
          the plots under `docs/tradeoff/`.\n\n\
          CPU figures: {} (wall time, median of {} runs).\n",
         c.gpu_json
-            .as_ref()
-            .map_or(String::new(), |p| format!(" --gpu-json {}", p.display())),
+            .iter()
+            .map(|p| format!(" --gpu-json {}", p.display()))
+            .chain(
+                c.features_json
+                    .iter()
+                    .map(|p| format!(" --features-json {}", p.display()))
+            )
+            .collect::<String>(),
         c.machine,
         c.runs
     );
@@ -72,6 +79,8 @@ pub fn render(m: &Measurements, plots: &[Plot]) -> String {
     cpu_section(&mut s, m, plots);
     geometry_section(&mut s, m, plots);
     image_section(&mut s, m, plots);
+    let _ = writeln!(s, "{}\n", SECTIONS[4]);
+    super::features::section(&mut s, m.features.as_ref(), c.features_json.as_deref());
     extremes_section(&mut s, m);
     s
 }
@@ -371,7 +380,7 @@ fn extremes_section(s: &mut String, m: &Measurements) {
          at the origin:\n\n\
          | offset (voxels) | pixels differing | max channel difference | mean abs difference |\n\
          | --- | ---: | ---: | ---: |",
-        SECTIONS[4],
+        SECTIONS[5],
         m.config.terrain_seed,
         share * 100.0
     );

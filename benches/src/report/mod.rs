@@ -8,6 +8,7 @@
 //! | [`cpu`] | CPU meshing time per chunk (median of N runs), quads, triangles and bytes for every mesher mode and chunk size on the `.vox` samples and the procedural terrain |
 //! | [`geometry`] | distance from SurfaceNets meshes to analytic sphere and torus surfaces against grid resolution; the extra error of unorm16 positions and 8+8 / 16+16 octahedral normals |
 //! | [`image`] | the budget sweep (image error, GPU time, bytes) read from a `gpu_bench --json` file |
+//! | [`features`] | each image feature's GPU cost against its effect on the picture, read from a `gpu_bench --features --json` file |
 //! | [`lavapipe`] | the same sweep measured in this run on the machine's own Vulkan adapter (lavapipe on a CPU-only machine) over a small terrain, marked with the adapter |
 //! | [`extremes`] | the same view rendered by the CPU reference raycaster at the origin and at 2^30 offsets, pixel difference |
 //! | [`recommend`] | the defaults the report recommends, chosen from the figures by stated rules |
@@ -19,6 +20,7 @@
 
 pub mod cpu;
 pub mod extremes;
+pub mod features;
 pub mod geometry;
 pub mod image;
 pub mod lavapipe;
@@ -49,6 +51,8 @@ pub struct Config {
     pub normal_samples: usize,
     /// The `gpu_bench --json` file with the budget sweep, if any.
     pub gpu_json: Option<PathBuf>,
+    /// The `gpu_bench --features --json` file with the image features' table, if any.
+    pub features_json: Option<PathBuf>,
     /// Side in columns of the terrain the local-adapter sweep draws (0: no local sweep).
     pub local_gpu_side: u32,
     /// Width and height of the local-adapter sweep's frames, pixels.
@@ -77,6 +81,7 @@ impl Config {
             radii: vec![2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0],
             normal_samples: 200_000,
             gpu_json: None,
+            features_json: None,
             local_gpu_side: 256,
             local_gpu_size: (320, 180),
             view_size: (192, 128),
@@ -95,6 +100,7 @@ impl Config {
             radii: vec![3.0, 5.0],
             normal_samples: 2_000,
             gpu_json: None,
+            features_json: None,
             local_gpu_side: 0,
             local_gpu_size: (64, 36),
             view_size: (32, 24),
@@ -122,6 +128,8 @@ pub struct Measurements {
     pub quantization: geometry::Quantization,
     /// The budget sweep, when a GPU file was given.
     pub image: Option<image::BudgetSweep>,
+    /// The image features' table, when its GPU file was given.
+    pub features: Option<crate::gpu_bench::features::FeatureReport>,
     /// The sweep measured in this run on the local adapter: `None` when not asked for,
     /// `Some(None)` when the machine has no Vulkan adapter.
     pub local_image: Option<Option<image::BudgetSweep>>,
@@ -153,6 +161,10 @@ pub fn measure(config: &Config, progress: &dyn Fn(&str)) -> Result<Measurements,
         Some(path) => Some(image::load(path)?),
         None => None,
     };
+    let features = match &config.features_json {
+        Some(path) => Some(features::load(path)?),
+        None => None,
+    };
     let local_image = if config.local_gpu_side > 0 {
         progress("local GPU budget sweep");
         Some(lavapipe::measure(
@@ -171,6 +183,7 @@ pub fn measure(config: &Config, progress: &dyn Fn(&str)) -> Result<Measurements,
         geometry,
         quantization,
         image,
+        features,
         local_image,
         extremes,
     })
