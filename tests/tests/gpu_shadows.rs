@@ -795,7 +795,13 @@ fn the_grid_follows_the_resident_set_under_a_still_camera() {
     }
     let pillar_handles = upload_nodes(&mut renderer, &level0_nodes(&with_pillar)).expect("upload");
     let (shadowed_rgba, lit) = frame(&mut renderer);
+    let fills = renderer.shadow_grid_fills();
     let (again, lit_again) = frame(&mut renderer);
+    assert_eq!(
+        renderer.shadow_grid_fills(),
+        fills,
+        "a frame with nothing changed filled the grid again"
+    );
     // The pillar hides part of the floor from the sun (and hides some floor from the camera).
     let cpu = cpu_visibility(&with_pillar, &shadowed());
     let dark = cpu.iter().flatten().filter(|c| !c.seen.sun).count();
@@ -818,5 +824,10 @@ fn the_grid_follows_the_resident_set_under_a_still_camera() {
     assert_eq!(
         open_again, open,
         "the shadow stays after the pillar is gone"
+    );
+    assert_eq!(
+        renderer.shadow_grid_fills(),
+        fills + 1,
+        "the change refilled it"
     );
 }

@@ -72,6 +72,8 @@ pub struct ShadowPass {
     /// changes ([`Residency::changes`](crate::residency::Residency::changes)); `None` before
     /// the first fill.
     filled: Cell<Option<(ShadowFillUniforms, u64)>>,
+    /// Frames that filled the grid so far.
+    fills: Cell<u64>,
 }
 
 /// What one frame's shadow pass needs besides the frame context.
@@ -163,6 +165,7 @@ impl ShadowPass {
             visibility: visibility_buffer(device, pixels)?,
             pixels,
             filled: Cell::new(None),
+            fills: Cell::new(0),
         })
     }
 
@@ -207,6 +210,11 @@ impl ShadowPass {
     /// unchanged resident set keeps its grid and skips both the clear and the fill.
     pub fn needs_fill(&self, fill: &ShadowFillUniforms, changes: u64) -> bool {
         self.filled.get() != Some((*fill, changes))
+    }
+
+    /// Frames recorded so far that cleared and filled the grid (the others kept it).
+    pub fn fills(&self) -> u64 {
+        self.fills.get()
     }
 
     /// Clears the grid (a frame's first commands, when [`ShadowParams::refill`] is set).
@@ -256,6 +264,7 @@ impl ShadowPass {
         if params.refill {
             // Recorded now, after the frame's clear: the grid holds this fill from here on.
             self.filled.set(Some((params.fill, params.changes)));
+            self.fills.set(self.fills.get() + 1);
         }
         rec.step("shadow grid", true, |rec| {
             if slots == 0 || !params.refill {

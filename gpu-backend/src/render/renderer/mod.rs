@@ -401,6 +401,13 @@ impl Renderer {
         Ok(())
     }
 
+    /// Frames recorded so far that filled the shadow grid (the others kept the grid of the
+    /// frame before: the same camera block, level-of-detail anchor and resident set); 0 while
+    /// no frame had shadows on.
+    pub fn shadow_grid_fills(&self) -> u64 {
+        self.passes.shadow.as_ref().map_or(0, |s| s.fills())
+    }
+
     /// The grass pass's counts of the last frame, `(chunks drawn, units drawn)` (units before
     /// the per-blade fade; blocks while it reads them back), or `None` without a grass pass.
     pub fn grass_stats(&self) -> Result<Option<(u32, u32)>, RenderError> {
