@@ -39,6 +39,8 @@ fn tiny_report_has_every_section_with_numbers() {
     config.gpu_json = Some(
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/data/gpu_bench_h100_budgets.json"),
     );
+    config.features_json =
+        Some(Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/data/gpu_bench_features.json"));
     // One small sample model, from the shared data beside the checkout.
     let model = "chr_knight.vox";
     match benches::mesh_inputs::vox_dir() {

@@ -51,3 +51,53 @@ pub fn section(s: &mut String, report: Option<&FeatureReport>, source: Option<&P
     s.push_str(&features_markdown(report));
     s.push('\n');
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Writes `text` to a file of its own under the temporary folder.
+    fn file(name: &str, text: &str) -> std::path::PathBuf {
+        let path =
+            std::env::temp_dir().join(format!("features_load_{}_{name}.json", std::process::id()));
+        std::fs::write(&path, text).expect("temporary file");
+        path
+    }
+
+    #[test]
+    fn bad_files_are_refused_by_name() {
+        let missing = std::env::temp_dir().join("features_load_no_such_file.json");
+        let e = load(&missing).unwrap_err();
+        assert!(e.0.contains("features_load_no_such_file.json"), "{e}");
+        for (name, text, why) in [
+            ("garbage", "\u{1}not json", "expected value"),
+            (
+                "empty",
+                r#"{"adapter":"a","setting":"s","frames":1,"rows":[]}"#,
+                "no rows",
+            ),
+            ("truncated", r#"{"adapter":"a","setting":"s","fr"#, "EOF"),
+        ] {
+            let path = file(name, text);
+            let e = load(&path).unwrap_err();
+            assert!(
+                e.0.contains(&path.display().to_string()) && e.0.contains(why),
+                "{name}: {e}"
+            );
+            std::fs::remove_file(path).ok();
+        }
+    }
+
+    #[test]
+    fn the_committed_table_loads_and_renders() {
+        let path =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/data/gpu_bench_features.json");
+        let report = load(&path).expect("the committed table");
+        let mut s = String::new();
+        section(&mut s, Some(&report), Some(&path));
+        assert!(s.contains("| none |") && s.contains("| all |"), "{s}");
+        let mut absent = String::new();
+        section(&mut absent, None, None);
+        assert!(absent.starts_with("Not measured"), "{absent}");
+    }
+}
