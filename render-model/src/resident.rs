@@ -48,6 +48,8 @@ pub struct ChunkRanges {
     pub hiding_mask: LayerRange,
     /// The transparent mask's words, right after the hiding mask (count 0 when none).
     pub transparent_mask: LayerRange,
+    /// Vertical shell runs ([`DataKind::Shells`]).
+    pub shell_runs: LayerRange,
 }
 
 impl ChunkRanges {
@@ -71,6 +73,7 @@ impl ChunkRanges {
             DataKind::SmoothVertices => self.smooth_vertices,
             DataKind::SmoothQuads => self.smooth_quads,
             DataKind::Clutter => self.clutter_units,
+            DataKind::Shells => self.shell_runs,
             DataKind::DrawBlocks => LayerRange {
                 offset: self.draw_blocks.offset,
                 count: self.draw_blocks.count

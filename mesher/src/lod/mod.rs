@@ -46,10 +46,12 @@ use voxel_core::{BlockId, ChunkCoord, FaceDirection, LocalPos, MaterialClass, Pa
 
 use crate::{BlockClasses, MeshError};
 
+pub mod geometry;
 pub mod nodes;
 pub mod skirts;
 
 #[cfg(feature = "parallel")]
+pub use geometry::{Geometry, GeometryCounts, geometry_counts};
 pub use nodes::mesh_nodes;
 pub use nodes::{NodeMesh, NodeMesher, NodeSettings, downsample_levels, mesh_nodes_sequential};
 pub use skirts::{Skirts, skirt_blocks, skirt_quads};
