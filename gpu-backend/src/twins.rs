@@ -160,8 +160,8 @@ mod cull {
                 ("flags", offset_of!(NodeRecord, flags)),
                 ("opaque_skirts", offset_of!(NodeRecord, opaque_skirts)),
                 ("block_skirts", offset_of!(NodeRecord, block_skirts)),
-                ("pad0", offset_of!(NodeRecord, pad)),
-                ("pad1", offset_of!(NodeRecord, pad) + 4),
+                ("shell_offset", offset_of!(NodeRecord, shell_offset)),
+                ("shell_count", offset_of!(NodeRecord, shell_count)),
             ]
         );
     }
