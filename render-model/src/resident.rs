@@ -169,6 +169,12 @@ pub fn mesh_bounds(
         grow(p);
         grow(p.map(|c| c + 1.0));
     }
+    // Shell runs as their boxes (byte fields: a bad run is drawn as garbage but still bounded).
+    for run in layers.shell_runs {
+        let p = [run.x, run.y, run.z].map(f32::from);
+        grow(p);
+        grow([p[0] + 1.0, p[1] + f32::from(run.height), p[2] + 1.0]);
+    }
     let extent = UnormExtent::new(smooth.extent).unwrap_or(UnormExtent::UNIT);
     for v in layers.smooth_vertices {
         let p = v.decode(extent).position.to_array();
