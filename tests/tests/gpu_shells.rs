@@ -10,7 +10,8 @@ mod image_support;
 use gpu_backend::DeviceOptions;
 use gpu_backend::GpuContext;
 use gpu_backend::render::far::FarRequest;
-use gpu_backend::render::{Renderer, RendererConfig};
+use gpu_backend::render::{RenderError, Renderer, RendererConfig};
+use gpu_backend::residency::ResidencyError;
 use gpu_backend::test_support::headless_or_skip;
 use image_support::scenes::TestScene;
 use image_support::{Image, write_pngs};
@@ -18,11 +19,13 @@ use mesher::BlockClasses;
 use mesher::lod::{Geometry, NodeMesh, NodeSettings, downsample_levels, mesh_nodes};
 use render_model::cull::LodSettings;
 use render_model::lighting::Lighting;
+use render_model::resident::ChunkMeshData;
 use tests::sample_data;
 use viewer::gpu_view::upload_nodes;
 use viewer::scene::vox::load_vox_file;
+use voxel_core::formats::{ChunkLayersData, ShellRun};
 use voxel_core::storage::{PaletteChunk, WorldMap};
-use voxel_core::{ChunkCoord, ChunkSize};
+use voxel_core::{ChunkCoord, ChunkSize, FormatError, MaterialPalette};
 
 const WIDTH: u32 = 192;
 const HEIGHT: u32 = 144;
@@ -220,4 +223,71 @@ fn shells_match_greedy_quads_of_a_magicavoxel_model() {
         return;
     };
     assert_ao_matters(&compare_scene(&ctx, "shells-knight", &scene));
+}
+
+/// An upload of `runs` (one node at the origin, level 0) to a renderer with a shell pass.
+fn upload_runs(ctx: &GpuContext, runs: &[ShellRun]) -> Result<(), RenderError> {
+    let config = RendererConfig::new(WIDTH, HEIGHT, ChunkSize::S16).with_shells(1 << 16);
+    let mut renderer = Renderer::new(ctx, &config, &MaterialPalette::new()).expect("renderer");
+    let layers = ChunkLayersData {
+        shell_runs: runs,
+        ..Default::default()
+    };
+    renderer
+        .upload_chunk(&ChunkMeshData {
+            coord: ChunkCoord::new(0, 0, 0),
+            lod: 0,
+            layers,
+        })
+        .map(|_| ())
+}
+
+#[test]
+fn bad_shell_runs_are_refused_by_name() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let good = ShellRun::new(1, 2, 3, 4, 1, ShellRun::ALL_SIDES);
+    assert!(upload_runs(&ctx, &[good]).is_ok());
+    let mut reserved = good;
+    reserved.reserved = 1;
+    // (run, the field its error names): height 0, past 64 voxels, no side, the reserved byte,
+    // and three runs that fit the format but not a 16^3 chunk.
+    let cases = [
+        (ShellRun::new(0, 0, 0, 0, 1, 1), "ShellRun.height"),
+        (ShellRun::new(0, 0, 60, 5, 1, 1), "ShellRun.height"),
+        (ShellRun::new(0, 0, 0, 1, 1, 0), "ShellRun.sides"),
+        (reserved, "ShellRun.reserved"),
+        (ShellRun::new(16, 0, 0, 1, 1, 1), "ShellRun.x"),
+        (ShellRun::new(0, 40, 0, 1, 1, 1), "ShellRun.z"),
+        (ShellRun::new(0, 0, 10, 7, 1, 1), "ShellRun.y + height"),
+    ];
+    for (bad, field) in cases {
+        let error = upload_runs(&ctx, &[good, bad]).expect_err("a bad run is refused");
+        let RenderError::Residency(ResidencyError::BadShellRun { run: 1, error: e }) = &error
+        else {
+            panic!("{bad:?}: {error}");
+        };
+        let named = match e {
+            FormatError::IntegerOutOfRange { field, .. }
+            | FormatError::ReservedBitsSet { field, .. } => *field,
+            other => panic!("{bad:?}: {other}"),
+        };
+        assert_eq!(named, field, "{bad:?}: {error}");
+    }
+    // Without a shell pass (no shell space) runs are refused too, naming the kind.
+    let config = RendererConfig::new(WIDTH, HEIGHT, ChunkSize::S16);
+    let mut renderer = Renderer::new(&ctx, &config, &MaterialPalette::new()).expect("renderer");
+    let runs = [good];
+    let error = renderer
+        .upload_chunk(&ChunkMeshData {
+            coord: ChunkCoord::new(0, 0, 0),
+            lod: 0,
+            layers: ChunkLayersData {
+                shell_runs: &runs,
+                ..Default::default()
+            },
+        })
+        .expect_err("no shell space");
+    assert!(error.to_string().contains("shell runs"), "{error}");
 }
