@@ -50,8 +50,8 @@ pub mod geometry;
 pub mod nodes;
 pub mod skirts;
 
-#[cfg(feature = "parallel")]
 pub use geometry::{Geometry, GeometryCounts, geometry_counts};
+#[cfg(feature = "parallel")]
 pub use nodes::mesh_nodes;
 pub use nodes::{NodeMesh, NodeMesher, NodeSettings, downsample_levels, mesh_nodes_sequential};
 pub use skirts::{Skirts, skirt_blocks, skirt_quads};
