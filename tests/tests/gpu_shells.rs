@@ -10,7 +10,7 @@ mod image_support;
 use gpu_backend::DeviceOptions;
 use gpu_backend::GpuContext;
 use gpu_backend::render::far::FarRequest;
-use gpu_backend::render::{RenderError, Renderer, RendererConfig};
+use gpu_backend::render::{OpaquePath, RenderError, Renderer, RendererConfig};
 use gpu_backend::residency::ResidencyError;
 use gpu_backend::test_support::headless_or_skip;
 use image_support::scenes::TestScene;
@@ -63,9 +63,22 @@ fn nodes(
 /// one of 10^6 pixels never refines level 1) and returns the image, with the shell pass's
 /// `(nodes, runs)` drawn.
 fn render(ctx: &GpuContext, scene: &TestScene, nodes: &[NodeMesh]) -> (Image, (u32, u32)) {
-    let config = RendererConfig::new(WIDTH, HEIGHT, scene.world.size())
-        .with_far(FarRequest::Off, 1 << 22)
-        .with_shells(1 << 22);
+    render_on(ctx, scene, nodes, OpaquePath::Raster)
+}
+
+/// [`render`] with the opaque quads drawn the `opaque` way.
+fn render_on(
+    ctx: &GpuContext,
+    scene: &TestScene,
+    nodes: &[NodeMesh],
+    opaque: OpaquePath,
+) -> (Image, (u32, u32)) {
+    let config = RendererConfig {
+        opaque,
+        ..RendererConfig::new(WIDTH, HEIGHT, scene.world.size())
+            .with_far(FarRequest::Off, 1 << 22)
+            .with_shells(1 << 22)
+    };
     let mut renderer = Renderer::new(ctx, &config, &scene.palette).expect("renderer");
     upload_nodes(&mut renderer, nodes).expect("upload");
     renderer.set_camera(&scene.camera);
@@ -223,6 +236,33 @@ fn shells_match_greedy_quads_of_a_magicavoxel_model() {
         return;
     };
     assert_ao_matters(&compare_scene(&ctx, "shells-knight", &scene));
+}
+
+#[test]
+fn shells_match_greedy_quads_on_the_compute_opaque_path() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    if !ctx.capabilities.int64_atomics {
+        gpu_backend::test_support::skip("the compute opaque path needs 64-bit atomics");
+        return;
+    }
+    // The greedy frame on the compute path, the shells (a raster overlay) on it too.
+    let scene = image_support::scenes::terrain();
+    let greedy_nodes = nodes(&scene.world, 0, &scene, Geometry::Greedy, true);
+    let shell_nodes = nodes(&scene.world, 0, &scene, Geometry::Shells, true);
+    let (greedy, _) = render_on(&ctx, &scene, &greedy_nodes, OpaquePath::Compute);
+    let (shells, drawn) = render_on(&ctx, &scene, &shell_nodes, OpaquePath::Compute);
+    let off = share_off(&shells, &greedy);
+    eprintln!("compute path: shell pass drew {drawn:?}, {off:.4} off by > {COLOUR}");
+    if off > SHARE {
+        eprintln!(
+            "PNGs in {}",
+            write_pngs("shells-compute", &shells, &greedy).display()
+        );
+    }
+    assert!(drawn.1 > 0 && covered(&shells) > 0.05);
+    assert!(off <= SHARE, "{off:.4} of pixels off (bar {SHARE})");
 }
 
 /// An upload of `runs` (one node at the origin, level 0) to a renderer with a shell pass.
