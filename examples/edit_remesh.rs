@@ -50,6 +50,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let settings = NodeSettings {
         mesh: MeshSettings::default(),
         far_blocks: true,
+        ..Default::default()
     };
     let mut padded = PaddedChunk::new(ChunkSize::S16);
     let mut mesher = NodeMesher::new();

@@ -43,8 +43,9 @@ use voxel_core::formats::quantize::{
 use voxel_core::formats::{
     BlockVertex, COMPACT_QUAD_MAX_DELTA, ChunkDrawIndirect, ChunkDrawInfo, ChunkKind, ClutterUnit,
     DrawBlock, DrawBlockFlags, FaceDirection, FormatError, MeshedChunkInfo,
-    OCT16_MAX_ERROR_DEGREES, OCT32_MAX_ERROR_DEGREES, PackedQuad, UnormExtent, compact_quad_decode,
-    compact_quad_encode, oct16_decode, oct16_encode, oct32_decode, oct32_encode,
+    OCT16_MAX_ERROR_DEGREES, OCT32_MAX_ERROR_DEGREES, PackedQuad, ShellRun, UnormExtent,
+    compact_quad_decode, compact_quad_encode, oct16_decode, oct16_encode, oct32_decode,
+    oct32_encode,
 };
 use voxel_core::storage::{
     CODEC_VERSION, CodecError, DenseChunk, HEADER_LEN, MAGIC, VoxelStorage, decode_chunk,
@@ -683,6 +684,50 @@ pub(crate) fn draw_block(data: &[u8]) {
 
 /// `PackedQuad` (8 bytes): decodes exactly when the reserved bits are clear and the face is
 /// `0..6`; then round-trips and its corners span a `width x height` rectangle in the face plane.
+/// `ShellRun::decode` on any 8 bytes: it fails exactly on a set reserved byte, a position axis
+/// above 63, a height of 0 or past 64 voxels, or side bits of 0 or above 63 (naming that
+/// field), and what it accepts holds the bytes' fields and encodes back to the same bytes.
+pub(crate) fn shell_run(data: &[u8]) {
+    let Some(run) = read::<ShellRun>(data) else {
+        return;
+    };
+    let [x, z, y, height] = [run.x, run.z, run.y, run.height].map(u32::from);
+    match run.decode() {
+        Ok(f) => {
+            assert_eq!(f.position, [x, y, z]);
+            assert_eq!(
+                (f.height, f.block.0, f.sides),
+                (height, run.block, run.sides)
+            );
+            assert!(run.reserved == 0 && x.max(y).max(z) <= 63, "{run:?}");
+            assert!(
+                height >= 1 && y + height <= 64 && (1..64).contains(&run.sides),
+                "{run:?}"
+            );
+            assert_eq!(ShellRun::encode(&f), Ok(run), "decoded runs encode back");
+        }
+        Err(FormatError::ReservedBitsSet { field, bits }) => {
+            assert_eq!(
+                (field, bits),
+                ("ShellRun.reserved", u32::from(run.reserved))
+            );
+            assert!(bits != 0);
+        }
+        Err(FormatError::IntegerOutOfRange { field, value, .. }) => {
+            let bad = match field {
+                "ShellRun.x" => x > 63,
+                "ShellRun.y" => y > 63,
+                "ShellRun.z" => z > 63,
+                "ShellRun.height" => height == 0 || y + height > 64,
+                "ShellRun.sides" => run.sides == 0 || run.sides > 63,
+                other => panic!("unexpected field {other} for {run:?}"),
+            };
+            assert!(bad && value >= 0, "{field} = {value} named for {run:?}");
+        }
+        Err(other) => panic!("unexpected ShellRun error {other:?}"),
+    }
+}
+
 pub(crate) fn packed_quad(data: &[u8]) {
     let Some(packed) = read::<PackedQuad>(data) else {
         return;

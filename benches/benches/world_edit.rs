@@ -99,6 +99,7 @@ fn terrain_node_edit(group: &mut criterion::BenchmarkGroup<'_, criterion::measur
     let settings = NodeSettings {
         mesh: MeshSettings::default(),
         far_blocks: true,
+        ..Default::default()
     };
     let mut padded = PaddedChunk::new(ChunkSize::S16);
     let mut mesher = NodeMesher::new();

@@ -87,6 +87,7 @@ impl LodTerrain {
         let settings = NodeSettings {
             mesh: MeshSettings::default(),
             far_blocks: edge <= 16,
+            ..Default::default()
         };
         let started = Instant::now();
         let mut levels = Vec::new();

@@ -303,6 +303,31 @@ pub const GRASS_CULL: ShaderSpec = ShaderSpec {
     ),
 };
 
+/// The shell pass's draw (entry points `vs_shell`, `fs_shell`; see
+/// [`crate::render::passes::shells`]).
+pub const SHELLS: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "shells",
+    body: concat!(
+        include_str!("shaders/render_common.wgsl"),
+        include_str!("shaders/node.wgsl"),
+        include_str!("shaders/far_ao.wgsl"),
+        include_str!("render/passes/shells.wgsl")
+    ),
+};
+
+/// The shell pass's cull: chunk table slots to one indirect draw each (entry point
+/// `shells_cull`; see [`crate::render::passes::shells`]).
+pub const SHELLS_CULL: ShaderSpec = ShaderSpec {
+    capabilities: naga::valid::Capabilities::empty(),
+    name: "shells_cull",
+    body: concat!(
+        include_str!("shaders/node.wgsl"),
+        include_str!("shaders/lod.wgsl"),
+        include_str!("render/passes/shells_cull.wgsl")
+    ),
+};
+
 /// Every shader of the crate.
 pub const ALL_SHADERS: &[ShaderSpec] = &[
     FORMAT_PARITY,
@@ -327,6 +352,8 @@ pub const ALL_SHADERS: &[ShaderSpec] = &[
     QUAD_RASTER_ARGS,
     GRASS,
     GRASS_CULL,
+    SHELLS,
+    SHELLS_CULL,
     PROP_CULL,
     PROPS,
 ];

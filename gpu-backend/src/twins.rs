@@ -160,8 +160,8 @@ mod cull {
                 ("flags", offset_of!(NodeRecord, flags)),
                 ("opaque_skirts", offset_of!(NodeRecord, opaque_skirts)),
                 ("block_skirts", offset_of!(NodeRecord, block_skirts)),
-                ("pad0", offset_of!(NodeRecord, pad)),
-                ("pad1", offset_of!(NodeRecord, pad) + 4),
+                ("shell_offset", offset_of!(NodeRecord, shell_offset)),
+                ("shell_count", offset_of!(NodeRecord, shell_count)),
             ]
         );
     }
@@ -764,5 +764,64 @@ mod shadow {
         assert!(lighting.contains("f32(min((w >> 1u) & 7u, 5u)) / 5.0"));
         assert_eq!(Visibility::OPEN.pack(), 1 | (5 << 1));
         assert!(trace.contains("shadow_out[at] = 1u | (SKY_COUNT << 1u);"));
+    }
+}
+
+mod shells {
+    //! The shell pass's twins: its cull uniforms share `GrassCullUniforms`' layout and flags,
+    //! and its vertex count per run is `ShellRun::VERTICES`.
+
+    use std::mem::offset_of;
+
+    use render_model::grass::{GRASS_CULL_LOD, GRASS_CULL_OCCLUSION, GrassCullUniforms};
+    use voxel_core::formats::ShellRun;
+
+    use crate::shaders::{SHELLS, SHELLS_CULL, struct_layout, validate};
+
+    fn module(spec: crate::shaders::ShaderSpec) -> naga::Module {
+        validate(spec.name, &spec.source()).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    fn has_constant(module: &naga::Module, name: &str, value: u32) -> bool {
+        module.constants.iter().any(|(_, c)| {
+            c.name.as_deref() == Some(name)
+                && matches!(
+                    module.global_expressions[c.init],
+                    naga::Expression::Literal(naga::Literal::U32(v)) if v == value
+                )
+        })
+    }
+
+    #[test]
+    fn cull_uniforms_and_constants_match_their_rust_twins() {
+        let cull = module(SHELLS_CULL);
+        let (members, size) = struct_layout(&cull, "ShellCullUniforms");
+        assert_eq!(size, size_of::<GrassCullUniforms>());
+        let expected = [
+            ("planes", offset_of!(GrassCullUniforms, planes)),
+            ("camera_chunk", offset_of!(GrassCullUniforms, camera_chunk)),
+            ("slot_bound", offset_of!(GrassCullUniforms, slot_bound)),
+            (
+                "camera_offset",
+                offset_of!(GrassCullUniforms, camera_offset),
+            ),
+            ("chunk_edge", offset_of!(GrassCullUniforms, chunk_edge)),
+            ("lod", offset_of!(GrassCullUniforms, lod)),
+            ("flags", offset_of!(GrassCullUniforms, flags)),
+            ("focal_px", offset_of!(GrassCullUniforms, focal_px)),
+            ("budget_px", offset_of!(GrassCullUniforms, budget_px)),
+            ("pad", offset_of!(GrassCullUniforms, pad)),
+        ]
+        .map(|(n, o)| (n.to_string(), o));
+        assert_eq!(members, expected);
+        assert!(has_constant(&cull, "SHELL_CULL_LOD", GRASS_CULL_LOD));
+        assert!(has_constant(
+            &cull,
+            "SHELL_CULL_OCCLUSION",
+            GRASS_CULL_OCCLUSION
+        ));
+        for m in [cull, module(SHELLS)] {
+            assert!(has_constant(&m, "VERTICES_PER_RUN", ShellRun::VERTICES));
+        }
     }
 }

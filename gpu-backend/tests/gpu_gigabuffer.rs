@@ -10,8 +10,8 @@ use gpu_backend::test_support::headless_or_skip;
 use gpu_backend::{DeviceOptions, GpuContext};
 use render_model::resident::ChunkRanges;
 use voxel_core::formats::{
-    BlockVertex, ClutterUnit, DrawBlock, MeshedChunkInfoFields, PackedQuad, SmoothQuadForm,
-    SmoothQuads,
+    BlockVertex, ClutterUnit, DrawBlock, MeshedChunkInfoFields, PackedQuad, ShellRun,
+    SmoothQuadForm, SmoothQuads,
 };
 use voxel_core::formats::{ChunkLayersData, DataKind};
 
@@ -32,6 +32,7 @@ struct Owned {
     block_skirts: [Vec<DrawBlock>; 6],
     hiding_mask: Vec<u32>,
     transparent_mask: Vec<u32>,
+    shell_runs: Vec<ShellRun>,
 }
 
 impl Owned {
@@ -98,6 +99,8 @@ impl Owned {
         o.hiding_mask = rng.bytes(mask / 4);
         let mask = n(rng);
         o.transparent_mask = rng.bytes(mask / 4);
+        let runs = n(rng);
+        o.shell_runs = rng.bytes(runs / 4);
         o
     }
 
@@ -113,6 +116,7 @@ impl Owned {
             draw_block_skirts: std::array::from_fn(|f| self.block_skirts[f].as_slice()),
             hiding_mask: &self.hiding_mask,
             transparent_mask: &self.transparent_mask,
+            shell_runs: &self.shell_runs,
         }
     }
 
@@ -156,6 +160,7 @@ impl Owned {
                 b.extend_from_slice(bytemuck::cast_slice(&self.transparent_mask));
                 b
             }
+            DataKind::Shells => bytes(bytemuck::cast_slice(&self.shell_runs)),
         }
     }
 }

@@ -1,5 +1,5 @@
 //! Vertical shells (SBgl): the exposed voxels of every `(x, z)` column merged along y into runs,
-//! one 8-byte [`ShellRun`] instance per run.
+//! one 8-byte [`ShellRun`] instance per run (a `voxel-core` packed format, re-exported here).
 //!
 //! A *run* is a maximal stack of consecutive exposed voxels of one block id in one column
 //! (exposed: at least one visible face, under the visible-face rules; see
@@ -17,161 +17,11 @@
 //! ```
 
 use alloc::vec::Vec;
-use core::mem::{offset_of, size_of};
-
-use bytemuck::{Pod, Zeroable};
-use voxel_core::formats::{FaceDirection, WgslMember, WgslStruct, WgslType};
+pub use voxel_core::formats::ShellRun;
 use voxel_core::{BlockId, PaddedChunk};
 
 use crate::surface_blocks::exposure::{ExposureScratch, eq_mask, nothing_exposed};
 use crate::{BlockClasses, MeshError};
-
-/// One vertical run of exposed voxels of one block id: a box of `1 x height x 1` voxels whose
-/// visible sides the GPU draws.
-///
-/// ```text
-/// byte 0     1     2     3      4           6       7          8
-///      +-----+-----+-----+------+-----------+-------+----------+
-///      |  x  |  z  |  y  |height|  block id | sides | reserved |
-///      +-----+-----+-----+------+-----------+-------+----------+
-/// ```
-///
-/// | byte | field      | range            | meaning                                              |
-/// | ---- | ---------- | --------------- | ------------------------------------------------------ |
-/// | 0    | `x`        | `0..edge`       | chunk-local column x                                   |
-/// | 1    | `z`        | `0..edge`       | chunk-local column z                                   |
-/// | 2    | `y`        | `0..edge`       | chunk-local y of the run's lowest voxel                |
-/// | 3    | `height`   | `1..=edge - y`  | voxels in the run, stored as is (never 0; at most 62)  |
-/// | 4..6 | `block`    | any `u16`       | the [`BlockId`] of every voxel of the run              |
-/// | 6    | `sides`    | `1..64`         | bit `d`: box face `d` is visible somewhere on the run  |
-/// | 7    | `reserved` | 0               | written as 0; readers ignore it                        |
-///
-/// `sides` uses the [`FaceDirection::index`] order: bit 0 +x, 1 -x, 2 +y (top of the highest
-/// voxel), 3 -y (bottom of the lowest voxel), 4 +z, 5 -z. The faces between the run's own
-/// voxels are never visible (they touch an equal id), so the box's six faces are the only ones.
-///
-/// WGSL reads the 8 bytes as two `u32` words ([`ShellRun::WGSL_LAYOUT`]):
-/// `xzyh = x | z << 8 | y << 16 | height << 24` and `block_sides = block | sides << 16`.
-///
-/// # Drawing
-///
-/// One instanced, non-indexed draw of 36 vertices per run (6 faces x 2 triangles), instance =
-/// run. The vertex shader picks face `vertex_index / 6`; if that face's `sides` bit is clear it
-/// emits a degenerate triangle (all three vertices at the same clip position), otherwise a
-/// corner of the face of the box `[x, x + 1] x [y, y + height] x [z, z + 1]` (chunk-local; add
-/// the chunk origin relative to the camera). A side bit stands for the whole side of the box:
-/// the parts of that side whose voxels' faces are hidden are drawn too. They lie against a
-/// hiding neighbour (opaque, or for a transparent run the same transparent id), so for opaque
-/// runs the depth test removes them; a transparent run may show such an inner face where its
-/// side is only partly exposed. Shells are a far-draw format: the cost is 8 bytes and at most
-/// 12 triangles per run instead of one quad per face.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Pod, Zeroable)]
-pub struct ShellRun {
-    /// Chunk-local x of the column.
-    pub x: u8,
-    /// Chunk-local z of the column.
-    pub z: u8,
-    /// Chunk-local y of the lowest voxel of the run.
-    pub y: u8,
-    /// Voxels in the run, `1..=62`, stored as is.
-    pub height: u8,
-    /// Block id of every voxel of the run.
-    pub block: u16,
-    /// Visible box faces, bit [`FaceDirection::index`].
-    pub sides: u8,
-    /// Always 0.
-    pub reserved: u8,
-}
-
-const _: () = assert!(size_of::<ShellRun>() == 8, "ShellRun must be 8 bytes");
-
-impl ShellRun {
-    /// The WGSL struct `ShellRun { xzyh: u32, block_sides: u32 }` (layout in the type docs).
-    pub const WGSL_LAYOUT: WgslStruct = WgslStruct {
-        name: "ShellRun",
-        size: size_of::<ShellRun>(),
-        members: &[
-            WgslMember {
-                name: "xzyh",
-                offset: offset_of!(ShellRun, x),
-                ty: WgslType::U32,
-            },
-            WgslMember {
-                name: "block_sides",
-                offset: offset_of!(ShellRun, block),
-                ty: WgslType::U32,
-            },
-        ],
-    };
-
-    /// The WGSL twin of this struct, with a decode helper.
-    pub const WGSL: &'static str = "\
-struct ShellRun {
-    xzyh: u32,
-    block_sides: u32,
-}
-
-// x, y, z of the lowest voxel (chunk-local), height, block id, side bits.
-fn shell_run_min(r: ShellRun) -> vec3<u32> {
-    return vec3<u32>(r.xzyh & 0xffu, (r.xzyh >> 16u) & 0xffu, (r.xzyh >> 8u) & 0xffu);
-}
-fn shell_run_height(r: ShellRun) -> u32 { return r.xzyh >> 24u; }
-fn shell_run_block(r: ShellRun) -> u32 { return r.block_sides & 0xffffu; }
-fn shell_run_has_side(r: ShellRun, face: u32) -> bool {
-    return ((r.block_sides >> (16u + face)) & 1u) != 0u;
-}
-";
-
-    /// A run with these fields and `reserved` 0. (Nothing is checked: any values make a valid
-    /// `ShellRun`; the extractor only makes runs with `height >= 1` and `sides != 0`.)
-    #[inline]
-    pub fn new(x: u8, z: u8, y: u8, height: u8, block: u16, sides: u8) -> ShellRun {
-        #[cfg(target_endian = "little")]
-        {
-            // Built as one word: writing the 8 fields to memory one by one and reading them
-            // back as a word to push it stalls store forwarding, once per run, which on chunks
-            // of many short runs (random fills) costs more than the extraction itself.
-            let word = u64::from(x)
-                | u64::from(z) << 8
-                | u64::from(y) << 16
-                | u64::from(height) << 24
-                | u64::from(block) << 32
-                | u64::from(sides) << 48;
-            bytemuck::cast(word.to_le_bytes())
-        }
-        #[cfg(not(target_endian = "little"))]
-        {
-            ShellRun {
-                x,
-                z,
-                y,
-                height,
-                block,
-                sides,
-                reserved: 0,
-            }
-        }
-    }
-
-    /// The block id.
-    #[inline]
-    pub fn block_id(self) -> BlockId {
-        BlockId(self.block)
-    }
-
-    /// True if the box's `face` is visible somewhere along the run.
-    #[inline]
-    pub fn has_side(self, face: FaceDirection) -> bool {
-        (self.sides >> face.index()) & 1 != 0
-    }
-
-    /// Chunk-local positions of the run's voxels, bottom to top.
-    pub fn voxels(self) -> impl Iterator<Item = [u32; 3]> {
-        let (x, y, z) = (u32::from(self.x), u32::from(self.y), u32::from(self.z));
-        (y..y + u32::from(self.height)).map(move |y| [x, y, z])
-    }
-}
 
 /// Reusable output of [`vertical_shells`]. [`clear`](Self::clear) and every extraction keep the
 /// capacity.

@@ -73,6 +73,7 @@ fn parallel_downsampling_and_node_meshing_equal_the_sequential_ones() {
     let settings = NodeSettings {
         mesh: MeshSettings::default(),
         far_blocks: true,
+        ..Default::default()
     };
     for (level, w) in [(1, &levels[0]), (2, &levels[1])] {
         let c = coords(w);
@@ -91,6 +92,7 @@ fn each_node_carries_its_chunks_layers() {
     let settings = NodeSettings {
         mesh: MeshSettings::default(),
         far_blocks: true,
+        ..Default::default()
     };
     let c = coords(&world);
     let nodes = mesh_nodes(&world, 0, &c, &classes, &settings).unwrap();
@@ -146,6 +148,7 @@ fn meshing_a_filled_neighbourhood_equals_meshing_the_world() {
     let settings = NodeSettings {
         mesh: MeshSettings::default(),
         far_blocks: true,
+        ..Default::default()
     };
     let mut from_world = NodeMesher::new();
     let mut from_padded = NodeMesher::new();

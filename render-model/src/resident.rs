@@ -48,6 +48,8 @@ pub struct ChunkRanges {
     pub hiding_mask: LayerRange,
     /// The transparent mask's words, right after the hiding mask (count 0 when none).
     pub transparent_mask: LayerRange,
+    /// Vertical shell runs ([`DataKind::Shells`]).
+    pub shell_runs: LayerRange,
 }
 
 impl ChunkRanges {
@@ -71,6 +73,7 @@ impl ChunkRanges {
             DataKind::SmoothVertices => self.smooth_vertices,
             DataKind::SmoothQuads => self.smooth_quads,
             DataKind::Clutter => self.clutter_units,
+            DataKind::Shells => self.shell_runs,
             DataKind::DrawBlocks => LayerRange {
                 offset: self.draw_blocks.offset,
                 count: self.draw_blocks.count
@@ -165,6 +168,12 @@ pub fn mesh_bounds(
         let p = block.decode().position.map(|c| c as f32);
         grow(p);
         grow(p.map(|c| c + 1.0));
+    }
+    // Shell runs as their boxes (byte fields: a bad run is drawn as garbage but still bounded).
+    for run in layers.shell_runs {
+        let p = [run.x, run.y, run.z].map(f32::from);
+        grow(p);
+        grow([p[0] + 1.0, p[1] + f32::from(run.height), p[2] + 1.0]);
     }
     let extent = UnormExtent::new(smooth.extent).unwrap_or(UnormExtent::UNIT);
     for v in layers.smooth_vertices {

@@ -43,6 +43,7 @@ fn far_render(
     let settings = NodeSettings {
         mesh: MeshSettings::default(),
         far_blocks: true,
+        ..Default::default()
     };
     let nodes = mesh_nodes(&scene.world, 0, &coords, &classes, &settings).expect("nodes");
     upload_nodes(&mut renderer, &nodes).expect("upload");

@@ -42,7 +42,8 @@ use voxel_core::formats::{
     BlockVertex, BlockVertexFields, ChunkDrawIndirect, ChunkDrawIndirectFields, ChunkDrawInfo,
     ChunkDrawInfoFields, ChunkKind, ClutterUnit, ClutterUnitFields, DrawBlock, DrawBlockFields,
     DrawBlockFlags, FaceDirection, FaceLayerRange, LayerRange, MeshedChunkInfo,
-    MeshedChunkInfoFields, PackedQuad, PackedQuadFields, UnormExtent, compact_quad_encode,
+    MeshedChunkInfoFields, PackedQuad, PackedQuadFields, ShellRun, UnormExtent,
+    compact_quad_encode,
 };
 use voxel_core::storage::{DenseChunk, HEADER_LEN, MAGIC, PaletteChunk, encode_chunk};
 use voxel_core::{BlockId, ChunkCoord, ChunkSize, LocalPos, VoxelStorage};
@@ -52,7 +53,8 @@ type Target = (&'static str, fn(&[u8]));
 
 /// The body of every fuzz target, in the order of `fuzz/Cargo.toml`. The list of targets
 /// replayed is `fuzz/fuzz_targets/` (see [`targets_on_disk`]); this only maps names to bodies.
-const TARGETS: [Target; 19] = [
+const TARGETS: [Target; 20] = [
+    ("shell_run", bodies::shell_run),
     ("chunk_codec", bodies::chunk_codec),
     ("draw_block", bodies::draw_block),
     ("packed_quad", bodies::packed_quad),
@@ -231,6 +233,7 @@ fn seeds() -> Vec<(&'static str, Seeds)> {
         ("chunk_codec", chunk_codec_seeds()),
         ("draw_block", draw_block_seeds()),
         ("packed_quad", packed_quad_seeds()),
+        ("shell_run", shell_run_seeds()),
         ("block_vertex", block_vertex_seeds()),
         ("clutter_unit", clutter_unit_seeds()),
         ("chunk_draw_info", chunk_draw_info_seeds()),
@@ -509,6 +512,23 @@ fn packed_quad_seeds() -> Seeds {
     seeds.push(("bad-face-7", edit(0, 7)));
     seeds.push(("bad-truncated", edit(0, 0)[..7].to_vec()));
     seeds
+}
+
+fn shell_run_seeds() -> Seeds {
+    let run =
+        |x, z, y, height, block, sides| bytes_of(&ShellRun::new(x, z, y, height, block, sides));
+    let mut reserved = run(0, 0, 0, 1, 1, 1);
+    reserved[7] = 1;
+    vec![
+        ("valid-one", run(2, 4, 0, 3, 1, ShellRun::ALL_SIDES)),
+        ("valid-full-column", run(63, 63, 0, 64, u16::MAX, 0b10_0000)),
+        ("bad-height-0", run(0, 0, 0, 0, 1, 1)),
+        ("bad-past-the-chunk", run(0, 0, 60, 5, 1, 1)),
+        ("bad-x", run(64, 0, 0, 1, 1, 1)),
+        ("bad-no-side", run(0, 0, 0, 1, 1, 0)),
+        ("bad-reserved", reserved),
+        ("bad-truncated", run(0, 0, 0, 1, 1, 1)[..7].to_vec()),
+    ]
 }
 
 fn block_vertex_seeds() -> Seeds {

@@ -100,6 +100,7 @@ fn gpu_frame_drawn(
     let settings = NodeSettings {
         mesh: mesher::MeshSettings::default(),
         far_blocks: draw.splat,
+        ..Default::default()
     };
     let coords = |world: &voxel_core::storage::WorldMap<_>| {
         let mut c: Vec<ChunkCoord> = world.iter().map(|(c, _)| c).collect();

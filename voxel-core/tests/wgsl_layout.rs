@@ -14,7 +14,7 @@ use voxel_core::formats::quantize::{UNORM8_STEP, UNORM16_STEP};
 use voxel_core::formats::{
     ALL_WGSL_STRUCTS, BlockVertex, ChunkDrawIndirect, ChunkDrawInfo, ChunkKind, ClutterUnit,
     DrawBlock, DrawBlockFlags, FORMATS_WGSL, FaceDirection, FaceLayerRange, LayerRange,
-    MeshedChunkInfo, PackedQuad, SmoothQuadForm, WgslStruct, WgslType,
+    MeshedChunkInfo, PackedQuad, ShellRun, SmoothQuadForm, WgslStruct, WgslType,
 };
 
 fn parse(source: &str) -> Module {
@@ -133,6 +133,7 @@ fn layout_tables_describe_the_right_rust_types() {
     let sizes = [
         (DrawBlock::WGSL_LAYOUT, size_of::<DrawBlock>(), 4),
         (PackedQuad::WGSL_LAYOUT, size_of::<PackedQuad>(), 8),
+        (ShellRun::WGSL_LAYOUT, size_of::<ShellRun>(), 8),
         (BlockVertex::WGSL_LAYOUT, size_of::<BlockVertex>(), 16),
         (ClutterUnit::WGSL_LAYOUT, size_of::<ClutterUnit>(), 20),
         (ChunkDrawInfo::WGSL_LAYOUT, size_of::<ChunkDrawInfo>(), 24),

@@ -44,6 +44,7 @@ fn settings() -> NodeSettings {
     NodeSettings {
         mesh: MeshSettings::default(),
         far_blocks: true,
+        ..Default::default()
     }
 }
 

@@ -49,6 +49,9 @@ pub enum RenderError {
     FarDrawsUnavailable(String),
     /// Clutter cannot be drawn with this configuration (why, in words).
     ClutterUnavailable(String),
+    /// Shells cannot be drawn: the configuration has no shell pass, or its shell space is not
+    /// one gigabuffer page (the reason says which).
+    ShellsUnavailable(String),
     /// The depth pyramid of occlusion culling could not be built.
     Hiz(HizError),
     /// The compute quad rasteriser refused its device, configuration or inputs.
@@ -82,6 +85,7 @@ impl fmt::Display for RenderError {
             RenderError::Lod(e) => write!(f, "{e}"),
             RenderError::FarDrawsUnavailable(why) => write!(f, "far draws unavailable: {why}"),
             RenderError::ClutterUnavailable(why) => write!(f, "clutter unavailable: {why}"),
+            RenderError::ShellsUnavailable(why) => write!(f, "shells unavailable: {why}"),
             RenderError::Hiz(e) => write!(f, "depth pyramid: {e}"),
             RenderError::QuadRaster(e) => write!(f, "quad rasteriser: {e}"),
             RenderError::Alloc(e) => write!(f, "{e}"),

@@ -83,7 +83,8 @@ impl TableEntry for NodeRecord {
         flags: 0,
         opaque_skirts: [0; 3],
         block_skirts: [0; 3],
-        pad: [0; 2],
+        shell_offset: 0,
+        shell_count: 0,
     };
     const LABEL: &'static str = "node table (NodeRecord)";
 }

@@ -28,6 +28,14 @@ pub enum ResidencyError {
     BadLevel(u32),
     /// A chunk's far-draw data does not fit (what is wrong, in words).
     BadFarData(String),
+    /// A chunk's shell run does not decode (a height of 0, a run past 64 voxels, empty side
+    /// bits, a set reserved byte) or leaves the chunk; `error` names the field.
+    BadShellRun {
+        /// The run's index in the chunk's shell runs.
+        run: usize,
+        /// What is wrong with it.
+        error: FormatError,
+    },
 }
 
 impl ResidencyError {
@@ -59,6 +67,7 @@ impl fmt::Display for ResidencyError {
                 write!(f, "chunk level of detail {level} is above the largest, 15")
             }
             ResidencyError::BadFarData(why) => write!(f, "far-draw data: {why}"),
+            ResidencyError::BadShellRun { run, error } => write!(f, "shell run {run}: {error}"),
         }
     }
 }

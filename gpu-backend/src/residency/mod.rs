@@ -28,7 +28,8 @@ use render_model::resident::{
     ChunkMeshData, ChunkRanges, SmoothFrame, SmoothRanges, chunk_record, mesh_bounds,
 };
 use voxel_core::ChunkSize;
-use voxel_core::formats::{ChunkLayersData, DataKind, DrawBlock, MeshedChunkInfo};
+use voxel_core::FormatError;
+use voxel_core::formats::{ChunkLayersData, DataKind, DrawBlock, MeshedChunkInfo, ShellRun};
 use wgpu::{CommandEncoder, Device, Queue};
 
 pub use chunk_table::{FarChunkTable, GpuTable, MeshedChunkTable, TableError, TableSlot};
@@ -175,6 +176,7 @@ impl Residency {
             return Err(ResidencyError::BadLevel(mesh.lod));
         }
         check_far_data(self.chunk_size, &mesh.layers)?;
+        check_shell_runs(self.chunk_size, mesh.layers.shell_runs)?;
         let bounds = mesh_bounds(&mesh.layers, self.smooth);
         let uploaded = self.gigabuffer.upload(&mesh.layers)?;
         let slot = match self.insert_records(mesh, bounds, &uploaded.ranges) {
@@ -264,6 +266,34 @@ impl Residency {
 
 /// Far-draw data must come whole: blocks with the hiding mask of the node's padded
 /// neighbourhood, in nodes a `DrawBlock` can address.
+/// Every run of `runs` decodes and lies inside a chunk of `size`: the shell pass draws each
+/// one's box, whatever its bytes, so a bad run is refused here, by name.
+fn check_shell_runs(size: ChunkSize, runs: &[ShellRun]) -> Result<(), ResidencyError> {
+    let edge = i64::from(size.edge());
+    let inside = |field, value: u32, max: i64| {
+        if i64::from(value) <= max {
+            Ok(())
+        } else {
+            Err(FormatError::IntegerOutOfRange {
+                field,
+                value: value.into(),
+                min: 0,
+                max,
+            })
+        }
+    };
+    for (index, run) in runs.iter().enumerate() {
+        let checked = run.decode().and_then(|f| {
+            let [x, y, z] = f.position;
+            inside("ShellRun.x", x, edge - 1)?;
+            inside("ShellRun.z", z, edge - 1)?;
+            inside("ShellRun.y + height", y + f.height, edge)
+        });
+        checked.map_err(|error| ResidencyError::BadShellRun { run: index, error })?;
+    }
+    Ok(())
+}
+
 fn check_far_data(size: ChunkSize, layers: &ChunkLayersData<'_>) -> Result<(), ResidencyError> {
     let blocks = layers.draw_blocks.len()
         + layers

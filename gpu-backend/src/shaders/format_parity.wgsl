@@ -30,6 +30,7 @@ const CHUNK_DRAW_INDIRECT_STRIDE: u32 = 8u;
 const OCT_STRIDE: u32 = 3u;
 const SMOOTH_QUAD_STRIDE: u32 = 4u;
 const UNORM_STRIDE: u32 = 2u;
+const SHELL_RUN_STRIDE: u32 = 83u;
 
 fn put_u(at: u32, v: u32) {
     out[at] = v;
@@ -249,6 +250,27 @@ fn decode_unorm(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     put_f(i * UNORM_STRIDE, unorm16_decode(codes[i], params.extent));
     put_f(i * UNORM_STRIDE + 1u, unorm8_decode(codes[i]));
+}
+
+// Shell runs (`codes` holds their two words each): position x y z, height, block, the six
+// side bits, then the 4 corners of each of the 6 faces (face order, 3 words each).
+@compute @workgroup_size(64)
+fn decode_shell_run(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&codes) / 2u {
+        return;
+    }
+    let r = ShellRun(codes[2u * i], codes[2u * i + 1u]);
+    let o = i * SHELL_RUN_STRIDE;
+    put_u3(o, shell_run_position(r));
+    put_u(o + 3u, shell_run_height(r));
+    put_u(o + 4u, shell_run_block(r));
+    for (var f = 0u; f < 6u; f += 1u) {
+        put_b(o + 5u + f, shell_run_has_side(r, f));
+        for (var c = 0u; c < 4u; c += 1u) {
+            put_u3(o + 11u + 12u * f + 3u * c, shell_run_corner(r, f, c));
+        }
+    }
 }
 
 // Smooth quads in `form` (`codes` holds the words): corners 0..4 of quad i, read with

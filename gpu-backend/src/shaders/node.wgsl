@@ -1,6 +1,6 @@
 // What the renderer keeps per table slot beside MeshedChunkInfo (twin of cull::NodeRecord, a
 // unit test checks the layout with naga): the smooth-quad range, the far-draw blocks and their
-// hiding mask, and the per-side skirt counts. 64 bytes.
+// hiding mask, the per-side skirt counts and the shell runs. 64 bytes.
 struct NodeRecord {
     // The smooth quads' first word in the smooth-quad gigabuffer (global), count and form.
     smooth_quad_offset: u32,
@@ -19,8 +19,9 @@ struct NodeRecord {
     // side after side) per side: side 2i in the low 16 bits of word i, side 2i + 1 high.
     opaque_skirts: array<u32, 3>,
     block_skirts: array<u32, 3>,
-    pad0: u32,
-    pad1: u32,
+    // The shell runs (global element offset in the shell gigabuffer) and their count.
+    shell_offset: u32,
+    shell_count: u32,
 }
 
 // The node has far-draw blocks and a hiding mask.

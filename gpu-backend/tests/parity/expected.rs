@@ -5,7 +5,7 @@
 use voxel_core::formats::quantize::{UnormExtent, unorm8_decode, unorm16_decode};
 use voxel_core::formats::{
     BlockVertex, ChunkDrawIndirect, ChunkDrawInfo, ClutterUnit, DrawBlock, FaceDirection,
-    FaceLayerRange, MeshedChunkInfo, PackedQuad, oct16_decode, oct32_decode,
+    FaceLayerRange, MeshedChunkInfo, PackedQuad, ShellRun, oct16_decode, oct32_decode,
 };
 
 /// One expected output word.
@@ -57,6 +57,19 @@ pub(crate) fn packed_quad(x: &PackedQuad, out: &mut Vec<Word>) {
         out.extend(corner.map(u));
     }
     face(d.face, out);
+}
+
+pub(crate) fn shell_run(x: &ShellRun, out: &mut Vec<Word>) {
+    let d = x.decode().expect("parity inputs are valid runs");
+    out.extend(d.position.map(u));
+    out.push(u(d.height));
+    out.push(u(d.block.0.into()));
+    out.extend(FaceDirection::ALL.map(|f| b(x.has_side(f))));
+    for f in FaceDirection::ALL {
+        for corner in d.corners(f) {
+            out.extend(corner.map(u));
+        }
+    }
 }
 
 fn face(face: FaceDirection, out: &mut Vec<Word>) {

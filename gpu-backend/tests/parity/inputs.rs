@@ -5,9 +5,10 @@
 //! with the invalid patterns (reserved bits, face 6 and 7, kinds above 2, ...) mapped to valid
 //! ones, so every input is something `encode` can produce.
 
+use voxel_core::BlockId;
 use voxel_core::formats::{
     BlockVertex, ChunkDrawIndirect, ChunkDrawInfo, ClutterUnit, DrawBlock, FaceLayerRange,
-    LayerRange, MeshedChunkInfo, PackedQuad,
+    LayerRange, MeshedChunkInfo, PackedQuad, ShellRun, ShellRunFields,
 };
 
 use crate::common::Rng;
@@ -98,6 +99,33 @@ fn sentinel(rng: &mut Rng) -> i32 {
         1 => i32::MAX,
         _ => (rng.next_u32() >> 1) as i32,
     }
+}
+
+/// Valid shell runs: random fields, plus the extremes (a run at the origin, one filling a
+/// 64-voxel column, one ending at the top of the chunk).
+pub(crate) fn shell_runs(rng: &mut Rng) -> Vec<ShellRun> {
+    let run = |position: [u32; 3], height, block: u16, sides| {
+        ShellRun::encode(&ShellRunFields {
+            position,
+            height,
+            block: BlockId(block),
+            sides,
+        })
+        .expect("valid fields")
+    };
+    let mut v = vec![
+        run([0, 0, 0], 1, 0, 1),
+        run([63, 0, 63], 64, u16::MAX, ShellRun::ALL_SIDES),
+        run([5, 63, 7], 1, 9, 0b10_0000),
+    ];
+    for _ in 0..2000 {
+        let y = rng.below(64);
+        let position = [rng.below(64), y, rng.below(64)];
+        let height = 1 + rng.below(64 - y);
+        let sides = 1 + rng.below(63) as u8;
+        v.push(run(position, height, rng.next_u32() as u16, sides));
+    }
+    v
 }
 
 pub(crate) fn chunk_draw_infos(rng: &mut Rng) -> Vec<ChunkDrawInfo> {

@@ -46,9 +46,11 @@ use voxel_core::{BlockId, ChunkCoord, FaceDirection, LocalPos, MaterialClass, Pa
 
 use crate::{BlockClasses, MeshError};
 
+pub mod geometry;
 pub mod nodes;
 pub mod skirts;
 
+pub use geometry::{Geometry, GeometryCounts, geometry_counts};
 #[cfg(feature = "parallel")]
 pub use nodes::mesh_nodes;
 pub use nodes::{NodeMesh, NodeMesher, NodeSettings, downsample_levels, mesh_nodes_sequential};

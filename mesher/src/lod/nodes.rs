@@ -19,10 +19,14 @@ use voxel_core::formats::{ChunkLayersData, DrawBlock};
 use voxel_core::storage::{PaletteChunk, VoxelStorage, WorldMap, gather_neighbourhood};
 use voxel_core::{ChunkCoord, FaceDirection, PaddedChunk};
 
+use super::geometry::{Geometry, keep_opaque_runs};
 use super::skirts::{Skirts, skirt_blocks, skirt_quads};
 use crate::batch::is_trivially_empty;
 use crate::surface_blocks::{hiding_mask, transparent_mask};
-use crate::{BlockClasses, ChunkMesh, ChunkMesher, MeshError, MeshSettings, SurfaceBlocks};
+use crate::{
+    BlockClasses, ChunkMesh, ChunkMesher, MeshError, MeshSettings, ShellRun, ShellRuns,
+    SurfaceBlocks,
+};
 
 /// What to extract per node.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -32,6 +36,9 @@ pub struct NodeSettings {
     /// Also extract far-draw data: surface blocks, skirt blocks and the hiding mask (chunks of
     /// at most 16^3: a `DrawBlock` addresses one 16^3 sub-block).
     pub far_blocks: bool,
+    /// Which geometry draws the node's opaque blocky surface: greedy quads, or vertical
+    /// shells in [`NodeMesh::shells`] (transparent quads and skirts are the same either way).
+    pub geometry: Geometry,
 }
 
 /// One node, meshed: what a renderer uploads for it.
@@ -52,6 +59,9 @@ pub struct NodeMesh {
     /// The transparent occupancy of its padded neighbourhood (empty without far blocks or
     /// without transparent voxels).
     pub transparent_mask: Vec<u32>,
+    /// Its opaque vertical shells (empty unless meshed with [`Geometry::Shells`], which then
+    /// leaves the opaque greedy quads empty).
+    pub shells: Vec<ShellRun>,
 }
 
 impl NodeMesh {
@@ -61,6 +71,7 @@ impl NodeMesh {
             && self.skirts.quad_counts() == [0; 6]
             && self.skirts.block_counts() == [0; 6]
             && self.blocks.is_empty()
+            && self.shells.is_empty()
     }
 
     /// The upload view of the node: its mesh's layers ([`ChunkMesh::layers`]) plus its skirts
@@ -75,6 +86,7 @@ impl NodeMesh {
         layers.draw_blocks = &self.blocks;
         layers.hiding_mask = &self.hiding_mask;
         layers.transparent_mask = &self.transparent_mask;
+        layers.shell_runs = &self.shells;
         layers
     }
 }
@@ -86,6 +98,7 @@ pub struct NodeMesher {
     chunk: ChunkMesher,
     surface: SurfaceBlocks,
     skirts: Skirts,
+    shells: ShellRuns,
 }
 
 /// Empties everything `out` holds but its coordinate and level (capacity kept).
@@ -95,6 +108,7 @@ fn clear_contents(out: &mut NodeMesh) {
     out.blocks.clear();
     out.hiding_mask.clear();
     out.transparent_mask.clear();
+    out.shells.clear();
 }
 
 impl NodeMesher {
@@ -165,6 +179,16 @@ impl NodeMesher {
         self.chunk
             .mesh_gathered(padded, coord, classes, &settings.mesh, &mut out.mesh)?;
         skirt_quads(padded, classes, &mut out.skirts)?;
+        if settings.geometry == Geometry::Shells {
+            out.mesh.blocky.opaque.clear();
+            crate::vertical_shells(padded, classes, &mut self.shells)?;
+            keep_opaque_runs(
+                self.shells.runs(),
+                classes,
+                settings.mesh.surface,
+                &mut out.shells,
+            );
+        }
         if settings.far_blocks {
             crate::surface_blocks(padded, classes, &mut self.surface)?;
             out.blocks.extend_from_slice(self.surface.blocks());

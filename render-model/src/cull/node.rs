@@ -12,7 +12,7 @@ pub const NODE_TRANSPARENT_MASK: u32 = 2;
 
 /// Per table slot, what `MeshedChunkInfo` does not hold (twin of the WGSL `NodeRecord` in
 /// `node.wgsl`, 64 bytes; a unit test checks the layout with naga): the smooth-quad range, the
-/// far-draw blocks and their hiding mask, and the skirt counts per side.
+/// far-draw blocks and their hiding mask, the skirt counts per side and the shell runs.
 ///
 /// Skirt counts are packed two per word (side `2i` in the low 16 bits of word `i`, `2i + 1` in
 /// the high ones): a side has at most `edge^2 <= 3844` skirt quads and at most 256 skirt blocks.
@@ -39,8 +39,10 @@ pub struct NodeRecord {
     pub opaque_skirts: [u32; 3],
     /// Skirt blocks per side, packed.
     pub block_skirts: [u32; 3],
-    /// Zero.
-    pub pad: [u32; 2],
+    /// The shell runs' first element in the shell gigabuffer (global).
+    pub shell_offset: u32,
+    /// Shell runs.
+    pub shell_count: u32,
 }
 
 const _: () = assert!(size_of::<NodeRecord>() == 64, "NodeRecord is 64 bytes");
@@ -104,7 +106,8 @@ impl NodeRecord {
                 },
             opaque_skirts: pack(ranges.opaque_skirts)?,
             block_skirts: pack(ranges.draw_block_skirts)?,
-            pad: [0; 2],
+            shell_offset: ranges.shell_runs.offset,
+            shell_count: ranges.shell_runs.count,
         })
     }
 }

@@ -92,10 +92,15 @@ impl NodeSource {
             size: settings.chunk,
             mesh_classes,
             classes,
-            settings: NodeSettings { mesh, far_blocks },
+            settings: NodeSettings {
+                mesh,
+                far_blocks,
+                ..Default::default()
+            },
             level0: NodeSettings {
                 mesh: MeshSettings { clutter, ..mesh },
                 far_blocks,
+                ..Default::default()
             },
             grass,
             layers: settings.layers,

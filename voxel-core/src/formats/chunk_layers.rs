@@ -2,7 +2,7 @@
 //! kinds of data they hold ([`DataKind`]): the mesher returns this view of its buffers and the
 //! backend stores each kind in its own gigabuffer, so neither names the other.
 
-use super::{BlockVertex, ClutterUnit, DrawBlock, PackedQuad, SmoothQuads};
+use super::{BlockVertex, ClutterUnit, DrawBlock, PackedQuad, ShellRun, SmoothQuads};
 
 /// The copy alignment of GPU buffer copies, bytes: every element size is a multiple of it.
 const COPY_ALIGNMENT: u32 = 4;
@@ -25,11 +25,14 @@ pub enum DataKind {
     Clutter,
     /// Surface blocks, [`DrawBlock`], 4 bytes: the block list far chunks are raycast from.
     DrawBlocks,
+    /// Vertical shells, [`ShellRun`], 8 bytes: a chunk's opaque runs, drawn as boxes instead
+    /// of its opaque greedy quads when the mesher is asked for shells.
+    Shells,
 }
 
 impl DataKind {
     /// Number of kinds.
-    pub const COUNT: usize = 5;
+    pub const COUNT: usize = 6;
 
     /// Every kind, in index order.
     pub const ALL: [DataKind; DataKind::COUNT] = [
@@ -38,6 +41,7 @@ impl DataKind {
         DataKind::SmoothQuads,
         DataKind::Clutter,
         DataKind::DrawBlocks,
+        DataKind::Shells,
     ];
 
     /// Position in [`DataKind::ALL`].
@@ -54,6 +58,7 @@ impl DataKind {
             DataKind::SmoothQuads => size_of::<u32>(),
             DataKind::Clutter => size_of::<ClutterUnit>(),
             DataKind::DrawBlocks => size_of::<DrawBlock>(),
+            DataKind::Shells => size_of::<ShellRun>(),
         }) as u32
     }
 
@@ -65,6 +70,7 @@ impl DataKind {
             DataKind::SmoothQuads => "smooth quads",
             DataKind::Clutter => "clutter",
             DataKind::DrawBlocks => "draw blocks",
+            DataKind::Shells => "shell runs",
         }
     }
 }
@@ -155,6 +161,9 @@ pub struct ChunkLayersData<'a> {
     /// (`mesher::surface_blocks::transparent_mask`; empty when it has no transparent voxel),
     /// stored right after the hiding mask.
     pub transparent_mask: &'a [u32],
+    /// Opaque vertical shells (`mesher::ShellRuns`), when the node was meshed as shells: they
+    /// stand for its opaque greedy quads, which are then empty.
+    pub shell_runs: &'a [ShellRun],
 }
 
 impl<'a> ChunkLayersData<'a> {
@@ -200,6 +209,7 @@ impl<'a> ChunkLayersData<'a> {
         *counts.get_mut(DataKind::SmoothQuads) = self.smooth_quads.word_len() as u64;
         *counts.get_mut(DataKind::Clutter) = self.clutter_units.len() as u64;
         *counts.get_mut(DataKind::DrawBlocks) = self.draw_block_words();
+        *counts.get_mut(DataKind::Shells) = self.shell_runs.len() as u64;
         counts
     }
 
@@ -239,6 +249,11 @@ mod tests {
         assert_eq!(*counts.get(DataKind::Quads), 4);
         assert_eq!(*counts.get(DataKind::SmoothVertices), 3);
         assert_eq!(layers.byte_len(), 4 * 8 + 3 * 16);
+        let runs = [ShellRun::new(0, 0, 0, 1, 1, 1); 2];
+        layers.shell_runs = &runs;
+        assert_eq!(*layers.element_counts().get(DataKind::Shells), 2);
+        assert_eq!(layers.byte_len(), 4 * 8 + 3 * 16 + 2 * 8);
+        layers.shell_runs = &[];
         // Smooth quads take whole words: 3 compact records (18 bytes) take 5.
         let records = [[2, 1, 1 | 1 << 6]; 3];
         layers.smooth_quads = SmoothQuads::Compact(&records);

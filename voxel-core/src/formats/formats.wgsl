@@ -182,6 +182,53 @@ fn packed_quad_corner(q: PackedQuad, corner: u32) -> vec3<u32> {
     return p;
 }
 
+// ShellRun (shell_run.rs)
+
+struct ShellRun {
+    xzyh: u32,
+    block_sides: u32,
+}
+
+// Chunk-local x, y, z of the run's lowest voxel.
+fn shell_run_position(r: ShellRun) -> vec3<u32> {
+    return vec3<u32>(r.xzyh & 0xffu, (r.xzyh >> 16u) & 0xffu, (r.xzyh >> 8u) & 0xffu);
+}
+
+// Voxels in the run, 1..=64 - y.
+fn shell_run_height(r: ShellRun) -> u32 {
+    return r.xzyh >> 24u;
+}
+
+fn shell_run_block(r: ShellRun) -> u32 {
+    return r.block_sides & 0xffffu;
+}
+
+// True if box face `face` (a FACE_* index) is visible somewhere along the run.
+fn shell_run_has_side(r: ShellRun, face: u32) -> bool {
+    return ((r.block_sides >> (16u + face)) & 1u) != 0u;
+}
+
+// Corner `corner & 3` of box face `face` in chunk-local voxel units, counter-clockwise seen
+// from outside, in the order of the greedy quad covering the same side; the twin of
+// ShellRunFields::corners. Draw corners (0, 1, 2) and (0, 2, 3).
+fn shell_run_corner(r: ShellRun, face: u32, corner: u32) -> vec3<u32> {
+    let c = corner & 3u;
+    let a = u32(c == 1u || c == 2u);
+    let b = u32(c >= 2u);
+    let swap = face == FACE_POS_X || face == FACE_POS_Y || face == FACE_NEG_Z;
+    let du = select(a, b, swap);
+    let dv = select(b, a, swap);
+    let extent = vec3<u32>(1u, shell_run_height(r), 1u);
+    let n = axis_unit(face_normal_axis(face));
+    let w = axis_unit(face_width_axis(face));
+    let h = axis_unit(face_height_axis(face));
+    var p = shell_run_position(r);
+    p += n * extent * u32(face_is_positive(face));
+    p += w * extent * du;
+    p += h * extent * dv;
+    return p;
+}
+
 // Three unorm16 coordinates packed as BlockVertex and ClutterUnit pack them: x and y in the low
 // and high halves of `xy`, z in the low half of `z_low` (the mirror of `unorm16x3_decode`).
 fn unorm16x3_decode(xy: u32, z_low: u32, extent: f32) -> vec3<f32> {

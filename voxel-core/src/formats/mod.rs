@@ -4,6 +4,7 @@
 //! | ---------------------- | ----- | ------------------------------------------------------- |
 //! | [`DrawBlock`]          | 4 B   | one surface block: flags, 4-bit position, block id      |
 //! | [`PackedQuad`]         | 8 B   | one greedy quad, expanded to 4 corners on the GPU       |
+//! | [`ShellRun`]           | 8 B   | one vertical run of exposed voxels, drawn as a box      |
 //! | [`BlockVertex`]        | 16 B  | one quantized vertex (position, normal, uv, block)      |
 //! | [`ClutterUnit`]        | 20 B  | one clutter instance                                    |
 //! | [`ChunkDrawInfo`]      | 24 B  | a loaded chunk as the cull pass sees it                 |
@@ -72,6 +73,7 @@ mod meshed_chunk_info;
 pub mod octahedral;
 mod packed_quad;
 pub mod quantize;
+mod shell_run;
 mod smooth_quads;
 mod wgsl;
 
@@ -94,5 +96,6 @@ pub use octahedral::{
 };
 pub use packed_quad::{PackedQuad, PackedQuadFields};
 pub use quantize::UnormExtent;
+pub use shell_run::{ShellRun, ShellRunFields};
 pub use smooth_quads::{SmoothQuadForm, SmoothQuads};
 pub use wgsl::{ALL_WGSL_STRUCTS, FORMATS_WGSL, WgslMember, WgslStruct, WgslType};

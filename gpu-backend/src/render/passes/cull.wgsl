@@ -312,9 +312,11 @@ fn cull_slot(slot: u32) -> SlotCull {
     let has_smooth = u.layer == 0u && node.smooth_quad_count > 0u;
     let has_blocks = (node.flags & NODE_HAS_BLOCKS) != 0u;
     let has_transparent = u.layer == 0u && face_layer_range_total(info.transparent_quads) > 0u;
+    // Shell runs draw in the shell pass, which reads the visibility bit this cull sets.
+    let has_shells = u.layer == 0u && node.shell_count > 0u;
     // Far-draw blocks belong to the opaque pass (it shades their transparent blocks too), and so
     // does listing the nodes whose transparent quads the transparent records draw.
-    if !any && !has_smooth && !(u.layer == 0u && (has_blocks || has_transparent)) {
+    if !any && !has_smooth && !has_shells && !(u.layer == 0u && (has_blocks || has_transparent)) {
         return out;
     }
     if any {

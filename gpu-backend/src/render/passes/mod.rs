@@ -10,6 +10,7 @@
 //! | G-buffer | [`gbuffer`] | opaque greedy and smooth quads (and raster far blocks) into the G-buffer |
 //! | Hi-Z | [`hiz`] | the depth pyramid of the early phase, for the late cull |
 //! | grass | [`grass`] | clutter units as crossed quads into the G-buffer, culled with their chunks, swaying in the wind (after the opaque phases) |
+//! | shells | [`shells`] | nodes' vertical shell runs as boxes synthesised in the vertex shader into the G-buffer, culled with their nodes (after the opaque phases) |
 //! | prop cull | [`prop_cull`] | glTF prop instances: zero each batch's count, frustum and Hi-Z per instance, one indexed indirect draw per batch (after the opaque phases) |
 //! | props | [`props`] | the batches' visible prop instances into the G-buffer |
 //! | shadow | [`shadow`] | the camera-centred occupancy grid from the drawn nodes' quads, then per pixel the sun and sky visibility rays through it (with shadows on) |
@@ -44,6 +45,7 @@ pub mod props;
 pub mod quad_raster;
 pub mod shadow;
 pub mod shared;
+pub mod shells;
 pub mod targets;
 pub mod tonemap;
 pub mod transparent;

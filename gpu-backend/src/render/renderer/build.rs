@@ -24,6 +24,7 @@ use crate::render::passes::lighting::LightingPass;
 use crate::render::passes::quad_raster::QuadRaster;
 use crate::render::passes::shadow::ShadowPass;
 use crate::render::passes::shared::Shared;
+use crate::render::passes::shells::ShellPass;
 use crate::render::passes::tonemap::TonemapPass;
 use crate::render::passes::transparent::TransparentPass;
 use crate::residency::Residency;
@@ -46,6 +47,8 @@ pub(super) struct Passes {
     pub(super) gbuffer: GbufferPass,
     /// The grass pass, when the configuration draws clutter.
     pub(super) grass: Option<GrassPass>,
+    /// The shell pass, when the configuration draws shells.
+    pub(super) shells: Option<ShellPass>,
     /// The depth pyramid of two-phase occlusion culling.
     pub(super) hiz: Option<DepthPyramid>,
     /// The shadow pass, made with the first frame that has shadows on.
@@ -160,6 +163,26 @@ impl Passes {
         } else {
             None
         };
+        let shells = if config.shells {
+            let layout = gigabuffer.layout(DataKind::Shells);
+            if *config.gigabuffer.bytes.get(DataKind::Shells) == 0 || layout.page_count != 1 {
+                return Err(RenderError::ShellsUnavailable(format!(
+                    "the shell pass binds the shell gigabuffer as one page; {} bytes of shells \
+                     make {} pages of at most {} bytes",
+                    config.gigabuffer.bytes.get(DataKind::Shells),
+                    layout.page_count,
+                    ctx.capabilities.max_page_bytes()
+                )));
+            }
+            Some(ShellPass::new(
+                device,
+                &shared,
+                config.max_chunks,
+                ctx.capabilities.multi_draw,
+            )?)
+        } else {
+            None
+        };
         let hiz = if config.occlusion {
             Some(DepthPyramid::new(device, config.width, config.height)?)
         } else {
@@ -172,6 +195,7 @@ impl Passes {
             far_raster,
             gbuffer: GbufferPass::new(device, &shared),
             grass,
+            shells,
             hiz,
             shadow: None,
             lighting: LightingPass::new(device, &shared, config.fullscreen),

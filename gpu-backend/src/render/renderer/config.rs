@@ -42,6 +42,10 @@ pub struct RendererConfig {
     /// needs clutter space in `gigabuffer` ([`with_clutter`](Self::with_clutter)). Without it
     /// the pass and its pipelines are not created.
     pub clutter: bool,
+    /// Nodes' shell runs are drawn (the shell pass, [`crate::render::passes::shells`]); needs
+    /// shell space in `gigabuffer` ([`with_shells`](Self::with_shells)). Without it the pass
+    /// and its pipelines are not created.
+    pub shells: bool,
 }
 
 impl RendererConfig {
@@ -68,6 +72,7 @@ impl RendererConfig {
             occlusion: true,
             antialias: true,
             clutter: false,
+            shells: false,
         }
     }
 
@@ -85,6 +90,14 @@ impl RendererConfig {
     pub fn with_clutter(mut self, clutter_bytes: u64) -> RendererConfig {
         self.clutter = true;
         self.gigabuffer = self.gigabuffer.with_bytes(DataKind::Clutter, clutter_bytes);
+        self
+    }
+
+    /// This configuration drawing shell runs, with `shell_bytes` of shell space (one
+    /// gigabuffer page: the shell pass binds it whole).
+    pub fn with_shells(mut self, shell_bytes: u64) -> RendererConfig {
+        self.shells = true;
+        self.gigabuffer = self.gigabuffer.with_bytes(DataKind::Shells, shell_bytes);
         self
     }
 }

@@ -424,6 +424,22 @@ impl Renderer {
         Ok(Some((words[0], words[1])))
     }
 
+    /// The shell pass's counts of the last frame, `(nodes drawn, runs drawn)` (blocks while it
+    /// reads them back), or `None` without a shell pass.
+    pub fn shell_stats(&self) -> Result<Option<(u32, u32)>, RenderError> {
+        let Some(shells) = &self.passes.shells else {
+            return Ok(None);
+        };
+        let words: Vec<u32> = bytemuck::pod_collect_to_vec(&crate::readback::read_buffer(
+            &self.device,
+            &self.queue,
+            shells.stats(),
+            0,
+            8,
+        )?);
+        Ok(Some((words[0], words[1])))
+    }
+
     /// The far path in use and why it was chosen.
     pub fn far_choice(&self) -> &FarChoice {
         &self.far_choice
@@ -501,6 +517,9 @@ impl Renderer {
         out.extend(self.passes.culls.resident_bytes());
         if let Some(grass) = &self.passes.grass {
             out.push(("grass draws", grass.resident_bytes()));
+        }
+        if let Some(shells) = &self.passes.shells {
+            out.push(("shell draws", shells.resident_bytes()));
         }
         if let Some(shadow) = &self.passes.shadow {
             out.push(("shadow grid and visibility", shadow.resident_bytes()));

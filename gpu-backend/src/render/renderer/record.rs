@@ -110,6 +110,32 @@ impl Renderer {
         })
     }
 
+    /// The shell cull's uniforms of the next frame (`None` without a shell pass): the grass
+    /// cull's layout, with the selection, frustum and occlusion of `cull`, the frame's last
+    /// opaque cull record.
+    fn shell_cull_uniforms(&self, view: &CullView, cull: &CullParams) -> Option<GrassCullUniforms> {
+        self.passes.shells.as_ref()?;
+        let mut flags = 0;
+        if cull.lod.is_some() {
+            flags |= grass::GRASS_CULL_LOD;
+        }
+        if self.passes.culls.occlusion() {
+            flags |= grass::GRASS_CULL_OCCLUSION;
+        }
+        Some(GrassCullUniforms {
+            planes: view.planes,
+            camera_chunk: [view.chunk.x, view.chunk.y, view.chunk.z],
+            slot_bound: self.residency.table().slot_bound(),
+            camera_offset: view.offset,
+            chunk_edge: self.config.chunk_size.edge() as f32,
+            lod: cull.lod.unwrap_or_default(),
+            flags,
+            focal_px: 0.0,
+            budget_px: 0.0,
+            pad: 0,
+        })
+    }
+
     /// The shadow pass's parameters of the next frame, after making the pass (and fitting it
     /// to the targets and the quad pages) when the lighting switches shadows on; `None` with
     /// shadows off.
@@ -251,6 +277,7 @@ impl Renderer {
             .camera
             .cull_view(self.config.chunk_size, width, height);
         let grass_params = self.grass_params(&view, &params.late);
+        let shell_cull = self.shell_cull_uniforms(&view, &params.late);
         let frame_group = self.shared.frame_group();
         let quads_in_compute = self.quads_in_compute();
         // The wireframe view's one-pixel lines are what it shows: anti-aliasing would blur
@@ -287,6 +314,9 @@ impl Renderer {
         culls.clear(encoder);
         if let Some(grass) = &passes.grass {
             grass.clear(encoder);
+        }
+        if let Some(shells) = &passes.shells {
+            shells.clear(encoder);
         }
         if let Some(splat) = splat {
             splat.clear(encoder);
@@ -328,6 +358,11 @@ impl Renderer {
         if let Some((grass, params)) = passes.grass.as_ref().zip(grass_params.as_ref()) {
             grass.record(&ctx, &mut rec, params, culls.visible_bits());
             // The grass wrote depth: the next early G-buffer pass must clear it.
+            passes.gbuffer.depth_drawn();
+        }
+        // Shells after both opaque phases, like the grass (shells.rs says why).
+        if let Some((shells, cull)) = passes.shells.as_ref().zip(shell_cull.as_ref()) {
+            shells.record(&ctx, &mut rec, cull, culls.visible_bits());
             passes.gbuffer.depth_drawn();
         }
         // The props after the opaque phases: with occlusion culling, tested against this

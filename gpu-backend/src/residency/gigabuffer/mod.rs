@@ -265,6 +265,7 @@ impl Gigabuffer {
                 offset: blocks.offset + block_count + skirt_total + layers.hiding_mask.len() as u32,
                 count: layers.transparent_mask.len() as u32,
             },
+            shell_runs: self.global(DataKind::Shells, &allocations[DataKind::Shells.index()]),
         }
     }
 
@@ -324,6 +325,7 @@ impl Gigabuffer {
             )))
             .collect();
         push(DataKind::DrawBlocks, &blocks);
+        push(DataKind::Shells, &[bytemuck::cast_slice(layers.shell_runs)]);
     }
 
     /// Frees a chunk's space. A stale handle is an error and frees nothing.
