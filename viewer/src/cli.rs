@@ -72,7 +72,8 @@ pub(crate) struct Args {
     /// Streamed terrain: the screen-space error budget, pixels (0 = full detail everywhere).
     #[arg(long, value_name = "PX", default_value_t = 1.0, value_parser = parse_budget, allow_hyphen_values = true, conflicts_with_all = ["vox", "chunks"])]
     pub budget: f32,
-    /// Streamed terrain: how blocks are meshed.
+    /// Streamed terrain: how blocks are meshed (faces, greedy, smooth, or shells: vertical
+    /// runs drawn as boxes by the shell pass).
     #[arg(long, value_name = "MODE", default_value = "greedy", value_parser = parse_mesher, conflicts_with_all = ["vox", "chunks"])]
     pub mesher: MesherMode,
     /// Streamed terrain: far draws of distant nodes (off, auto, splat, sprite, quads3).
@@ -330,12 +331,12 @@ fn parse_far_px(text: &str) -> Result<f32, String> {
     }
 }
 
-/// `faces`, `greedy` or `smooth`.
+/// `faces`, `greedy`, `smooth` or `shells`.
 fn parse_mesher(text: &str) -> Result<MesherMode, String> {
     MesherMode::ALL
         .into_iter()
         .find(|m| m.name() == text)
-        .ok_or_else(|| format!("{text:?} is not a mesher mode (faces, greedy, smooth)"))
+        .ok_or_else(|| format!("{text:?} is not a mesher mode (faces, greedy, smooth, shells)"))
 }
 
 /// One of [`FAR_CHOICES`].

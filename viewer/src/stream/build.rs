@@ -95,12 +95,12 @@ impl NodeSource {
             settings: NodeSettings {
                 mesh,
                 far_blocks,
-                ..Default::default()
+                geometry: settings.mesher.geometry(),
             },
             level0: NodeSettings {
                 mesh: MeshSettings { clutter, ..mesh },
                 far_blocks,
-                ..Default::default()
+                geometry: settings.mesher.geometry(),
             },
             grass,
             layers: settings.layers,

@@ -8,6 +8,7 @@ use std::time::Duration;
 use gpu_backend::render::OpaquePath;
 use gpu_backend::render::far::{FarPath, FarRequest};
 use mesher::SurfaceMode;
+use mesher::lod::Geometry;
 use voxel_core::ChunkSize;
 
 /// How node surfaces are meshed (the overlay's mesher modes).
@@ -20,18 +21,35 @@ pub enum MesherMode {
     Greedy,
     /// NoCubes: every opaque block smoothed (the renderer's smooth layer).
     Smooth,
+    /// Vertical shells (SBgl): the opaque surface as one box per vertical run of exposed
+    /// blocks (`mesher::lod::Geometry::Shells`, the renderer's shell pass); transparent
+    /// blocks and level-of-detail skirts stay greedy quads.
+    Shells,
 }
 
 impl MesherMode {
     /// All modes, in the overlay's order.
-    pub const ALL: [MesherMode; 3] = [MesherMode::Faces, MesherMode::Greedy, MesherMode::Smooth];
+    pub const ALL: [MesherMode; 4] = [
+        MesherMode::Faces,
+        MesherMode::Greedy,
+        MesherMode::Smooth,
+        MesherMode::Shells,
+    ];
 
     /// The mesher's surface mode.
     pub fn surface(self) -> SurfaceMode {
         match self {
             MesherMode::Faces => SurfaceMode::VisibleFaces,
-            MesherMode::Greedy => SurfaceMode::Greedy,
+            MesherMode::Greedy | MesherMode::Shells => SurfaceMode::Greedy,
             MesherMode::Smooth => SurfaceMode::NoCubes,
+        }
+    }
+
+    /// The node geometry of the opaque blocky surface.
+    pub fn geometry(self) -> Geometry {
+        match self {
+            MesherMode::Shells => Geometry::Shells,
+            _ => Geometry::Greedy,
         }
     }
 
@@ -41,6 +59,7 @@ impl MesherMode {
             MesherMode::Faces => "faces",
             MesherMode::Greedy => "greedy",
             MesherMode::Smooth => "smooth",
+            MesherMode::Shells => "shells",
         }
     }
 }

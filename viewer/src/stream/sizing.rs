@@ -46,13 +46,22 @@ pub(super) fn renderer_config(
         parts.push((DataKind::SmoothVertices, 3));
         parts.push((DataKind::SmoothQuads, 1));
     }
+    let shells = settings.mesher == MesherMode::Shells;
+    if shells {
+        // Runs take about the bytes of the opaque quads they replace (BENCHMARKS.md's
+        // geometry table); the quads left are the transparent ones and the skirts.
+        parts.push((DataKind::Shells, 3));
+    }
     let total: u64 = parts.iter().map(|(_, p)| p).sum();
     let capacity = settings.node_capacity();
     let mut gigabuffer = GigabufferConfig::empty().with_max_chunks(capacity);
     for (kind, part) in parts {
         let mut bytes = memory / total * part;
-        // The far draws and the grass pass bind their kind as one page.
-        if kind == DataKind::DrawBlocks || kind == DataKind::Clutter {
+        // The far draws, the grass pass and the shell pass bind their kind as one page.
+        if matches!(
+            kind,
+            DataKind::DrawBlocks | DataKind::Clutter | DataKind::Shells
+        ) {
             bytes = bytes.min(capabilities.max_page_bytes());
         }
         gigabuffer = gigabuffer.with_bytes(kind, bytes);
@@ -63,6 +72,7 @@ pub(super) fn renderer_config(
     config.smooth = SmoothFrame::nocubes(settings.chunk);
     config.opaque = settings.opaque;
     config.clutter = settings.clutter;
+    config.shells = shells;
     config.far = match far {
         FarPath::Off => FarRequest::Off,
         path => FarRequest::Path(path),
