@@ -19,7 +19,7 @@
 
 use std::time::Instant;
 
-use mesher::lod::{NodeMesh, NodeSettings, downsample_levels, mesh_nodes};
+use mesher::lod::{Geometry, NodeMesh, NodeSettings, downsample_levels, mesh_nodes};
 use mesher::{BlockClasses, ClutterParams, MeshError, MeshSettings};
 use voxel_core::storage::{VoxelStorage, WorldMap};
 use voxel_core::{ChunkCoord, ChunkSize, MaterialPalette};
@@ -74,6 +74,20 @@ impl LodTerrain {
         clutter: Option<ClutterParams>,
         keep: impl Fn(u32, ChunkCoord) -> bool + Sync,
     ) -> Result<LodTerrain, MeshError> {
+        Self::generate_as(side, size, seed, top_level, clutter, Geometry::Greedy, keep)
+    }
+
+    /// [`generate_with_clutter`](Self::generate_with_clutter), the opaque surface of every
+    /// node extracted as `geometry` (greedy quads or vertical shells).
+    pub fn generate_as(
+        side: u32,
+        size: ChunkSize,
+        seed: i32,
+        top_level: u32,
+        clutter: Option<ClutterParams>,
+        geometry: Geometry,
+        keep: impl Fn(u32, ChunkCoord) -> bool + Sync,
+    ) -> Result<LodTerrain, MeshError> {
         let edge = size.edge();
         let across = side.div_ceil(edge).max(1) as i32;
         let tall = TERRAIN_TOP.div_ceil(edge) as i32;
@@ -87,7 +101,7 @@ impl LodTerrain {
         let settings = NodeSettings {
             mesh: MeshSettings::default(),
             far_blocks: edge <= 16,
-            ..Default::default()
+            geometry,
         };
         let started = Instant::now();
         let mut levels = Vec::new();
@@ -127,6 +141,11 @@ impl LodTerrain {
     /// Quads (both layers and the skirts) of every kept node.
     pub fn quad_count(&self) -> u64 {
         self.nodes().map(node_quads).sum()
+    }
+
+    /// Shell runs of every kept node (none with greedy geometry).
+    pub fn shell_count(&self) -> u64 {
+        self.nodes().map(|n| n.shells.len() as u64).sum()
     }
 
     /// Clutter units of every kept node.

@@ -148,6 +148,149 @@ struct Args {
     /// Grass needs clutter: `--clutter` defaults to the viewer's 2 with it.
     #[arg(long)]
     features: bool,
+    /// Instead of the settings table: the terrain meshed with each of these geometries
+    /// (comma-separated: greedy, shells; heightmap is not built) on a renderer each, at the
+    /// first setting given: node bytes, opaque instances, meshing time, GPU time and the image
+    /// difference from the first geometry's frame (`benches::gpu_bench::geometry`).
+    #[arg(long, value_delimiter = ',', value_parser = benches::gpu_bench::geometry::parse_geometry)]
+    geometry: Vec<mesher::lod::Geometry>,
+}
+
+/// The first value of each setting list, for the single-setting tables (`--features`,
+/// `--geometry`), or the flag that has none.
+struct FirstSetting {
+    far: FarRequest,
+    occlusion: bool,
+    opaque: OpaquePath,
+    fullscreen: FullscreenPath,
+    budget: f32,
+    far_px: f32,
+}
+
+impl FirstSetting {
+    fn of(args: &Args) -> Result<FirstSetting, String> {
+        let first = |what: &str| format!("at least one {what} is needed");
+        Ok(FirstSetting {
+            far: far_request(*args.far.first().ok_or_else(|| first("--far"))?),
+            occlusion: *args.occlusion.first().ok_or_else(|| first("--occlusion"))?,
+            opaque: match args.opaque.first().ok_or_else(|| first("--opaque"))? {
+                Opaque::Raster => OpaquePath::Raster,
+                Opaque::Compute => OpaquePath::Compute,
+            },
+            fullscreen: match args
+                .fullscreen
+                .first()
+                .ok_or_else(|| first("--fullscreen"))?
+            {
+                Screen::Compute => FullscreenPath::Compute,
+                Screen::Fragment => FullscreenPath::Fragment,
+            },
+            budget: *args.budget.first().ok_or_else(|| first("--budget"))?,
+            far_px: *args.far_px.first().ok_or_else(|| first("--far-px"))?,
+        })
+    }
+
+    /// A renderer of `terrain` at this setting, the nodes `params` select resident, the bench
+    /// camera set.
+    fn renderer(
+        &self,
+        args: &Args,
+        ctx: &GpuContext,
+        terrain: &LodTerrain,
+        params: &[render_model::cull::LodParams],
+    ) -> Result<gpu_backend::render::Renderer, Box<dyn std::error::Error>> {
+        let mut renderer = benches::gpu_bench::renderer_with(
+            ctx,
+            terrain,
+            (args.width, args.height),
+            self.far,
+            self.occlusion,
+            self.opaque,
+        )?;
+        renderer.set_camera(&bench_camera());
+        benches::gpu_bench::upload_terrain_where(&mut renderer, terrain, |n| {
+            selected_by_any(params, n.level, n.coord)
+        })?;
+        renderer.set_fullscreen_path(self.fullscreen);
+        renderer.set_lod(Some(render_model::cull::LodSettings {
+            budget_px: self.budget,
+            far_cell_px: self.far_px,
+            ..Default::default()
+        }))?;
+        Ok(renderer)
+    }
+
+    /// The setting in words, with the far path `renderer` resolved.
+    fn describe(
+        &self,
+        args: &Args,
+        terrain: &LodTerrain,
+        renderer: &gpu_backend::render::Renderer,
+    ) -> String {
+        format!(
+            "{}² columns in {}³ chunks, budget {} px, far {:?} at {} px, occlusion {}, \
+             opaque {:?}, full-screen {:?}, {} x {}",
+            terrain.side,
+            terrain.size.edge(),
+            self.budget,
+            renderer.far_choice().path,
+            self.far_px,
+            if self.occlusion { "on" } else { "off" },
+            self.opaque,
+            self.fullscreen,
+            args.width,
+            args.height
+        )
+    }
+}
+
+/// Writes `lines` and `table` to `--out`, and `json` to `--json`, when given.
+fn write_outputs(
+    args: &Args,
+    mut lines: Vec<String>,
+    table: &str,
+    json: String,
+) -> Result<(), Box<dyn std::error::Error>> {
+    println!("{table}");
+    lines.push(String::new());
+    lines.push(table.to_owned());
+    if let Some(path) = &args.out {
+        std::fs::write(path, lines.join("\n"))?;
+    }
+    if let Some(path) = &args.json {
+        std::fs::write(path, json)?;
+    }
+    Ok(())
+}
+
+/// `--geometry`: the terrain meshed with each geometry (the first is `terrain`'s own, meshed
+/// as greedy quads or as asked), the table written like the others.
+fn bench_geometry_at(
+    args: &Args,
+    ctx: &GpuContext,
+    make: &dyn Fn(mesher::lod::Geometry) -> Result<LodTerrain, mesher::MeshError>,
+    params: &[render_model::cull::LodParams],
+    lines: Vec<String>,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use benches::gpu_bench::geometry::{GeometryRun, bench_geometry, geometry_markdown};
+    let setting = FirstSetting::of(args)?;
+    let terrains = args
+        .geometry
+        .iter()
+        .map(|&g| make(g).map(|t| (g, t)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut runs = Vec::new();
+    for (geometry, terrain) in &terrains {
+        runs.push(GeometryRun {
+            geometry: *geometry,
+            terrain,
+            renderer: setting.renderer(args, ctx, terrain, params)?,
+        });
+    }
+    let words = setting.describe(args, &terrains[0].1, &runs[0].renderer);
+    let report = bench_geometry(ctx, &mut runs, args.frames, words)?;
+    let table = geometry_markdown(&report);
+    write_outputs(args, lines, &table, serde_json::to_string_pretty(&report)?)
 }
 
 /// The renderer's far request for a command-line far path.
@@ -161,79 +304,22 @@ fn far_request(far: Far) -> FarRequest {
     }
 }
 
-/// `--features`: the feature table on one renderer of `terrain`, written to `--out` and
-/// `--json` when given.
+/// `--features`: the feature table on one renderer of `terrain`, written like the others.
 fn bench_features_at(
     args: &Args,
     ctx: &GpuContext,
     terrain: &LodTerrain,
     params: &[render_model::cull::LodParams],
-    mut lines: Vec<String>,
+    lines: Vec<String>,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let first = |what: &str| format!("--features needs at least one {what}");
-    let far = far_request(*args.far.first().ok_or_else(|| first("--far"))?);
-    let occlusion = *args.occlusion.first().ok_or_else(|| first("--occlusion"))?;
-    let opaque = match args.opaque.first().ok_or_else(|| first("--opaque"))? {
-        Opaque::Raster => OpaquePath::Raster,
-        Opaque::Compute => OpaquePath::Compute,
-    };
-    let fullscreen = match args
-        .fullscreen
-        .first()
-        .ok_or_else(|| first("--fullscreen"))?
-    {
-        Screen::Compute => FullscreenPath::Compute,
-        Screen::Fragment => FullscreenPath::Fragment,
-    };
-    let budget = *args.budget.first().ok_or_else(|| first("--budget"))?;
-    let far_px = *args.far_px.first().ok_or_else(|| first("--far-px"))?;
-    let mut renderer = benches::gpu_bench::renderer_with(
-        ctx,
-        terrain,
-        (args.width, args.height),
-        far,
-        occlusion,
-        opaque,
-    )?;
-    renderer.set_camera(&bench_camera());
-    benches::gpu_bench::upload_terrain_where(&mut renderer, terrain, |n| {
-        selected_by_any(params, n.level, n.coord)
-    })?;
-    renderer.set_fullscreen_path(fullscreen);
-    renderer.set_lod(Some(render_model::cull::LodSettings {
-        budget_px: budget,
-        far_cell_px: far_px,
-        ..Default::default()
-    }))?;
-    let setting = format!(
-        "{}² columns in {}³ chunks, budget {budget} px, far {:?} at {far_px} px, occlusion {}, \
-         opaque {opaque:?}, full-screen {fullscreen:?}, {} x {}",
-        terrain.side,
-        terrain.size.edge(),
-        renderer.far_choice().path,
-        if occlusion { "on" } else { "off" },
-        args.width,
-        args.height
-    );
+    use benches::gpu_bench::features::{bench_features, features_markdown};
+    let setting = FirstSetting::of(args)?;
+    let mut renderer = setting.renderer(args, ctx, terrain, params)?;
+    let words = setting.describe(args, terrain, &renderer);
     let haze = terrain.side as f32 / 2.0;
-    let report = benches::gpu_bench::features::bench_features(
-        ctx,
-        &mut renderer,
-        args.frames,
-        haze,
-        setting,
-    )?;
-    let table = benches::gpu_bench::features::features_markdown(&report);
-    println!("{table}");
-    lines.push(String::new());
-    lines.push(table);
-    if let Some(path) = &args.out {
-        std::fs::write(path, lines.join("\n"))?;
-    }
-    if let Some(path) = &args.json {
-        std::fs::write(path, serde_json::to_string_pretty(&report)?)?;
-    }
-    Ok(())
+    let report = bench_features(ctx, &mut renderer, args.frames, haze, words)?;
+    let table = features_markdown(&report);
+    write_outputs(args, lines, &table, serde_json::to_string_pretty(&report)?)
 }
 
 /// `on` or `off`.
@@ -324,6 +410,21 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     } else {
         return Err(format!("--clutter {} must be at least 0", args.clutter).into());
     };
+    if !args.geometry.is_empty() {
+        let make = |geometry| {
+            LodTerrain::generate_as(
+                args.side,
+                size,
+                args.seed,
+                args.top_level,
+                clutter,
+                geometry,
+                keep,
+            )
+        };
+        let lines = vec![format!("adapter: {}", ctx.capabilities.adapter)];
+        return bench_geometry_at(args, &ctx, &make, &params, lines);
+    }
     let terrain = LodTerrain::generate_with_clutter(
         args.side,
         size,

@@ -4,7 +4,9 @@
 //! ```sh
 //! cargo run --release -p benches --bin tradeoff_report -- --out docs \
 //!     --gpu-json docs/data/gpu_bench_h100_budgets.json \
-//!     --features-json docs/data/gpu_bench_features.json
+//!     --features-json docs/data/gpu_bench_features.json \
+//!     --geometry-json docs/data/gpu_bench_geometry.json \
+//!     --geometry-json docs/data/gpu_bench_geometry_raster.json
 //! ```
 
 use std::path::PathBuf;
@@ -28,6 +30,10 @@ struct Args {
     /// so when absent).
     #[arg(long)]
     features_json: Option<PathBuf>,
+    /// `gpu_bench --geometry --json` files (repeatable: one per opaque path) with the node
+    /// geometry tables (the section says so when absent).
+    #[arg(long)]
+    geometry_json: Vec<PathBuf>,
     /// Folder of the `.vox` sample models.
     #[arg(long, default_value = "../shared/data/vox")]
     vox_dir: PathBuf,
@@ -57,6 +63,7 @@ fn main() -> ExitCode {
     };
     config.gpu_json = args.gpu_json;
     config.features_json = args.features_json;
+    config.geometry_json = args.geometry_json;
     config.runs = args.runs.max(1);
     config.terrain_side = args.terrain_side;
     config.local_gpu_side = args.local_gpu_side;

@@ -10,6 +10,7 @@
 //! Each setting gets three untimed frames first (the first uploads, and the driver settles).
 
 pub mod features;
+pub mod geometry;
 mod image_error;
 pub mod props;
 mod report;
@@ -181,6 +182,13 @@ pub fn renderer_with(
     let clutter = terrain.clutter_count();
     let config = if clutter > 0 {
         config.with_clutter(slack(clutter) * 20)
+    } else {
+        config
+    };
+    // The shell pass, when the nodes are meshed as vertical shells (`--geometry shells`).
+    let runs = terrain.shell_count();
+    let config = if runs > 0 {
+        config.with_shells(slack(runs) * 8)
     } else {
         config
     };

@@ -7,12 +7,13 @@ use super::plot::Plot;
 use super::recommend::recommend;
 
 /// The section headings, in order (the smoke test checks each is present).
-pub const SECTIONS: [&str; 6] = [
+pub const SECTIONS: [&str; 7] = [
     "## Recommended defaults",
     "## CPU meshing",
     "## Geometry",
     "## Image",
     "## Image features",
+    "## Node geometry: greedy quads and vertical shells",
     "## Extremes",
 ];
 
@@ -41,6 +42,11 @@ pub fn render(m: &Measurements, plots: &[Plot]) -> String {
                 c.features_json
                     .iter()
                     .map(|p| format!(" --features-json {}", p.display()))
+            )
+            .chain(
+                c.geometry_json
+                    .iter()
+                    .map(|p| format!(" --geometry-json {}", p.display()))
             )
             .collect::<String>(),
         c.machine,
@@ -81,6 +87,8 @@ pub fn render(m: &Measurements, plots: &[Plot]) -> String {
     image_section(&mut s, m, plots);
     let _ = writeln!(s, "{}\n", SECTIONS[4]);
     super::features::section(&mut s, m.features.as_ref(), c.features_json.as_deref());
+    let _ = writeln!(s, "{}\n", SECTIONS[5]);
+    super::node_geometry::section(&mut s, &m.node_geometry);
     extremes_section(&mut s, m);
     s
 }
@@ -380,7 +388,7 @@ fn extremes_section(s: &mut String, m: &Measurements) {
          at the origin:\n\n\
          | offset (voxels) | pixels differing | max channel difference | mean abs difference |\n\
          | --- | ---: | ---: | ---: |",
-        SECTIONS[5],
+        SECTIONS[6],
         m.config.terrain_seed,
         share * 100.0
     );

@@ -8,6 +8,7 @@
 //! | [`cpu`] | CPU meshing time per chunk (median of N runs), quads, triangles and bytes for every mesher mode and chunk size on the `.vox` samples and the procedural terrain |
 //! | [`geometry`] | distance from SurfaceNets meshes to analytic sphere and torus surfaces against grid resolution; the extra error of unorm16 positions and 8+8 / 16+16 octahedral normals |
 //! | [`image`] | the budget sweep (image error, GPU time, bytes) read from a `gpu_bench --json` file |
+//! | [`node_geometry`] | greedy quads against vertical shells on the same terrain (bytes, instances, GPU time, image difference), read from `gpu_bench --geometry --json` files |
 //! | [`features`] | each image feature's GPU cost against its effect on the picture, read from a `gpu_bench --features --json` file |
 //! | [`lavapipe`] | the same sweep measured in this run on the machine's own Vulkan adapter (lavapipe on a CPU-only machine) over a small terrain, marked with the adapter |
 //! | [`extremes`] | the same view rendered by the CPU reference raycaster at the origin and at 2^30 offsets, pixel difference |
@@ -25,6 +26,7 @@ pub mod geometry;
 pub mod image;
 pub mod lavapipe;
 pub mod markdown;
+pub mod node_geometry;
 pub mod plot;
 pub mod recommend;
 
@@ -53,6 +55,8 @@ pub struct Config {
     pub gpu_json: Option<PathBuf>,
     /// The `gpu_bench --features --json` file with the image features' table, if any.
     pub features_json: Option<PathBuf>,
+    /// `gpu_bench --geometry --json` files (one per opaque path), if any.
+    pub geometry_json: Vec<PathBuf>,
     /// Side in columns of the terrain the local-adapter sweep draws (0: no local sweep).
     pub local_gpu_side: u32,
     /// Width and height of the local-adapter sweep's frames, pixels.
@@ -82,6 +86,7 @@ impl Config {
             normal_samples: 200_000,
             gpu_json: None,
             features_json: None,
+            geometry_json: Vec::new(),
             local_gpu_side: 256,
             local_gpu_size: (320, 180),
             view_size: (192, 128),
@@ -101,6 +106,7 @@ impl Config {
             normal_samples: 2_000,
             gpu_json: None,
             features_json: None,
+            geometry_json: Vec::new(),
             local_gpu_side: 0,
             local_gpu_size: (64, 36),
             view_size: (32, 24),
@@ -128,6 +134,8 @@ pub struct Measurements {
     pub quantization: geometry::Quantization,
     /// The budget sweep, when a GPU file was given.
     pub image: Option<image::BudgetSweep>,
+    /// The node geometry tables, with the files they were read from.
+    pub node_geometry: Vec<(PathBuf, crate::gpu_bench::geometry::GeometryReport)>,
     /// The image features' table, when its GPU file was given.
     pub features: Option<crate::gpu_bench::features::FeatureReport>,
     /// The sweep measured in this run on the local adapter: `None` when not asked for,
@@ -161,6 +169,11 @@ pub fn measure(config: &Config, progress: &dyn Fn(&str)) -> Result<Measurements,
         Some(path) => Some(image::load(path)?),
         None => None,
     };
+    let node_geometry = config
+        .geometry_json
+        .iter()
+        .map(|p| node_geometry::load(p).map(|r| (p.clone(), r)))
+        .collect::<Result<Vec<_>, _>>()?;
     let features = match &config.features_json {
         Some(path) => Some(features::load(path)?),
         None => None,
@@ -183,6 +196,7 @@ pub fn measure(config: &Config, progress: &dyn Fn(&str)) -> Result<Measurements,
         geometry,
         quantization,
         image,
+        node_geometry,
         features,
         local_image,
         extremes,
