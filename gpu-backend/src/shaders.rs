@@ -110,6 +110,7 @@ pub const SHADOW_FILL: ShaderSpec = ShaderSpec {
     capabilities: naga::valid::Capabilities::empty(),
     name: "shadow_fill",
     body: concat!(
+        include_str!("shaders/node.wgsl"),
         include_str!("shaders/lod.wgsl"),
         include_str!("shaders/shadow_grid.wgsl"),
         include_str!("render/passes/shadow_fill.wgsl")

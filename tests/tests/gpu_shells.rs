@@ -331,3 +331,92 @@ fn bad_shell_runs_are_refused_by_name() {
         .expect_err("no shell space");
     assert!(error.to_string().contains("shell runs"), "{error}");
 }
+
+/// The shadow pass's visibility words of `nodes` (level 0) drawn with sun shadows and sky
+/// visibility on.
+fn shadow_words(
+    ctx: &GpuContext,
+    scene: &TestScene,
+    nodes: &[NodeMesh],
+) -> Vec<render_model::lighting::shadow::Visibility> {
+    let config = RendererConfig::new(WIDTH, HEIGHT, scene.world.size())
+        .with_far(FarRequest::Off, 1 << 22)
+        .with_shells(1 << 22);
+    let mut renderer = Renderer::new(ctx, &config, &scene.palette).expect("renderer");
+    upload_nodes(&mut renderer, nodes).expect("upload");
+    renderer.set_camera(&scene.camera);
+    renderer
+        .set_lighting(&Lighting {
+            shadows: render_model::lighting::shadow::ShadowSettings::default(),
+            ..Lighting::default()
+        })
+        .expect("the lighting renders");
+    renderer.render().expect("frame");
+    renderer
+        .read_shadow_visibility()
+        .expect("readback")
+        .expect("shadows are on")
+}
+
+/// Runs cast shadows and block the sky as the quads of the same voxels do: the shadow grid
+/// is filled from the runs (`shadow_fill_shells`), so the visibility words of the shell frame
+/// are the greedy frame's but at the few pixels where the two surfaces' depths differ.
+#[test]
+fn shells_cast_shadows_like_greedy_quads() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    // A floor with a pillar 8 blocks tall: one run per pillar column.
+    let mut palette = MaterialPalette::new();
+    let floor = palette
+        .push(voxel_core::Material::opaque(120, 160, 90))
+        .unwrap();
+    let stone = palette
+        .push(voxel_core::Material::opaque(170, 170, 180))
+        .unwrap();
+    let mut scene = image_support::scenes::scene_from_fn(
+        palette,
+        ChunkSize::S16,
+        [-12, -1, -12],
+        [12, 8, 12],
+        0,
+        move |x, y, z| {
+            if y == -1 {
+                floor
+            } else if (0..2).contains(&x) && (0..2).contains(&z) && y < 8 {
+                stone
+            } else {
+                voxel_core::BlockId::AIR
+            }
+        },
+    );
+    scene.camera = render_model::camera::Camera {
+        voxel: voxel_core::WorldPos::new(-2, 20, 10),
+        fraction: glam::DVec3::new(0.3, 0.4, 0.6),
+        yaw: 0.0,
+        pitch: -1.0,
+        fov_y: 1.0,
+        near: render_model::camera::Camera::DEFAULT_NEAR,
+    };
+    let world = &scene.world;
+    let greedy = shadow_words(
+        &ctx,
+        &scene,
+        &nodes(world, 0, &scene, Geometry::Greedy, true),
+    );
+    let shells = shadow_words(
+        &ctx,
+        &scene,
+        &nodes(world, 0, &scene, Geometry::Shells, true),
+    );
+    // The pillar's shadow on the floor and its faces away from the sun.
+    let shadowed = greedy.iter().filter(|v| !v.sun).count();
+    assert!(shadowed > 300, "only {shadowed} pixels without sun");
+    // A run that cast nothing would leave its shadow's floor pixels sunlit: hundreds of
+    // pixels; the surfaces' own edges differ on a few.
+    let differ = greedy.iter().zip(&shells).filter(|(a, b)| a != b).count();
+    assert!(
+        differ * 10 <= shadowed,
+        "{differ} pixels' visibility differs, against {shadowed} shadowed"
+    );
+}

@@ -6,7 +6,7 @@
 //!
 //! | step | timer | shader | what |
 //! | ---- | ----- | ------ | ---- |
-//! | fill | `shadow grid` | `shadow_fill.wgsl` | clears the grid ([`GRID_CELLS`]^3 bits, 2 MiB), then one workgroup per chunk-table slot and quad page marks the solid cell behind every opaque quad (skirts included) of the nodes the cull draws (the same level-of-detail rule, every direction: casters outside the view count) |
+//! | fill | `shadow grid` | `shadow_fill.wgsl` | clears the grid ([`GRID_CELLS`]^3 bits, 2 MiB), then one workgroup per chunk-table slot and quad page marks the solid cell behind every opaque quad (skirts included), and every voxel of every vertical shell run, of the nodes the cull draws (the same level-of-detail rule, every direction: casters outside the view count) |
 //! | trace | `shadow trace` | `shadow_trace.wgsl` | per pixel, the surface the lighting pass shades and one [`Visibility`] word out: its sun ray and 5 sky rays marched through the grid for one pixel in four (even x and y, `shadow_trace_samples`), then for each other pixel the samples' word where the samples around it lie in its plane and agree, its own march where they do not |
 //!
 //! **Why one pixel in four.** The march is the pass's cost (about 200 grid steps a pixel on
@@ -65,6 +65,8 @@ pub struct ShadowPass {
     device: Device,
     fill_layout: BindGroupLayout,
     fill_pipeline: ComputePipeline,
+    /// The fill from the nodes' vertical shell runs.
+    shells_fill_pipeline: ComputePipeline,
     trace_layout: BindGroupLayout,
     trace_pipeline: ComputePipeline,
     /// The trace of the sample pixels (even x and y), before `trace_pipeline`.
@@ -119,6 +121,8 @@ impl ShadowPass {
                 buffer_layout_entry(1, compute, storage(true)),
                 buffer_layout_entry(2, compute, storage(false)),
                 buffer_layout_entry(3, compute, storage(true)),
+                buffer_layout_entry(4, compute, storage(true)),
+                buffer_layout_entry(5, compute, storage(true)),
             ],
         );
         let fill_module = SHADOW_FILL.create_module(device);
@@ -127,6 +131,13 @@ impl ShadowPass {
             "shadow fill",
             &fill_module,
             "shadow_fill",
+            &[&fill_layout],
+        );
+        let shells_fill_pipeline = compute_pipeline(
+            device,
+            "shadow fill shells",
+            &fill_module,
+            "shadow_fill_shells",
             &[&fill_layout],
         );
         let trace_layout = bind_layout(
@@ -176,6 +187,7 @@ impl ShadowPass {
             device: device.clone(),
             fill_layout,
             fill_pipeline,
+            shells_fill_pipeline,
             trace_layout,
             trace_pipeline,
             grid,
@@ -253,6 +265,9 @@ impl ShadowPass {
         let table = ctx.residency.table().buffer();
         let cache = &ctx.shared.bind_cache;
         let slots = params.fill.slot_bound;
+        let nodes = ctx.residency.nodes().buffer();
+        let shells = gigabuffer.page(DataKind::Shells, 0);
+        let dummy = &ctx.shared.no_visibility;
         let mut fills = Vec::new();
         for (page, uniforms) in (0..layout.page_count).zip(&self.fill_uniforms) {
             let Some(quads) = gigabuffer.page(DataKind::Quads, page) else {
@@ -280,9 +295,41 @@ impl ShadowPass {
                     buffer_entry(1, table),
                     buffer_entry(2, &self.grid),
                     buffer_entry(3, quads),
+                    buffer_entry(4, nodes),
+                    buffer_entry(5, shells.unwrap_or(dummy)),
                 ],
             ));
         }
+        // The runs' fill reads the first page's uniforms (the page fields are unused there).
+        let shell_fill = match (shells, self.fill_uniforms.first()) {
+            (Some(shells), Some(uniforms)) => {
+                if fills.is_empty() {
+                    let fill = ShadowFillUniforms {
+                        page: 0,
+                        page_capacity: layout.page_capacity.max(1),
+                        bound_capacity: 0,
+                        ..params.fill
+                    };
+                    ctx.queue
+                        .write_buffer(uniforms, 0, bytemuck::bytes_of(&fill));
+                }
+                let quads = gigabuffer.page(DataKind::Quads, 0).unwrap_or(dummy);
+                Some(cache.get(
+                    &self.device,
+                    "shadow fill shells",
+                    &self.fill_layout,
+                    &[
+                        buffer_entry(0, uniforms),
+                        buffer_entry(1, table),
+                        buffer_entry(2, &self.grid),
+                        buffer_entry(3, quads),
+                        buffer_entry(4, nodes),
+                        buffer_entry(5, shells),
+                    ],
+                ))
+            }
+            _ => None,
+        };
         if params.refill {
             // Recorded now, after the frame's clear: the grid holds this fill from here on.
             self.filled.set(Some((params.fill, params.changes)));
@@ -295,6 +342,11 @@ impl ShadowPass {
             let pass = rec.compute();
             pass.set_pipeline(&self.fill_pipeline);
             for group in &fills {
+                pass.set_bind_group(0, group, &[]);
+                pass.dispatch_workgroups(slots.min(FILL_ROW), slots.div_ceil(FILL_ROW), 1);
+            }
+            if let Some(group) = &shell_fill {
+                pass.set_pipeline(&self.shells_fill_pipeline);
                 pass.set_bind_group(0, group, &[]);
                 pass.dispatch_workgroups(slots.min(FILL_ROW), slots.div_ceil(FILL_ROW), 1);
             }

@@ -2,8 +2,10 @@
 // marked from the opaque quads (skirts included) of every node the cull draws this frame:
 // the solid cell behind each quad, 2^level blocks on each axis at the node's level
 // (render_model::lighting::shadow states why that shell is enough and why it closes at LOD
-// borders). One workgroup per table slot of the bound quad page; the grid is cleared before.
-// FORMATS_WGSL, lod.wgsl and shadow_grid.wgsl (the grid's layout) come before this body.
+// borders). One workgroup per table slot of the bound quad page (shadow_fill), and one per
+// slot for the nodes' vertical shell runs (shadow_fill_shells: each run's box, which is its
+// exposed voxels); the grid is cleared before. FORMATS_WGSL, node.wgsl, lod.wgsl and
+// shadow_grid.wgsl (the grid's layout) come before this body.
 
 // Twin of render_model::lighting::ShadowFillUniforms.
 struct ShadowFillUniforms {
@@ -29,6 +31,9 @@ const FILL_ROW: u32 = 65535u;
 @group(0) @binding(1) var<storage, read> table: array<MeshedChunkInfo>;
 @group(0) @binding(2) var<storage, read_write> grid: array<atomic<u32>>;
 @group(0) @binding(3) var<storage, read> quads: array<PackedQuad>;
+@group(0) @binding(4) var<storage, read> nodes: array<NodeRecord>;
+// The shell gigabuffer's one page (a zero word without shells).
+@group(0) @binding(5) var<storage, read> shell_runs: array<ShellRun>;
 
 // Marks the grid cells of the block box [lo, hi) (camera-relative blocks), clipped to the grid.
 fn mark_box(lo: vec3<i32>, hi: vec3<i32>) {
@@ -53,6 +58,42 @@ fn mark_box(lo: vec3<i32>, hi: vec3<i32>) {
     }
 }
 
+// Where table slot `slot`'s node lies: its corner relative to the eye's block, its cell size
+// in blocks, and whether it is drawn (the level-of-detail rule) and reaches the grid.
+struct NodePlace {
+    lo: vec3<i32>,
+    cell: i32,
+    inside: bool,
+}
+
+fn node_place(slot: u32) -> NodePlace {
+    var out: NodePlace;
+    out.inside = false;
+    let coord = vec3<i32>(table[slot].chunk_x, table[slot].chunk_y, table[slot].chunk_z);
+    let level = min(table[slot].lod, 15u);
+    var selected = level == 0u;
+    if (u.flags & SHADOW_FILL_LOD) != 0u {
+        selected = lod_selected(u.lod, coord, level);
+    }
+    if !selected {
+        return out;
+    }
+    // Chunk differences beyond 2^20 are far outside the grid (and kept from overflowing when
+    // scaled to blocks).
+    let rel = (coord << vec3<u32>(level)) - u.camera_chunk;
+    let far = vec3<i32>(1 << 20u);
+    if any(rel > far) || any(rel < -far) {
+        return out;
+    }
+    let edge = i32(u.chunk_edge);
+    out.lo = rel * edge - u.camera_block;
+    out.cell = 1 << level;
+    let half = GRID_CELLS / 2;
+    let size = edge * out.cell;
+    out.inside = !(any(out.lo >= vec3<i32>(half)) || any(out.lo + vec3<i32>(size) <= vec3<i32>(-half)));
+    return out;
+}
+
 @compute @workgroup_size(64)
 fn shadow_fill(
     @builtin(workgroup_id) wid: vec3<u32>,
@@ -62,13 +103,8 @@ fn shadow_fill(
     if slot >= u.slot_bound {
         return;
     }
-    let coord = vec3<i32>(table[slot].chunk_x, table[slot].chunk_y, table[slot].chunk_z);
-    let level = min(table[slot].lod, 15u);
-    var selected = level == 0u;
-    if (u.flags & SHADOW_FILL_LOD) != 0u {
-        selected = lod_selected(u.lod, coord, level);
-    }
-    if !selected {
+    let place = node_place(slot);
+    if !place.inside {
         return;
     }
     let range = table[slot].opaque_quads;
@@ -80,21 +116,8 @@ fn shadow_fill(
     if start > u.bound_capacity || total > u.bound_capacity - start {
         return;
     }
-    // The node's corner relative to the eye's block. Chunk differences beyond 2^20 are far
-    // outside the grid (and kept from overflowing when scaled to blocks).
-    let rel = (coord << vec3<u32>(level)) - u.camera_chunk;
-    let far = vec3<i32>(1 << 20u);
-    if any(rel > far) || any(rel < -far) {
-        return;
-    }
-    let edge = i32(u.chunk_edge);
-    let node_lo = rel * edge - u.camera_block;
-    let cell = 1 << level;
-    let half = GRID_CELLS / 2;
-    let size = edge * cell;
-    if any(node_lo >= vec3<i32>(half)) || any(node_lo + vec3<i32>(size) <= vec3<i32>(-half)) {
-        return;
-    }
+    let node_lo = place.lo;
+    let cell = place.cell;
     for (var i = lid; i < total; i += FILL_WORKGROUP) {
         let q = quads[start + i];
         let face = packed_quad_face(q);
@@ -105,6 +128,34 @@ fn shadow_fill(
         var extent = vec3<i32>(cell);
         extent[face_width_axis(face)] = i32(packed_quad_width(q)) * cell;
         extent[face_height_axis(face)] = i32(packed_quad_height(q)) * cell;
+        mark_box(lo, lo + extent);
+    }
+}
+
+// The shell runs of the node in slot wid (folded like shadow_fill): each run's box of
+// exposed voxels, 2^level blocks a voxel.
+@compute @workgroup_size(64)
+fn shadow_fill_shells(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let slot = wid.x + wid.y * FILL_ROW;
+    if slot >= u.slot_bound || nodes[slot].shell_count == 0u {
+        return;
+    }
+    let place = node_place(slot);
+    if !place.inside {
+        return;
+    }
+    let first = nodes[slot].shell_offset;
+    let count = nodes[slot].shell_count;
+    if first >= arrayLength(&shell_runs) || count > arrayLength(&shell_runs) - first {
+        return;
+    }
+    for (var i = lid; i < count; i += FILL_WORKGROUP) {
+        let run = shell_runs[first + i];
+        let lo = place.lo + vec3<i32>(shell_run_position(run)) * place.cell;
+        let extent = vec3<i32>(place.cell, i32(shell_run_height(run)) * place.cell, place.cell);
         mark_box(lo, lo + extent);
     }
 }

@@ -158,7 +158,7 @@ impl Renderer {
             .gigabuffer()
             .layout(voxel_core::formats::DataKind::Quads)
             .page_count;
-        pass.fit_pages(pages).map_err(RenderError::Alloc)?;
+        pass.fit_pages(pages.max(1)).map_err(RenderError::Alloc)?;
         let camera = &self.view.camera;
         let edge = self.config.chunk_size.edge() as i32;
         let v = camera.voxel;
