@@ -7,14 +7,7 @@
 //! | step | timer | shader | what |
 //! | ---- | ----- | ------ | ---- |
 //! | fill | `shadow grid` | `shadow_fill.wgsl` | clears the grid ([`GRID_CELLS`]^3 bits, 2 MiB), then one workgroup per chunk-table slot and quad page marks the solid cell behind every opaque quad (skirts included), and every voxel of every vertical shell run, of the nodes the cull draws (the same level-of-detail rule, every direction: casters outside the view count) |
-//! | trace | `shadow trace` | `shadow_trace.wgsl` | per pixel, the surface the lighting pass shades and one [`Visibility`] word out: its sun ray and 5 sky rays marched through the grid for one pixel in four (even x and y, `shadow_trace_samples`), then for each other pixel the samples' word where the samples around it lie in its plane and agree, its own march where they do not |
-//!
-//! **Why one pixel in four.** The march is the pass's cost (about 200 grid steps a pixel on
-//! open ground). A pixel takes its samples' word only inside a face they all lie on and agree
-//! about, so every pixel at a shadow edge, a sky edge or a surface edge is marched itself:
-//! the words differ from marching every pixel only where a shadow or a gap narrower than two
-//! pixels falls between samples that agree. The CPU reference marches every pixel, and the
-//! image tests hold the two to the same tolerance as before.
+//! | trace | `shadow trace` | `shadow_trace.wgsl` | per pixel (8 x 8 per workgroup), the surface the lighting pass shades, its sun ray and 5 sky rays marched through the grid, one [`Visibility`] word out |
 //!
 //! The lighting pass reads the words (binding 7, `FRAME_SHADOWS` set) and scales the sun term
 //! and the hemisphere ambient by them. The grid is filled again whenever the camera, its
@@ -69,16 +62,12 @@ pub struct ShadowPass {
     shells_fill_pipeline: ComputePipeline,
     trace_layout: BindGroupLayout,
     trace_pipeline: ComputePipeline,
-    /// The trace of the sample pixels (even x and y), before `trace_pipeline`.
-    samples_pipeline: ComputePipeline,
     grid: Buffer,
     /// One uniform buffer per quad page (each fill dispatch reads its page's).
     fill_uniforms: Vec<Buffer>,
     trace_uniforms: Buffer,
     /// One `Visibility` word per pixel.
     visibility: Buffer,
-    /// One `Visibility` word per sample pixel.
-    samples: Buffer,
     /// The pixels `visibility` holds.
     pixels: u64,
     /// What the grid holds: the fill of these uniforms over the resident set after this many
@@ -150,7 +139,6 @@ impl ShadowPass {
                 texture_layout_entry(3, compute, TextureSampleType::Depth),
                 buffer_layout_entry(4, compute, storage(true)),
                 buffer_layout_entry(5, compute, storage(false)),
-                buffer_layout_entry(6, compute, storage(false)),
             ],
         );
         let trace_module = SHADOW_TRACE.create_module(device);
@@ -159,13 +147,6 @@ impl ShadowPass {
             "shadow trace",
             &trace_module,
             "shadow_trace",
-            &[&shared.frame_layout, &trace_layout],
-        );
-        let samples_pipeline = compute_pipeline(
-            device,
-            "shadow trace samples",
-            &trace_module,
-            "shadow_trace_samples",
             &[&shared.frame_layout, &trace_layout],
         );
         let grid = create_buffer(
@@ -194,8 +175,6 @@ impl ShadowPass {
             fill_uniforms: Vec::new(),
             trace_uniforms,
             visibility: visibility_buffer(device, pixels)?,
-            samples: visibility_buffer(device, sample_count(width, height))?,
-            samples_pipeline,
             pixels,
             filled: Cell::new(None),
             fills: Cell::new(0),
@@ -208,7 +187,6 @@ impl ShadowPass {
         let pixels = pixel_count(width, height);
         if pixels != self.pixels {
             self.visibility = visibility_buffer(&self.device, pixels)?;
-            self.samples = visibility_buffer(&self.device, sample_count(width, height))?;
             self.pixels = pixels;
         }
         Ok(())
@@ -235,7 +213,7 @@ impl ShadowPass {
 
     /// GPU bytes the pass holds.
     pub fn resident_bytes(&self) -> u64 {
-        self.grid.size() + self.visibility.size() + self.samples.size()
+        self.grid.size() + self.visibility.size()
     }
 
     /// Whether the grid must be filled again for `fill` over a resident set after `changes`
@@ -369,25 +347,17 @@ impl ShadowPass {
                 texture(3, &t.depth),
                 buffer_entry(4, ctx.visibility.unwrap_or(&ctx.shared.no_visibility)),
                 buffer_entry(5, &self.visibility),
-                buffer_entry(6, &self.samples),
             ],
         );
         let (width, height) = ctx.size();
         rec.step("shadow trace", true, |rec| {
             let pass = rec.compute();
+            pass.set_pipeline(&self.trace_pipeline);
             pass.set_bind_group(0, ctx.frame_group, &[]);
             pass.set_bind_group(1, &trace, &[]);
-            pass.set_pipeline(&self.samples_pipeline);
-            pass.dispatch_workgroups(width.div_ceil(16), height.div_ceil(16), 1);
-            pass.set_pipeline(&self.trace_pipeline);
             pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
         });
     }
-}
-
-/// Sample pixels (even x and even y) of a `width x height` frame.
-fn sample_count(width: u32, height: u32) -> u64 {
-    pixel_count(width.div_ceil(2), height.div_ceil(2))
 }
 
 fn pixel_count(width: u32, height: u32) -> u64 {

@@ -2,10 +2,8 @@
 // shades (the nearer of the G-buffer's and the opaque visibility buffer's), by the DDA march
 // of render_model::lighting::shadow through the shadow grid (the same operations in the same
 // order), written as a Visibility word (bit 0 sun, bits 1..4 open sky directions) for the
-// lighting pass. One pixel in four is traced first (shadow_trace_samples); every other pixel
-// takes the word of the samples around it where they lie in its plane and agree, and is
-// traced itself where they do not (shadow_trace). 8 x 8 pixels or samples per workgroup.
-// render_common.wgsl and shadow_grid.wgsl (the grid's layout) come before this body.
+// lighting pass. 8 x 8 pixels per workgroup. render_common.wgsl and shadow_grid.wgsl (the
+// grid's layout) come before this body.
 
 // Twin of render_model::lighting::ShadowTraceUniforms.
 struct ShadowTraceUniforms {
@@ -36,9 +34,6 @@ const NEVER: f32 = 1e30;
 // The opaque visibility buffer (render::far), read when FRAME_SPLAT is set.
 @group(1) @binding(4) var<storage, read> visibility: array<vec2<u32>>;
 @group(1) @binding(5) var<storage, read_write> shadow_out: array<u32>;
-// One Visibility word per sample pixel (the pixels of even x and even y), row-major,
-// half_width() words a row.
-@group(1) @binding(6) var<storage, read_write> samples: array<u32>;
 
 // The number of sky directions (shadow::SKY_DIRECTIONS; the directions are in
 // surface_visibility).
@@ -134,24 +129,18 @@ fn surface_visibility(origin: vec3<f32>, n: vec3<f32>) -> u32 {
     return u32(sun) | (open << 1u);
 }
 
-// The visibility of the sky (nothing to shade there).
-const OPEN: u32 = 1u | (SKY_COUNT << 1u);
-
-// The surface the lighting pass shades at pixel p: the nearer of the G-buffer's and the
-// opaque visibility buffer's, its camera-relative point and normal; depth 0 for the sky.
-struct Surface {
-    depth: f32,
-    point: vec3<f32>,
-    normal: vec3<f32>,
-}
-
-fn surface_at(p: vec2<u32>) -> Surface {
-    var out: Surface;
+@compute @workgroup_size(8, 8)
+fn shadow_trace(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= frame.width || id.y >= frame.height {
+        return;
+    }
+    let p = id.xy;
+    let at = p.y * frame.width + p.x;
     var depth = textureLoad(gbuffer_depth, vec2<i32>(p), 0);
     var n = vec3<f32>(0.0);
     var splatted = false;
     if (frame.flags & FRAME_SPLAT) != 0u {
-        let v = visibility[p.y * frame.width + p.x];
+        let v = visibility[at];
         let d = bitcast<f32>(v.y);
         // Reversed-Z: nearer is greater; 0 is the cleared far plane.
         if d > depth {
@@ -160,92 +149,15 @@ fn surface_at(p: vec2<u32>) -> Surface {
             splatted = true;
         }
     }
-    out.depth = depth;
     if depth <= 0.0 {
-        return out;
+        // The sky: nothing to shade.
+        shadow_out[at] = 1u | (SKY_COUNT << 1u);
+        return;
     }
     if !splatted {
         n = oct32_decode(textureLoad(gbuffer_normal, vec2<i32>(p), 0).x);
     }
     let seen = eye_ray(p, depth);
-    out.point = t.fraction + seen.dir * seen.distance;
-    out.normal = n;
-    return out;
-}
-
-fn trace_surface(s: Surface) -> u32 {
-    if s.depth <= 0.0 {
-        return OPEN;
-    }
-    return surface_visibility(s.point, s.normal);
-}
-
-fn half_width() -> u32 {
-    return (frame.width + 1u) / 2u;
-}
-
-// The samples: every pixel of even x and even y, traced (8 x 8 samples per workgroup).
-@compute @workgroup_size(8, 8)
-fn shadow_trace_samples(@builtin(global_invocation_id) id: vec3<u32>) {
-    let p = id.xy * 2u;
-    if p.x >= frame.width || p.y >= frame.height {
-        return;
-    }
-    samples[id.y * half_width() + id.x] = trace_surface(surface_at(p));
-}
-
-// Whether sample surface `s` lies in the plane of pixel surface `q` (one face of a block or
-// of a flat run of them): the same normal, the same plane within a hundredth of a block, and
-// within 4 blocks.
-fn coplanar(q: Surface, s: Surface) -> bool {
-    if s.depth <= 0.0 || dot(q.normal, s.normal) < 0.999 {
-        return false;
-    }
-    let d = s.point - q.point;
-    return abs(dot(d, q.normal)) < 0.01 && dot(d, d) < 16.0;
-}
-
-// Every pixel: a sample copies its word; another pixel takes the word of the samples around
-// it (the 1, 2 or 4 even pixels bracketing it on each axis) when all of them lie in its plane
-// and agree, and is traced itself otherwise. So the pixels at shadow, sky and surface edges
-// are traced; inside a face that is lit or shadowed throughout, one pixel in four is.
-@compute @workgroup_size(8, 8)
-fn shadow_trace(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x >= frame.width || id.y >= frame.height {
-        return;
-    }
-    let p = id.xy;
-    let at = p.y * frame.width + p.x;
-    let base = p / 2u;
-    let odd = p % 2u;
-    if odd.x == 0u && odd.y == 0u {
-        shadow_out[at] = samples[base.y * half_width() + base.x];
-        return;
-    }
-    let q = surface_at(p);
-    if q.depth <= 0.0 {
-        shadow_out[at] = OPEN;
-        return;
-    }
-    var word = 0u;
-    var agree = true;
-    var first = true;
-    for (var dy = 0u; dy <= odd.y; dy += 1u) {
-        for (var dx = 0u; dx <= odd.x; dx += 1u) {
-            let sp = (base + vec2<u32>(dx, dy)) * 2u;
-            if !agree || sp.x >= frame.width || sp.y >= frame.height {
-                agree = false;
-                continue;
-            }
-            let w = samples[(base.y + dy) * half_width() + base.x + dx];
-            agree = coplanar(q, surface_at(sp)) && (first || w == word);
-            word = w;
-            first = false;
-        }
-    }
-    if agree {
-        shadow_out[at] = word;
-    } else {
-        shadow_out[at] = trace_surface(q);
-    }
+    let origin = t.fraction + seen.dir * seen.distance;
+    shadow_out[at] = surface_visibility(origin, n);
 }
