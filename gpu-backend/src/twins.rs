@@ -773,7 +773,9 @@ mod shells {
 
     use std::mem::offset_of;
 
-    use render_model::grass::{GRASS_CULL_LOD, GRASS_CULL_OCCLUSION, GrassCullUniforms};
+    use render_model::grass::{
+        GRASS_CULL_LOD, GRASS_CULL_OCCLUSION, GrassCullUniforms, SHELL_CULL_FAR,
+    };
     use voxel_core::formats::ShellRun;
 
     use crate::shaders::{SHELLS, SHELLS_CULL, struct_layout, validate};
@@ -809,12 +811,13 @@ mod shells {
             ("lod", offset_of!(GrassCullUniforms, lod)),
             ("flags", offset_of!(GrassCullUniforms, flags)),
             ("focal_px", offset_of!(GrassCullUniforms, focal_px)),
-            ("budget_px", offset_of!(GrassCullUniforms, budget_px)),
+            ("far_cell_px", offset_of!(GrassCullUniforms, budget_px)),
             ("pad", offset_of!(GrassCullUniforms, pad)),
         ]
         .map(|(n, o)| (n.to_string(), o));
         assert_eq!(members, expected);
         assert!(has_constant(&cull, "SHELL_CULL_LOD", GRASS_CULL_LOD));
+        assert!(has_constant(&cull, "SHELL_CULL_FAR", SHELL_CULL_FAR));
         assert!(has_constant(
             &cull,
             "SHELL_CULL_OCCLUSION",

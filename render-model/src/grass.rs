@@ -236,6 +236,10 @@ pub const GRASS_CULL_LOD: u32 = 1;
 /// [`GrassCullUniforms::flags`]: occlusion culling ran; a chunk's visibility bit says whether
 /// the voxel cull drew it.
 pub const GRASS_CULL_OCCLUSION: u32 = 2;
+/// [`GrassCullUniforms::flags`], in the shell cull (which shares the layout): far draws are
+/// on, so a node with far-draw blocks whose cells span at most `budget_px` pixels (the far
+/// threshold there) is drawn by the far path, not by its runs, as the voxel cull decides.
+pub const SHELL_CULL_FAR: u32 = 4;
 
 /// The grass draw's uniforms (twin of `GrassUniforms` in `grass.wgsl`).
 #[repr(C)]

@@ -420,3 +420,44 @@ fn shells_cast_shadows_like_greedy_quads() {
         "{differ} pixels' visibility differs, against {shadowed} shadowed"
     );
 }
+
+/// A node the far path draws is not drawn by its runs too: with far draws on and a far
+/// threshold every node passes, the shell pass draws no run and the frame is the far path's,
+/// as it is with greedy quads; with far draws off every run is drawn.
+#[test]
+fn far_drawn_nodes_draw_no_runs() {
+    let Some(ctx) = headless_or_skip(&DeviceOptions::default()) else {
+        return;
+    };
+    let scene = image_support::scenes::terrain();
+    let frame = |geometry, far: FarRequest| {
+        let config = RendererConfig::new(WIDTH, HEIGHT, scene.world.size())
+            .with_far(far, 1 << 22)
+            .with_shells(1 << 22);
+        let mut renderer = Renderer::new(&ctx, &config, &scene.palette).expect("renderer");
+        let nodes = nodes(&scene.world, 0, &scene, geometry, true);
+        upload_nodes(&mut renderer, &nodes).expect("upload");
+        renderer.set_camera(&scene.camera);
+        renderer
+            .set_lod(Some(LodSettings {
+                budget_px: 0.0,
+                far_cell_px: 1e9,
+                hysteresis: 0.0,
+            }))
+            .expect("settings");
+        renderer.render().expect("frame");
+        renderer.render().expect("frame");
+        let (_, runs) = renderer
+            .shell_stats()
+            .expect("stats")
+            .expect("a shell pass");
+        (renderer.read_image().expect("readback").rgba, runs)
+    };
+    let splat = FarRequest::Path(gpu_backend::render::far::FarPath::Splat);
+    let (greedy, _) = frame(Geometry::Greedy, splat);
+    let (shells, runs) = frame(Geometry::Shells, splat);
+    assert_eq!(runs, 0, "far-drawn nodes drew runs");
+    assert!(greedy == shells, "the far-drawn frames differ");
+    let (_, all) = frame(Geometry::Shells, FarRequest::Off);
+    assert!(all > 1000, "without far draws {all} runs drawn");
+}

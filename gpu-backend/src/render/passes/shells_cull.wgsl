@@ -3,7 +3,9 @@
 // first run, first_instance = slot; compacted: the draw's index is stats[0], the draw count).
 // A slot draws when its node is selected by the level-of-detail rule (lod.wgsl) at its own
 // level (without selection: when it is level 0), its mesh box (which holds its runs' boxes) is inside the frustum, and, with
-// occlusion culling, the voxel cull found it visible in this frame's late phase (its bit).
+// occlusion culling, the voxel cull found it visible in this frame's late phase (its bit),
+// and, with far draws (SHELL_CULL_FAR), it is not far-drawn by the voxel cull's rule (a node
+// with far blocks whose cells span at most far_cell_px pixels at its box's nearest point).
 // FORMATS_WGSL, node.wgsl and lod.wgsl come before this body.
 
 // The same layout as GrassCullUniforms (render_model::grass; the pass fills it the same way).
@@ -16,13 +18,15 @@ struct ShellCullUniforms {
     lod: LodParams,
     flags: u32,
     focal_px: f32,
-    budget_px: f32,
+    // GrassCullUniforms::budget_px: the far threshold here.
+    far_cell_px: f32,
     pad: u32,
 }
 
 // Twins of render_model::grass::GRASS_CULL_LOD and GRASS_CULL_OCCLUSION.
 const SHELL_CULL_LOD: u32 = 1u;
 const SHELL_CULL_OCCLUSION: u32 = 2u;
+const SHELL_CULL_FAR: u32 = 4u;
 const VERTICES_PER_RUN: u32 = 36u;
 
 @group(0) @binding(0) var<uniform> g: ShellCullUniforms;
@@ -64,8 +68,17 @@ fn shell_slot_draws(slot: u32) -> bool {
     let rel = (coord << vec3<u32>(min(info.lod, 31u))) - g.camera_chunk;
     let origin = vec3<f32>(rel) * g.chunk_edge - g.camera_offset;
     let c = origin + vec3<f32>(info.centre_x, info.centre_y, info.centre_z) * scale;
-    let e = vec3<f32>(info.extent_x, info.extent_y, info.extent_z) * scale + vec3<f32>(0.01);
+    let box_extent = vec3<f32>(info.extent_x, info.extent_y, info.extent_z) * scale;
+    let e = box_extent + vec3<f32>(0.01);
     if !shell_in_frustum(c, e) {
+        return false;
+    }
+    // The voxel cull's far rule (cull.wgsl), on the same box: scale * focal / distance <=
+    // far_cell_px, without a division.
+    let far_drawn = (g.flags & SHELL_CULL_FAR) != 0u
+        && (nodes[slot].flags & NODE_HAS_BLOCKS) != 0u
+        && scale * g.focal_px <= g.far_cell_px * length(max(abs(c) - box_extent, vec3<f32>(0.0)));
+    if far_drawn {
         return false;
     }
     if (g.flags & SHELL_CULL_OCCLUSION) != 0u

@@ -122,6 +122,11 @@ impl Renderer {
         if self.passes.culls.occlusion() {
             flags |= grass::GRASS_CULL_OCCLUSION;
         }
+        // The voxel cull's far rule (CullUniforms' CULL_FAR): the far path draws those nodes.
+        let far = cull.lod.zip(cull.far_cell_px);
+        if far.is_some() {
+            flags |= grass::SHELL_CULL_FAR;
+        }
         Some(GrassCullUniforms {
             planes: view.planes,
             camera_chunk: [view.chunk.x, view.chunk.y, view.chunk.z],
@@ -130,8 +135,9 @@ impl Renderer {
             chunk_edge: self.config.chunk_size.edge() as f32,
             lod: cull.lod.unwrap_or_default(),
             flags,
-            focal_px: 0.0,
-            budget_px: 0.0,
+            focal_px: far.map_or(0.0, |(lod, _)| lod.focal_px),
+            // The far threshold, in the shell cull.
+            budget_px: far.map_or(0.0, |(_, px)| px),
             pad: 0,
         })
     }
