@@ -37,7 +37,8 @@
 #                difference per row; its JSON is docs/data/gpu_bench_features.json's form
 #   geometry     the headline terrain meshed as greedy quads and as vertical shells, both
 #                opaque paths (`gpu_bench --geometry greedy,shells`): node bytes, instances,
-#                meshing time, GPU time, image difference; docs/data/gpu_bench_geometry.json's form
+#                meshing time, GPU time, image difference; docs/data/gpu_bench_geometry.json's form;
+#                and the flight with `--mesher shells`
 #   edits        the flight without edits and with `--edits-per-second 1000` (spheres of air of
 #                radius 4 carved along the path): frame times and edit-to-screen latency
 #   flightnodes  the same with the benchmark's far threshold (`--far-px 1.5`), and with it and
@@ -131,6 +132,7 @@ declare -A config=(
     [flight-shadows]="viewer||${flight[*]} --shadows on"
     [geometry]="gpu_bench||--side $s4096 $common --opaque compute --frames $frames --geometry greedy,shells --reference off"
     [geometry-raster]="gpu_bench||--side $s4096 $common --opaque raster --frames $frames --geometry greedy,shells --reference off"
+    [flight-shells]="viewer||${flight[*]} --mesher shells"
     [features]="gpu_bench||--side $s4096 $common --opaque compute --frames $frames --features --reference off"
 )
 
@@ -155,13 +157,13 @@ for s in "${sets[@]}"; do
         edits) names+=(flight flight-edits) ;;
         shadows) names+=(shadows flight-shadows) ;;
         features) names+=(features) ;;
-        geometry) names+=(geometry geometry-raster) ;;
+        geometry) names+=(geometry geometry-raster flight-shells) ;;
         props) names+=(props flight-props) ;;
         all) names+=(headline paths distance-1024 distance-16384 distance-1024 distance-16384
                      budgets farpx farpaths nodesize-16 nodesize-8 cpu-1024 cpu-4096 cpu-16384
                      validation-off validation-on validation-off validation-on grass props callgrind
                      flight flight-compute flight-raster flight-far15 flight-node8 flight-props
-                     flight-edits shadows flight-shadows features geometry geometry-raster) ;;
+                     flight-edits shadows flight-shadows features geometry geometry-raster flight-shells) ;;
         *) echo "frame.sh: unknown set $s (see the header of $0)" >&2; exit 2 ;;
     esac
 done
