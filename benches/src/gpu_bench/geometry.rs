@@ -253,7 +253,7 @@ mod tests {
     fn node_bytes_count_the_gigabuffer_kinds_only() {
         let by_kind = vec![
             ("quads".to_owned(), 800),
-            ("shells".to_owned(), 80),
+            (voxel_core::formats::DataKind::Shells.name().to_owned(), 80),
             ("chunk table".to_owned(), 5000),
             ("shell draws".to_owned(), 700),
         ];

@@ -54,7 +54,7 @@ mod tests {
     fn bad_files_are_refused_by_name() {
         let path = std::env::temp_dir().join(format!("geometry_load_{}.json", std::process::id()));
         for (text, why) in [
-            ("[1, 2", "EOF"),
+            (r#"{"adapter":"a","setting":"s","fr"#, "EOF"),
             (
                 r#"{"adapter":"a","setting":"s","frames":1,"rows":[]}"#,
                 "no rows",
