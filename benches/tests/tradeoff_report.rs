@@ -41,6 +41,8 @@ fn tiny_report_has_every_section_with_numbers() {
     );
     config.features_json =
         Some(Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/data/gpu_bench_features.json"));
+    config.geometry_json =
+        vec![Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/data/gpu_bench_geometry.json")];
     // One small sample model, from the shared data beside the checkout.
     let model = "chr_knight.vox";
     match benches::mesh_inputs::vox_dir() {
