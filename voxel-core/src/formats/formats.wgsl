@@ -499,3 +499,23 @@ fn smooth_quad_corner(form: u32, q: u32, corner: u32, word: u32, next: u32) -> u
     }
     return word;
 }
+
+// HeightColumn (height_column.rs)
+
+struct HeightColumn {
+    height_top: u32,
+    under: u32,
+}
+
+// Blocks of ground from the tile floor; 0 = no ground.
+fn height_column_height(c: HeightColumn) -> u32 {
+    return c.height_top & 0xffffu;
+}
+
+fn height_column_top(c: HeightColumn) -> u32 {
+    return c.height_top >> 16u;
+}
+
+fn height_column_under(c: HeightColumn) -> u32 {
+    return c.under & 0xffffu;
+}
