@@ -21,6 +21,7 @@ pub mod blocky;
 mod classes;
 pub mod clutter;
 mod error;
+pub mod heightmap;
 mod instruction_set;
 pub mod lod;
 mod quad_layer;
