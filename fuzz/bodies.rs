@@ -684,8 +684,8 @@ pub(crate) fn draw_block(data: &[u8]) {
 
 /// `PackedQuad` (8 bytes): decodes exactly when the reserved bits are clear and the face is
 /// `0..6`; then round-trips and its corners span a `width x height` rectangle in the face plane.
-/// `ShellRun::decode` on any 8 bytes: it fails exactly on a set reserved byte, a position axis
-/// above 63, a height of 0 or past 64 voxels, or side bits of 0 or above 63 (naming that
+/// `ShellRun::decode` on any 8 bytes: it fails exactly on a position axis above 63, a height
+/// of 0 or past 64 voxels, a width past 64 voxels, or side bits of 0 or above 63 (naming that
 /// field), and what it accepts holds the bytes' fields and encodes back to the same bytes.
 pub(crate) fn shell_run(data: &[u8]) {
     let Some(run) = read::<ShellRun>(data) else {
@@ -699,19 +699,13 @@ pub(crate) fn shell_run(data: &[u8]) {
                 (f.height, f.block.0, f.sides),
                 (height, run.block, run.sides)
             );
-            assert!(run.reserved == 0 && x.max(y).max(z) <= 63, "{run:?}");
+            assert_eq!(f.width, u32::from(run.wide) + 1);
+            assert!(x.max(y).max(z) <= 63 && x + f.width <= 64, "{run:?}");
             assert!(
                 height >= 1 && y + height <= 64 && (1..64).contains(&run.sides),
                 "{run:?}"
             );
             assert_eq!(ShellRun::encode(&f), Ok(run), "decoded runs encode back");
-        }
-        Err(FormatError::ReservedBitsSet { field, bits }) => {
-            assert_eq!(
-                (field, bits),
-                ("ShellRun.reserved", u32::from(run.reserved))
-            );
-            assert!(bits != 0);
         }
         Err(FormatError::IntegerOutOfRange { field, value, .. }) => {
             let bad = match field {
@@ -719,6 +713,7 @@ pub(crate) fn shell_run(data: &[u8]) {
                 "ShellRun.y" => y > 63,
                 "ShellRun.z" => z > 63,
                 "ShellRun.height" => height == 0 || y + height > 64,
+                "ShellRun.width" => x + u32::from(run.wide) + 1 > 64,
                 "ShellRun.sides" => run.sides == 0 || run.sides > 63,
                 other => panic!("unexpected field {other} for {run:?}"),
             };

@@ -1,6 +1,6 @@
 //! The bodies of the fuzz targets for the far-field and LOD stages of the mesher, one
-//! `pub fn <target>(data: &[u8])` per target: `vertical_shells`, `surface_blocks`,
-//! `place_clutter` and `lod`.
+//! `pub fn <target>(data: &[u8])` per target: `vertical_shells`, `heightmap_boxes`,
+//! `surface_blocks`, `place_clutter` and `lod`.
 //!
 //! Like `fuzz/bodies.rs`, this folder is compiled twice: by each of these fuzz targets
 //! (`fuzz/fuzz_targets/<target>.rs`, as `#[path = "../mesher_bodies/mod.rs"] mod
@@ -18,6 +18,8 @@ pub(crate) mod input;
 
 #[path = "clutter.rs"]
 mod clutter;
+#[path = "heightmap.rs"]
+mod heightmap;
 #[path = "lod.rs"]
 mod lod;
 #[path = "shells.rs"]
@@ -26,6 +28,7 @@ mod shells;
 mod surface_blocks;
 
 pub(crate) use clutter::place_clutter;
+pub(crate) use heightmap::heightmap_boxes;
 pub(crate) use lod::lod;
 pub(crate) use shells::vertical_shells;
 pub(crate) use surface_blocks::surface_blocks;

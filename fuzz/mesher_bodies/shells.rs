@@ -85,7 +85,7 @@ pub(crate) fn vertical_shells(data: &[u8]) {
                     u32::from(run.height),
                 );
                 assert!(x < e && z < e && height >= 1 && y + height <= e, "{run:?}");
-                assert_eq!(run.reserved, 0, "{run:?}");
+                assert_eq!(run.wide, 0, "vertical shells are one column wide: {run:?}");
                 let mut sides = 0u8;
                 for py in y + 1..=y + height {
                     let pos = [x + 1, py, z + 1];

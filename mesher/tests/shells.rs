@@ -33,7 +33,7 @@ proptest! {
             let top = u32::from(run.y) + u32::from(run.height);
             prop_assert!(run.height >= 1 && top <= e, "{run:?}");
             prop_assert!(u32::from(run.x) < e && u32::from(run.z) < e, "{run:?}");
-            prop_assert_eq!(run.reserved, 0);
+            prop_assert_eq!(run.wide, 0);
             let mut sides = [false; 6];
             for pos in run.voxels() {
                 prop_assert!(covered.insert(pos), "{:?} in two runs", pos);
@@ -106,7 +106,7 @@ fn shell_run_is_8_bytes_read_as_two_words() {
         height: 62,
         block: 0xBEEF,
         sides: 0b10_0101,
-        reserved: 0,
+        wide: 0,
     };
     assert_eq!(size_of::<ShellRun>(), 8);
     assert_eq!(ShellRun::new(1, 2, 3, 62, 0xBEEF, 0b10_0101), run);
@@ -160,7 +160,7 @@ fn a_hillside_column_splits_by_id_and_skips_buried_voxels() {
                 height: 2,
                 block: DIRT.0,
                 sides,
-                reserved: 0
+                wide: 0
             },
             ShellRun {
                 x: 3,
@@ -169,7 +169,7 @@ fn a_hillside_column_splits_by_id_and_skips_buried_voxels() {
                 height: 1,
                 block: GRASS.0,
                 sides: sides | up,
-                reserved: 0
+                wide: 0
             },
         ]
     );
@@ -216,7 +216,7 @@ fn empty_and_buried_full_chunks_give_no_runs() {
                 height: e as u8,
                 block: STONE.0,
                 sides: 0b11_1111,
-                reserved: 0
+                wide: 0
             }]
         );
     }

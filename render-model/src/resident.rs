@@ -173,7 +173,11 @@ pub fn mesh_bounds(
     for run in layers.shell_runs {
         let p = [run.x, run.y, run.z].map(f32::from);
         grow(p);
-        grow([p[0] + 1.0, p[1] + f32::from(run.height), p[2] + 1.0]);
+        grow([
+            p[0] + run.width() as f32,
+            p[1] + f32::from(run.height),
+            p[2] + 1.0,
+        ]);
     }
     let extent = UnormExtent::new(smooth.extent).unwrap_or(UnormExtent::UNIT);
     for v in layers.smooth_vertices {

@@ -53,7 +53,7 @@ type Target = (&'static str, fn(&[u8]));
 
 /// The body of every fuzz target, in the order of `fuzz/Cargo.toml`. The list of targets
 /// replayed is `fuzz/fuzz_targets/` (see [`targets_on_disk`]); this only maps names to bodies.
-const TARGETS: [Target; 20] = [
+const TARGETS: [Target; 21] = [
     ("shell_run", bodies::shell_run),
     ("chunk_codec", bodies::chunk_codec),
     ("draw_block", bodies::draw_block),
@@ -67,6 +67,7 @@ const TARGETS: [Target; 20] = [
     ("blocky_mesh", bodies::blocky_mesh),
     ("smooth_density", bodies::smooth_density),
     ("vertical_shells", mesher_bodies::vertical_shells),
+    ("heightmap_boxes", mesher_bodies::heightmap_boxes),
     ("surface_blocks", mesher_bodies::surface_blocks),
     ("place_clutter", mesher_bodies::place_clutter),
     ("lod", mesher_bodies::lod),
@@ -243,6 +244,7 @@ fn seeds() -> Vec<(&'static str, Seeds)> {
         ("blocky_mesh", blocky_mesh_seeds()),
         ("smooth_density", smooth_density_seeds()),
         ("vertical_shells", fuzz_mesher_seeds::chunk_seeds()),
+        ("heightmap_boxes", fuzz_mesher_seeds::chunk_seeds()),
         ("surface_blocks", fuzz_mesher_seeds::chunk_seeds()),
         ("place_clutter", fuzz_mesher_seeds::clutter_seeds()),
         ("lod", fuzz_mesher_seeds::lod_seeds()),

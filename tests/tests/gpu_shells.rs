@@ -289,16 +289,21 @@ fn bad_shell_runs_are_refused_by_name() {
     };
     let good = ShellRun::new(1, 2, 3, 4, 1, ShellRun::ALL_SIDES);
     assert!(upload_runs(&ctx, &[good]).is_ok());
-    let mut reserved = good;
-    reserved.reserved = 1;
-    // (run, the field its error names): height 0, past 64 voxels, no side, the reserved byte,
-    // and three runs that fit the format but not a 16^3 chunk.
+    // (run, the field its error names): height 0, past 64 voxels, no side, wider than 64
+    // voxels, and four runs that fit the format but not a 16^3 chunk.
     let cases = [
         (ShellRun::new(0, 0, 0, 0, 1, 1), "ShellRun.height"),
         (ShellRun::new(0, 0, 60, 5, 1, 1), "ShellRun.height"),
         (ShellRun::new(0, 0, 0, 1, 1, 0), "ShellRun.sides"),
-        (reserved, "ShellRun.reserved"),
+        (
+            ShellRun::new(60, 0, 0, 1, 1, 1).with_width(5),
+            "ShellRun.width",
+        ),
         (ShellRun::new(16, 0, 0, 1, 1, 1), "ShellRun.x"),
+        (
+            ShellRun::new(12, 0, 0, 1, 1, 1).with_width(5),
+            "ShellRun.x + width",
+        ),
         (ShellRun::new(0, 40, 0, 1, 1, 1), "ShellRun.z"),
         (ShellRun::new(0, 0, 10, 7, 1, 1), "ShellRun.y + height"),
     ];

@@ -72,8 +72,9 @@ pub(crate) struct Args {
     /// Streamed terrain: the screen-space error budget, pixels (0 = full detail everywhere).
     #[arg(long, value_name = "PX", default_value_t = 1.0, value_parser = parse_budget, allow_hyphen_values = true, conflicts_with_all = ["vox", "chunks"])]
     pub budget: f32,
-    /// Streamed terrain: how blocks are meshed (faces, greedy, smooth, or shells: vertical
-    /// runs drawn as boxes by the shell pass).
+    /// Streamed terrain: how blocks are meshed (faces, greedy, smooth, shells: vertical
+    /// runs drawn as boxes by the shell pass, or heightmap: each column's top as a box, at
+    /// every distance, without far draws).
     #[arg(long, value_name = "MODE", default_value = "greedy", value_parser = parse_mesher, conflicts_with_all = ["vox", "chunks"])]
     pub mesher: MesherMode,
     /// Streamed terrain: far draws of distant nodes (off, auto, splat, sprite, quads3).
@@ -331,12 +332,14 @@ fn parse_far_px(text: &str) -> Result<f32, String> {
     }
 }
 
-/// `faces`, `greedy`, `smooth` or `shells`.
+/// `faces`, `greedy`, `smooth`, `shells` or `heightmap`.
 fn parse_mesher(text: &str) -> Result<MesherMode, String> {
     MesherMode::ALL
         .into_iter()
         .find(|m| m.name() == text)
-        .ok_or_else(|| format!("{text:?} is not a mesher mode (faces, greedy, smooth, shells)"))
+        .ok_or_else(|| {
+            format!("{text:?} is not a mesher mode (faces, greedy, smooth, shells, heightmap)")
+        })
 }
 
 /// One of [`FAR_CHOICES`].

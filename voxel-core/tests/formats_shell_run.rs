@@ -7,11 +7,14 @@ use voxel_core::formats::{FaceDirection, FormatError, PackedQuadFields, ShellRun
 
 fn fields() -> impl Strategy<Value = ShellRunFields> {
     ([0u32..64, 0..64, 0..64], any::<u16>(), 1u8..64).prop_flat_map(|(position, block, sides)| {
-        (1..=64 - position[1]).prop_map(move |height| ShellRunFields {
-            position,
-            height,
-            block: BlockId(block),
-            sides,
+        (1..=64 - position[1], 1..=64 - position[0]).prop_map(move |(height, width)| {
+            ShellRunFields {
+                position,
+                height,
+                width,
+                block: BlockId(block),
+                sides,
+            }
         })
     })
 }
@@ -20,6 +23,7 @@ fn sample() -> ShellRunFields {
     ShellRunFields {
         position: [1, 3, 2],
         height: 5,
+        width: 1,
         block: BlockId(0xBEEF),
         sides: 0b10_0101,
     }
@@ -30,7 +34,7 @@ proptest! {
     fn valid_fields_round_trip(f in fields()) {
         let run = ShellRun::encode(&f).unwrap();
         prop_assert_eq!(run.decode().unwrap(), f);
-        prop_assert_eq!(run.reserved, 0);
+        prop_assert_eq!(u32::from(run.wide) + 1, f.width);
     }
 
     #[test]
@@ -88,7 +92,15 @@ fn bad_runs_are_named_errors() {
         with(|f| f.sides = 64),
         out_of_range("ShellRun.sides", 64, 1, 63)
     );
-    // The same checks on decode, plus the reserved byte.
+    assert_eq!(
+        with(|f| f.width = 0),
+        out_of_range("ShellRun.width", 0, 1, 63)
+    );
+    assert_eq!(
+        with(|f| f.width = 64),
+        out_of_range("ShellRun.width", 64, 1, 63)
+    );
+    // The same checks on decode.
     let zero_height = ShellRun::new(0, 0, 0, 0, 1, 1);
     assert_eq!(
         zero_height.decode(),
@@ -104,15 +116,16 @@ fn bad_runs_are_named_errors() {
         too_far.decode(),
         Err(out_of_range("ShellRun.x", 255, 0, 63))
     );
-    let mut reserved = ShellRun::new(0, 0, 0, 1, 1, 1);
-    reserved.reserved = 4;
+    let too_wide = ShellRun::new(60, 0, 0, 1, 1, 1).with_width(5);
     assert_eq!(
-        reserved.decode(),
-        Err(FormatError::ReservedBitsSet {
-            field: "ShellRun.reserved",
-            bits: 4
-        })
+        too_wide.decode(),
+        Err(out_of_range("ShellRun.width", 5, 1, 4))
     );
+    // Byte 7 is the width less one.
+    let wide = ShellRun::new(2, 0, 0, 1, 1, 1).with_width(7);
+    let words: [u32; 2] = bytemuck::cast(wide);
+    assert_eq!(words[1] >> 24, 6);
+    assert_eq!(wide.decode().map(|f| f.width), Ok(7));
 }
 
 /// The greedy quad that covers side `face` of the run's box.
@@ -121,7 +134,10 @@ fn covering_quad(f: &ShellRunFields, face: FaceDirection) -> PackedQuadFields {
     if face == FaceDirection::PosY {
         position[1] += f.height - 1;
     }
-    let extent = [1, f.height, 1];
+    if face == FaceDirection::PosX {
+        position[0] += f.width - 1;
+    }
+    let extent = [f.width, f.height, 1];
     PackedQuadFields {
         position,
         width: extent[face.width_axis()],

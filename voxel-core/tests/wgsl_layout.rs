@@ -13,8 +13,8 @@ use voxel_core::formats::octahedral::{SNORM8_STEP, SNORM16_STEP};
 use voxel_core::formats::quantize::{UNORM8_STEP, UNORM16_STEP};
 use voxel_core::formats::{
     ALL_WGSL_STRUCTS, BlockVertex, ChunkDrawIndirect, ChunkDrawInfo, ChunkKind, ClutterUnit,
-    DrawBlock, DrawBlockFlags, FORMATS_WGSL, FaceDirection, FaceLayerRange, HeightColumn,
-    LayerRange, MeshedChunkInfo, PackedQuad, ShellRun, SmoothQuadForm, WgslStruct, WgslType,
+    DrawBlock, DrawBlockFlags, FORMATS_WGSL, FaceDirection, FaceLayerRange, LayerRange,
+    MeshedChunkInfo, PackedQuad, ShellRun, SmoothQuadForm, WgslStruct, WgslType,
 };
 
 fn parse(source: &str) -> Module {
@@ -139,7 +139,6 @@ fn layout_tables_describe_the_right_rust_types() {
         (ChunkDrawInfo::WGSL_LAYOUT, size_of::<ChunkDrawInfo>(), 24),
         (FaceLayerRange::WGSL_LAYOUT, size_of::<FaceLayerRange>(), 28),
         (LayerRange::WGSL_LAYOUT, size_of::<LayerRange>(), 8),
-        (HeightColumn::WGSL_LAYOUT, size_of::<HeightColumn>(), 8),
         (
             MeshedChunkInfo::WGSL_LAYOUT,
             size_of::<MeshedChunkInfo>(),

@@ -74,11 +74,10 @@ pub fn parse_geometry(name: &str) -> Result<Geometry, String> {
     match name {
         "greedy" => Ok(Geometry::Greedy),
         "shells" => Ok(Geometry::Shells),
-        "heightmap" => Err(
-            "heightmap: SBgl's heightmap cubes are not built (geometries: greedy, shells)"
-                .to_owned(),
-        ),
-        other => Err(format!("{other:?} is not a geometry (greedy, shells)")),
+        "heightmap" => Ok(Geometry::Heightmap),
+        other => Err(format!(
+            "{other:?} is not a geometry (greedy, shells, heightmap)"
+        )),
     }
 }
 
@@ -87,6 +86,7 @@ pub fn geometry_name(geometry: Geometry) -> &'static str {
     match geometry {
         Geometry::Greedy => "greedy",
         Geometry::Shells => "shells",
+        Geometry::Heightmap => "heightmap",
     }
 }
 

@@ -266,7 +266,7 @@ impl Residency {
 
 /// Far-draw data must come whole: blocks with the hiding mask of the node's padded
 /// neighbourhood, in nodes a `DrawBlock` can address.
-/// Every run of `runs` decodes and lies inside a chunk of `size`: the shell pass draws each
+/// Every run of `runs` decodes and its box lies inside a chunk of `size`: the shell pass draws each
 /// one's box, whatever its bytes, so a bad run is refused here, by name.
 fn check_shell_runs(size: ChunkSize, runs: &[ShellRun]) -> Result<(), ResidencyError> {
     let edge = i64::from(size.edge());
@@ -287,6 +287,7 @@ fn check_shell_runs(size: ChunkSize, runs: &[ShellRun]) -> Result<(), ResidencyE
             let [x, y, z] = f.position;
             inside("ShellRun.x", x, edge - 1)?;
             inside("ShellRun.z", z, edge - 1)?;
+            inside("ShellRun.x + width", x + f.width, edge)?;
             inside("ShellRun.y + height", y + f.height, edge)
         });
         checked.map_err(|error| ResidencyError::BadShellRun { run: index, error })?;

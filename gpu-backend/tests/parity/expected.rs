@@ -70,6 +70,7 @@ pub(crate) fn shell_run(x: &ShellRun, out: &mut Vec<Word>) {
             out.extend(corner.map(u));
         }
     }
+    out.push(u(d.width));
 }
 
 fn face(face: FaceDirection, out: &mut Vec<Word>) {

@@ -102,28 +102,31 @@ fn sentinel(rng: &mut Rng) -> i32 {
 }
 
 /// Valid shell runs: random fields, plus the extremes (a run at the origin, one filling a
-/// 64-voxel column, one ending at the top of the chunk).
+/// 64-voxel column, one ending at the top of the chunk, one 64 voxels wide).
 pub(crate) fn shell_runs(rng: &mut Rng) -> Vec<ShellRun> {
-    let run = |position: [u32; 3], height, block: u16, sides| {
+    let run = |position: [u32; 3], height, width, block: u16, sides| {
         ShellRun::encode(&ShellRunFields {
             position,
             height,
+            width,
             block: BlockId(block),
             sides,
         })
         .expect("valid fields")
     };
     let mut v = vec![
-        run([0, 0, 0], 1, 0, 1),
-        run([63, 0, 63], 64, u16::MAX, ShellRun::ALL_SIDES),
-        run([5, 63, 7], 1, 9, 0b10_0000),
+        run([0, 0, 0], 1, 1, 0, 1),
+        run([63, 0, 63], 64, 1, u16::MAX, ShellRun::ALL_SIDES),
+        run([5, 63, 7], 1, 1, 9, 0b10_0000),
+        run([0, 4, 2], 3, 64, 9, ShellRun::ALL_SIDES),
     ];
     for _ in 0..2000 {
         let y = rng.below(64);
         let position = [rng.below(64), y, rng.below(64)];
         let height = 1 + rng.below(64 - y);
+        let width = 1 + rng.below(64 - position[0]);
         let sides = 1 + rng.below(63) as u8;
-        v.push(run(position, height, rng.next_u32() as u16, sides));
+        v.push(run(position, height, width, rng.next_u32() as u16, sides));
     }
     v
 }

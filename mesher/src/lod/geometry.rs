@@ -6,6 +6,12 @@
 //! vertical runs of [`vertical_shells`](crate::vertical_shells) (the runs of transparent ids
 //! are dropped: the transparent quads draw those voxels). At level `L` a run's voxels are
 //! `2^L` blocks wide, like the quads'.
+//!
+//! With [`Geometry::Heightmap`] a node keeps only its transparent quads: its opaque surface is
+//! the heightmap boxes of [`heightmap_boxes`](crate::heightmap::heightmap_boxes) (stored as
+//! [`ShellRun`]s and drawn by the shell pass), whose border columns reach down as skirts, so
+//! the node has no skirt quads; it has no far-draw data either (the boxes draw at every
+//! distance).
 
 use voxel_core::PaddedChunk;
 use voxel_core::formats::{PackedQuad, ShellRun};
@@ -21,6 +27,9 @@ pub enum Geometry {
     /// Opaque vertical shells, one box per run of exposed voxels ([`ShellRun`], 8 bytes),
     /// instead of the opaque greedy quads.
     Shells,
+    /// Heightmap cubes (SBgl): one box per column of the top surface, split by block id
+    /// ([`ShellRun`], 8 bytes), instead of the opaque quads, the skirts and the far-draw data.
+    Heightmap,
 }
 
 /// Keeps the runs of `runs` that stand for opaque quads: opaque ids, minus the smoothable ones

@@ -59,7 +59,8 @@ pub struct NodeMesh {
     /// The transparent occupancy of its padded neighbourhood (empty without far blocks or
     /// without transparent voxels).
     pub transparent_mask: Vec<u32>,
-    /// Its opaque vertical shells (empty unless meshed with [`Geometry::Shells`], which then
+    /// Its opaque vertical shells or heightmap boxes (empty unless meshed with
+    /// [`Geometry::Shells`] or [`Geometry::Heightmap`], which then
     /// leaves the opaque greedy quads empty).
     pub shells: Vec<ShellRun>,
 }
@@ -178,6 +179,12 @@ impl NodeMesher {
         clear_contents(out);
         self.chunk
             .mesh_gathered(padded, coord, classes, &settings.mesh, &mut out.mesh)?;
+        if settings.geometry == Geometry::Heightmap {
+            // The boxes' border columns are the skirts; a heightmap draws at every distance,
+            // so it has no far-draw data.
+            out.mesh.blocky.opaque.clear();
+            return crate::heightmap::heightmap_boxes(padded, classes, &mut out.shells);
+        }
         skirt_quads(padded, classes, &mut out.skirts)?;
         if settings.geometry == Geometry::Shells {
             out.mesh.blocky.opaque.clear();

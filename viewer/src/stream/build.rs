@@ -232,7 +232,10 @@ impl BuiltNode {
                 .iter()
                 .map(|s| s.len())
                 .sum::<usize>();
-        let draws = view.quad_count() > 0 || !view.smooth_vertices.is_empty() || blocks > 0;
+        let draws = view.quad_count() > 0
+            || !view.smooth_vertices.is_empty()
+            || !view.shell_runs.is_empty()
+            || blocks > 0;
         built.bytes = view.byte_len();
         draws.then_some(built)
     }
@@ -249,6 +252,7 @@ impl BuiltNode {
         if !self.layers.opaque {
             view.opaque_quads = [&[]; 6];
             view.opaque_skirts = [&[]; 6];
+            view.shell_runs = &[];
         }
         if !self.layers.transparent {
             view.transparent_quads = [&[]; 6];

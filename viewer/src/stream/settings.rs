@@ -25,22 +25,27 @@ pub enum MesherMode {
     /// blocks (`mesher::lod::Geometry::Shells`, the renderer's shell pass); transparent
     /// blocks and level-of-detail skirts stay greedy quads.
     Shells,
+    /// Heightmap cubes (SBgl): each column's top surface as one box (`mesher::heightmap`,
+    /// drawn by the shell pass) at every distance, with no far draws; transparent blocks stay
+    /// greedy quads. Caves and overhangs are not drawn.
+    Heightmap,
 }
 
 impl MesherMode {
     /// All modes, in the overlay's order.
-    pub const ALL: [MesherMode; 4] = [
+    pub const ALL: [MesherMode; 5] = [
         MesherMode::Faces,
         MesherMode::Greedy,
         MesherMode::Smooth,
         MesherMode::Shells,
+        MesherMode::Heightmap,
     ];
 
     /// The mesher's surface mode.
     pub fn surface(self) -> SurfaceMode {
         match self {
             MesherMode::Faces => SurfaceMode::VisibleFaces,
-            MesherMode::Greedy | MesherMode::Shells => SurfaceMode::Greedy,
+            MesherMode::Greedy | MesherMode::Shells | MesherMode::Heightmap => SurfaceMode::Greedy,
             MesherMode::Smooth => SurfaceMode::NoCubes,
         }
     }
@@ -49,8 +54,14 @@ impl MesherMode {
     pub fn geometry(self) -> Geometry {
         match self {
             MesherMode::Shells => Geometry::Shells,
+            MesherMode::Heightmap => Geometry::Heightmap,
             _ => Geometry::Greedy,
         }
+    }
+
+    /// True when the mode draws through the renderer's shell pass.
+    pub fn draws_shells(self) -> bool {
+        matches!(self, MesherMode::Shells | MesherMode::Heightmap)
     }
 
     /// Its name in flags and the overlay.
@@ -60,6 +71,7 @@ impl MesherMode {
             MesherMode::Greedy => "greedy",
             MesherMode::Smooth => "smooth",
             MesherMode::Shells => "shells",
+            MesherMode::Heightmap => "heightmap",
         }
     }
 }

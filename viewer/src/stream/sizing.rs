@@ -22,6 +22,22 @@ pub(super) fn far_choice(
     settings: &StreamSettings,
     capabilities: &GpuCapabilities,
 ) -> Result<FarChoice, String> {
+    if settings.mesher == MesherMode::Heightmap {
+        // Heightmap boxes draw at every distance: the nodes carry no far-draw data.
+        return match settings.far {
+            FarRequest::Off | FarRequest::Path(FarPath::Off) => {
+                FarRequest::Off.resolve(capabilities)
+            }
+            FarRequest::Auto => Ok(FarChoice {
+                path: FarPath::Off,
+                reason: "heightmap boxes draw every distance".to_owned(),
+            }),
+            FarRequest::Path(path) => Err(format!(
+                "--mesher heightmap draws every distance with its boxes and has no far draws; \
+                 far path {path:?} cannot run with it (use --far auto or off)"
+            )),
+        };
+    }
     settings.far.resolve(capabilities)
 }
 
@@ -35,7 +51,9 @@ pub(super) fn renderer_config(
     let memory = settings.memory_bytes;
     let smooth = settings.mesher == MesherMode::Smooth;
     // Parts of the memory per kind.
-    let mut parts = vec![(DataKind::Quads, 4u64)];
+    let heightmap = settings.mesher == MesherMode::Heightmap;
+    // Heightmap nodes keep only their transparent quads.
+    let mut parts = vec![(DataKind::Quads, if heightmap { 1 } else { 4u64 })];
     if far != FarPath::Off {
         parts.push((DataKind::DrawBlocks, 4));
     }
@@ -46,7 +64,7 @@ pub(super) fn renderer_config(
         parts.push((DataKind::SmoothVertices, 3));
         parts.push((DataKind::SmoothQuads, 1));
     }
-    let shells = settings.mesher == MesherMode::Shells;
+    let shells = settings.mesher.draws_shells();
     if shells {
         // Runs take about the bytes of the opaque quads they replace (BENCHMARKS.md's
         // geometry table); the quads left are the transparent ones and the skirts.

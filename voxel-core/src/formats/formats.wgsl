@@ -199,6 +199,11 @@ fn shell_run_height(r: ShellRun) -> u32 {
     return r.xzyh >> 24u;
 }
 
+// Columns in the box along x, 1..=64 - x (1 for a vertical shell).
+fn shell_run_width(r: ShellRun) -> u32 {
+    return (r.block_sides >> 24u) + 1u;
+}
+
 fn shell_run_block(r: ShellRun) -> u32 {
     return r.block_sides & 0xffffu;
 }
@@ -218,7 +223,7 @@ fn shell_run_corner(r: ShellRun, face: u32, corner: u32) -> vec3<u32> {
     let swap = face == FACE_POS_X || face == FACE_POS_Y || face == FACE_NEG_Z;
     let du = select(a, b, swap);
     let dv = select(b, a, swap);
-    let extent = vec3<u32>(1u, shell_run_height(r), 1u);
+    let extent = vec3<u32>(shell_run_width(r), shell_run_height(r), 1u);
     let n = axis_unit(face_normal_axis(face));
     let w = axis_unit(face_width_axis(face));
     let h = axis_unit(face_height_axis(face));
@@ -498,24 +503,4 @@ fn smooth_quad_corner(form: u32, q: u32, corner: u32, word: u32, next: u32) -> u
         return (word >> (16u * (corner & 1u))) & 0xffffu;
     }
     return word;
-}
-
-// HeightColumn (height_column.rs)
-
-struct HeightColumn {
-    height_top: u32,
-    under: u32,
-}
-
-// Blocks of ground from the tile floor; 0 = no ground.
-fn height_column_height(c: HeightColumn) -> u32 {
-    return c.height_top & 0xffffu;
-}
-
-fn height_column_top(c: HeightColumn) -> u32 {
-    return c.height_top >> 16u;
-}
-
-fn height_column_under(c: HeightColumn) -> u32 {
-    return c.under & 0xffffu;
 }

@@ -4,8 +4,7 @@
 //! | ---------------------- | ----- | ------------------------------------------------------- |
 //! | [`DrawBlock`]          | 4 B   | one surface block: flags, 4-bit position, block id      |
 //! | [`PackedQuad`]         | 8 B   | one greedy quad, expanded to 4 corners on the GPU       |
-//! | [`ShellRun`]           | 8 B   | one vertical run of exposed voxels, drawn as a box      |
-//! | [`HeightColumn`]       | 8 B   | one heightmap column: height, top and under block ids   |
+//! | [`ShellRun`]           | 8 B   | a box of vertical runs (shells, heightmap cubes)        |
 //! | [`BlockVertex`]        | 16 B  | one quantized vertex (position, normal, uv, block)      |
 //! | [`ClutterUnit`]        | 20 B  | one clutter instance                                    |
 //! | [`ChunkDrawInfo`]      | 24 B  | a loaded chunk as the cull pass sees it                 |
@@ -69,7 +68,6 @@ pub mod compact_quad;
 mod draw_block;
 mod error;
 mod face_direction;
-mod height_column;
 mod layer_range;
 mod meshed_chunk_info;
 pub mod octahedral;
@@ -90,7 +88,6 @@ pub use compact_quad::{
 pub use draw_block::{DrawBlock, DrawBlockFields, DrawBlockFlags};
 pub use error::FormatError;
 pub use face_direction::FaceDirection;
-pub use height_column::{HeightColumn, HeightColumnFields};
 pub use layer_range::{FaceLayerRange, LayerRange};
 pub use meshed_chunk_info::{MeshedChunkInfo, MeshedChunkInfoFields};
 pub use octahedral::{

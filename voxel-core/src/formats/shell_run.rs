@@ -1,5 +1,6 @@
-//! `ShellRun`: one vertical run of exposed voxels of one block id (SBgl's shell extraction) in
-//! 8 bytes, drawn as an elongated box synthesised in the vertex shader.
+//! `ShellRun`: one vertical run of exposed voxels of one block id (SBgl's shell extraction), or
+//! a row of such runs side by side along x, in 8 bytes, drawn as an elongated box synthesised
+//! in the vertex shader.
 
 use core::mem::{offset_of, size_of};
 
@@ -10,45 +11,49 @@ use super::wgsl::{WgslStruct, WgslType, member};
 use super::{FaceDirection, FormatError};
 use crate::BlockId;
 
-/// One vertical run of exposed voxels of one block id: a box of `1 x height x 1` voxels whose
-/// visible sides the GPU draws.
+/// One vertical run of exposed voxels of one block id: a box of `width x height x 1` voxels
+/// whose visible sides the GPU draws. Vertical shells are one voxel wide; heightmap boxes
+/// (`mesher::heightmap`) merge equal neighbouring columns along x.
 ///
 /// ```text
-/// byte 0     1     2     3      4           6       7          8
-///      +-----+-----+-----+------+-----------+-------+----------+
-///      |  x  |  z  |  y  |height|  block id | sides | reserved |
-///      +-----+-----+-----+------+-----------+-------+----------+
+/// byte 0     1     2     3      4           6       7           8
+///      +-----+-----+-----+------+-----------+-------+-----------+
+///      |  x  |  z  |  y  |height|  block id | sides | width - 1 |
+///      +-----+-----+-----+------+-----------+-------+-----------+
 /// ```
 ///
 /// | byte | field      | range            | meaning                                              |
 /// | ---- | ---------- | ---------------- | ---------------------------------------------------- |
-/// | 0    | `x`        | `0..64`          | chunk-local column x                                 |
+/// | 0    | `x`        | `0..64`          | chunk-local x of the run's first column              |
 /// | 1    | `z`        | `0..64`          | chunk-local column z                                 |
 /// | 2    | `y`        | `0..64`          | chunk-local y of the run's lowest voxel              |
 /// | 3    | `height`   | `1..=64 - y`     | voxels in the run, stored as is (never 0)            |
 /// | 4..6 | `block`    | any `u16`        | the [`BlockId`] of every voxel of the run            |
 /// | 6    | `sides`    | `1..64`          | bit `d`: box face `d` is visible somewhere on the run |
-/// | 7    | `reserved` | 0                | must be zero                                         |
+/// | 7    | `wide`     | `0..64 - x`      | columns in the box less one (0 for a vertical shell) |
 ///
 /// `sides` uses the [`FaceDirection::index`] order: bit 0 +x, 1 -x, 2 +y (top of the highest
 /// voxel), 3 -y (bottom of the lowest voxel), 4 +z, 5 -z. The faces between the run's own
 /// voxels are never visible (they touch an equal id), so the box's six faces are the only ones.
+/// Every bit pattern of byte 7 is a width; only a box that leaves the chunk (`x + width > 64`)
+/// is invalid.
 ///
 /// WGSL reads the 8 bytes as two `u32` words ([`ShellRun::WGSL_LAYOUT`]):
-/// `xzyh = x | z << 8 | y << 16 | height << 24` and `block_sides = block | sides << 16`.
+/// `xzyh = x | z << 8 | y << 16 | height << 24` and
+/// `block_sides = block | sides << 16 | (width - 1) << 24`.
 ///
 /// # Drawing
 ///
 /// One draw of 36 vertices per run (6 faces x 2 triangles), no vertex data. The vertex shader
 /// picks face `vertex_index / 6`; if that face's `sides` bit is clear it emits a degenerate
 /// triangle, otherwise corner `shell_run_corner` of that face of the box
-/// `[x, x + 1] x [y, y + height] x [z, z + 1]` (chunk-local). A side bit stands for the whole
+/// `[x, x + width] x [y, y + height] x [z, z + 1]` (chunk-local). A side bit stands for the whole
 /// side of the box: the parts of that side whose voxels' faces are hidden are drawn too. They
 /// lie against a hiding neighbour, so for opaque runs the depth test removes them.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Pod, Zeroable)]
 pub struct ShellRun {
-    /// Chunk-local x of the column.
+    /// Chunk-local x of the first column.
     pub x: u8,
     /// Chunk-local z of the column.
     pub z: u8,
@@ -60,8 +65,8 @@ pub struct ShellRun {
     pub block: u16,
     /// Visible box faces, bit [`FaceDirection::index`].
     pub sides: u8,
-    /// Always 0.
-    pub reserved: u8,
+    /// Columns in the box less one, `0..64 - x`.
+    pub wide: u8,
 }
 
 const _: () = assert!(size_of::<ShellRun>() == 8, "ShellRun must be 8 bytes");
@@ -73,6 +78,8 @@ pub struct ShellRunFields {
     pub position: [u32; 3],
     /// Voxels in the run, `1..=64 - y`.
     pub height: u32,
+    /// Columns in the box along x, `1..=64 - x` (1 for a vertical shell).
+    pub width: u32,
     /// Block id of every voxel of the run.
     pub block: BlockId,
     /// Visible box faces, bit [`FaceDirection::index`], `1..64`.
@@ -99,7 +106,7 @@ impl ShellRun {
         ],
     };
 
-    /// A run with these fields and `reserved` 0, unchecked (the extractor's fast path; it
+    /// A run one column wide with these fields, unchecked (the extractor's fast path; it
     /// only makes runs that [`decode`](Self::decode) accepts). Use [`encode`](Self::encode) for
     /// values from elsewhere.
     #[inline]
@@ -126,20 +133,31 @@ impl ShellRun {
                 height,
                 block,
                 sides,
-                reserved: 0,
+                wide: 0,
             }
         }
     }
 
+    /// This run widened to `width` columns along x (`1..=64 - x`), unchecked like
+    /// [`new`](Self::new).
+    #[inline]
+    pub fn with_width(self, width: u8) -> ShellRun {
+        ShellRun {
+            wide: width.wrapping_sub(1),
+            ..self
+        }
+    }
+
     /// Packs `fields`, rejecting a position axis above 63, a height of 0 or past the chunk
-    /// (`y + height > 64`) and a side mask of 0 or above 63 with
-    /// [`FormatError::IntegerOutOfRange`] naming the field.
+    /// (`y + height > 64`), a width of 0 or past the chunk (`x + width > 64`) and a side mask
+    /// of 0 or above 63 with [`FormatError::IntegerOutOfRange`] naming the field.
     pub fn encode(fields: &ShellRunFields) -> Result<ShellRun, FormatError> {
         let [x, y, z] = fields.position;
         let x = check_max("ShellRun.x", x, Self::MAX_POSITION)?;
         let y = check_max("ShellRun.y", y, Self::MAX_POSITION)?;
         let z = check_max("ShellRun.z", z, Self::MAX_POSITION)?;
         let height = check_range("ShellRun.height", fields.height, 1, Self::MAX_TOP - y)?;
+        let width = check_range("ShellRun.width", fields.width, 1, Self::MAX_TOP - x)?;
         let sides = check_range(
             "ShellRun.sides",
             fields.sides.into(),
@@ -153,20 +171,14 @@ impl ShellRun {
             height as u8,
             fields.block.0,
             sides as u8,
-        ))
+        )
+        .with_width(width as u8))
     }
 
     /// Unpacks and checks the fields: a position axis above 63, a height of 0 or past the
-    /// chunk (`y + height > 64`) or a side mask of 0 or above 63 is
-    /// [`FormatError::IntegerOutOfRange`] naming the field; a nonzero reserved byte is
-    /// [`FormatError::ReservedBitsSet`]. Never panics.
+    /// chunk (`y + height > 64`), a width past the chunk (`x + width > 64`) or a side mask of
+    /// 0 or above 63 is [`FormatError::IntegerOutOfRange`] naming the field. Never panics.
     pub fn decode(self) -> Result<ShellRunFields, FormatError> {
-        if self.reserved != 0 {
-            return Err(FormatError::ReservedBitsSet {
-                field: "ShellRun.reserved",
-                bits: self.reserved.into(),
-            });
-        }
         ShellRun::encode(&self.fields_unchecked()).map(|run| run.fields_unchecked())
     }
 
@@ -174,6 +186,7 @@ impl ShellRun {
         ShellRunFields {
             position: [self.x, self.y, self.z].map(u32::from),
             height: self.height.into(),
+            width: u32::from(self.wide) + 1,
             block: BlockId(self.block),
             sides: self.sides,
         }
@@ -191,10 +204,17 @@ impl ShellRun {
         (self.sides >> face.index()) & 1 != 0
     }
 
-    /// Chunk-local positions of the run's voxels, bottom to top.
+    /// Columns in the box along x (1 for a vertical shell).
+    #[inline]
+    pub fn width(self) -> u32 {
+        u32::from(self.wide) + 1
+    }
+
+    /// Chunk-local positions of the box's voxels, bottom to top, then along x.
     pub fn voxels(self) -> impl Iterator<Item = [u32; 3]> {
         let (x, y, z) = (u32::from(self.x), u32::from(self.y), u32::from(self.z));
-        (y..y + u32::from(self.height)).map(move |y| [x, y, z])
+        let width = self.width();
+        (x..x + width).flat_map(move |x| (y..y + u32::from(self.height)).map(move |y| [x, y, z]))
     }
 }
 
@@ -204,7 +224,7 @@ impl ShellRunFields {
     /// covers the same side, in the same order (`PackedQuadFields::corners`). The twin of WGSL
     /// `shell_run_corner`.
     pub fn corners(&self, face: FaceDirection) -> [[u32; 3]; 4] {
-        let extent = [1, self.height, 1];
+        let extent = [self.width, self.height, 1];
         let (n, w, h) = (face.normal_axis(), face.width_axis(), face.height_axis());
         let swap = matches!(
             face,

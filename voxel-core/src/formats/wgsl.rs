@@ -9,7 +9,7 @@
 
 use super::{
     BlockVertex, ChunkDrawIndirect, ChunkDrawInfo, ClutterUnit, DrawBlock, FaceLayerRange,
-    HeightColumn, LayerRange, MeshedChunkInfo, PackedQuad, ShellRun,
+    LayerRange, MeshedChunkInfo, PackedQuad, ShellRun,
 };
 
 /// WGSL source of every format's struct and decode functions. It declares no bindings or entry
@@ -62,7 +62,6 @@ pub const ALL_WGSL_STRUCTS: &[WgslStruct] = &[
     DrawBlock::WGSL_LAYOUT,
     PackedQuad::WGSL_LAYOUT,
     ShellRun::WGSL_LAYOUT,
-    HeightColumn::WGSL_LAYOUT,
     BlockVertex::WGSL_LAYOUT,
     ClutterUnit::WGSL_LAYOUT,
     ChunkDrawInfo::WGSL_LAYOUT,

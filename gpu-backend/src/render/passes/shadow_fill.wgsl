@@ -155,7 +155,7 @@ fn shadow_fill_shells(
     for (var i = lid; i < count; i += FILL_WORKGROUP) {
         let run = shell_runs[first + i];
         let lo = place.lo + vec3<i32>(shell_run_position(run)) * place.cell;
-        let extent = vec3<i32>(place.cell, i32(shell_run_height(run)) * place.cell, place.cell);
+        let extent = vec3<i32>(i32(shell_run_width(run)), i32(shell_run_height(run)), 1) * place.cell;
         mark_box(lo, lo + extent);
     }
 }

@@ -68,7 +68,7 @@ fn vs_shell(@builtin(vertex_index) vertex: u32, @builtin(instance_index) slot: u
     out.position = frame.view_proj * vec4<f32>(origin + local, 1.0);
     out.voxel = local / scale;
     out.lo = lo;
-    out.hi = lo + vec3<f32>(1.0, f32(shell_run_height(run)), 1.0);
+    out.hi = lo + vec3<f32>(f32(shell_run_width(run)), f32(shell_run_height(run)), 1.0);
     return out;
 }
 
