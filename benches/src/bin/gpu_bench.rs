@@ -149,7 +149,7 @@ struct Args {
     #[arg(long)]
     features: bool,
     /// Instead of the settings table: the terrain meshed with each of these geometries
-    /// (comma-separated: greedy, shells; heightmap is not built) on a renderer each, at the
+    /// (comma-separated: greedy, shells, heightmap) on a renderer each, at the
     /// first setting given: node bytes, opaque instances, meshing time, GPU time and the image
     /// difference from the first geometry's frame (`benches::gpu_bench::geometry`).
     #[arg(long, value_delimiter = ',', value_parser = benches::gpu_bench::geometry::parse_geometry)]

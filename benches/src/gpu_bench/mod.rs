@@ -174,8 +174,10 @@ pub fn renderer_with(
     config.max_chunks = nodes;
     config.occlusion = occlusion;
     config.opaque = opaque;
+    // Nodes without far-draw data (heightmap cubes) have nothing for a far path to draw.
     let config = match far {
         FarRequest::Off => config,
+        _ if terrain.draw_block_words() == 0 => config,
         far => config.with_far(far, slack(terrain.draw_block_words()) * 4),
     };
     // The grass pass, when the terrain carries clutter (`--clutter`).
@@ -185,7 +187,8 @@ pub fn renderer_with(
     } else {
         config
     };
-    // The shell pass, when the nodes are meshed as vertical shells (`--geometry shells`).
+    // The shell pass, when the nodes are meshed as vertical shells or heightmap cubes
+    // (`--geometry shells` or `heightmap`).
     let runs = terrain.shell_count();
     let config = if runs > 0 {
         config.with_shells(slack(runs) * 8)
