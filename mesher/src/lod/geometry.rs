@@ -74,7 +74,7 @@ impl GeometryCounts {
         self.quads * 2
     }
 
-    /// Triangles the shells submit (12 per run; faces whose side bit is clear are
+    /// Triangles the shells submit (6 per run, the 3 faces toward the eye; faces whose side bit is clear are
     /// degenerate and rasterise nothing).
     pub fn run_triangles(&self) -> u64 {
         self.runs * u64::from(ShellRun::VERTICES / 3)

@@ -44,9 +44,10 @@ use crate::BlockId;
 ///
 /// # Drawing
 ///
-/// One draw of 36 vertices per run (6 faces x 2 triangles), no vertex data. The vertex shader
-/// picks face `vertex_index / 6`; if that face's `sides` bit is clear it emits a degenerate
-/// triangle, otherwise corner `shell_run_corner` of that face of the box
+/// One draw of 18 vertices per run (3 faces x 2 triangles), no vertex data. The vertex shader
+/// picks axis `vertex_index / 6` and on it the face toward the eye (a box is convex: the
+/// face away from the eye is a back face); if that face's `sides` bit is clear it emits a
+/// degenerate triangle, otherwise corner `shell_run_corner` of that face of the box
 /// `[x, x + width] x [y, y + height] x [z, z + 1]` (chunk-local). A side bit stands for the whole
 /// side of the box: the parts of that side whose voxels' faces are hidden are drawn too. They
 /// lie against a hiding neighbour, so for opaque runs the depth test removes them.
@@ -93,8 +94,8 @@ impl ShellRun {
     pub const MAX_TOP: u32 = 64;
     /// Largest valid side mask (all six faces).
     pub const ALL_SIDES: u8 = 0b11_1111;
-    /// Vertices drawn per run: 6 faces of 2 triangles.
-    pub const VERTICES: u32 = 36;
+    /// Vertices drawn per run: the 3 faces toward the eye, of 2 triangles each.
+    pub const VERTICES: u32 = 18;
 
     /// The WGSL struct `ShellRun { xzyh: u32, block_sides: u32 }` (layout in the type docs).
     pub const WGSL_LAYOUT: WgslStruct = WgslStruct {

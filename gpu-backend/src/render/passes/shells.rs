@@ -17,8 +17,9 @@
 //! `MULTI_DRAW_INDIRECT_COUNT`, one `multi_draw_indirect` over a list cleared each frame), as
 //! the grass pass does.
 //!
-//! **Vertex pulling.** No vertex data: 36 vertices per run, face `vertex_index / 6` within the
-//! run, `first_vertex = 36 * (first run)` in the bound shell page, `first_instance` = the table
+//! **Vertex pulling.** No vertex data: 18 vertices per run, on axis `vertex_index / 6` within
+//! the run the box face toward the eye (the other is a back face), `first_vertex = 18 * (first
+//! run)` in the bound shell page, `first_instance` = the table
 //! slot. A face whose side bit is clear is degenerate. The fragment shades with the meshers'
 //! per-face ambient occlusion from the node's hiding mask (`far_ao.wgsl`), when the node has
 //! one. The shell gigabuffer is bound as one page.

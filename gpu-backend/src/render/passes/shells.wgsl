@@ -1,8 +1,9 @@
 // The shell pass: vertical shell runs (ShellRun) drawn as boxes into the G-buffer, synthesised
 // from vertex_index alone. render_common.wgsl, node.wgsl and far_ao.wgsl come before this body.
 //
-// No vertex or index buffers: vertex v of a draw is run v / 36 of the bound shell page
-// (first_vertex = 36 * the node's first run), face (v % 36) / 6 of its box, corner
+// No vertex or index buffers: vertex v of a draw is run v / 18 of the bound shell page
+// (first_vertex = 18 * the node's first run), on axis (v % 18) / 6 of its box the face toward
+// the eye (a box is convex: the face away from the eye on each axis is a back face), corner
 // [0, 1, 2, 0, 2, 3][v % 6] of that face (shell_run_corner: the corners of the greedy quad
 // covering the same side, counter-clockwise from outside); instance_index is the chunk table
 // slot (first_instance), whose records give the node's chunk, level and hiding mask. A face
@@ -22,7 +23,7 @@
 // The draw-block gigabuffer's one page (hiding masks), or one zero word without far blocks.
 @group(1) @binding(3) var<storage, read> masks: array<u32>;
 
-const VERTICES_PER_RUN: u32 = 36u;
+const VERTICES_PER_RUN: u32 = 18u;
 const DILATION_PX: f32 = 1.0 / 64.0;
 const MIN_DILATION: f32 = 1.0 / 4096.0;
 
@@ -41,7 +42,19 @@ struct ShellVaryings {
 @vertex
 fn vs_shell(@builtin(vertex_index) vertex: u32, @builtin(instance_index) slot: u32) -> ShellVaryings {
     let run = shells[vertex / VERTICES_PER_RUN];
-    let face = (vertex % VERTICES_PER_RUN) / 6u;
+    let info = chunks[slot];
+    let level = min(info.lod, 15u);
+    let scale = f32(1u << level);
+    let coord = vec3<i32>(info.chunk_x, info.chunk_y, info.chunk_z);
+    let rel = (coord << vec3<u32>(level)) - frame.camera_chunk;
+    let origin = vec3<f32>(rel) * frame.chunk_edge - frame.camera_offset;
+    let lo = vec3<f32>(shell_run_position(run));
+    let hi = lo + vec3<f32>(f32(shell_run_width(run)), f32(shell_run_height(run)), 1.0);
+    // The box's centre relative to the eye picks the face of this vertex's axis: the positive
+    // one when the eye is on the positive side (FACE_* pairs: 2 * axis + 1 is the negative).
+    let box_centre = origin + 0.5 * (lo + hi) * scale;
+    let axis = (vertex % VERTICES_PER_RUN) / 6u;
+    let face = 2u * axis + u32(box_centre[axis] >= 0.0);
     let corner = array<u32, 6>(0u, 1u, 2u, 0u, 2u, 3u)[vertex % 6u];
     var out: ShellVaryings;
     out.slot = slot;
@@ -52,23 +65,16 @@ fn vs_shell(@builtin(vertex_index) vertex: u32, @builtin(instance_index) slot: u
         out.position = vec4<f32>(0.0, 0.0, -1.0, 1.0);
         return out;
     }
-    let info = chunks[slot];
-    let level = min(info.lod, 15u);
-    let scale = f32(1u << level);
-    let coord = vec3<i32>(info.chunk_x, info.chunk_y, info.chunk_z);
-    let rel = (coord << vec3<u32>(level)) - frame.camera_chunk;
-    let origin = vec3<f32>(rel) * frame.chunk_edge - frame.camera_offset;
     let cell = vec3<f32>(shell_run_corner(run, face, corner));
     let centre = 0.5 * (vec3<f32>(shell_run_corner(run, face, 0u)) + vec3<f32>(shell_run_corner(run, face, 2u)));
     var local = cell * scale;
     let pixel = 2.0 * length(frame.up) / f32(frame.height);
     let hair = max(length(origin + local) * pixel * DILATION_PX, MIN_DILATION);
     local += sign(cell - centre) * hair;
-    let lo = vec3<f32>(shell_run_position(run));
     out.position = frame.view_proj * vec4<f32>(origin + local, 1.0);
     out.voxel = local / scale;
     out.lo = lo;
-    out.hi = lo + vec3<f32>(f32(shell_run_width(run)), f32(shell_run_height(run)), 1.0);
+    out.hi = hi;
     return out;
 }
 

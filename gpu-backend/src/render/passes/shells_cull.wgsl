@@ -1,5 +1,5 @@
 // The shell cull: one indirect draw appended per chunk table slot whose node has shell runs
-// and that the voxel cull draws (non-indexed, 36 vertices per run, first_vertex = 36 * its
+// and that the voxel cull draws (non-indexed, 18 vertices per run, first_vertex = 18 * its
 // first run, first_instance = slot; compacted: the draw's index is stats[0], the draw count).
 // A slot draws when its node is selected by the level-of-detail rule (lod.wgsl) at its own
 // level (without selection: when it is level 0), its mesh box (which holds its runs' boxes) is inside the frustum, and, with
@@ -27,7 +27,7 @@ struct ShellCullUniforms {
 const SHELL_CULL_LOD: u32 = 1u;
 const SHELL_CULL_OCCLUSION: u32 = 2u;
 const SHELL_CULL_FAR: u32 = 4u;
-const VERTICES_PER_RUN: u32 = 36u;
+const VERTICES_PER_RUN: u32 = 18u;
 
 @group(0) @binding(0) var<uniform> g: ShellCullUniforms;
 @group(0) @binding(1) var<storage, read> table: array<MeshedChunkInfo>;
