@@ -38,9 +38,10 @@
 #   geometry     the headline terrain meshed as greedy quads, vertical shells and heightmap
 #                cubes, both opaque paths (`gpu_bench --geometry greedy,shells,heightmap`): node
 #                bytes, instances, meshing time, GPU time, image difference;
-#                docs/data/gpu_bench_geometry.json's form; greedy and heightmap without far
-#                draws (`--far off`: the image difference of the heightmap rule alone, not of
-#                the far splat); and the flight with `--mesher shells` and `--mesher heightmap`
+#                docs/data/gpu_bench_geometry.json's form; greedy and heightmap with no node
+#                far-drawn (`--far-px 0.01`: the image difference of the heightmap rule alone,
+#                not of the far splat; also alone as set geometry-exact); and the flight with
+#                `--mesher shells` and `--mesher heightmap`
 #   edits        the flight without edits and with `--edits-per-second 1000` (spheres of air of
 #                radius 4 carved along the path): frame times and edit-to-screen latency
 #   flightnodes  the same with the benchmark's far threshold (`--far-px 1.5`), and with it and
@@ -136,7 +137,7 @@ declare -A config=(
     [geometry-raster]="gpu_bench||--side $s4096 $common --opaque raster --frames $frames --geometry greedy,shells,heightmap --reference off"
     [flight-shells]="viewer||${flight[*]} --mesher shells"
     [flight-heightmap]="viewer||${flight[*]} --mesher heightmap"
-    [geometry-exact]="gpu_bench||--side $s4096 --chunk 8 --budget 1 --far off --opaque compute --frames $frames --geometry greedy,heightmap --reference off"
+    [geometry-exact]="gpu_bench||--side $s4096 --chunk 8 --budget 1 --far splat --far-px 0.01 --opaque compute --frames $frames --geometry greedy,heightmap --reference off"
     [features]="gpu_bench||--side $s4096 $common --opaque compute --frames $frames --features --reference off"
 )
 
@@ -162,6 +163,7 @@ for s in "${sets[@]}"; do
         shadows) names+=(shadows flight-shadows) ;;
         features) names+=(features) ;;
         geometry) names+=(geometry geometry-raster geometry-exact flight-shells flight-heightmap) ;;
+        geometry-exact) names+=(geometry-exact) ;;
         props) names+=(props flight-props) ;;
         all) names+=(headline paths distance-1024 distance-16384 distance-1024 distance-16384
                      budgets farpx farpaths nodesize-16 nodesize-8 cpu-1024 cpu-4096 cpu-16384
