@@ -127,7 +127,8 @@ struct Args {
     /// Write every figure as JSON to this file.
     #[arg(long)]
     json: Option<std::path::PathBuf>,
-    /// Write the last setting's image to this PNG.
+    /// Write the last setting's image to this PNG (with `--geometry`: each geometry's, as
+    /// `STEM-<geometry>.png`).
     #[arg(long)]
     png: Option<std::path::PathBuf>,
     /// Instead of the terrain: N instances of the sample prop (`--prop-file`) on a grid, the
@@ -285,10 +286,21 @@ fn bench_geometry_at(
             geometry: *geometry,
             terrain,
             renderer: setting.renderer(args, ctx, terrain, params)?,
+            image: Vec::new(),
         });
     }
     let words = setting.describe(args, &terrains[0].1, &runs[0].renderer);
     let report = bench_geometry(ctx, &mut runs, args.frames, words)?;
+    // `--png a.png`: each geometry's frame as `a-<geometry>.png`.
+    if let Some(path) = &args.png {
+        for run in &runs {
+            let name = benches::gpu_bench::geometry::geometry_name(run.geometry);
+            let stem = path.file_stem().unwrap_or_default().to_string_lossy();
+            let file = path.with_file_name(format!("{stem}-{name}.png"));
+            let png = gpu_backend::png::encode_png(args.width, args.height, &run.image)?;
+            std::fs::write(&file, png).map_err(|e| format!("{}: {e}", file.display()))?;
+        }
+    }
     let table = geometry_markdown(&report);
     write_outputs(args, lines, &table, serde_json::to_string_pretty(&report)?)
 }

@@ -103,6 +103,8 @@ pub struct GeometryRun<'a> {
     pub terrain: &'a LodTerrain,
     /// Its renderer.
     pub renderer: Renderer,
+    /// Its last timed frame, RGBA8 (empty until [`bench_geometry`] has run).
+    pub image: Vec<u8>,
 }
 
 /// Measures every run, `frames` timed frames per run and round; the image differences are
@@ -132,6 +134,9 @@ pub fn bench_geometry(
             passes[i].extend(medians);
             images[i] = image.rgba;
         }
+    }
+    for (run, image) in runs.iter_mut().zip(&images) {
+        run.image.clone_from(image);
     }
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
     let mut rows = Vec::new();

@@ -13,7 +13,7 @@ pub const SECTIONS: [&str; 7] = [
     "## Geometry",
     "## Image",
     "## Image features",
-    "## Node geometry: greedy quads and vertical shells",
+    "## Node geometry: greedy quads, vertical shells and heightmap cubes",
     "## Extremes",
 ];
 

@@ -1,4 +1,5 @@
-//! The node geometry section: the terrain meshed as greedy quads and as vertical shells,
+//! The node geometry section: the terrain meshed as greedy quads, vertical shells and heightmap
+//! cubes,
 //! read from `gpu_bench --geometry --json` files ([`GeometryReport`]), one per opaque path.
 
 use std::fmt::Write;
@@ -30,14 +31,20 @@ pub fn section(s: &mut String, reports: &[(PathBuf, GeometryReport)]) {
     }
     let _ = writeln!(
         s,
-        "The same terrain with its opaque surface as greedy quads (8 bytes a quad) or as SBgl's \
-         vertical shells (8 bytes a run, drawn as boxes the vertex shader makes, 12 triangles \
-         a run): made by `scripts/gpu/frame.sh geometry`. Transparent quads, skirts and the \
-         far-draw data are alike in both. Shells win where columns are tall and thin (fewer \
-         instances for the same surface); on open terrain they hold about as many instances \
-         as quads, and they always submit more triangles, which costs most on a GPU with few \
-         raster units; a GPU with many raster units (a consumer part) draws the extra \
-         triangles nearly free, so there the instance count and the bytes decide.\n"
+        "The same terrain with its opaque surface as greedy quads (8 bytes a quad), as SBgl's \
+         vertical shells (8 bytes a run, drawn as boxes the vertex shader makes, the 3 faces \
+         toward the eye: 6 triangles a run) or as SBgl's heightmap cubes (one such box per \
+         column top, split by block, equal columns merged along x): made by \
+         `scripts/gpu/frame.sh geometry`. Greedy and shells keep the same transparent quads, \
+         skirts and far-draw data; heightmap nodes keep only their transparent quads (the \
+         boxes draw every distance and their border columns are the skirts) and no AO. Shells \
+         win where columns are tall and thin (fewer instances for the same surface); on open \
+         terrain they hold about as many instances as quads. Heightmap cubes need an order of \
+         magnitude fewer bytes but cannot show caves or overhangs. Both submit more triangles \
+         than greedy, which costs most on a GPU with few raster units; a GPU with many raster \
+         units (a consumer part) draws them nearly free, so there the bytes decide. The table \
+         with no node far-drawn (far threshold 0.01 px) isolates the heightmap rule's image \
+         difference from the far splat's.\n"
     );
     for (path, report) in reports {
         let _ = writeln!(s, "From `{}`:\n", path.display());
