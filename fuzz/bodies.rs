@@ -685,7 +685,7 @@ pub(crate) fn draw_block(data: &[u8]) {
 /// `PackedQuad` (8 bytes): decodes exactly when the reserved bits are clear and the face is
 /// `0..6`; then round-trips and its corners span a `width x height` rectangle in the face plane.
 /// `ShellRun::decode` on any 8 bytes: it fails exactly on a position axis above 63, a height
-/// of 0 or past 64 voxels, a width past 64 voxels, or side bits of 0 or above 63 (naming that
+/// of 0 or past 64 voxels, a width past 64 voxels, or a side mask of 0 (naming that
 /// field), and what it accepts holds the bytes' fields and encodes back to the same bytes.
 pub(crate) fn shell_run(data: &[u8]) {
     let Some(run) = read::<ShellRun>(data) else {
@@ -697,12 +697,13 @@ pub(crate) fn shell_run(data: &[u8]) {
             assert_eq!(f.position, [x, y, z]);
             assert_eq!(
                 (f.height, f.block.0, f.sides),
-                (height, run.block, run.sides)
+                (height, run.block, run.sides & 63)
             );
-            assert_eq!(f.width, u32::from(run.wide) + 1);
+            assert_eq!(f.width, u32::from(run.wide & 63) + 1);
+            assert_eq!(f.feet, run.sides >> 6 | (run.wide >> 6) << 2);
             assert!(x.max(y).max(z) <= 63 && x + f.width <= 64, "{run:?}");
             assert!(
-                height >= 1 && y + height <= 64 && (1..64).contains(&run.sides),
+                height >= 1 && y + height <= 64 && (1..64).contains(&(run.sides & 63)),
                 "{run:?}"
             );
             assert_eq!(ShellRun::encode(&f), Ok(run), "decoded runs encode back");
@@ -713,8 +714,8 @@ pub(crate) fn shell_run(data: &[u8]) {
                 "ShellRun.y" => y > 63,
                 "ShellRun.z" => z > 63,
                 "ShellRun.height" => height == 0 || y + height > 64,
-                "ShellRun.width" => x + u32::from(run.wide) + 1 > 64,
-                "ShellRun.sides" => run.sides == 0 || run.sides > 63,
+                "ShellRun.width" => x + u32::from(run.wide & 63) + 1 > 64,
+                "ShellRun.sides" => run.sides & 63 == 0,
                 other => panic!("unexpected field {other} for {run:?}"),
             };
             assert!(bad && value >= 0, "{field} = {value} named for {run:?}");

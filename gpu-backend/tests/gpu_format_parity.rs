@@ -144,7 +144,7 @@ const UNORM: Entry = entry!("decode_unorm", 9, 2, true);
 const COMPACT_QUADS: Entry = entry!("decode_compact_quads", 9, 4, false);
 const U16_QUADS: Entry = entry!("decode_u16_quads", 9, 4, false);
 const U32_QUADS: Entry = entry!("decode_u32_quads", 9, 4, false);
-const SHELL_RUN: Entry = entry!("decode_shell_run", 9, 84, false);
+const SHELL_RUN: Entry = entry!("decode_shell_run", 9, 86, false);
 
 /// The test seed and its generator, or `None` when there is no adapter.
 fn setup() -> Option<(u64, Rng)> {

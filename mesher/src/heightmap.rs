@@ -18,9 +18,11 @@
 //!   down on that side, which covers the cracks against a neighbour drawn at another level of
 //!   detail (the greedy path's skirts);
 //! - the box is split into runs of one block id from the top down (an air or transparent
-//!   voxel inside it takes the id of the voxel above: heightmap columns have no holes);
+//!   voxel inside it takes the id of the voxel above: heightmap columns have no holes), and
+//!   at each side's *foot*, the voxel at which the side first shows above its neighbour's top;
 //! - a run's side is drawn where the neighbour on that side has air at the run's height, or
-//!   where it faces the node's border.
+//!   where it faces the node's border; the run that starts at a side's foot carries the foot
+//!   (`ShellRun`'s feet), which the GPU shades with the meshers' ambient occlusion of a step.
 //!
 //! What a heightmap cannot show is not drawn: caves and overhangs under a column's top, and
 //! the underside of anything. Transparent blocks (water, glass) are not boxes: the transparent
@@ -161,6 +163,16 @@ fn extract(
     Ok(())
 }
 
+/// Where one side of a column is drawn, in padded y.
+#[derive(Clone, Copy)]
+struct Side {
+    /// The lowest voxel whose face on this side is drawn (`p`: none).
+    from: usize,
+    /// The voxel at which the side becomes visible above a solid voxel in front (`p`: none):
+    /// a run starts there, with this side's foot.
+    foot: usize,
+}
+
 /// Pushes the runs of the node's column at padded `[px, pz]` to `out` (the rule of the
 /// [module docs](self)); `ground` holds one past the highest opaque padded y of each padded
 /// column, 0 if none.
@@ -188,40 +200,48 @@ fn column_runs(
         (px, pz + 1, pz == e),
         (px, pz - 1, pz == 1),
     ];
-    // Per side, the lowest padded y at which it is drawn (p: not drawn).
-    let mut side_from = [p; 4];
-    for (s, &(nx, nz, border)) in neighbours.iter().enumerate() {
-        let air_from = ground[nx + p * nz].max(1);
-        side_from[s] = if border && air_from <= t + 1 {
+    let sides = neighbours.map(|(nx, nz, border)| {
+        let solid_to = ground[nx + p * nz];
+        let air_from = solid_to.max(1);
+        let from = if border && air_from <= t + 1 {
             air_from.saturating_sub(SKIRT_VOXELS).max(1)
         } else {
             air_from
         };
-    }
-    let bottom = side_from.iter().copied().min().unwrap_or(p).min(t);
+        let foot = if solid_to >= 1 && air_from <= t {
+            air_from
+        } else {
+            p
+        };
+        Side { from, foot }
+    });
+    let bottom = sides.iter().map(|s| s.from).min().unwrap_or(p).min(t);
     if !top_face && bottom > t {
         return;
     }
-    push_runs(out, at, classes, [px, pz], bottom, t, top_face, &side_from);
+    push_runs(out, at, classes, [px, pz], [bottom, t], top_face, &sides);
 }
 
 /// True when `run`, in the column after `open`'s last, continues `open` along x: the same
-/// layer, block and top face, and no side drawn between them. The merged box draws the OR of
-/// their z sides; where one of them has no such side it lies against a solid neighbour, so
-/// the depth test hides it.
+/// layer, block, top face and z feet, and no side drawn between them. The merged box draws the
+/// OR of their z sides; where one of them has no such side it lies against a solid
+/// neighbour, so the depth test hides it.
 fn extends(open: ShellRun, run: ShellRun) -> bool {
     let top = 1 << FaceDirection::PosY.index();
     let pos_x = 1 << FaceDirection::PosX.index();
     let neg_x = 1 << FaceDirection::NegX.index();
+    let z_feet = 0b1100;
     u32::from(open.x) + open.width() == u32::from(run.x)
         && open.z == run.z
         && (open.y, open.height, open.block) == (run.y, run.height, run.block)
-        && open.sides & top == run.sides & top
-        && open.sides & pos_x == 0
-        && run.sides & neg_x == 0
+        && open.side_mask() & top == run.side_mask() & top
+        && open.feet() & z_feet == run.feet() & z_feet
+        && open.side_mask() & pos_x == 0
+        && run.side_mask() & neg_x == 0
 }
 
-/// `open` widened by `run`'s column (see [`extends`]).
+/// `open` widened by `run`'s column (see [`extends`]): the sides and feet of both (`run` adds
+/// the +x side and foot, `open` keeps its -x ones).
 fn widen(open: ShellRun, run: ShellRun) -> ShellRun {
     let width = open.width() as u8 + 1;
     ShellRun {
@@ -231,17 +251,16 @@ fn widen(open: ShellRun, run: ShellRun) -> ShellRun {
     .with_width(width)
 }
 
-/// Pushes the runs of column `[px, pz]` from padded `bottom` to `top`, split by block id.
-#[allow(clippy::too_many_arguments)]
+/// Pushes the runs of column `[px, pz]` from padded `bottom` to `top`, split where the block id
+/// changes and where a side's foot is.
 fn push_runs(
     out: &mut Vec<ShellRun>,
     at: &impl Fn(usize, usize, usize) -> BlockId,
     classes: &BlockClasses,
     [px, pz]: [usize; 2],
-    bottom: usize,
-    top: usize,
+    [bottom, top]: [usize; 2],
     top_face: bool,
-    side_from: &[usize; 4],
+    sides: &[Side; 4],
 ) {
     let mut run_top = top;
     let mut block = at(px, top, pz);
@@ -253,26 +272,31 @@ fn push_runs(
         } else {
             None
         };
-        if below != Some(block) {
-            let mut sides = 0u8;
-            for (s, &from) in side_from.iter().enumerate() {
-                if from <= run_top {
-                    sides |= 1 << SIDES[s].index();
+        let foot_here = sides.iter().any(|s| s.foot == py);
+        if below != Some(block) || foot_here {
+            let mut mask = 0u8;
+            let mut feet = 0u8;
+            for (s, side) in sides.iter().enumerate() {
+                if side.from <= run_top {
+                    mask |= 1 << SIDES[s].index();
+                    if side.foot == py {
+                        feet |= 1 << s;
+                    }
                 }
             }
             if top_face && run_top == top {
-                sides |= 1 << FaceDirection::PosY.index();
+                mask |= 1 << FaceDirection::PosY.index();
             }
-            if sides != 0 {
-                out.push(ShellRun {
-                    x: (px - 1) as u8,
-                    z: (pz - 1) as u8,
-                    y: (py - 1) as u8,
-                    height: (run_top - py + 1) as u8,
-                    block: block.0,
-                    sides,
-                    wide: 0,
-                });
+            if mask != 0 {
+                let run = ShellRun::new(
+                    (px - 1) as u8,
+                    (pz - 1) as u8,
+                    (py - 1) as u8,
+                    (run_top - py + 1) as u8,
+                    block.0,
+                    mask,
+                );
+                out.push(run.with_feet(feet));
             }
             match below {
                 Some(id) => {
@@ -339,13 +363,16 @@ mod tests {
         assert_ne!(col[0].sides & 1 << FaceDirection::NegX.index(), 0);
         // The stone under the grass shows on the step's side, down to one above x = 3's top.
         assert_eq!((col[1].y, col[1].height, col[1].block), (2, 2, stone.0));
-        assert_eq!(col[1].sides, 1 << FaceDirection::NegX.index());
+        assert_eq!(col[1].side_mask(), 1 << FaceDirection::NegX.index());
+        // Its -x side shows from its lowest voxel up, above x = 3's top: that is its foot; the
+        // grass above continues the side, so it has no foot.
+        assert_eq!((col[1].feet(), col[0].feet()), (0b10, 0));
         // The low side's grass is one box from the border (whose -x side shows) to the step;
         // the border column's stone skirt is its own box.
         let flat = covering(&out, 2, 3);
         assert_eq!(flat.len(), 1);
         assert_eq!((flat[0].x, flat[0].width(), flat[0].y), (0, 4, 1));
-        assert_eq!(flat[0].sides, TOP | 1 << FaceDirection::NegX.index());
+        assert_eq!(flat[0].side_mask(), TOP | 1 << FaceDirection::NegX.index());
         assert_eq!(covering(&out, 0, 3).len(), 2);
         // Equal columns merge: the high side's grass, x = 4..8, is one box.
         assert_eq!((col[0].x, col[0].width()), (4, 4));
@@ -366,11 +393,11 @@ mod tests {
         let row = covering(&out, 0, 0);
         assert_eq!(row.len(), 1);
         assert_eq!((row[0].y, row[0].height, row[0].width()), (2, 2, 8));
-        assert_eq!(row[0].sides, 0b10_0111);
+        assert_eq!(row[0].side_mask(), 0b10_0111);
         // An inner row: the border columns' skirts, and the inner columns' tops.
         let inner = covering(&out, 3, 3);
         assert_eq!((inner[0].x, inner[0].y, inner[0].height), (1, 3, 1));
-        assert_eq!((inner[0].width(), inner[0].sides), (6, TOP));
+        assert_eq!((inner[0].width(), inner[0].side_mask()), (6, TOP));
         let west = covering(&out, 0, 3);
         assert_eq!((west[0].y, west[0].height, west[0].width()), (2, 2, 1));
     }
@@ -391,7 +418,10 @@ mod tests {
         assert!(out.iter().all(|b| b.block == stone.0 && b.y == 0));
         for (x, z) in (0..8).flat_map(|x| (0..8u8).map(move |z| (x, z))) {
             let over = covering(&out, x, z);
-            assert!(over.len() == 1 && over[0].sides & TOP != 0, "({x}, {z})");
+            assert!(
+                over.len() == 1 && over[0].side_mask() & TOP != 0,
+                "({x}, {z})"
+            );
         }
     }
 

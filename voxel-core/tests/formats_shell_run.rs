@@ -6,17 +6,20 @@ use voxel_core::BlockId;
 use voxel_core::formats::{FaceDirection, FormatError, PackedQuadFields, ShellRun, ShellRunFields};
 
 fn fields() -> impl Strategy<Value = ShellRunFields> {
-    ([0u32..64, 0..64, 0..64], any::<u16>(), 1u8..64).prop_flat_map(|(position, block, sides)| {
-        (1..=64 - position[1], 1..=64 - position[0]).prop_map(move |(height, width)| {
-            ShellRunFields {
-                position,
-                height,
-                width,
-                block: BlockId(block),
-                sides,
-            }
-        })
-    })
+    ([0u32..64, 0..64, 0..64], any::<u16>(), 1u8..64, 0u8..16).prop_flat_map(
+        |(position, block, sides, feet)| {
+            (1..=64 - position[1], 1..=64 - position[0]).prop_map(move |(height, width)| {
+                ShellRunFields {
+                    position,
+                    height,
+                    width,
+                    block: BlockId(block),
+                    sides,
+                    feet,
+                }
+            })
+        },
+    )
 }
 
 fn sample() -> ShellRunFields {
@@ -26,6 +29,7 @@ fn sample() -> ShellRunFields {
         width: 1,
         block: BlockId(0xBEEF),
         sides: 0b10_0101,
+        feet: 0,
     }
 }
 
@@ -34,7 +38,9 @@ proptest! {
     fn valid_fields_round_trip(f in fields()) {
         let run = ShellRun::encode(&f).unwrap();
         prop_assert_eq!(run.decode().unwrap(), f);
-        prop_assert_eq!(u32::from(run.wide) + 1, f.width);
+        prop_assert_eq!(run.width(), f.width);
+        prop_assert_eq!(run.feet(), f.feet);
+        prop_assert_eq!(run.side_mask(), f.sides);
     }
 
     #[test]
@@ -126,6 +132,18 @@ fn bad_runs_are_named_errors() {
     let words: [u32; 2] = bytemuck::cast(wide);
     assert_eq!(words[1] >> 24, 6);
     assert_eq!(wide.decode().map(|f| f.width), Ok(7));
+    // The feet sit above the side mask and the width: +x, -x in byte 6, +z, -z in byte 7.
+    let footed = wide.with_feet(0b1101);
+    let words: [u32; 2] = bytemuck::cast(footed);
+    assert_eq!((words[1] >> 22 & 3, words[1] >> 30), (0b01, 0b11));
+    assert_eq!(
+        footed.decode().map(|f| (f.width, f.sides, f.feet)),
+        Ok((7, 1, 0b1101))
+    );
+    assert_eq!(
+        with(|f| f.feet = 16),
+        out_of_range("ShellRun.feet", 16, 0, 15)
+    );
 }
 
 /// The greedy quad that covers side `face` of the run's box.

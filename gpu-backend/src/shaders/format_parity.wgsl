@@ -30,7 +30,7 @@ const CHUNK_DRAW_INDIRECT_STRIDE: u32 = 8u;
 const OCT_STRIDE: u32 = 3u;
 const SMOOTH_QUAD_STRIDE: u32 = 4u;
 const UNORM_STRIDE: u32 = 2u;
-const SHELL_RUN_STRIDE: u32 = 84u;
+const SHELL_RUN_STRIDE: u32 = 86u;
 
 fn put_u(at: u32, v: u32) {
     out[at] = v;
@@ -254,7 +254,7 @@ fn decode_unorm(@builtin(global_invocation_id) id: vec3<u32>) {
 
 // Shell runs (`codes` holds their two words each): position x y z, height, block, the six
 // side bits, then the 4 corners of each of the 6 faces (face order, 3 words each), then the
-// width.
+// width, the feet, and shell_run_has_foot of each face (bit f).
 @compute @workgroup_size(64)
 fn decode_shell_run(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
@@ -273,6 +273,12 @@ fn decode_shell_run(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
     put_u(o + 83u, shell_run_width(r));
+    put_u(o + 84u, shell_run_feet(r));
+    var feet = 0u;
+    for (var f = 0u; f < 6u; f += 1u) {
+        feet |= u32(shell_run_has_foot(r, f)) << f;
+    }
+    put_u(o + 85u, feet);
 }
 
 // Smooth quads in `form` (`codes` holds the words): corners 0..4 of quad i, read with

@@ -71,6 +71,11 @@ pub(crate) fn shell_run(x: &ShellRun, out: &mut Vec<Word>) {
         }
     }
     out.push(u(d.width));
+    out.push(u(d.feet.into()));
+    // shell_run_has_foot per face: +x, -x, +z, -z are feet bits 0..4.
+    let by_face = [1, 2, 0, 0, 4, 8];
+    let feet = (0..6).fold(0, |acc, f| acc | u32::from(d.feet & by_face[f] != 0) << f);
+    out.push(u(feet));
 }
 
 fn face(face: FaceDirection, out: &mut Vec<Word>) {

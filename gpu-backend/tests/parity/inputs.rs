@@ -104,21 +104,29 @@ fn sentinel(rng: &mut Rng) -> i32 {
 /// Valid shell runs: random fields, plus the extremes (a run at the origin, one filling a
 /// 64-voxel column, one ending at the top of the chunk, one 64 voxels wide).
 pub(crate) fn shell_runs(rng: &mut Rng) -> Vec<ShellRun> {
-    let run = |position: [u32; 3], height, width, block: u16, sides| {
+    let run = |position: [u32; 3], height, width, block: u16, sides, feet| {
         ShellRun::encode(&ShellRunFields {
             position,
             height,
             width,
             block: BlockId(block),
             sides,
+            feet,
         })
         .expect("valid fields")
     };
     let mut v = vec![
-        run([0, 0, 0], 1, 1, 0, 1),
-        run([63, 0, 63], 64, 1, u16::MAX, ShellRun::ALL_SIDES),
-        run([5, 63, 7], 1, 1, 9, 0b10_0000),
-        run([0, 4, 2], 3, 64, 9, ShellRun::ALL_SIDES),
+        run([0, 0, 0], 1, 1, 0, 1, 0),
+        run(
+            [63, 0, 63],
+            64,
+            1,
+            u16::MAX,
+            ShellRun::ALL_SIDES,
+            ShellRun::ALL_FEET,
+        ),
+        run([5, 63, 7], 1, 1, 9, 0b10_0000, 0b1000),
+        run([0, 4, 2], 3, 64, 9, ShellRun::ALL_SIDES, 0b0101),
     ];
     for _ in 0..2000 {
         let y = rng.below(64);
@@ -126,7 +134,15 @@ pub(crate) fn shell_runs(rng: &mut Rng) -> Vec<ShellRun> {
         let height = 1 + rng.below(64 - y);
         let width = 1 + rng.below(64 - position[0]);
         let sides = 1 + rng.below(63) as u8;
-        v.push(run(position, height, width, rng.next_u32() as u16, sides));
+        let feet = rng.below(16) as u8;
+        v.push(run(
+            position,
+            height,
+            width,
+            rng.next_u32() as u16,
+            sides,
+            feet,
+        ));
     }
     v
 }

@@ -201,7 +201,20 @@ fn shell_run_height(r: ShellRun) -> u32 {
 
 // Columns in the box along x, 1..=64 - x (1 for a vertical shell).
 fn shell_run_width(r: ShellRun) -> u32 {
-    return (r.block_sides >> 24u) + 1u;
+    return ((r.block_sides >> 24u) & 0x3fu) + 1u;
+}
+
+// The feet, bits [+x, -x, +z, -z] (ShellRun::feet): sides that become visible at the box's
+// lowest voxel, above a solid voxel in front of it.
+fn shell_run_feet(r: ShellRun) -> u32 {
+    return ((r.block_sides >> 22u) & 3u) | (((r.block_sides >> 30u) & 3u) << 2u);
+}
+
+// True if side `face` (a FACE_* index) has its foot at the box's lowest voxel; never for
+// +y and -y.
+fn shell_run_has_foot(r: ShellRun, face: u32) -> bool {
+    let bit = array<u32, 6>(0u, 1u, 4u, 4u, 2u, 3u)[min(face, 5u)];
+    return bit < 4u && ((shell_run_feet(r) >> bit) & 1u) != 0u;
 }
 
 fn shell_run_block(r: ShellRun) -> u32 {

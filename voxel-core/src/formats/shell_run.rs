@@ -16,10 +16,11 @@ use crate::BlockId;
 /// (`mesher::heightmap`) merge equal neighbouring columns along x.
 ///
 /// ```text
-/// byte 0     1     2     3      4           6       7           8
-///      +-----+-----+-----+------+-----------+-------+-----------+
-///      |  x  |  z  |  y  |height|  block id | sides | width - 1 |
-///      +-----+-----+-----+------+-----------+-------+-----------+
+/// byte 0     1     2     3      4           6              7                  8
+///      +-----+-----+-----+------+-----------+-------+------+-----------+------+
+///      |  x  |  z  |  y  |height|  block id | sides | feet | width - 1 | feet |
+///      +-----+-----+-----+------+-----------+-------+------+-----------+------+
+///                                            bits 0..6 6..8  bits 0..6   6..8
 /// ```
 ///
 /// | byte | field      | range            | meaning                                              |
@@ -29,14 +30,22 @@ use crate::BlockId;
 /// | 2    | `y`        | `0..64`          | chunk-local y of the run's lowest voxel              |
 /// | 3    | `height`   | `1..=64 - y`     | voxels in the run, stored as is (never 0)            |
 /// | 4..6 | `block`    | any `u16`        | the [`BlockId`] of every voxel of the run            |
-/// | 6    | `sides`    | `1..64`          | bit `d`: box face `d` is visible somewhere on the run |
-/// | 7    | `wide`     | `0..64 - x`      | columns in the box less one (0 for a vertical shell) |
+/// | 6    | `sides`    | `1..64`, bits 0..6 | bit `d`: box face `d` is visible somewhere on the run |
+/// | 6    | feet +x -x | bits 6, 7        | the +x / -x side's foot (below)                      |
+/// | 7    | `wide`     | `0..64 - x`, bits 0..6 | columns in the box less one (0 for a vertical shell) |
+/// | 7    | feet +z -z | bits 6, 7        | the +z / -z side's foot                              |
 ///
 /// `sides` uses the [`FaceDirection::index`] order: bit 0 +x, 1 -x, 2 +y (top of the highest
 /// voxel), 3 -y (bottom of the lowest voxel), 4 +z, 5 -z. The faces between the run's own
 /// voxels are never visible (they touch an equal id), so the box's six faces are the only ones.
-/// Every bit pattern of byte 7 is a width; only a box that leaves the chunk (`x + width > 64`)
-/// is invalid.
+/// Every bit pattern of byte 7's low six bits is a width; only a box that leaves the chunk
+/// (`x + width > 64`) is invalid.
+///
+/// A side's *foot* (heightmap boxes; vertical shells leave them clear) says that the side
+/// becomes visible at the box's lowest voxel, above a solid voxel in front of it: the GPU
+/// shades that voxel's side with the meshers' ambient occlusion of such a step (darkest at
+/// the bottom), where a vertical shell reads its node's hiding mask instead. Feet are bits
+/// `[+x, -x, +z, -z]` of [`ShellRunFields::feet`].
 ///
 /// WGSL reads the 8 bytes as two `u32` words ([`ShellRun::WGSL_LAYOUT`]):
 /// `xzyh = x | z << 8 | y << 16 | height << 24` and
@@ -64,9 +73,11 @@ pub struct ShellRun {
     pub height: u8,
     /// Block id of every voxel of the run.
     pub block: u16,
-    /// Visible box faces, bit [`FaceDirection::index`].
+    /// Visible box faces, bit [`FaceDirection::index`] (bits 0..6), and the feet of the +x
+    /// and -x sides (bits 6 and 7).
     pub sides: u8,
-    /// Columns in the box less one, `0..64 - x`.
+    /// Columns in the box less one, `0..64 - x` (bits 0..6), and the feet of the +z and -z
+    /// sides (bits 6 and 7).
     pub wide: u8,
 }
 
@@ -85,6 +96,9 @@ pub struct ShellRunFields {
     pub block: BlockId,
     /// Visible box faces, bit [`FaceDirection::index`], `1..64`.
     pub sides: u8,
+    /// Sides whose foot is at the box's lowest voxel (see [`ShellRun`]): bits `[+x, -x, +z,
+    /// -z]`, `0..16`; 0 for a vertical shell.
+    pub feet: u8,
 }
 
 impl ShellRun {
@@ -96,6 +110,10 @@ impl ShellRun {
     pub const ALL_SIDES: u8 = 0b11_1111;
     /// Vertices drawn per run: the 3 faces toward the eye, of 2 triangles each.
     pub const VERTICES: u32 = 18;
+    /// The low six bits of bytes 6 and 7 (the side mask and the width), under the feet.
+    const FIELD_MASK: u8 = 0b11_1111;
+    /// Largest valid foot mask (all four sides).
+    pub const ALL_FEET: u8 = 0b1111;
 
     /// The WGSL struct `ShellRun { xzyh: u32, block_sides: u32 }` (layout in the type docs).
     pub const WGSL_LAYOUT: WgslStruct = WgslStruct {
@@ -140,18 +158,42 @@ impl ShellRun {
     }
 
     /// This run widened to `width` columns along x (`1..=64 - x`), unchecked like
-    /// [`new`](Self::new).
+    /// [`new`](Self::new); the feet are kept.
     #[inline]
     pub fn with_width(self, width: u8) -> ShellRun {
         ShellRun {
-            wide: width.wrapping_sub(1),
+            wide: (self.wide & !Self::FIELD_MASK) | (width.wrapping_sub(1) & Self::FIELD_MASK),
             ..self
         }
     }
 
+    /// This run with feet `feet` (bits `[+x, -x, +z, -z]`, see [`ShellRun`]), unchecked like
+    /// [`new`](Self::new).
+    #[inline]
+    pub fn with_feet(self, feet: u8) -> ShellRun {
+        ShellRun {
+            sides: (self.sides & Self::FIELD_MASK) | (feet & 3) << 6,
+            wide: (self.wide & Self::FIELD_MASK) | (feet >> 2 & 3) << 6,
+            ..self
+        }
+    }
+
+    /// The visible box faces, bit [`FaceDirection::index`].
+    #[inline]
+    pub fn side_mask(self) -> u8 {
+        self.sides & Self::FIELD_MASK
+    }
+
+    /// The feet, bits `[+x, -x, +z, -z]` (see [`ShellRun`]).
+    #[inline]
+    pub fn feet(self) -> u8 {
+        self.sides >> 6 | (self.wide >> 6) << 2
+    }
+
     /// Packs `fields`, rejecting a position axis above 63, a height of 0 or past the chunk
-    /// (`y + height > 64`), a width of 0 or past the chunk (`x + width > 64`) and a side mask
-    /// of 0 or above 63 with [`FormatError::IntegerOutOfRange`] naming the field.
+    /// (`y + height > 64`), a width of 0 or past the chunk (`x + width > 64`), a side mask of 0
+    /// or above 63 and a foot mask above 15 with [`FormatError::IntegerOutOfRange`] naming the
+    /// field.
     pub fn encode(fields: &ShellRunFields) -> Result<ShellRun, FormatError> {
         let [x, y, z] = fields.position;
         let x = check_max("ShellRun.x", x, Self::MAX_POSITION)?;
@@ -159,6 +201,7 @@ impl ShellRun {
         let z = check_max("ShellRun.z", z, Self::MAX_POSITION)?;
         let height = check_range("ShellRun.height", fields.height, 1, Self::MAX_TOP - y)?;
         let width = check_range("ShellRun.width", fields.width, 1, Self::MAX_TOP - x)?;
+        let feet = check_max("ShellRun.feet", fields.feet.into(), Self::ALL_FEET.into())?;
         let sides = check_range(
             "ShellRun.sides",
             fields.sides.into(),
@@ -173,7 +216,8 @@ impl ShellRun {
             fields.block.0,
             sides as u8,
         )
-        .with_width(width as u8))
+        .with_width(width as u8)
+        .with_feet(feet as u8))
     }
 
     /// Unpacks and checks the fields: a position axis above 63, a height of 0 or past the
@@ -187,9 +231,10 @@ impl ShellRun {
         ShellRunFields {
             position: [self.x, self.y, self.z].map(u32::from),
             height: self.height.into(),
-            width: u32::from(self.wide) + 1,
+            width: u32::from(self.wide & Self::FIELD_MASK) + 1,
             block: BlockId(self.block),
-            sides: self.sides,
+            sides: self.side_mask(),
+            feet: self.feet(),
         }
     }
 
@@ -208,7 +253,7 @@ impl ShellRun {
     /// Columns in the box along x (1 for a vertical shell).
     #[inline]
     pub fn width(self) -> u32 {
-        u32::from(self.wide) + 1
+        u32::from(self.wide & Self::FIELD_MASK) + 1
     }
 
     /// Chunk-local positions of the box's voxels, bottom to top, then along x.

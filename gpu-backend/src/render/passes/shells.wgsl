@@ -11,8 +11,9 @@
 //
 // Ambient occlusion per pixel: the fragment finds the voxel of the run under it and takes
 // the meshers' AO of that voxel's face at that point (far_ao.wgsl's face_ao, from the node's
-// hiding mask, which the node carries when meshed with far blocks); without a mask it is 3
-// (unoccluded). Faces grow in their plane by the G-buffer pass's hair against T-junction
+// hiding mask, which the node carries when meshed with far blocks); without a mask (heightmap
+// boxes) a side with its foot at the box's lowest voxel shades that voxel as the meshers shade
+// a step's side, and every other face is 3 (unoccluded). Faces grow in their plane by the G-buffer pass's hair against T-junction
 // pinholes (DILATION_PX, MIN_DILATION).
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
@@ -37,6 +38,8 @@ struct ShellVaryings {
     @location(3) @interpolate(flat) block: u32,
     @location(4) @interpolate(flat) face: u32,
     @location(5) @interpolate(flat) slot: u32,
+    // 1 when the face has its foot at the box's lowest voxel (ShellRun's feet), else 0.
+    @location(6) @interpolate(flat) foot: u32,
 }
 
 @vertex
@@ -60,6 +63,7 @@ fn vs_shell(@builtin(vertex_index) vertex: u32, @builtin(instance_index) slot: u
     out.slot = slot;
     out.face = face;
     out.block = shell_run_block(run);
+    out.foot = u32(shell_run_has_foot(run, face));
     if !shell_run_has_side(run, face) {
         // Every vertex of the face at one point behind the eye: nothing rasterises.
         out.position = vec4<f32>(0.0, 0.0, -1.0, 1.0);
@@ -119,6 +123,11 @@ fn fs_shell(in: ShellVaryings) -> ShellOut {
         v[axis] = i32(layer);
         let uv = vec2<f32>(inside[w] - f32(v[w]), inside[h] - f32(v[h]));
         ao = face_ao(v + vec3<i32>(1), in.face, uv, i32(frame.chunk_edge));
+    } else if in.foot != 0u {
+        // A heightmap box's side at a step (no hiding mask): the meshers' AO of a side face
+        // whose front voxel below is solid and whose front voxels beside and above are air,
+        // 1 at the foot to 3 one voxel up.
+        ao = 1.0 + 2.0 * clamp(in.voxel.y - in.lo.y, 0.0, 1.0);
     }
     let m = material_of(in.block);
     var out: ShellOut;
