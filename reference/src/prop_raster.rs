@@ -23,8 +23,9 @@
 //! product of the factor's and the texel's. `MASK` discards below the cutoff; `BLEND`
 //! triangles are drawn after every opaque one, in model order, blended over the colour with
 //! [`blend`] and depth-tested without writing depth. Lit colour = [`shade`] with full
-//! ambient occlusion (3) and no palette emission, plus the emissive factor times its
-//! strength and the exposure; the sky is the lighting's sky background in the pixel's
+//! ambient occlusion (3) and no palette emission, plus the emissive colour (factor times
+//! strength times the emissive texture, sampled as the base colour is) as the G-buffer holds
+//! it ([`encode_emission`] then [`decode_emission`]) times the exposure; the sky is the lighting's sky background in the pixel's
 //! direction (no haze); every pixel goes out through
 //! [`output_rgba8`].
 
@@ -33,7 +34,8 @@ use render_model::Camera;
 use render_model::lighting::sky::sky_background;
 use render_model::lighting::{Lighting, blend, output_rgba8, shade, srgb_to_linear};
 use render_model::props::{
-    PropEye, PropInstanceRecord, PropPlacement, local_normal, relative_point,
+    PropEye, PropInstanceRecord, PropPlacement, decode_emission, encode_emission, local_normal,
+    relative_point,
 };
 use voxel_scene::props::{
     AlphaMode, Filter, PropMaterial, PropModel, PropTexture, TextureRef, Wrap,
@@ -227,6 +229,9 @@ impl Target<'_> {
         let texture = material
             .base_colour_texture
             .and_then(|t| model.textures.get(t.texture).map(|tex| (tex, t)));
+        let emissive_texture = material
+            .emissive_texture
+            .and_then(|t| model.textures.get(t.texture).map(|tex| (tex, t)));
         for py in min_y as u32..max_y as u32 {
             for px in min_x as u32..max_x as u32 {
                 let (x, y) = (px as f32 + 0.5, py as f32 + 0.5);
@@ -272,7 +277,11 @@ impl Target<'_> {
                 }
                 let lit = shade(self.lighting, albedo, n, 3.0, 0.0);
                 let exposure = self.lighting.exposure_rgb();
-                let e = material.emissive.map(|c| c * material.emissive_strength);
+                let te = emissive_texture.map_or([1.0; 4], |(tex, r)| sample(tex, &r, uv));
+                let e: [f32; 3] = std::array::from_fn(|i| {
+                    material.emissive[i] * material.emissive_strength * te[i]
+                });
+                let e = decode_emission(encode_emission(e));
                 let colour = std::array::from_fn(|i| lit[i] + e[i] * exposure[i]);
                 if blend_pass {
                     self.colour[at] = blend(self.colour[at], colour, alpha);

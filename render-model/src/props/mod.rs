@@ -66,6 +66,7 @@
 //! keep their inputs a margin away from both.
 
 mod cull;
+mod emission;
 mod placement;
 mod records;
 mod registry;
@@ -75,6 +76,10 @@ mod tests;
 pub use cull::{
     PropHiz, SlotCull, cull_props_reference, cull_slot, instance_sphere, sphere_in_frustum,
     sphere_visible_hiz,
+};
+pub use emission::{
+    EMISSION_BIAS, EMISSION_FLAG, EMISSION_MAX, EMISSION_MIN, decode_emission, encode_emission,
+    join_emission, split_emission,
 };
 pub use placement::{
     PlacementError, PropEye, PropPlacement, local_normal, local_point, relative_origin,

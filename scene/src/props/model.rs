@@ -225,7 +225,7 @@ pub struct PropTexture {
 }
 
 /// A metallic-roughness material (glTF 2.0's core material; textures other than the base
-/// colour are not loaded and are named in the warnings).
+/// colour and the emissive are not loaded and are named in the warnings).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PropMaterial {
     /// The material's name in the file.
@@ -238,8 +238,10 @@ pub struct PropMaterial {
     pub metallic: f32,
     /// Roughness, `0..=1`.
     pub roughness: f32,
-    /// Linear emissive factor.
+    /// Linear emissive factor (multiplies the emissive texture).
     pub emissive: [f32; 3],
+    /// The emissive texture, sRGB (its alpha unused).
+    pub emissive_texture: Option<TextureRef>,
     /// `KHR_materials_emissive_strength` (1 without it): multiplies `emissive`.
     pub emissive_strength: f32,
     /// How alpha is used.
@@ -258,6 +260,7 @@ impl Default for PropMaterial {
             metallic: 1.0,
             roughness: 1.0,
             emissive: [0.0; 3],
+            emissive_texture: None,
             emissive_strength: 1.0,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,

@@ -1,8 +1,9 @@
 // The prop draw: each batch's visible instances (the cull's list) into the G-buffer, vertex
 // buffers of positions, normals and uvs, one indexed indirect draw per batch. The colour goes
 // to the G-buffer's albedo as sRGB bytes like the palette's (lighting decodes it), AO full,
-// material id 0 (no palette emission). render_common.wgsl and prop_records.wgsl come before
-// this body.
+// material id 0; an emissive colour as its emission word (render_model::props::emission) in
+// the albedo's alpha and the material word's upper half. render_common.wgsl and
+// prop_records.wgsl come before this body.
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(1) var<storage, read> materials: array<GpuMaterial>;
@@ -11,19 +12,23 @@
 @group(1) @binding(1) var<storage, read> instances: array<PropInstance>;
 @group(1) @binding(2) var<storage, read> visible: array<u32>;
 
-// One draw's material: base colour factor (linear), alpha cutoff (MASK; 0 otherwise), and
-// whether a base colour texture is bound (1) or the white texture (0).
+// One draw's material: base colour factor (linear), emissive colour (factor times strength,
+// linear), alpha cutoff (MASK; 0 otherwise), and whether a base colour or an emissive texture
+// is bound (1) or the white texture (0).
 struct PropMaterial {
     base_colour: vec4<f32>,
+    emissive: vec4<f32>,
     cutoff: f32,
     textured: u32,
     double_sided: u32,
-    pad: u32,
+    emissive_textured: u32,
 }
 
 @group(2) @binding(0) var<uniform> material: PropMaterial;
 @group(2) @binding(1) var base_texture: texture_2d<f32>;
 @group(2) @binding(2) var base_sampler: sampler;
+@group(2) @binding(3) var emissive_texture: texture_2d<f32>;
+@group(2) @binding(4) var emissive_sampler: sampler;
 
 struct PropVaryings {
     @builtin(position) position: vec4<f32>,
@@ -77,6 +82,10 @@ fn fs_prop(in: PropVaryings, @builtin(front_facing) front: bool) -> PropGBufferO
     if material.textured != 0u {
         colour *= textureSample(base_texture, base_sampler, in.uv);
     }
+    var emissive = material.emissive.rgb;
+    if material.emissive_textured != 0u {
+        emissive *= textureSample(emissive_texture, emissive_sampler, in.uv).rgb;
+    }
     if colour.a < material.cutoff {
         discard;
     }
@@ -88,7 +97,10 @@ fn fs_prop(in: PropVaryings, @builtin(front_facing) front: bool) -> PropGBufferO
         n = vec3<f32>(0.0, 1.0, 0.0);
     }
     var out: PropGBufferOut;
-    out.albedo_ao = vec4<f32>(linear_to_srgb(clamp(colour.rgb, vec3<f32>(0.0), vec3<f32>(1.0))), 1.0);
-    out.normal_material = vec2<u32>(oct32_encode(normalize(n)), 0u);
+    // AO full, or the emission word's low byte (the lighting then reads AO as full).
+    let w = prop_emission_encode(emissive);
+    let ao = select(1.0, f32(w & 0xffu) / 255.0, w != 0u);
+    out.albedo_ao = vec4<f32>(linear_to_srgb(clamp(colour.rgb, vec3<f32>(0.0), vec3<f32>(1.0))), ao);
+    out.normal_material = vec2<u32>(oct32_encode(normalize(n)), (w >> 8u) << 16u);
     return out;
 }

@@ -1,11 +1,14 @@
 //! A prop model's GPU resources: its vertex and index buffers (every primitive of the model in
-//! one of each) and its base colour textures (`Rgba8UnormSrgb`, one mip: sampled in linear
-//! space as the CPU reference samples them), each draw's material uniform and bind group.
+//! one of each) and its base colour and emissive textures (`Rgba8UnormSrgb`, one mip: sampled
+//! in linear space as the CPU reference samples them), each draw's material uniform and bind
+//! group.
 
 use wgpu::{Buffer, BufferUsages, Device, Queue};
 
-use voxel_scene::props::{AlphaMode, Filter, PropModel, PropSampler, Wrap};
+use render_model::props::EMISSION_MAX;
+use voxel_scene::props::{AlphaMode, Filter, PropModel, PropSampler, TextureRef, Wrap};
 
+use super::PropError;
 use crate::device::alloc::{AllocError, create_buffer_init, create_texture};
 
 /// The material uniform of one draw (`PropMaterial` in `props.wgsl`).
@@ -14,15 +17,22 @@ use crate::device::alloc::{AllocError, create_buffer_init, create_texture};
 pub struct PropMaterialUniform {
     /// Base colour factor, linear RGBA.
     pub base_colour: [f32; 4],
+    /// Emissive colour (factor times strength), linear RGB; `w` 0.
+    pub emissive: [f32; 4],
     /// Fragments with alpha below this are discarded (the MASK cutoff; 0 for OPAQUE).
     pub cutoff: f32,
     /// 1 when the base colour texture is bound.
     pub textured: u32,
     /// 1 when back faces are drawn too.
     pub double_sided: u32,
-    /// Padding to 32 bytes.
-    pub pad: u32,
+    /// 1 when the emissive texture is bound.
+    pub emissive_textured: u32,
 }
+
+const _: () = assert!(
+    size_of::<PropMaterialUniform>() == 48,
+    "PropMaterial is 48 bytes"
+);
 
 /// One primitive of a placed mesh: where its indices are in the model's buffers, its
 /// material's draw state.
@@ -137,7 +147,7 @@ impl StoredModel {
         queue: &Queue,
         layout: &wgpu::BindGroupLayout,
         model: &PropModel,
-    ) -> Result<StoredModel, AllocError> {
+    ) -> Result<StoredModel, PropError> {
         let mut vertices = Vec::new();
         let mut indices = Vec::new();
         let mut draws = Vec::new();
@@ -147,8 +157,16 @@ impl StoredModel {
             let mut prims = Vec::new();
             for prim in &mesh.primitives {
                 let material = model.material_of(prim);
+                let emissive = material.emissive.map(|c| c * material.emissive_strength);
+                if !emissive.iter().all(|c| (0.0..=EMISSION_MAX).contains(c)) {
+                    return Err(PropError::Emission {
+                        material: prim.material,
+                        emissive,
+                    });
+                }
                 let uniform = PropMaterialUniform {
                     base_colour: material.base_colour,
+                    emissive: [emissive[0], emissive[1], emissive[2], 0.0],
                     cutoff: match material.alpha_mode {
                         AlphaMode::Mask { cutoff } => cutoff,
                         // BLEND is drawn into the G-buffer as a mask at one half (see the
@@ -158,18 +176,21 @@ impl StoredModel {
                     },
                     textured: u32::from(material.base_colour_texture.is_some()),
                     double_sided: u32::from(material.double_sided),
-                    pad: 0,
+                    emissive_textured: u32::from(material.emissive_texture.is_some()),
                 };
-                let (view, samp) = match &material.base_colour_texture {
-                    Some(t) => match model.textures.get(t.texture) {
-                        Some(tex) => (
-                            texture(device, queue, tex.width, tex.height, &tex.rgba)?,
-                            sampler(device, &t.sampler),
-                        ),
-                        None => (white.clone(), sampler(device, &PropSampler::default())),
-                    },
-                    None => (white.clone(), sampler(device, &PropSampler::default())),
+                let bound = |t: &Option<TextureRef>| -> Result<_, AllocError> {
+                    Ok(
+                        match t.and_then(|t| model.textures.get(t.texture).map(|x| (t, x))) {
+                            Some((t, tex)) => (
+                                texture(device, queue, tex.width, tex.height, &tex.rgba)?,
+                                sampler(device, &t.sampler),
+                            ),
+                            None => (white.clone(), sampler(device, &PropSampler::default())),
+                        },
+                    )
                 };
+                let (view, samp) = bound(&material.base_colour_texture)?;
+                let (emissive_view, emissive_samp) = bound(&material.emissive_texture)?;
                 let buffer = create_buffer_init(
                     device,
                     &wgpu::util::BufferInitDescriptor {
@@ -193,6 +214,14 @@ impl StoredModel {
                         wgpu::BindGroupEntry {
                             binding: 2,
                             resource: wgpu::BindingResource::Sampler(&samp),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 3,
+                            resource: wgpu::BindingResource::TextureView(&emissive_view),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 4,
+                            resource: wgpu::BindingResource::Sampler(&emissive_samp),
                         },
                     ],
                 });
