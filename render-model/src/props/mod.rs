@@ -65,6 +65,7 @@
 //! ulps of a plane or of a pyramid texel's depth may be decided differently; parity tests
 //! keep their inputs a margin away from both.
 
+mod blend;
 mod cull;
 mod emission;
 mod placement;
@@ -73,6 +74,7 @@ mod registry;
 #[cfg(test)]
 mod tests;
 
+pub use blend::blend_order;
 pub use cull::{
     PropHiz, SlotCull, cull_props_reference, cull_slot, instance_sphere, sphere_in_frustum,
     sphere_visible_hiz,

@@ -19,8 +19,12 @@
 //! emissiveTexture * strength`, linear) goes in the bits the voxels leave free
 //! ([`render_model::props::encode_emission`]: the albedo's alpha and the material word's upper
 //! half), and the lighting pass adds it, exposed, to the shaded colour, as the voxels' palette
-//! emission is added; a material brighter than the word holds is refused by name. OPAQUE draws every fragment, MASK discards below the cutoff, BLEND is drawn
-//! into the G-buffer as a mask at 0.5 (no sorted blending of props).
+//! emission is added; a material brighter than the word holds is refused by name. OPAQUE
+//! draws every fragment and MASK discards below the cutoff, into the G-buffer; BLEND is not
+//! drawn there but after the lighting and the voxels' transparent layer, lit forward with the
+//! same model (no shadows), premultiplied over the lit colour, depth-tested and not writing
+//! depth, batches back to front ([`render_model::props::blend_order`] states the order and
+//! its limits).
 //!
 //! Nothing is created while no model is added: the pipelines and buffers come with the first.
 
@@ -37,8 +41,7 @@ use render_model::props::{
 use voxel_scene::props::PropModel;
 
 use crate::device::alloc::{AllocError, create_buffer};
-pub use store::PropMaterialUniform;
-use store::StoredModel;
+pub use store::{PropMaterialUniform, StoredDraw, StoredModel};
 
 /// A model added with [`GpuProps::add_model`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -418,11 +421,16 @@ impl GpuProps {
     }
 
     /// The draw of material index `material` (a batch record's `material`).
-    pub fn batch_draw(&self, material: u32) -> Option<(&StoredModel, &wgpu::BindGroup, bool)> {
+    pub fn batch_draw(&self, material: u32) -> Option<(&StoredModel, &StoredDraw)> {
         let d = self.materials.get(material as usize)?;
         let model = self.models.get(d.model as usize)?;
         let draw = model.draws.get(d.draw as usize)?;
-        Some((model, &draw.group, draw.double_sided))
+        Some((model, draw))
+    }
+
+    /// True when material index `material` is glTF `BLEND` (drawn by the blended pass).
+    pub fn is_blended(&self, material: u32) -> bool {
+        self.batch_draw(material).is_some_and(|(_, d)| d.blend)
     }
 
     /// The material layout (group 2 of the prop draw), once a model exists.

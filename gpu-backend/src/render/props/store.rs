@@ -57,6 +57,8 @@ pub struct StoredDraw {
     pub group: wgpu::BindGroup,
     /// Back faces drawn.
     pub double_sided: bool,
+    /// glTF `BLEND`: drawn blended after the lighting, not into the G-buffer.
+    pub blend: bool,
 }
 
 /// A model on the GPU.
@@ -169,10 +171,8 @@ impl StoredModel {
                     emissive: [emissive[0], emissive[1], emissive[2], 0.0],
                     cutoff: match material.alpha_mode {
                         AlphaMode::Mask { cutoff } => cutoff,
-                        // BLEND is drawn into the G-buffer as a mask at one half (see the
-                        // module docs of `render::props`).
-                        AlphaMode::Blend => 0.5,
-                        AlphaMode::Opaque => f32::NEG_INFINITY,
+                        // BLEND keeps every fragment: its alpha blends it.
+                        AlphaMode::Blend | AlphaMode::Opaque => f32::NEG_INFINITY,
                     },
                     textured: u32::from(material.base_colour_texture.is_some()),
                     double_sided: u32::from(material.double_sided),
@@ -228,6 +228,7 @@ impl StoredModel {
                 draws.push(StoredDraw {
                     group,
                     double_sided: material.double_sided,
+                    blend: material.alpha_mode == AlphaMode::Blend,
                 });
                 prims.push(StoredPrimitive {
                     first_index: indices.len() as u32,
