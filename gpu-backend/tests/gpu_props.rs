@@ -51,11 +51,11 @@ fn the_duck_matches_its_cpu_rasterisation() {
 fn the_draco_boxes_match_their_cpu_rasterisation() {
     sample_matches("Box.glb");
     // Near enough that most of the 256-texel logo is magnified. Its sampler minifies with
-    // NEAREST_MIPMAP_LINEAR (nearest, as prop textures have one mip level) and magnifies
-    // with LINEAR; the GPU picks per pixel quad from the uv derivatives, the reference always
-    // filters with the magnification filter, so where the texture is minified (the whole
-    // face at the usual distance, which shrinks the logo some 6 times) the logo's sharp
-    // edges differ by up to a full step.
+    // NEAREST_MIPMAP_LINEAR and magnifies with LINEAR; the GPU takes the level of detail per
+    // pixel quad from differences, the reference per pixel from the uv's derivatives, so
+    // where the texture is minified (the whole face at the usual distance, which shrinks the
+    // logo some 6 times) the two can switch filters and levels at different pixels, and the
+    // logo's sharp edges differ there by up to a full step.
     sample_matches_from("BoxTextured.glb", 0.45);
 }
 

@@ -68,6 +68,7 @@
 mod blend;
 mod cull;
 mod emission;
+mod mips;
 mod placement;
 mod records;
 mod registry;
@@ -83,6 +84,7 @@ pub use emission::{
     EMISSION_BIAS, EMISSION_FLAG, EMISSION_MAX, EMISSION_MIN, decode_emission, encode_emission,
     join_emission, split_emission,
 };
+pub use mips::{MipError, MipLevel, mip_chain, mip_level_count, mip_lod};
 pub use placement::{
     PlacementError, PropEye, PropPlacement, local_normal, local_point, relative_origin,
     relative_point,

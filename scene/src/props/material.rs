@@ -36,22 +36,21 @@ fn sampler(texture: &gltf::Texture<'_>) -> PropSampler {
         Some(MagFilter::Nearest) => Filter::Nearest,
         _ => Filter::Linear,
     };
-    let (min, mipmaps) = match s.min_filter() {
-        Some(MinFilter::Nearest) => (Filter::Nearest, false),
-        Some(MinFilter::Linear) => (Filter::Linear, false),
-        Some(MinFilter::NearestMipmapNearest | MinFilter::NearestMipmapLinear) => {
-            (Filter::Nearest, true)
-        }
-        Some(MinFilter::LinearMipmapNearest | MinFilter::LinearMipmapLinear) | None => {
-            (Filter::Linear, true)
-        }
+    let (n, l) = (Filter::Nearest, Filter::Linear);
+    let (min, mip) = match s.min_filter() {
+        Some(MinFilter::Nearest) => (n, None),
+        Some(MinFilter::Linear) => (l, None),
+        Some(MinFilter::NearestMipmapNearest) => (n, Some(n)),
+        Some(MinFilter::NearestMipmapLinear) => (n, Some(l)),
+        Some(MinFilter::LinearMipmapNearest) => (l, Some(n)),
+        Some(MinFilter::LinearMipmapLinear) | None => (l, Some(l)),
     };
     PropSampler {
         wrap_u: wrap(s.wrap_s()),
         wrap_v: wrap(s.wrap_t()),
         mag,
         min,
-        mipmaps,
+        mip,
     }
 }
 

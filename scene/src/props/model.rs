@@ -182,19 +182,21 @@ pub struct PropSampler {
     pub mag: Filter,
     /// Minification filter (within a mip level).
     pub min: Filter,
-    /// True when `minFilter` asks for mipmaps (or is absent, glTF's suggestion).
-    pub mipmaps: bool,
+    /// Between mip levels, when `minFilter` asks for mipmaps (`*_MIPMAP_NEAREST`: nearest,
+    /// `*_MIPMAP_LINEAR` or no `minFilter`, glTF's suggestion: linear); `None` reads level 0
+    /// only.
+    pub mip: Option<Filter>,
 }
 
 impl Default for PropSampler {
-    /// Repeat, bilinear, mipmapped: what a file without a sampler asks for.
+    /// Repeat, trilinear: what a file without a sampler asks for.
     fn default() -> Self {
         PropSampler {
             wrap_u: Wrap::Repeat,
             wrap_v: Wrap::Repeat,
             mag: Filter::Linear,
             min: Filter::Linear,
-            mipmaps: true,
+            mip: Some(Filter::Linear),
         }
     }
 }

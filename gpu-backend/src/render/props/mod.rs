@@ -71,6 +71,8 @@ pub enum PropError {
     Placement(PlacementError),
     /// The device refused a buffer or texture.
     Alloc(AllocError),
+    /// A texture's pixels do not match its size.
+    Texture(render_model::props::MipError),
     /// A material's emissive colour (factor times strength) is not finite or brighter than
     /// the G-buffer's emission holds (`render_model::props::EMISSION_MAX`).
     Emission {
@@ -93,6 +95,7 @@ impl fmt::Display for PropError {
             PropError::Registry(e) => write!(f, "prop registry: {e:?}"),
             PropError::Placement(e) => write!(f, "prop placement: {e:?}"),
             PropError::Alloc(e) => write!(f, "prop store: {e}"),
+            PropError::Texture(e) => write!(f, "prop texture: {e}"),
             PropError::Emission { material, emissive } => write!(
                 f,
                 "prop material {material:?}: emissive colour {emissive:?} (factor times \

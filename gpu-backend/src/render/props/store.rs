@@ -1,15 +1,16 @@
 //! A prop model's GPU resources: its vertex and index buffers (every primitive of the model in
-//! one of each) and its base colour and emissive textures (`Rgba8UnormSrgb`, one mip: sampled
-//! in linear space as the CPU reference samples them), each draw's material uniform and bind
-//! group.
+//! one of each) and its base colour and emissive textures (`Rgba8UnormSrgb`, sampled in
+//! linear space as the CPU reference samples them, with every mip level, made on the CPU by
+//! [`render_model::props::mip_chain`], whose docs say why), each draw's material uniform and
+//! bind group.
 
 use wgpu::{Buffer, BufferUsages, Device, Queue};
 
-use render_model::props::EMISSION_MAX;
+use render_model::props::{EMISSION_MAX, mip_chain, mip_level_count};
 use voxel_scene::props::{AlphaMode, Filter, PropModel, PropSampler, TextureRef, Wrap};
 
 use super::PropError;
-use crate::device::alloc::{AllocError, create_buffer_init, create_texture};
+use crate::device::alloc::{create_buffer_init, create_texture};
 
 /// The material uniform of one draw (`PropMaterial` in `props.wgsl`).
 #[repr(C)]
@@ -91,26 +92,34 @@ fn filter(f: Filter) -> wgpu::FilterMode {
     }
 }
 
-/// The sampler of `s`, without mipmaps (the textures have one level).
+/// The sampler of `s`: between mip levels by its mipmap filter, or level 0 only.
 fn sampler(device: &Device, s: &PropSampler) -> wgpu::Sampler {
+    let (mipmap_filter, lod_max_clamp) = match s.mip {
+        Some(Filter::Nearest) => (wgpu::MipmapFilterMode::Nearest, 32.0),
+        Some(Filter::Linear) => (wgpu::MipmapFilterMode::Linear, 32.0),
+        None => (wgpu::MipmapFilterMode::Nearest, 0.0),
+    };
     device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some("prop sampler"),
         address_mode_u: address(s.wrap_u),
         address_mode_v: address(s.wrap_v),
         mag_filter: filter(s.mag),
         min_filter: filter(s.min),
+        mipmap_filter,
+        lod_max_clamp,
         ..Default::default()
     })
 }
 
-/// An sRGB texture of `rgba` (`width x height`), one mip.
+/// An sRGB texture of `rgba` (`width x height`) with its mip levels.
 fn texture(
     device: &Device,
     queue: &Queue,
     width: u32,
     height: u32,
     rgba: &[u8],
-) -> Result<wgpu::TextureView, AllocError> {
+) -> Result<wgpu::TextureView, PropError> {
+    let chain = mip_chain(width, height, rgba).map_err(PropError::Texture)?;
     let size = wgpu::Extent3d {
         width,
         height,
@@ -119,9 +128,9 @@ fn texture(
     let texture = create_texture(
         device,
         &wgpu::TextureDescriptor {
-            label: Some("prop base colour"),
+            label: Some("prop texture"),
             size,
-            mip_level_count: 1,
+            mip_level_count: mip_level_count(width, height),
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: wgpu::TextureFormat::Rgba8UnormSrgb,
@@ -129,16 +138,29 @@ fn texture(
             view_formats: &[],
         },
     )?;
-    queue.write_texture(
-        texture.as_image_copy(),
-        rgba,
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(4 * width),
-            rows_per_image: Some(height),
-        },
-        size,
-    );
+    let levels = std::iter::once((width, height, rgba))
+        .chain(chain.iter().map(|l| (l.width, l.height, l.rgba.as_slice())));
+    for (level, (w, h, bytes)) in levels.enumerate() {
+        queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &texture,
+                mip_level: level as u32,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            bytes,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(4 * w),
+                rows_per_image: Some(h),
+            },
+            wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
     Ok(texture.create_view(&Default::default()))
 }
 
@@ -178,7 +200,7 @@ impl StoredModel {
                     double_sided: u32::from(material.double_sided),
                     emissive_textured: u32::from(material.emissive_texture.is_some()),
                 };
-                let bound = |t: &Option<TextureRef>| -> Result<_, AllocError> {
+                let bound = |t: &Option<TextureRef>| -> Result<_, PropError> {
                     Ok(
                         match t.and_then(|t| model.textures.get(t.texture).map(|x| (t, x))) {
                             Some((t, tex)) => (
