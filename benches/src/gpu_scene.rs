@@ -29,6 +29,25 @@ use voxel_scene::terrain_scene;
 /// up (the sea is lower).
 const TERRAIN_TOP: u32 = 40;
 
+/// Clutter on the level-0 chunks `on` admits (the grass pass draws no other level): the
+/// benchmark places it only where its views can draw grass
+/// (`render_model::grass::chunk_may_draw_grass`), as the viewer's streamer does.
+#[derive(Clone, Copy)]
+pub struct Clutter<'a> {
+    /// The placement's density and seed.
+    pub params: ClutterParams,
+    /// Which level-0 chunks get clutter.
+    pub on: &'a (dyn Fn(ChunkCoord) -> bool + Sync),
+}
+
+impl std::fmt::Debug for Clutter<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Clutter")
+            .field("params", &self.params)
+            .finish_non_exhaustive()
+    }
+}
+
 /// A terrain meshed at every level of detail, and what making it cost.
 #[derive(Debug)]
 pub struct LodTerrain {
@@ -64,14 +83,14 @@ impl LodTerrain {
         Self::generate_with_clutter(side, size, seed, top_level, None, keep)
     }
 
-    /// [`generate`](Self::generate), with `clutter` placed on the level-0 chunks' grass (the
-    /// only level the grass pass draws).
+    /// [`generate`](Self::generate), with `clutter` placed on the grass of the level-0 chunks
+    /// it admits (the only level the grass pass draws).
     pub fn generate_with_clutter(
         side: u32,
         size: ChunkSize,
         seed: i32,
         top_level: u32,
-        clutter: Option<ClutterParams>,
+        clutter: Option<Clutter<'_>>,
         keep: impl Fn(u32, ChunkCoord) -> bool + Sync,
     ) -> Result<LodTerrain, MeshError> {
         Self::generate_as(side, size, seed, top_level, clutter, Geometry::Greedy, keep)
@@ -84,7 +103,7 @@ impl LodTerrain {
         size: ChunkSize,
         seed: i32,
         top_level: u32,
-        clutter: Option<ClutterParams>,
+        clutter: Option<Clutter<'_>>,
         geometry: Geometry,
         keep: impl Fn(u32, ChunkCoord) -> bool + Sync,
     ) -> Result<LodTerrain, MeshError> {
@@ -106,14 +125,21 @@ impl LodTerrain {
         let started = Instant::now();
         let mut levels = Vec::new();
         let mut chunks_per_level = Vec::new();
-        let level0 = NodeSettings {
-            mesh: MeshSettings {
-                clutter,
-                ..settings.mesh
-            },
-            ..settings
-        };
-        let (count, nodes) = mesh_level(&scene.world, 0, &classes, &level0, &keep)?;
+        let with_clutter = |c: ChunkCoord| clutter.is_some_and(|cl| (cl.on)(c));
+        let plain = |l: u32, c: ChunkCoord| keep(l, c) && !with_clutter(c);
+        let (count, mut nodes) = mesh_level(&scene.world, 0, &classes, &settings, &plain)?;
+        if let Some(cl) = clutter {
+            let level0 = NodeSettings {
+                mesh: MeshSettings {
+                    clutter: Some(cl.params),
+                    ..settings.mesh
+                },
+                ..settings
+            };
+            let on = |l: u32, c: ChunkCoord| keep(l, c) && with_clutter(c);
+            nodes.extend(mesh_level(&scene.world, 0, &classes, &level0, &on)?.1);
+            nodes.sort_by_key(|n| centre_order(n.coord));
+        }
         chunks_per_level.push(count);
         levels.push(nodes);
         for (i, world) in coarse.iter().enumerate() {
@@ -194,8 +220,13 @@ fn mesh_level<C: VoxelStorage + Sync>(
     let mut coords: Vec<ChunkCoord> = world.iter().map(|(c, _)| c).collect();
     let count = coords.len();
     coords.retain(|&c| keep(level, c));
-    coords.sort_by_key(|c| (c.x.abs().max(c.z.abs()), c.x, c.z, c.y));
+    coords.sort_by_key(|&c| centre_order(c));
     Ok((count, mesh_nodes(world, level, &coords, classes, settings)?))
+}
+
+/// The order of a level's nodes: square rings around the centre column, then by coordinate.
+fn centre_order(c: ChunkCoord) -> (i32, i32, i32, i32) {
+    (c.x.abs().max(c.z.abs()), c.x, c.z, c.y)
 }
 
 #[cfg(test)]

@@ -632,13 +632,17 @@ mod props {
             got,
             want(&[
                 ("base_colour", offset_of!(PropMaterialUniform, base_colour)),
+                ("emissive", offset_of!(PropMaterialUniform, emissive)),
                 ("cutoff", offset_of!(PropMaterialUniform, cutoff)),
                 ("textured", offset_of!(PropMaterialUniform, textured)),
                 (
                     "double_sided",
                     offset_of!(PropMaterialUniform, double_sided)
                 ),
-                ("pad", offset_of!(PropMaterialUniform, pad)),
+                (
+                    "emissive_textured",
+                    offset_of!(PropMaterialUniform, emissive_textured)
+                ),
             ])
         );
     }
@@ -660,6 +664,27 @@ mod props {
         assert_eq!(value("PROP_NO_BATCH"), NO_BATCH);
         assert_eq!(value("PROP_CULL_FRUSTUM"), PROP_CULL_FRUSTUM);
         assert_eq!(value("PROP_CULL_OCCLUSION"), PROP_CULL_OCCLUSION);
+    }
+
+    #[test]
+    fn emission_constants_match_their_wgsl_twins() {
+        use render_model::props::{EMISSION_BIAS, EMISSION_FLAG, EMISSION_MAX, EMISSION_MIN};
+        let m = module(PROPS);
+        let literal = |name: &str| {
+            let (_, c) = m
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name))
+                .unwrap_or_else(|| panic!("no constant {name}"));
+            match m.global_expressions[c.init] {
+                naga::Expression::Literal(l) => l,
+                ref e => panic!("{name} is not a literal: {e:?}"),
+            }
+        };
+        assert_eq!(literal("EMISSION_BIAS"), naga::Literal::I32(EMISSION_BIAS));
+        assert_eq!(literal("EMISSION_MAX"), naga::Literal::F32(EMISSION_MAX));
+        assert_eq!(literal("EMISSION_MIN"), naga::Literal::F32(EMISSION_MIN));
+        assert_eq!(literal("EMISSION_FLAG"), naga::Literal::U32(EMISSION_FLAG));
     }
 }
 

@@ -18,13 +18,18 @@
 //! double-sided, where they are lit with the normal turned towards the eye.
 //!
 //! **Colour.** Albedo = base colour factor (linear) * base colour texture, the texture
-//! decoded from sRGB to linear and sampled **bilinearly in linear space** (nearest when the
-//! sampler's `magFilter` is nearest; no mipmaps), with the sampler's wrap modes; alpha the
+//! decoded from sRGB to linear and sampled **in linear space** with the sampler's wrap modes
+//! and filters over the mip levels the GPU uploads ([`render_model::props::mip_chain`]):
+//! the level of detail [`mip_lod`] of the uv's analytic derivatives to the next pixel along x
+//! and y; magnified (`lod <= 0`) level 0 with `magFilter`, minified the `minFilter` within a
+//! level and its mipmap mode between levels (nearest: level `ceil(lod + 1/2) - 1`; linear: the
+//! two around `lod`; none: level 0), as Vulkan specifies them; alpha the
 //! product of the factor's and the texel's. `MASK` discards below the cutoff; `BLEND`
 //! triangles are drawn after every opaque one, in model order, blended over the colour with
 //! [`blend`] and depth-tested without writing depth. Lit colour = [`shade`] with full
-//! ambient occlusion (3) and no palette emission, plus the emissive factor times its
-//! strength and the exposure; the sky is the lighting's sky background in the pixel's
+//! ambient occlusion (3) and no palette emission, plus the emissive colour (factor times
+//! strength times the emissive texture, sampled as the base colour is) as the G-buffer holds
+//! it ([`encode_emission`] then [`decode_emission`]) times the exposure; the sky is the lighting's sky background in the pixel's
 //! direction (no haze); every pixel goes out through
 //! [`output_rgba8`].
 
@@ -33,10 +38,11 @@ use render_model::Camera;
 use render_model::lighting::sky::sky_background;
 use render_model::lighting::{Lighting, blend, output_rgba8, shade, srgb_to_linear};
 use render_model::props::{
-    PropEye, PropInstanceRecord, PropPlacement, local_normal, relative_point,
+    PropEye, PropInstanceRecord, PropPlacement, decode_emission, encode_emission, local_normal,
+    mip_chain, mip_lod, relative_point,
 };
 use voxel_scene::props::{
-    AlphaMode, Filter, PropMaterial, PropModel, PropTexture, TextureRef, Wrap,
+    AlphaMode, Filter, PropMaterial, PropModel, PropSampler, PropTexture, TextureRef, Wrap,
 };
 
 /// One placed model.
@@ -120,15 +126,46 @@ fn wrap_coord(t: f32, size: u32, mode: Wrap) -> u32 {
     v as u32
 }
 
-/// The texel at `uv` of `texture`, linear RGB and alpha, filtered by the sampler.
-fn sample(texture: &PropTexture, tex: &TextureRef, uv: [f32; 2]) -> [f32; 4] {
-    let (w, h) = (texture.width, texture.height);
-    if w == 0 || h == 0 {
+/// A texture's mip levels, level 0 first: `(width, height, rgba)`.
+struct Mipped<'t> {
+    levels: Vec<(u32, u32, std::borrow::Cow<'t, [u8]>)>,
+}
+
+impl<'t> Mipped<'t> {
+    /// `texture` with the levels the GPU uploads (level 0 alone if they cannot be made: the
+    /// GPU refuses such a texture by name).
+    fn of(texture: &'t PropTexture) -> Mipped<'t> {
+        let (w, h) = (texture.width, texture.height);
+        let mut levels = vec![(w, h, std::borrow::Cow::Borrowed(texture.rgba.as_slice()))];
+        if let Ok(chain) = mip_chain(w, h, &texture.rgba) {
+            levels.extend(
+                chain
+                    .into_iter()
+                    .map(|l| (l.width, l.height, std::borrow::Cow::Owned(l.rgba))),
+            );
+        }
+        Mipped { levels }
+    }
+}
+
+/// The texel at `uv` of level `level` of `m`, linear RGB and alpha, by `filter`.
+fn sample_level(
+    m: &Mipped<'_>,
+    level: usize,
+    s: &PropSampler,
+    filter: Filter,
+    uv: [f32; 2],
+) -> [f32; 4] {
+    let Some((w, h, rgba)) = m.levels.get(level.min(m.levels.len().saturating_sub(1))) else {
+        return [1.0; 4];
+    };
+    let (w, h) = (*w, *h);
+    if w == 0 || h == 0 || rgba.len() < 4 * w as usize * h as usize {
         return [1.0; 4];
     }
     let texel = |x: u32, y: u32| -> [f32; 4] {
         let at = (y as usize * w as usize + x as usize) * 4;
-        let p = &texture.rgba[at..at + 4];
+        let p = &rgba[at..at + 4];
         [
             srgb_to_linear(p[0]),
             srgb_to_linear(p[1]),
@@ -137,8 +174,7 @@ fn sample(texture: &PropTexture, tex: &TextureRef, uv: [f32; 2]) -> [f32; 4] {
         ]
     };
     let (u, v) = (uv[0] * w as f32, uv[1] * h as f32);
-    let s = tex.sampler;
-    if s.mag == Filter::Nearest {
+    if filter == Filter::Nearest {
         return texel(wrap_coord(u, w, s.wrap_u), wrap_coord(v, h, s.wrap_v));
     }
     let (u, v) = (u - 0.5, v - 0.5);
@@ -153,6 +189,35 @@ fn sample(texture: &PropTexture, tex: &TextureRef, uv: [f32; 2]) -> [f32; 4] {
         let bottom = c[i] + (d[i] - c[i]) * fu;
         top + (bottom - top) * fv
     })
+}
+
+/// The texel at `uv` of `m`, linear RGB and alpha, filtered by the sampler at level of detail
+/// `lod` (see the [module docs](self)).
+fn sample(m: &Mipped<'_>, tex: &TextureRef, uv: [f32; 2], lod: f32) -> [f32; 4] {
+    let s = tex.sampler;
+    // Not minified (a NaN lod, from a degenerate triangle, reads as magnified).
+    if lod.is_nan() || lod <= 0.0 {
+        return sample_level(m, 0, &s, s.mag, uv);
+    }
+    let top = m.levels.len().saturating_sub(1) as f32;
+    match s.mip {
+        None => sample_level(m, 0, &s, s.min, uv),
+        Some(Filter::Nearest) => {
+            let level = ((lod + 0.5).ceil() - 1.0).clamp(0.0, top);
+            sample_level(m, level as usize, &s, s.min, uv)
+        }
+        Some(Filter::Linear) => {
+            let lod = lod.min(top);
+            let lo = lod.floor();
+            let t = lod - lo;
+            let a = sample_level(m, lo as usize, &s, s.min, uv);
+            if t == 0.0 {
+                return a;
+            }
+            let b = sample_level(m, lo as usize + 1, &s, s.min, uv);
+            std::array::from_fn(|i| a[i] + (b[i] - a[i]) * t)
+        }
+    }
 }
 
 struct Target<'l> {
@@ -170,7 +235,7 @@ impl Target<'_> {
     fn triangle(
         &mut self,
         v: [ClipVertex; 3],
-        model: &PropModel,
+        textures: &[Mipped<'_>],
         material: &PropMaterial,
         blend_pass: bool,
     ) {
@@ -226,7 +291,33 @@ impl Target<'_> {
         }
         let texture = material
             .base_colour_texture
-            .and_then(|t| model.textures.get(t.texture).map(|tex| (tex, t)));
+            .and_then(|t| textures.get(t.texture).map(|tex| (tex, t)));
+        let emissive_texture = material
+            .emissive_texture
+            .and_then(|t| textures.get(t.texture).map(|tex| (tex, t)));
+        // The perspective-correct uv at screen point (x, y), inside the triangle or not.
+        let uv_at = |x: f32, y: f32| -> [f32; 2] {
+            let b = [
+                edge(screen[1], screen[2], x, y) / area,
+                edge(screen[2], screen[0], x, y) / area,
+                edge(screen[0], screen[1], x, y) / area,
+            ];
+            let pw: [f32; 3] = std::array::from_fn(|i| b[i] * screen[i][3]);
+            let sum = pw[0] + pw[1] + pw[2];
+            std::array::from_fn(|i| {
+                (pw[0] * v[0].uv[i] + pw[1] * v[1].uv[i] + pw[2] * v[2].uv[i]) / sum
+            })
+        };
+        // The level of detail of a texture at (x, y): the uv's change to the next pixel.
+        let lod = |tex: &Mipped<'_>, x: f32, y: f32, uv: [f32; 2]| {
+            let (dx, dy) = (uv_at(x + 1.0, y), uv_at(x, y + 1.0));
+            let (w, h, _) = &tex.levels[0];
+            mip_lod(
+                [*w, *h],
+                [dx[0] - uv[0], dx[1] - uv[1]],
+                [dy[0] - uv[0], dy[1] - uv[1]],
+            )
+        };
         for py in min_y as u32..max_y as u32 {
             for px in min_x as u32..max_x as u32 {
                 let (x, y) = (px as f32 + 0.5, py as f32 + 0.5);
@@ -262,7 +353,8 @@ impl Target<'_> {
                     n = n.map(|c| -c);
                 }
                 let f = material.base_colour;
-                let t = texture.map_or([1.0; 4], |(tex, r)| sample(tex, &r, uv));
+                let t =
+                    texture.map_or([1.0; 4], |(tex, r)| sample(tex, &r, uv, lod(tex, x, y, uv)));
                 let albedo = [f[0] * t[0], f[1] * t[1], f[2] * t[2]];
                 let alpha = f[3] * t[3];
                 if let AlphaMode::Mask { cutoff } = material.alpha_mode
@@ -272,7 +364,12 @@ impl Target<'_> {
                 }
                 let lit = shade(self.lighting, albedo, n, 3.0, 0.0);
                 let exposure = self.lighting.exposure_rgb();
-                let e = material.emissive.map(|c| c * material.emissive_strength);
+                let te = emissive_texture
+                    .map_or([1.0; 4], |(tex, r)| sample(tex, &r, uv, lod(tex, x, y, uv)));
+                let e: [f32; 3] = std::array::from_fn(|i| {
+                    material.emissive[i] * material.emissive_strength * te[i]
+                });
+                let e = decode_emission(encode_emission(e));
                 let colour = std::array::from_fn(|i| lit[i] + e[i] * exposure[i]);
                 if blend_pass {
                     self.colour[at] = blend(self.colour[at], colour, alpha);
@@ -314,8 +411,12 @@ pub fn render_props(
         let m = &view_proj;
         std::array::from_fn(|r| ((m[0][r] * p[0] + m[1][r] * p[1]) + m[2][r] * p[2]) + m[3][r])
     };
+    let mipped: Vec<Vec<Mipped<'_>>> = props
+        .iter()
+        .map(|p| p.model.textures.iter().map(Mipped::of).collect())
+        .collect();
     for pass in [false, true] {
-        for prop in props {
+        for (prop, textures) in props.iter().zip(&mipped) {
             let model = prop.model;
             for instance in &model.instances {
                 let record = instance_record(&prop.placement, &instance.matrix);
@@ -349,7 +450,7 @@ pub fn render_props(
                         for k in 1..polygon.len().saturating_sub(1) {
                             target.triangle(
                                 [polygon[0], polygon[k], polygon[k + 1]],
-                                model,
+                                textures,
                                 &material,
                                 pass,
                             );

@@ -33,6 +33,19 @@
 //! its tallest possible blade is dropped is culled whole ([`chunk_fades_out`]). With
 //! level-of-detail selection off the budget is [`DEFAULT_BUDGET_PX`].
 //!
+//! # Where clutter is placed
+//!
+//! The same fade says where clutter is worth storing. The tallest blade is dropped from
+//! [`grass_reach`] `= MAX_BLADE_HEIGHT * focal_px / (FADE_DROP * budget_px)` blocks on (the
+//! fade solved for its end), and the grass cull measures that distance to the chunk's cube
+//! grown by [`CULL_GROW`] on every axis ([`chunk_grass_distance`]). So a level-0 chunk can
+//! draw grass for an eye within `slack` blocks of a point `from` only if its cube lies nearer
+//! to `from` than `grass_reach + slack + sqrt(3) * CULL_GROW` ([`may_draw_grass`]: the grown
+//! cube lies within `sqrt(3) * CULL_GROW` of the cube, the eye within `slack` of `from`).
+//! A streamer places clutter on the chunks this admits from its level-of-detail anchor, with
+//! the anchor's hysteresis as the slack ([`chunk_may_draw_grass`]), and on no others: beyond,
+//! every unit would be stored and never drawn.
+//!
 //! # Draw scheme
 //!
 //! No vertex or index buffers: one non-indexed indirect draw per chunk table slot, `12` vertices
@@ -139,6 +152,51 @@ pub fn blade_fade(height: f32, distance: f32, frame: &GrassFrame) -> f32 {
 /// dropped by the fade (the chunk is culled).
 pub fn chunk_fades_out(nearest: f32, frame: &GrassFrame) -> bool {
     blade_fade(MAX_BLADE_HEIGHT, nearest, frame) <= 0.0
+}
+
+/// How far the grass cull grows a chunk's cube on every axis, blocks: the tallest blade
+/// swaying its farthest (a unit's base lies in the cube, its blade may reach out of it).
+pub const CULL_GROW: f32 = MAX_BLADE_HEIGHT * (1.0 + WIND_SWAY);
+
+/// The distance from the eye, blocks, at which the tallest blade is dropped by the fade at
+/// `focal_px` and `budget_px`: [`chunk_fades_out`] holds from there on. Infinite when the
+/// budget is not positive (nothing fades).
+pub fn grass_reach(focal_px: f32, budget_px: f32) -> f32 {
+    if budget_px <= 0.0 {
+        return f32::INFINITY;
+    }
+    MAX_BLADE_HEIGHT * focal_px / (FADE_DROP * budget_px)
+}
+
+/// The grass cull's distance from the eye to a chunk's cube grown by [`CULL_GROW`], blocks
+/// (0 inside): `rel` is the chunk's coordinate less the eye's chunk, `offset` the eye inside
+/// its chunk, `edge` the chunk edge. The CPU twin of `grass_cull.wgsl`'s `nearest`.
+pub fn chunk_grass_distance(rel: [i32; 3], offset: [f32; 3], edge: f32) -> f32 {
+    let half = 0.5 * edge;
+    let e = half + CULL_GROW;
+    let gap = |a: usize| (rel[a] as f32 * edge - offset[a] + half).abs() - e;
+    Vec3::new(gap(0), gap(1), gap(2)).max(Vec3::ZERO).length()
+}
+
+/// The placement rule (see the [module docs](self)): whether a level-0 chunk whose cube lies
+/// `distance` blocks from a point can draw grass for an eye within `slack` blocks of that
+/// point, at `focal_px` and `budget_px`. False only where the grass cull drops the chunk for
+/// every such eye.
+pub fn may_draw_grass(distance: f64, slack: f64, focal_px: f32, budget_px: f32) -> bool {
+    let grow = 3f64.sqrt() * f64::from(CULL_GROW);
+    distance < f64::from(grass_reach(focal_px, budget_px)) + slack + grow
+}
+
+/// The placement rule from a level-of-detail anchor ([`may_draw_grass`] with the anchor's
+/// hysteresis as the slack): whether level-0 chunk `coord` can draw grass for an eye within
+/// `p.hysteresis` blocks of the anchor, at `p`'s budget and focal length.
+pub fn chunk_may_draw_grass(p: &LodParams, coord: [i32; 3]) -> bool {
+    may_draw_grass(
+        f64::from(crate::cull::lod::node_distance(p, coord, 0)),
+        f64::from(p.hysteresis),
+        p.focal_px,
+        p.budget_px,
+    )
 }
 
 /// The corners of both quads of `unit` in `frame`: `[quad][corner]`, in the unit's chunk's
@@ -367,6 +425,88 @@ mod tests {
         let u = unit(Vec3::ZERO, 0, 0);
         let c = unit_corners(&u, Vec3::new(0.0, 0.0, at(3.9)), &f);
         assert!(c.iter().flatten().all(|&p| p == Vec3::ZERO));
+    }
+
+    #[test]
+    fn the_reach_is_where_the_tallest_blade_fades_out() {
+        for (focal, budget) in [(64.0, 1.0), (935.0, 1.0), (935.0, 1.19), (300.0, 4.0)] {
+            let f = GrassFrame {
+                focal_px: focal,
+                budget_px: budget,
+                ..frame(0.0, 0.0)
+            };
+            let reach = grass_reach(focal, budget);
+            assert!(chunk_fades_out(reach * 1.0001, &f), "{focal} {budget}");
+            assert!(!chunk_fades_out(reach * 0.9999, &f), "{focal} {budget}");
+        }
+        assert_eq!(grass_reach(100.0, 0.0), f32::INFINITY);
+        assert!(
+            may_draw_grass(1e30, 0.0, 100.0, 0.0),
+            "no budget: nothing fades"
+        );
+    }
+
+    /// Eyes within the slack of an anchor and chunks around it (a fixed pseudo-random
+    /// sweep): every chunk the cull keeps for some eye is one the placement rule admits from
+    /// the anchor, and the rule admits little beyond (within one chunk's diagonal and the
+    /// slack of a kept one).
+    #[test]
+    fn placement_admits_every_chunk_the_cull_can_draw() {
+        let edge = 16.0f32;
+        let (focal, budget, slack) = (120.0f32, 1.0f32, 16.0f64);
+        let f = GrassFrame {
+            focal_px: focal,
+            budget_px: budget,
+            ..frame(0.0, 0.0)
+        };
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((state >> 33) as f64 / f64::from(1u32 << 31)) * 2.0 - 1.0
+        };
+        let (mut kept, mut admitted) = (0, 0);
+        for _ in 0..200 {
+            // The anchor at the origin chunk's (8, 8, 8); the eye within the slack of it.
+            let anchor = [8.0f64; 3];
+            let dir = Vec3::new(next() as f32, next() as f32, next() as f32).normalize_or(Vec3::X);
+            let eye = [0, 1, 2].map(|a| anchor[a] + f64::from(dir[a]) * slack * next().abs());
+            for x in -5..=5 {
+                for y in -2..=2 {
+                    for z in -5..=5 {
+                        let rel = [x, y, z];
+                        // The eye's chunk and offset (it may have left the anchor's chunk).
+                        let chunk = eye.map(|e| (e / f64::from(edge)).floor() as i32);
+                        let offset = [0, 1, 2]
+                            .map(|a| (eye[a] - f64::from(chunk[a]) * f64::from(edge)) as f32);
+                        let from_eye = [0, 1, 2].map(|a| rel[a] - chunk[a]);
+                        let drawn =
+                            !chunk_fades_out(chunk_grass_distance(from_eye, offset, edge), &f);
+                        let gap = |a: usize| {
+                            let lo = f64::from(rel[a]) * f64::from(edge) - anchor[a];
+                            lo.max(-(lo + f64::from(edge))).max(0.0)
+                        };
+                        let distance = (gap(0).powi(2) + gap(1).powi(2) + gap(2).powi(2)).sqrt();
+                        let placed = may_draw_grass(distance, slack, focal, budget);
+                        assert!(
+                            !drawn || placed,
+                            "chunk {rel:?} drawn from {eye:?} but not placed"
+                        );
+                        kept += usize::from(drawn);
+                        admitted += usize::from(placed);
+                        if placed {
+                            let reach = f64::from(grass_reach(focal, budget));
+                            assert!(distance < reach + slack + 2.0, "{distance}");
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            kept > 1000 && admitted > kept,
+            "{kept} kept, {admitted} admitted"
+        );
     }
 
     #[test]

@@ -62,7 +62,7 @@ fn the_duck_loads_with_its_counts_texture_and_nested_transforms() {
         (tex.sampler.mag, tex.sampler.min),
         (Filter::Linear, Filter::Nearest)
     );
-    assert!(tex.sampler.mipmaps);
+    assert_eq!(tex.sampler.mip, Some(Filter::Linear));
     assert_eq!(model.textures.len(), 1);
     let t = &model.textures[tex.texture];
     assert_eq!((t.width, t.height, t.rgba.len()), (512, 512, 512 * 512 * 4));

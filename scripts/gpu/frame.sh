@@ -24,7 +24,8 @@
 #                under callgrind for 10 and for 30 frames, the difference over 20; needs
 #                valgrind in .gpu/tools/ (scripts/gpu/build.sh --valgrind), or on the PATH
 #   grass        the headline terrain with grass (`--clutter 2`, the viewer's density) on the
-#                level-0 chunks: the grass pass's GPU time and the units it drew; no reference
+#                level-0 chunks within the grass's reach at the budgets: the grass pass's GPU
+#                time and the units it drew; no reference
 #   flight       the viewer's `--flight 30` with its defaults (`--opaque auto`, grass on)
 #   flightpaths  the same with `--opaque compute` and with `--opaque raster`
 #   props        gpu_bench --props: 100,000 instances of the Duck sample on a grid at 1920 x

@@ -12,10 +12,10 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use benches::gpu_bench::{
-    BenchConfig, BenchReport, SceneSummary, bench_camera, budget_params, markdown, run,
-    selected_by_any,
+    BenchConfig, BenchReport, SceneSummary, bench_camera, budget_params, grass_params, markdown,
+    may_draw_grass, run, selected_by_any,
 };
-use benches::gpu_scene::LodTerrain;
+use benches::gpu_scene::{Clutter, LodTerrain};
 use clap::{Parser, ValueEnum};
 use gpu_backend::render::FullscreenPath;
 use gpu_backend::render::OpaquePath;
@@ -412,7 +412,7 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     } else {
         args.clutter
     };
-    let clutter = if density > 0.0 {
+    let clutter_params = if density > 0.0 {
         Some(
             mesher::ClutterParams::new(density, args.seed as u64)
                 .map_err(|e| format!("--clutter: {e}"))?,
@@ -422,6 +422,14 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
     } else {
         return Err(format!("--clutter {} must be at least 0", args.clutter).into());
     };
+    // Clutter only where a frame can draw grass (the viewer's rule; the full-detail
+    // reference's fade budget included).
+    let grass = grass_params(&params, reference);
+    let grass_on = |c: voxel_core::ChunkCoord| may_draw_grass(&grass, c);
+    let clutter = clutter_params.map(|params| Clutter {
+        params,
+        on: &grass_on,
+    });
     if !args.geometry.is_empty() {
         let make = |geometry| {
             LodTerrain::generate_as(
@@ -446,6 +454,13 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         keep,
     )?;
     let resident: Vec<usize> = terrain.levels.iter().map(Vec::len).collect();
+    let grass_nodes = match clutter {
+        Some(_) => terrain
+            .levels
+            .first()
+            .map_or(0, |l| l.iter().filter(|n| grass_on(n.coord)).count()),
+        None => 0,
+    };
     let mut scene = SceneSummary {
         adapter: ctx.capabilities.adapter.to_string(),
         side: terrain.side,
@@ -467,7 +482,7 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
         format!("adapter: {}", ctx.capabilities.adapter),
         format!(
             "terrain: {}² columns, {}³ chunks, levels 0..={}: {:?} chunks, {:?} resident; {} quads, \
-             {} draw-block words ({} far blocks, the rest hiding masks), {} clutter units; generated {:.2} s, downsampled {:.2} s, meshed {:.2} s ({} \
+             {} draw-block words ({} far blocks, the rest hiding masks), {} clutter units (on the {} of {} level-0 nodes within the grass reach); generated {:.2} s, downsampled {:.2} s, meshed {:.2} s ({} \
              threads), {:.1} s in all",
             terrain.side,
             size.edge(),
@@ -478,6 +493,8 @@ fn bench(args: &Args) -> Result<(), Box<dyn std::error::Error>> {
             scene.resident_draw_block_words,
             scene.resident_far_blocks,
             terrain.clutter_count(),
+            grass_nodes,
+            terrain.levels.first().map_or(0, Vec::len),
             terrain.generate_seconds,
             terrain.downsample_seconds,
             terrain.mesh_seconds,

@@ -137,6 +137,31 @@ pub fn budget_params(
         .collect()
 }
 
+/// The selection inputs the benchmark's frames fade grass by: `params` (one per budget), and
+/// with the full-detail `reference` its fade budget too
+/// ([`DEFAULT_BUDGET_PX`](render_model::grass::DEFAULT_BUDGET_PX): level-of-detail selection
+/// is off there).
+pub fn grass_params(params: &[LodParams], reference: bool) -> Vec<LodParams> {
+    let mut out = params.to_vec();
+    if reference && let Some(first) = params.first() {
+        out.push(LodParams {
+            budget_px: render_model::grass::DEFAULT_BUDGET_PX,
+            ..*first
+        });
+    }
+    out
+}
+
+/// True when some frame of `params` ([`grass_params`]) can draw the grass of level-0 chunk
+/// `coord`: the viewer's placement rule
+/// ([`chunk_may_draw_grass`](render_model::grass::chunk_may_draw_grass)), with no hysteresis
+/// (the fixed camera is the anchor). The benchmark places clutter on these chunks only.
+pub fn may_draw_grass(params: &[LodParams], coord: ChunkCoord) -> bool {
+    params
+        .iter()
+        .any(|p| render_model::grass::chunk_may_draw_grass(p, [coord.x, coord.y, coord.z]))
+}
+
 /// True when some budget of `params` selects node `coord` of `level`.
 pub fn selected_by_any(params: &[LodParams], level: u32, coord: ChunkCoord) -> bool {
     params

@@ -102,6 +102,41 @@ fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
     return select(pow((c + 0.055) / 1.055, vec3<f32>(2.4)), c / 12.92, c <= vec3<f32>(0.04045));
 }
 
+// A prop's emission word (twin of render_model::props::emission, its constants compared by a
+// test): a shared-exponent colour, 6-bit mantissas, 5-bit exponent, flag bit 23.
+const EMISSION_BIAS: i32 = 15;
+const EMISSION_MAX: f32 = 64512.0;
+const EMISSION_MIN: f32 = 2.3841858e-7;
+const EMISSION_FLAG: u32 = 0x800000u;
+
+// Twin of render_model::props::encode_emission (multiplications by powers of two: exact).
+fn prop_emission_encode(rgb: vec3<f32>) -> u32 {
+    // NaN channels to 0 (a NaN fails every comparison), then at most EMISSION_MAX.
+    let c = min(select(vec3<f32>(0.0), rgb, rgb > vec3<f32>(0.0)), vec3<f32>(EMISSION_MAX));
+    let m = max(max(c.x, c.y), c.z);
+    if !(m >= EMISSION_MIN) {
+        return 0u;
+    }
+    let floor_log2 = i32((bitcast<u32>(m) >> 23u) & 0xffu) - 127;
+    var e = clamp(floor_log2 + 1 + EMISSION_BIAS, 0, 31);
+    var inv_step = ldexp(1.0, EMISSION_BIAS + 6 - e);
+    if floor(m * inv_step + 0.5) >= 64.0 {
+        e += 1;
+        inv_step *= 0.5;
+    }
+    let q = min(vec3<u32>(floor(c * inv_step + 0.5)), vec3<u32>(63u));
+    return q.x | (q.y << 6u) | (q.z << 12u) | (u32(e) << 18u) | EMISSION_FLAG;
+}
+
+// Twin of render_model::props::decode_emission.
+fn prop_emission_decode(w: u32) -> vec3<f32> {
+    if (w & EMISSION_FLAG) == 0u {
+        return vec3<f32>(0.0);
+    }
+    let step = ldexp(1.0, i32((w >> 18u) & 31u) - EMISSION_BIAS - 6);
+    return vec3<f32>(f32(w & 63u), f32((w >> 6u) & 63u), f32((w >> 12u) & 63u)) * step;
+}
+
 // Exposed (display-linear) colour of a surface point: hemisphere ambient scaled by AO
 // (0..=3), Lambert sun, emission, times the exposure. The twin of lighting::shade.
 fn shade(albedo: vec3<f32>, n: vec3<f32>, ao: f32, emission: f32) -> vec3<f32> {

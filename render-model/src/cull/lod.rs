@@ -100,6 +100,15 @@ fn node_lo(p: &LodParams, coord: [i32; 3], level: u32) -> [f32; 3] {
     })
 }
 
+/// Distance from the anchor to node `coord` of `level`'s cube, blocks (0 inside): what the
+/// selection measures.
+pub fn node_distance(p: &LodParams, coord: [i32; 3], level: u32) -> f32 {
+    cube_distance(
+        node_lo(p, coord, level),
+        p.chunk_edge * (1u32 << level.min(31)) as f32,
+    )
+}
+
 /// True when node `coord` of `level` errs by more than the budget (its children are drawn).
 pub fn refines(p: &LodParams, coord: [i32; 3], level: u32) -> bool {
     if level == 0 {

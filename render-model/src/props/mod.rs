@@ -65,17 +65,26 @@
 //! ulps of a plane or of a pyramid texel's depth may be decided differently; parity tests
 //! keep their inputs a margin away from both.
 
+mod blend;
 mod cull;
+mod emission;
+mod mips;
 mod placement;
 mod records;
 mod registry;
 #[cfg(test)]
 mod tests;
 
+pub use blend::blend_order;
 pub use cull::{
     PropHiz, SlotCull, cull_props_reference, cull_slot, instance_sphere, sphere_in_frustum,
     sphere_visible_hiz,
 };
+pub use emission::{
+    EMISSION_BIAS, EMISSION_FLAG, EMISSION_MAX, EMISSION_MIN, decode_emission, encode_emission,
+    join_emission, split_emission,
+};
+pub use mips::{MipError, MipLevel, mip_chain, mip_level_count, mip_lod};
 pub use placement::{
     PlacementError, PropEye, PropPlacement, local_normal, local_point, relative_origin,
     relative_point,

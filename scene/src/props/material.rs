@@ -1,5 +1,5 @@
-//! Materials: the metallic-roughness factors, the base colour texture (decoded once per
-//! image), emissive (with `KHR_materials_emissive_strength`), alpha mode and cutoff,
+//! Materials: the metallic-roughness factors, the base colour and emissive textures (decoded
+//! once per image), emissive (with `KHR_materials_emissive_strength`), alpha mode and cutoff,
 //! double-sidedness. Every other texture slot is named in a warning.
 
 use std::borrow::Cow;
@@ -36,22 +36,21 @@ fn sampler(texture: &gltf::Texture<'_>) -> PropSampler {
         Some(MagFilter::Nearest) => Filter::Nearest,
         _ => Filter::Linear,
     };
-    let (min, mipmaps) = match s.min_filter() {
-        Some(MinFilter::Nearest) => (Filter::Nearest, false),
-        Some(MinFilter::Linear) => (Filter::Linear, false),
-        Some(MinFilter::NearestMipmapNearest | MinFilter::NearestMipmapLinear) => {
-            (Filter::Nearest, true)
-        }
-        Some(MinFilter::LinearMipmapNearest | MinFilter::LinearMipmapLinear) | None => {
-            (Filter::Linear, true)
-        }
+    let (n, l) = (Filter::Nearest, Filter::Linear);
+    let (min, mip) = match s.min_filter() {
+        Some(MinFilter::Nearest) => (n, None),
+        Some(MinFilter::Linear) => (l, None),
+        Some(MinFilter::NearestMipmapNearest) => (n, Some(n)),
+        Some(MinFilter::NearestMipmapLinear) => (n, Some(l)),
+        Some(MinFilter::LinearMipmapNearest) => (l, Some(n)),
+        Some(MinFilter::LinearMipmapLinear) | None => (l, Some(l)),
     };
     PropSampler {
         wrap_u: wrap(s.wrap_s()),
         wrap_v: wrap(s.wrap_t()),
         mag,
         min,
-        mipmaps,
+        mip,
     }
 }
 
@@ -72,7 +71,6 @@ pub(crate) fn load_materials(
         let ignored = [
             ("normalTexture", m.normal_texture().is_some()),
             ("occlusionTexture", m.occlusion_texture().is_some()),
-            ("emissiveTexture", m.emissive_texture().is_some()),
             (
                 "metallicRoughnessTexture",
                 pbr.metallic_roughness_texture().is_some(),
@@ -86,42 +84,24 @@ pub(crate) fn load_materials(
                 });
             }
         }
-        let mut base_colour_texture = None;
-        if let Some(info) = pbr.base_color_texture() {
-            if info.texture_transform().is_some() {
-                warnings.push(PropWarning::TextureTransform { material: index });
-            }
-            if info.tex_coord() != 0 {
-                warnings.push(PropWarning::TexCoordSet {
-                    material: index,
-                    set: info.tex_coord(),
-                });
-            } else {
-                let texture = info.texture();
-                let image = texture.source().index();
-                let slot = match by_image.get(&image) {
-                    Some(&slot) => slot,
-                    None => {
-                        let decoded = load_image(
-                            document,
-                            buffers,
-                            image,
-                            base,
-                            limits,
-                            &mut budget,
-                            external_total,
-                        )?;
-                        out.textures.push(decoded);
-                        by_image.insert(image, out.textures.len() - 1);
-                        out.textures.len() - 1
-                    }
-                };
-                base_colour_texture = Some(TextureRef {
-                    texture: slot,
-                    sampler: sampler(&texture),
-                });
-            }
-        }
+        let mut textures = Textures {
+            document,
+            buffers,
+            base,
+            limits,
+            budget: &mut budget,
+            external_total,
+            by_image: &mut by_image,
+            out: &mut out.textures,
+        };
+        let base_colour_texture = match pbr.base_color_texture() {
+            Some(info) => textures.reference(&info, index, warnings)?,
+            None => None,
+        };
+        let emissive_texture = match m.emissive_texture() {
+            Some(info) => textures.reference(&info, index, warnings)?,
+            None => None,
+        };
         let alpha_mode = match m.alpha_mode() {
             gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
             gltf::material::AlphaMode::Mask => AlphaMode::Mask {
@@ -141,6 +121,7 @@ pub(crate) fn load_materials(
             name: m.name().map(str::to_owned),
             base_colour: pbr.base_color_factor().map(clamp01),
             base_colour_texture,
+            emissive_texture,
             metallic: clamp01(pbr.metallic_factor()),
             roughness: clamp01(pbr.roughness_factor()),
             emissive: m.emissive_factor().map(clamp01),
@@ -150,4 +131,62 @@ pub(crate) fn load_materials(
         });
     }
     Ok(out)
+}
+
+/// What decoding a material's textures needs: each image is decoded once, by the first slot
+/// that uses it, within the pixel budget.
+struct Textures<'a, 'd> {
+    document: &'d Document,
+    buffers: &'a [Cow<'d, [u8]>],
+    base: Base<'a>,
+    limits: &'a PropLimits,
+    budget: &'a mut PixelBudget,
+    external_total: &'a mut u64,
+    by_image: &'a mut HashMap<usize, usize>,
+    out: &'a mut Vec<PropTexture>,
+}
+
+impl Textures<'_, '_> {
+    /// The texture `info` of material `material` names, decoded; `None` (with a warning) when
+    /// it reads a texture coordinate set other than 0.
+    fn reference(
+        &mut self,
+        info: &gltf::texture::Info<'_>,
+        material: usize,
+        warnings: &mut Vec<PropWarning>,
+    ) -> Result<Option<TextureRef>, PropError> {
+        if info.texture_transform().is_some() {
+            warnings.push(PropWarning::TextureTransform { material });
+        }
+        if info.tex_coord() != 0 {
+            warnings.push(PropWarning::TexCoordSet {
+                material,
+                set: info.tex_coord(),
+            });
+            return Ok(None);
+        }
+        let texture = info.texture();
+        let image = texture.source().index();
+        let slot = match self.by_image.get(&image) {
+            Some(&slot) => slot,
+            None => {
+                let decoded = load_image(
+                    self.document,
+                    self.buffers,
+                    image,
+                    self.base,
+                    self.limits,
+                    self.budget,
+                    self.external_total,
+                )?;
+                self.out.push(decoded);
+                self.by_image.insert(image, self.out.len() - 1);
+                self.out.len() - 1
+            }
+        };
+        Ok(Some(TextureRef {
+            texture: slot,
+            sampler: sampler(&texture),
+        }))
+    }
 }

@@ -12,9 +12,10 @@
 //!   and per model ([`PropModel::bounds`], over every placed instance).
 //! - **Materials.** Base colour factor and texture (decoded to sRGB RGBA8, PNG with `png`,
 //!   JPEG with `zune-jpeg`: see `texture`), its sampler, metallic and roughness factors,
-//!   emissive factor and `KHR_materials_emissive_strength`, alpha mode and cutoff,
-//!   double-sidedness. Factors outside `0..=1` (or a negative strength) are clamped, as a
-//!   renderer would. Each image is decoded once, and only images a base colour texture uses.
+//!   emissive factor and texture and `KHR_materials_emissive_strength`, alpha mode and
+//!   cutoff, double-sidedness. Factors outside `0..=1` (or a negative strength) are clamped,
+//!   as a renderer would. Each image is decoded once, and only images a base colour or
+//!   emissive texture uses.
 //! - **Placement.** The default scene (scene 0 without one, every root node without any
 //!   scene) flattened: one [`PropInstance`] per node with a mesh, its matrix the node
 //!   transforms (a matrix, or translation * rotation * scale) composed from the root down,

@@ -182,19 +182,21 @@ pub struct PropSampler {
     pub mag: Filter,
     /// Minification filter (within a mip level).
     pub min: Filter,
-    /// True when `minFilter` asks for mipmaps (or is absent, glTF's suggestion).
-    pub mipmaps: bool,
+    /// Between mip levels, when `minFilter` asks for mipmaps (`*_MIPMAP_NEAREST`: nearest,
+    /// `*_MIPMAP_LINEAR` or no `minFilter`, glTF's suggestion: linear); `None` reads level 0
+    /// only.
+    pub mip: Option<Filter>,
 }
 
 impl Default for PropSampler {
-    /// Repeat, bilinear, mipmapped: what a file without a sampler asks for.
+    /// Repeat, trilinear: what a file without a sampler asks for.
     fn default() -> Self {
         PropSampler {
             wrap_u: Wrap::Repeat,
             wrap_v: Wrap::Repeat,
             mag: Filter::Linear,
             min: Filter::Linear,
-            mipmaps: true,
+            mip: Some(Filter::Linear),
         }
     }
 }
@@ -225,7 +227,7 @@ pub struct PropTexture {
 }
 
 /// A metallic-roughness material (glTF 2.0's core material; textures other than the base
-/// colour are not loaded and are named in the warnings).
+/// colour and the emissive are not loaded and are named in the warnings).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PropMaterial {
     /// The material's name in the file.
@@ -238,8 +240,10 @@ pub struct PropMaterial {
     pub metallic: f32,
     /// Roughness, `0..=1`.
     pub roughness: f32,
-    /// Linear emissive factor.
+    /// Linear emissive factor (multiplies the emissive texture).
     pub emissive: [f32; 3],
+    /// The emissive texture, sRGB (its alpha unused).
+    pub emissive_texture: Option<TextureRef>,
     /// `KHR_materials_emissive_strength` (1 without it): multiplies `emissive`.
     pub emissive_strength: f32,
     /// How alpha is used.
@@ -258,6 +262,7 @@ impl Default for PropMaterial {
             metallic: 1.0,
             roughness: 1.0,
             emissive: [0.0; 3],
+            emissive_texture: None,
             emissive_strength: 1.0,
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,

@@ -57,8 +57,8 @@ pub enum PropWarning {
         /// How many.
         count: usize,
     },
-    /// A material texture other than the base colour texture (normal, occlusion, emissive,
-    /// metallic-roughness) is ignored.
+    /// A material texture other than the base colour and emissive textures (normal,
+    /// occlusion, metallic-roughness) is ignored.
     IgnoredTexture {
         /// Index of the material.
         material: usize,

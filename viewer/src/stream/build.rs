@@ -1,7 +1,7 @@
 //! Building nodes in the background: the terrain's padded neighbourhood of a node
 //! ([`Terrain::fill_node`]) with the edits of the [`SharedWorld`] over it, meshed ([`NodeMesher::mesh_padded`]), its hidden layers left out
-//! of the upload view, level-0 nodes with grass and flowers on their grass blocks
-//! ([`clutter`](super::clutter)); by the [`Builders`](super::builders::Builders) of a streamer, one
+//! of the upload view, level-0 nodes of the [`ClutterZone`] with grass and flowers on their
+//! grass blocks ([`clutter`](super::clutter)); by the [`Builders`](super::builders::Builders) of a streamer, one
 //! scratch mesher per worker thread.
 
 use std::cell::RefCell;
@@ -13,6 +13,7 @@ use voxel_core::formats::{DrawBlock, SmoothQuads};
 use voxel_core::{FaceDirection, MaterialClass, MaterialPalette, PaddedChunk};
 use voxel_scene::{NodeContent, Terrain, TerrainBlocks};
 
+use super::placement::ClutterZone;
 use super::selection::NodeKey;
 use super::settings::{Layers, MesherMode, StreamSettings};
 use crate::edits::SharedWorld;
@@ -45,8 +46,11 @@ pub(super) struct NodeSource {
     /// The palette's own classes, for the layer filter of far-draw blocks.
     classes: BlockClasses,
     settings: NodeSettings,
-    /// `settings` with clutter placed: level-0 nodes (the grass pass draws no other level).
+    /// `settings` with clutter placed: level-0 nodes of the zone (the grass pass draws no
+    /// other level).
     level0: NodeSettings,
+    /// The nodes built with clutter, set by the streamer as its plans change.
+    pub(super) zone: ClutterZone,
     /// The terrain's grass block (its clutter is dressed as meadow).
     grass: voxel_core::BlockId,
     layers: Layers,
@@ -102,6 +106,7 @@ impl NodeSource {
                 far_blocks,
                 geometry: settings.mesher.geometry(),
             },
+            zone: ClutterZone::default(),
             grass,
             layers: settings.layers,
         }
@@ -161,11 +166,11 @@ impl BuildNode for NodeSource {
                 });
             }
             let mut node = NodeMesh::default();
-            let settings = if key.level == 0 {
-                &self.level0
-            } else {
-                &self.settings
-            };
+            // Read once: the build records what it placed, and the streamer compares that
+            // with the zone when the node comes back.
+            let placed =
+                key.level == 0 && self.level0.mesh.clutter.is_some() && self.zone.contains(&key);
+            let settings = if placed { &self.level0 } else { &self.settings };
             mesher
                 .mesh_padded(
                     padded,
@@ -179,7 +184,7 @@ impl BuildNode for NodeSource {
             let mut clutter = node.layers().clutter_units.to_vec();
             super::clutter::dress(&mut clutter, self.grass);
             Ok(Built {
-                node: BuiltNode::new(node, clutter, self.layers, &self.classes),
+                node: BuiltNode::new(node, clutter, placed, self.layers, &self.classes),
                 version,
             })
         })
@@ -193,6 +198,8 @@ pub(super) struct BuiltNode {
     node: NodeMesh,
     /// The node's clutter, dressed ([`clutter::dress`](super::clutter::dress)).
     clutter: Vec<ClutterUnit>,
+    /// Whether clutter was placed (a node may have none to place: no grass on it).
+    placed: bool,
     layers: Layers,
     /// `(blocks, skirt blocks per side)` of the shown classes, when a class is hidden.
     filtered: Option<(Vec<DrawBlock>, [Vec<DrawBlock>; 6])>,
@@ -204,6 +211,7 @@ impl BuiltNode {
     fn new(
         node: NodeMesh,
         clutter: Vec<ClutterUnit>,
+        placed: bool,
         layers: Layers,
         classes: &BlockClasses,
     ) -> Option<BuiltNode> {
@@ -221,6 +229,7 @@ impl BuiltNode {
         let mut built = BuiltNode {
             node,
             clutter,
+            placed,
             layers,
             filtered,
             bytes: 0,
@@ -243,6 +252,11 @@ impl BuiltNode {
     /// Bytes the upload takes (every gigabuffer kind).
     pub(super) fn bytes(&self) -> u64 {
         self.bytes
+    }
+
+    /// The clutter units placed on the node, or `None` when it was built without clutter.
+    pub(super) fn clutter(&self) -> Option<u32> {
+        self.placed.then_some(self.clutter.len() as u32)
     }
 
     /// The upload view: the node's layers ([`NodeMesh::layers`]) less the hidden ones.

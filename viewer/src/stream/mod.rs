@@ -60,6 +60,16 @@
 //! back without meshing or uploading; the cache is the first to go when memory or the node
 //! table is short.
 //!
+//! # Clutter
+//!
+//! Grass and flowers are placed on the level-0 nodes of a plan that the grass pass can draw
+//! from an eye within the hysteresis of the plan's anchor, the fade's own rule
+//! (`render_model::grass::chunk_may_draw_grass`; `placement.rs`), and on no others: at an
+//! error budget of 1 px the level-0 ring reaches several times as far as the grass, so
+//! clutter on every level-0 node is almost all stored and never drawn. As the anchor moves,
+//! resident nodes are rebuilt with clutter as they come within the reach and without it as
+//! they leave (`streamer/clutter.rs` has why no plan draws a node that lacks its clutter).
+//!
 //! # Edits
 //!
 //! Nodes are built from a [`SharedWorld`](crate::edits::SharedWorld): the terrain with its
@@ -78,6 +88,7 @@ mod builders;
 mod builders_stress;
 mod clutter;
 mod memory;
+mod placement;
 mod plan;
 pub mod selection;
 pub mod settings;
@@ -90,7 +101,7 @@ use gpu_backend::render::RenderError;
 
 pub use memory::NodeMemory;
 pub use selection::NodeKey;
-pub use settings::{Layers, MesherMode, StreamSettings, UploadLimit};
+pub use settings::{ClutterPlacement, Layers, MesherMode, StreamSettings, UploadLimit};
 pub use streamer::{Invalidated, StreamCounters, Streamer};
 
 /// Where a streamer stands.
@@ -118,6 +129,10 @@ pub struct StreamStatus {
     pub cached_nodes: usize,
     /// Bytes of the cached nodes' data (counted in the view's node memory).
     pub cached_bytes: u64,
+    /// Resident nodes (the cache's left out) built with clutter.
+    pub clutter_nodes: usize,
+    /// Clutter units of those nodes.
+    pub clutter_units: u64,
     /// Nodes being built.
     pub in_flight: usize,
     /// Built nodes waiting for the upload limit.

@@ -8,7 +8,9 @@ use std::sync::Arc;
 use render_model::cull::{LodAnchor, LodParams};
 use voxel_core::ChunkCoord;
 
+use super::placement::clutter_keys;
 use super::selection::{Extent, NodeKey, Selection};
+use super::settings::ClutterPlacement;
 
 /// One anchor's selection and its differences (see the [module docs](self)).
 #[derive(Debug)]
@@ -24,16 +26,19 @@ pub(super) struct Plan {
     /// The replaced plan's nodes that neither this plan nor the committed one has: freed
     /// when this plan takes its place.
     pub abandoned: Vec<NodeKey>,
+    /// The selected level-0 nodes that get clutter (`stream/placement.rs`).
+    pub clutter: Arc<HashSet<NodeKey>>,
 }
 
 impl Plan {
     /// The plan of `params` within `extent`, against the `committed` plan and the `replaced`
-    /// one (the pending plan it supersedes).
+    /// one (the pending plan it supersedes), with clutter placed by `clutter` (`None`: off).
     pub(super) fn new(
         params: LodParams,
         extent: &Extent,
         committed: Option<&Plan>,
         replaced: Option<&Plan>,
+        clutter: Option<ClutterPlacement>,
     ) -> Plan {
         let Selection {
             keys,
@@ -58,12 +63,14 @@ impl Plan {
                 .copied()
                 .collect()
         });
+        let clutter = Arc::new(clutter_keys(&params, &keys, clutter));
         Plan {
             params,
             keys,
             load,
             leaving,
             abandoned,
+            clutter,
         }
     }
 
@@ -83,10 +90,17 @@ pub(super) fn spawn(
     extent: Extent,
     committed: Option<Arc<Plan>>,
     replaced: Option<Arc<Plan>>,
+    clutter: Option<ClutterPlacement>,
 ) -> std::sync::mpsc::Receiver<Plan> {
     let (sender, receiver) = std::sync::mpsc::channel();
     rayon::spawn(move || {
-        let plan = Plan::new(params, &extent, committed.as_deref(), replaced.as_deref());
+        let plan = Plan::new(
+            params,
+            &extent,
+            committed.as_deref(),
+            replaced.as_deref(),
+            clutter,
+        );
         // The streamer may have been dropped meanwhile: nothing to do then.
         let _ = sender.send(plan);
     });
@@ -113,11 +127,11 @@ mod tests {
             chunk_edge: 16.0,
             pad: 0,
         };
-        let first = Plan::new(at(0), &extent, None, None);
+        let first = Plan::new(at(0), &extent, None, None, None);
         assert!(first.leaving.is_empty() && first.abandoned.is_empty());
         assert_eq!(first.load.len(), first.keys.len());
-        let pending = Plan::new(at(4), &extent, Some(&first), None);
-        let next = Plan::new(at(8), &extent, Some(&first), Some(&pending));
+        let pending = Plan::new(at(4), &extent, Some(&first), None, None);
+        let next = Plan::new(at(8), &extent, Some(&first), Some(&pending), None);
         for k in &next.load {
             assert!(next.keys.contains(k) && !first.keys.contains(k));
         }

@@ -117,6 +117,19 @@ impl Default for Layers {
     }
 }
 
+/// Which level-0 nodes clutter is placed on ([`StreamSettings::clutter_placement`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ClutterPlacement {
+    /// Only the nodes the grass pass can draw from an eye within the hysteresis of the
+    /// plan's anchor (`render_model::grass::may_draw_grass`; `stream/placement.rs`): nodes are
+    /// rebuilt with clutter as they come near and without it as they leave.
+    #[default]
+    Near,
+    /// Every level-0 node, drawn or not: the grass drawn is the same, the memory is not;
+    /// what [`Near`](Self::Near) saves is measured against it.
+    Everywhere,
+}
+
 /// How much of the built nodes may be uploaded in one frame.
 ///
 /// An upload runs on the frame's thread: `Renderer::upload_chunk` allocates the node's
@@ -175,6 +188,8 @@ pub struct StreamSettings {
     /// Grass and flowers on the clutter-bearing blocks of level-0 nodes, drawn by the grass
     /// pass (`--clutter on|off`).
     pub clutter: bool,
+    /// Which level-0 nodes get clutter when `clutter` is on.
+    pub clutter_placement: ClutterPlacement,
     /// Sun shadows and sky visibility (`--shadows on|off`; off: the lighting without them).
     pub shadows: render_model::lighting::shadow::ShadowSettings,
     /// Nodes whose cells span at most this many pixels are far-drawn.
@@ -213,6 +228,7 @@ impl Default for StreamSettings {
             opaque: OpaquePath::Raster,
             budget_px: 1.0,
             clutter: true,
+            clutter_placement: ClutterPlacement::Near,
             shadows: render_model::lighting::shadow::ShadowSettings::OFF,
             // The benchmark's choice on the H100 (BENCHMARKS.md): 2 px far cells.
             far_cell_px: 2.0,

@@ -2,6 +2,7 @@
 //! the wanted plans select (see the [module docs](super) for the protocol).
 
 mod cache;
+mod clutter;
 mod edits;
 
 pub use edits::Invalidated;
@@ -69,6 +70,9 @@ pub struct StreamCounters {
     pub cache_hits: u64,
     /// Nodes evicted from that cache.
     pub evicted: u64,
+    /// Resident nodes rebuilt and swapped in to gain or drop their clutter as the grass
+    /// reach moved (`streamer/clutter.rs`; also counted in `rebuilt`).
+    pub clutter_swaps: u64,
 }
 
 /// One renderer streaming the terrain around the camera (see the [module docs](super)).
@@ -96,6 +100,10 @@ pub struct Streamer {
     rebuilding: HashSet<NodeKey>,
     /// Nodes the plans dropped, kept resident for a return (`streamer/cache.rs`).
     cache: cache::NodeCache,
+    /// Resident nodes built with clutter and their units (`streamer/clutter.rs`).
+    clutter: HashMap<NodeKey, u32>,
+    /// The units of `clutter`, summed.
+    clutter_units: u64,
     finished: Receiver<Finished>,
     uploads: VecDeque<(NodeKey, BuiltNode)>,
     to_free: VecDeque<NodeKey>,
@@ -183,6 +191,8 @@ impl Streamer {
             dirty_since: HashMap::new(),
             rebuilding: HashSet::new(),
             cache: cache::NodeCache::default(),
+            clutter: HashMap::new(),
+            clutter_units: 0,
             entries: HashMap::new(),
             resident: (0, 0),
             committed: None,
@@ -305,6 +315,8 @@ impl Streamer {
             memory_note: self.memory_note.clone(),
             cached_nodes: self.cached().0,
             cached_bytes: self.cached().1,
+            clutter_nodes: self.clutter.len(),
+            clutter_units: self.clutter_units,
             in_flight: self.in_flight,
             queued_uploads: self.uploads.len(),
             freeing: self.to_free.len(),
@@ -371,6 +383,7 @@ impl Streamer {
 
     /// Forgets `key`, keeping the resident totals; returns its entry.
     fn remove_entry(&mut self, key: &NodeKey) -> Option<Entry> {
+        self.set_clutter(*key, None);
         self.read_at.remove(key);
         self.dirty_since.remove(key);
         let old = self.entries.remove(key);
@@ -425,6 +438,8 @@ impl Streamer {
             plan: Arc::clone(&plan),
             pending: 0,
         });
+        // Before anything is queued: the builds of this plan's nodes place by its zone.
+        self.sync_clutter_zone();
         // Queued nodes of the replaced plan that no worker started: forgotten (those this
         // plan wants are queued again below, in its order). Every queued key is `Loading`
         // and counted in `in_flight` (queued once, when it had no entry).
@@ -476,6 +491,7 @@ impl Streamer {
         if let Some(wanted) = &mut self.wanted {
             wanted.pending = pending;
         }
+        self.queue_clutter_gains();
         Ok(())
     }
 
@@ -545,8 +561,8 @@ impl Streamer {
                 self.remove_entry(&key);
                 continue;
             }
-            if self.is_stale(&key) {
-                // Read the world before an edit: built again.
+            if self.is_stale(&key) || built.clutter().is_some() != self.wants_clutter(&key) {
+                // Read the world before an edit, or built for a zone that moved: built again.
                 self.uploads.pop_front();
                 self.builders.release(1);
                 self.set_entry(key, Entry::Loading);
@@ -580,8 +596,10 @@ impl Streamer {
             };
             match self.renderer.upload_chunk(&data) {
                 Ok(handle) => {
+                    let clutter = built.clutter();
                     self.uploads.pop_front();
                     self.builders.release(1);
+                    self.set_clutter(key, clutter);
                     bytes += size;
                     self.counters.uploaded += 1;
                     self.counters.uploaded_bytes += size;
@@ -686,11 +704,16 @@ impl Streamer {
         if self.planning.is_some() || self.wanted.as_ref().is_none_or(|w| w.pending > 0) {
             return Ok(());
         }
-        // Nodes the plan selects that hold data read before an edit: rebuilt now, so the
-        // plan never shows a stale node.
+        // The workers are still placing the plan's clutter: waited for, not done here.
+        if self.gaining_clutter() {
+            return Ok(());
+        }
+        // Nodes the plan selects that hold data read before an edit, or that lack the
+        // clutter it places: rebuilt now, so the plan never shows a stale node or bare
+        // ground where grass is drawn.
         if let Some(wanted) = &self.wanted {
             let plan = Arc::clone(&wanted.plan);
-            self.refresh_now(|key| plan.keys.contains(key))?;
+            self.refresh_now(|key| plan.keys.contains(key), plan.clutter.iter().copied())?;
         }
         let Some(wanted) = self.wanted.take() else {
             return Ok(());
@@ -703,6 +726,8 @@ impl Streamer {
         self.renderer.set_lod_anchor(plan.anchor());
         self.committed = Some(plan);
         self.counters.commits += 1;
+        self.sync_clutter_zone();
+        self.queue_clutter_drops();
         Ok(())
     }
 
@@ -747,11 +772,16 @@ impl Streamer {
             chunk_edge: self.settings.chunk.edge() as f32,
             pad: 0,
         };
+        let clutter = self
+            .settings
+            .clutter
+            .then_some(self.settings.clutter_placement);
         self.planning = Some(plan::spawn(
             params,
             self.extent,
             self.committed.clone(),
             self.wanted.as_ref().map(|w| Arc::clone(&w.plan)),
+            clutter,
         ));
     }
 }

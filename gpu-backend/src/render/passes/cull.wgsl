@@ -336,6 +336,12 @@ fn cull_slot(slot: u32) -> SlotCull {
     let e = meshed_chunk_info_extent(info) * scale;
     if !in_frustum(out.centre, e) {
         out.frustum_culled = true;
+        // Out of the frustum is not visible: the late phase clears the bit, so no bit outlives
+        // the view that set it (or the node that held the slot before) and the passes that
+        // read it (grass, shells) see this frame's visibility only.
+        if occlusion && u.phase == 1u {
+            atomicAnd(&visible[slot >> 5u], ~(1u << (slot & 31u)));
+        }
         return out;
     }
     if !occlusion_draws(slot, out.centre, e, &out) {

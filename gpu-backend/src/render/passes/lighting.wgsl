@@ -74,10 +74,19 @@ fn lit_pixel(p: vec2<u32>) -> vec3<f32> {
         let albedo_ao = textureLoad(gbuffer_albedo, texel, 0);
         let normal_material = textureLoad(gbuffer_normal, texel, 0);
         let n = oct32_decode(normal_material.x);
-        // The G-buffer's albedo (a prop's texel, or the palette's), the material's lobe.
-        var m = surface_material(material_of(normal_material.y));
+        // The G-buffer's albedo (a prop's texel, or the palette's), the material's lobe. A
+        // material word with bit 31 set is an emissive prop's (render_model::props::emission):
+        // its alpha is the emission word's low byte and its AO full.
+        let y = normal_material.y;
+        let glows = (y >> 31u) != 0u;
+        var m = surface_material(material_of(y & 0xffffu));
         m.albedo = srgb_to_linear(albedo_ao.rgb);
-        surface = shade_surface_visible(m, n, albedo_ao.a * 3.0, view_dir, seen_light(at));
+        let ao = select(albedo_ao.a * 3.0, 3.0, glows);
+        surface = shade_surface_visible(m, n, ao, view_dir, seen_light(at));
+        if glows {
+            let w = ((y >> 16u) << 8u) | u32(round(albedo_ao.a * 255.0));
+            surface += prop_emission_decode(w) * frame.lighting.exposure;
+        }
     }
     let ray = pixel_ray(p);
     var colour: vec3<f32>;

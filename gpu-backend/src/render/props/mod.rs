@@ -15,9 +15,16 @@
 //!
 //! **Materials.** The G-buffer's albedo holds sRGB colour bytes, not a palette index, so props
 //! write `linear_to_srgb(base colour factor * texel)` there (8-bit rounding: the image tests
-//! allow for it), AO full and material id 0 (no palette emission: the glTF emissive term is
-//! not drawn). OPAQUE draws every fragment, MASK discards below the cutoff, BLEND is drawn
-//! into the G-buffer as a mask at 0.5 (no sorted blending of props).
+//! allow for it), AO full and material id 0. The emissive colour (`emissiveFactor *
+//! emissiveTexture * strength`, linear) goes in the bits the voxels leave free
+//! ([`render_model::props::encode_emission`]: the albedo's alpha and the material word's upper
+//! half), and the lighting pass adds it, exposed, to the shaded colour, as the voxels' palette
+//! emission is added; a material brighter than the word holds is refused by name. OPAQUE
+//! draws every fragment and MASK discards below the cutoff, into the G-buffer; BLEND is not
+//! drawn there but after the lighting and the voxels' transparent layer, lit forward with the
+//! same model (no shadows), premultiplied over the lit colour, depth-tested and not writing
+//! depth, batches back to front ([`render_model::props::blend_order`] states the order and
+//! its limits).
 //!
 //! Nothing is created while no model is added: the pipelines and buffers come with the first.
 
@@ -34,8 +41,7 @@ use render_model::props::{
 use voxel_scene::props::PropModel;
 
 use crate::device::alloc::{AllocError, create_buffer};
-pub use store::PropMaterialUniform;
-use store::StoredModel;
+pub use store::{PropMaterialUniform, StoredDraw, StoredModel};
 
 /// A model added with [`GpuProps::add_model`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -65,6 +71,16 @@ pub enum PropError {
     Placement(PlacementError),
     /// The device refused a buffer or texture.
     Alloc(AllocError),
+    /// A texture's pixels do not match its size.
+    Texture(render_model::props::MipError),
+    /// A material's emissive colour (factor times strength) is not finite or brighter than
+    /// the G-buffer's emission holds (`render_model::props::EMISSION_MAX`).
+    Emission {
+        /// Index of the material in the model (`None`: glTF's default material).
+        material: Option<usize>,
+        /// Its emissive colour.
+        emissive: [f32; 3],
+    },
 }
 
 impl fmt::Display for PropError {
@@ -79,6 +95,13 @@ impl fmt::Display for PropError {
             PropError::Registry(e) => write!(f, "prop registry: {e:?}"),
             PropError::Placement(e) => write!(f, "prop placement: {e:?}"),
             PropError::Alloc(e) => write!(f, "prop store: {e}"),
+            PropError::Texture(e) => write!(f, "prop texture: {e}"),
+            PropError::Emission { material, emissive } => write!(
+                f,
+                "prop material {material:?}: emissive colour {emissive:?} (factor times \
+                 strength) is not a finite colour of at most {} per channel",
+                render_model::props::EMISSION_MAX
+            ),
         }
     }
 }
@@ -154,7 +177,8 @@ impl fmt::Debug for GpuProps {
     }
 }
 
-/// Group 2 of the prop draw: the material uniform, its texture and sampler.
+/// Group 2 of the prop draw: the material uniform, the base colour texture and sampler, the
+/// emissive texture and sampler.
 pub fn material_layout(device: &Device) -> wgpu::BindGroupLayout {
     use wgpu::{BindGroupLayoutEntry, BindingType, ShaderStages};
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -182,6 +206,22 @@ pub fn material_layout(device: &Device) -> wgpu::BindGroupLayout {
             },
             BindGroupLayoutEntry {
                 binding: 2,
+                visibility: ShaderStages::FRAGMENT,
+                ty: BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                count: None,
+            },
+            BindGroupLayoutEntry {
+                binding: 3,
+                visibility: ShaderStages::FRAGMENT,
+                ty: BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            },
+            BindGroupLayoutEntry {
+                binding: 4,
                 visibility: ShaderStages::FRAGMENT,
                 ty: BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                 count: None,
@@ -384,11 +424,16 @@ impl GpuProps {
     }
 
     /// The draw of material index `material` (a batch record's `material`).
-    pub fn batch_draw(&self, material: u32) -> Option<(&StoredModel, &wgpu::BindGroup, bool)> {
+    pub fn batch_draw(&self, material: u32) -> Option<(&StoredModel, &StoredDraw)> {
         let d = self.materials.get(material as usize)?;
         let model = self.models.get(d.model as usize)?;
         let draw = model.draws.get(d.draw as usize)?;
-        Some((model, &draw.group, draw.double_sided))
+        Some((model, draw))
+    }
+
+    /// True when material index `material` is glTF `BLEND` (drawn by the blended pass).
+    pub fn is_blended(&self, material: u32) -> bool {
+        self.batch_draw(material).is_some_and(|(_, d)| d.blend)
     }
 
     /// The material layout (group 2 of the prop draw), once a model exists.

@@ -1,12 +1,16 @@
 //! A prop model's GPU resources: its vertex and index buffers (every primitive of the model in
-//! one of each) and its base colour textures (`Rgba8UnormSrgb`, one mip: sampled in linear
-//! space as the CPU reference samples them), each draw's material uniform and bind group.
+//! one of each) and its base colour and emissive textures (`Rgba8UnormSrgb`, sampled in
+//! linear space as the CPU reference samples them, with every mip level, made on the CPU by
+//! [`render_model::props::mip_chain`], whose docs say why), each draw's material uniform and
+//! bind group.
 
 use wgpu::{Buffer, BufferUsages, Device, Queue};
 
-use voxel_scene::props::{AlphaMode, Filter, PropModel, PropSampler, Wrap};
+use render_model::props::{EMISSION_MAX, mip_chain, mip_level_count};
+use voxel_scene::props::{AlphaMode, Filter, PropModel, PropSampler, TextureRef, Wrap};
 
-use crate::device::alloc::{AllocError, create_buffer_init, create_texture};
+use super::PropError;
+use crate::device::alloc::{create_buffer_init, create_texture};
 
 /// The material uniform of one draw (`PropMaterial` in `props.wgsl`).
 #[repr(C)]
@@ -14,15 +18,22 @@ use crate::device::alloc::{AllocError, create_buffer_init, create_texture};
 pub struct PropMaterialUniform {
     /// Base colour factor, linear RGBA.
     pub base_colour: [f32; 4],
+    /// Emissive colour (factor times strength), linear RGB; `w` 0.
+    pub emissive: [f32; 4],
     /// Fragments with alpha below this are discarded (the MASK cutoff; 0 for OPAQUE).
     pub cutoff: f32,
     /// 1 when the base colour texture is bound.
     pub textured: u32,
     /// 1 when back faces are drawn too.
     pub double_sided: u32,
-    /// Padding to 32 bytes.
-    pub pad: u32,
+    /// 1 when the emissive texture is bound.
+    pub emissive_textured: u32,
 }
+
+const _: () = assert!(
+    size_of::<PropMaterialUniform>() == 48,
+    "PropMaterial is 48 bytes"
+);
 
 /// One primitive of a placed mesh: where its indices are in the model's buffers, its
 /// material's draw state.
@@ -47,6 +58,8 @@ pub struct StoredDraw {
     pub group: wgpu::BindGroup,
     /// Back faces drawn.
     pub double_sided: bool,
+    /// glTF `BLEND`: drawn blended after the lighting, not into the G-buffer.
+    pub blend: bool,
 }
 
 /// A model on the GPU.
@@ -79,26 +92,34 @@ fn filter(f: Filter) -> wgpu::FilterMode {
     }
 }
 
-/// The sampler of `s`, without mipmaps (the textures have one level).
+/// The sampler of `s`: between mip levels by its mipmap filter, or level 0 only.
 fn sampler(device: &Device, s: &PropSampler) -> wgpu::Sampler {
+    let (mipmap_filter, lod_max_clamp) = match s.mip {
+        Some(Filter::Nearest) => (wgpu::MipmapFilterMode::Nearest, 32.0),
+        Some(Filter::Linear) => (wgpu::MipmapFilterMode::Linear, 32.0),
+        None => (wgpu::MipmapFilterMode::Nearest, 0.0),
+    };
     device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some("prop sampler"),
         address_mode_u: address(s.wrap_u),
         address_mode_v: address(s.wrap_v),
         mag_filter: filter(s.mag),
         min_filter: filter(s.min),
+        mipmap_filter,
+        lod_max_clamp,
         ..Default::default()
     })
 }
 
-/// An sRGB texture of `rgba` (`width x height`), one mip.
+/// An sRGB texture of `rgba` (`width x height`) with its mip levels.
 fn texture(
     device: &Device,
     queue: &Queue,
     width: u32,
     height: u32,
     rgba: &[u8],
-) -> Result<wgpu::TextureView, AllocError> {
+) -> Result<wgpu::TextureView, PropError> {
+    let chain = mip_chain(width, height, rgba).map_err(PropError::Texture)?;
     let size = wgpu::Extent3d {
         width,
         height,
@@ -107,9 +128,9 @@ fn texture(
     let texture = create_texture(
         device,
         &wgpu::TextureDescriptor {
-            label: Some("prop base colour"),
+            label: Some("prop texture"),
             size,
-            mip_level_count: 1,
+            mip_level_count: mip_level_count(width, height),
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: wgpu::TextureFormat::Rgba8UnormSrgb,
@@ -117,16 +138,29 @@ fn texture(
             view_formats: &[],
         },
     )?;
-    queue.write_texture(
-        texture.as_image_copy(),
-        rgba,
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(4 * width),
-            rows_per_image: Some(height),
-        },
-        size,
-    );
+    let levels = std::iter::once((width, height, rgba))
+        .chain(chain.iter().map(|l| (l.width, l.height, l.rgba.as_slice())));
+    for (level, (w, h, bytes)) in levels.enumerate() {
+        queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &texture,
+                mip_level: level as u32,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            bytes,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(4 * w),
+                rows_per_image: Some(h),
+            },
+            wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
     Ok(texture.create_view(&Default::default()))
 }
 
@@ -137,7 +171,7 @@ impl StoredModel {
         queue: &Queue,
         layout: &wgpu::BindGroupLayout,
         model: &PropModel,
-    ) -> Result<StoredModel, AllocError> {
+    ) -> Result<StoredModel, PropError> {
         let mut vertices = Vec::new();
         let mut indices = Vec::new();
         let mut draws = Vec::new();
@@ -147,29 +181,38 @@ impl StoredModel {
             let mut prims = Vec::new();
             for prim in &mesh.primitives {
                 let material = model.material_of(prim);
+                let emissive = material.emissive.map(|c| c * material.emissive_strength);
+                if !emissive.iter().all(|c| (0.0..=EMISSION_MAX).contains(c)) {
+                    return Err(PropError::Emission {
+                        material: prim.material,
+                        emissive,
+                    });
+                }
                 let uniform = PropMaterialUniform {
                     base_colour: material.base_colour,
+                    emissive: [emissive[0], emissive[1], emissive[2], 0.0],
                     cutoff: match material.alpha_mode {
                         AlphaMode::Mask { cutoff } => cutoff,
-                        // BLEND is drawn into the G-buffer as a mask at one half (see the
-                        // module docs of `render::props`).
-                        AlphaMode::Blend => 0.5,
-                        AlphaMode::Opaque => f32::NEG_INFINITY,
+                        // BLEND keeps every fragment: its alpha blends it.
+                        AlphaMode::Blend | AlphaMode::Opaque => f32::NEG_INFINITY,
                     },
                     textured: u32::from(material.base_colour_texture.is_some()),
                     double_sided: u32::from(material.double_sided),
-                    pad: 0,
+                    emissive_textured: u32::from(material.emissive_texture.is_some()),
                 };
-                let (view, samp) = match &material.base_colour_texture {
-                    Some(t) => match model.textures.get(t.texture) {
-                        Some(tex) => (
-                            texture(device, queue, tex.width, tex.height, &tex.rgba)?,
-                            sampler(device, &t.sampler),
-                        ),
-                        None => (white.clone(), sampler(device, &PropSampler::default())),
-                    },
-                    None => (white.clone(), sampler(device, &PropSampler::default())),
+                let bound = |t: &Option<TextureRef>| -> Result<_, PropError> {
+                    Ok(
+                        match t.and_then(|t| model.textures.get(t.texture).map(|x| (t, x))) {
+                            Some((t, tex)) => (
+                                texture(device, queue, tex.width, tex.height, &tex.rgba)?,
+                                sampler(device, &t.sampler),
+                            ),
+                            None => (white.clone(), sampler(device, &PropSampler::default())),
+                        },
+                    )
                 };
+                let (view, samp) = bound(&material.base_colour_texture)?;
+                let (emissive_view, emissive_samp) = bound(&material.emissive_texture)?;
                 let buffer = create_buffer_init(
                     device,
                     &wgpu::util::BufferInitDescriptor {
@@ -194,11 +237,20 @@ impl StoredModel {
                             binding: 2,
                             resource: wgpu::BindingResource::Sampler(&samp),
                         },
+                        wgpu::BindGroupEntry {
+                            binding: 3,
+                            resource: wgpu::BindingResource::TextureView(&emissive_view),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 4,
+                            resource: wgpu::BindingResource::Sampler(&emissive_samp),
+                        },
                     ],
                 });
                 draws.push(StoredDraw {
                     group,
                     double_sided: material.double_sided,
+                    blend: material.alpha_mode == AlphaMode::Blend,
                 });
                 prims.push(StoredPrimitive {
                     first_index: indices.len() as u32,

@@ -238,7 +238,7 @@ impl Renderer {
     ///          [─► depth pyramid ─► the same four, late, for the rest]  occlusion only
     ///          [─► grass (cull and draw)]                               with clutter
     ///          ─► cull transparent (back to front) [─► shadow grid ─► shadow trace]
-    ///          ─► lighting ─► transparent ─► tonemap                    (shadows: with them on)
+    ///          ─► lighting ─► transparent ─► blended props ─► tonemap   (shadows: with them on)
     ///          [─► antialias]                                           when configured
     /// ```
     ///
@@ -409,6 +409,12 @@ impl Renderer {
         passes
             .transparent
             .record(&ctx, &mut rec, culls.transparent_commands(), far);
+        // Blended props over the lit colour and the transparent layer, back to front
+        // (`render_model::props::blend_order`).
+        if let (Some(_), Some(prop)) = (prop_uniforms, &self.prop_passes) {
+            let eye = render_model::props::PropEye::of(&self.view.camera);
+            prop.draw.record_blend(&ctx, &mut rec, &self.props, &eye);
+        }
         passes.tonemap.record(&ctx, &mut rec, antialias);
         if antialias {
             passes.antialias.record(&ctx, &mut rec);

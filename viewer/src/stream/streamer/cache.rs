@@ -16,6 +16,11 @@
 //! cache goes first, again until the upload fits or the cache is empty
 //! (`Streamer::free_unneeded`), before the budget is raised: the view's own detail never
 //! gives way to it. A node an edit dirties is dropped from the cache (its data is stale).
+//!
+//! # Clutter
+//!
+//! A cached node keeps the clutter it was built with, and takes it back with it; a plan that
+//! places clutter on it otherwise rebuilds it before it is drawn (`streamer/clutter.rs`).
 
 use std::collections::{BTreeMap, HashMap};
 
@@ -25,11 +30,13 @@ use super::{Entry, Streamer};
 use crate::stream::StreamError;
 use crate::stream::selection::NodeKey;
 
-/// One cached node: its GPU data (`None`: it draws nothing) and the world version it read.
+/// One cached node: its GPU data (`None`: it draws nothing), the world version it read and
+/// its clutter units (`None`: built without clutter).
 #[derive(Clone, Copy, Debug)]
 struct Cached {
     handle: Option<(ChunkHandle, u64)>,
     read_at: u64,
+    clutter: Option<u32>,
     stamp: u64,
 }
 
@@ -54,7 +61,13 @@ impl NodeCache {
         self.bytes
     }
 
-    fn insert(&mut self, key: NodeKey, handle: Option<(ChunkHandle, u64)>, read_at: u64) {
+    fn insert(
+        &mut self,
+        key: NodeKey,
+        handle: Option<(ChunkHandle, u64)>,
+        read_at: u64,
+        clutter: Option<u32>,
+    ) {
         let stamp = self.next;
         self.next += 1;
         self.bytes += handle.map_or(0, |(_, b)| b);
@@ -63,6 +76,7 @@ impl NodeCache {
             Cached {
                 handle,
                 read_at,
+                clutter,
                 stamp,
             },
         ) {
@@ -96,8 +110,9 @@ impl Streamer {
             return Ok(false);
         };
         let read_at = self.read_at.get(&key).copied().unwrap_or(0);
+        let clutter = self.clutter_of(&key);
         self.remove_entry(&key);
-        self.cache.insert(key, handle, read_at);
+        self.cache.insert(key, handle, read_at, clutter);
         while self.cache.len() > self.settings.cache_nodes as usize {
             let Some(oldest) = self.cache.oldest() else {
                 break;
@@ -114,6 +129,7 @@ impl Streamer {
         };
         self.set_entry(key, Entry::Resident(cached.handle));
         self.read_at.insert(key, cached.read_at);
+        self.set_clutter(key, cached.clutter);
         self.counters.cache_hits += 1;
         true
     }

@@ -85,10 +85,12 @@ impl Streamer {
         }
         let committed = self.committed.clone();
         let started = std::time::Instant::now();
-        done.swapped =
-            self.refresh_now(|key| committed.as_ref().is_some_and(|c| c.keys.contains(key)))?;
+        done.swapped = self.refresh_now(
+            |key| committed.as_ref().is_some_and(|c| c.keys.contains(key)),
+            std::iter::empty(),
+        )?;
         done.rebuild = started.elapsed();
-        self.queue_rebuilds(later.clone());
+        self.queue_rebuilds(later.clone(), true);
         done.queued = later.len();
         Ok(done)
     }
@@ -101,22 +103,22 @@ impl Streamer {
             .is_some_and(|&d| self.read_at.get(key).is_none_or(|&r| r < d))
     }
 
-    /// Rebuilds now (rayon) and swaps in every resident stale node `select` picks; returns
-    /// how many.
+    /// Rebuilds now (rayon) and swaps in every resident node `select` picks that is stale,
+    /// or, among `clutter`, lacks the clutter its zone places (`streamer/clutter.rs`);
+    /// returns how many.
     pub(super) fn refresh_now(
         &mut self,
         select: impl Fn(&NodeKey) -> bool,
+        clutter: impl Iterator<Item = NodeKey>,
     ) -> Result<usize, StreamError> {
-        let now: Vec<NodeKey> = self
+        let resident = |k: &NodeKey| matches!(self.entries.get(k), Some(Entry::Resident(_)));
+        let mut now: Vec<NodeKey> = self
             .dirty_since
             .keys()
-            .filter(|k| {
-                select(k)
-                    && self.is_stale(k)
-                    && matches!(self.entries.get(k), Some(Entry::Resident(_)))
-            })
+            .filter(|k| select(k) && self.is_stale(k) && resident(k))
             .copied()
             .collect();
+        now.extend(clutter.filter(|k| select(k) && !self.is_stale(k) && self.lacks_clutter(k)));
         let source = &self.source;
         let built: Vec<(NodeKey, Result<Built, String>)> = now
             .par_iter()
@@ -130,8 +132,8 @@ impl Streamer {
     }
 
     /// Hands resident nodes to the workers to rebuild, nearest to the camera first, ahead
-    /// of the streaming queue.
-    fn queue_rebuilds(&mut self, mut keys: Vec<NodeKey>) {
+    /// of the streaming queue when `front` (else after it).
+    pub(super) fn queue_rebuilds(&mut self, mut keys: Vec<NodeKey>, front: bool) {
         if keys.is_empty() {
             return;
         }
@@ -154,19 +156,27 @@ impl Streamer {
             self.rebuilding.insert(key);
         }
         self.in_flight += keys.len();
-        self.builders.queue_front(&keys);
+        if front {
+            self.builders.queue_front(&keys);
+        } else {
+            self.builders.queue(keys);
+        }
     }
 
     /// A stale resident node (an empty one just marked, or a rebuild that came back before
-    /// the last edit) goes back to the workers while a plan selects it.
+    /// the last edit), or one whose clutter disagrees with its zone, goes back to the
+    /// workers while a plan selects it.
     pub(super) fn rebuild_if_stale(&mut self, key: NodeKey) {
-        if self.needed(&key) && self.is_stale(&key) && !self.rebuilding.contains(&key) {
-            self.queue_rebuilds(vec![key]);
+        let wrong = self.is_stale(&key) || self.clutter_wrong(&key);
+        if self.needed(&key) && wrong && !self.rebuilding.contains(&key) {
+            self.queue_rebuilds(vec![key], true);
         }
     }
 
     /// A worker's rebuild of resident node `key` came back: swapped in when newer than the
-    /// resident data, built again while still stale, or freed when no plan wants the node.
+    /// resident data, or as new and with the clutter its zone places where the resident data
+    /// is not; built again while still stale or with the wrong clutter; freed when no plan
+    /// wants the node.
     pub(super) fn rebuilt(
         &mut self,
         key: NodeKey,
@@ -176,8 +186,16 @@ impl Streamer {
         if !self.needed(&key) {
             return self.free(key);
         }
-        let newer = self.read_at.get(&key).is_none_or(|&r| built.version > r);
-        if newer {
+        let read = self.read_at.get(&key).copied();
+        let newer = read.is_none_or(|r| built.version > r);
+        let wants = self.wants_clutter(&key);
+        let fixes_clutter = read == Some(built.version)
+            && built
+                .node
+                .as_ref()
+                .is_some_and(|n| n.clutter().is_some() == wants)
+            && self.clutter_wrong(&key);
+        if newer || fixes_clutter {
             self.swap(key, built.node, built.version)?;
         }
         self.rebuild_if_stale(key);
@@ -202,6 +220,10 @@ impl Streamer {
             return Ok(());
         };
         let old_bytes = old.map_or(0, |(_, b)| b);
+        let old_clutter = self.clutter.contains_key(&key);
+        // The same world version: the rebuild changed only the clutter.
+        let same_data = self.read_at.get(&key) == Some(&version);
+        let clutter = built.as_ref().and_then(|b| b.clutter());
         // The old data goes in this same step: its bytes count for the new.
         self.memory.give_back(old_bytes);
         let new = match built {
@@ -248,6 +270,10 @@ impl Streamer {
                 .map_err(StreamError::Renderer)?;
         }
         self.set_entry(key, Entry::Resident(new));
+        self.set_clutter(key, clutter);
+        if same_data && old_clutter != clutter.is_some() {
+            self.counters.clutter_swaps += 1;
+        }
         self.read_at.insert(key, version);
         if !self.is_stale(&key) {
             self.dirty_since.remove(&key);
