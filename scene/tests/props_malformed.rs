@@ -577,3 +577,45 @@ fn a_position_accessor_past_the_end_is_refused_not_a_panic() {
     d.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = json!(99);
     refused(load(&d.bytes()), &["invalid glTF", "accessor 99"]);
 }
+
+#[test]
+fn material_factors_outside_their_range_are_refused_by_name() {
+    let cases: [(&str, serde_json::Value, &str); 5] = [
+        (
+            "pbrMetallicRoughness",
+            json!({ "baseColorFactor": [1.5, 0.5, 0.5, 1.0] }),
+            "baseColorFactor[0]",
+        ),
+        (
+            "pbrMetallicRoughness",
+            json!({ "roughnessFactor": -0.25 }),
+            "roughnessFactor",
+        ),
+        (
+            "emissiveFactor",
+            json!([0.0, 2.0, 0.0]),
+            "emissiveFactor[1]",
+        ),
+        ("alphaCutoff", json!(-1.0), "alphaCutoff"),
+        (
+            "extensions",
+            json!({ "KHR_materials_emissive_strength": { "emissiveStrength": -3.0 } }),
+            "emissiveStrength",
+        ),
+    ];
+    for (key, value, factor) in cases {
+        let Some(mut d) = duck() else { return };
+        d.json["materials"][0][key] = value;
+        if key == "alphaCutoff" {
+            d.json["materials"][0]["alphaMode"] = json!("MASK");
+        }
+        if key == "extensions" {
+            d.json["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
+        }
+        let err = refused(load(&d.bytes()), &["material 0", factor]);
+        assert!(
+            matches!(err, PropError::BadMaterialFactor { material: 0, .. }),
+            "{factor}: {err:?}"
+        );
+    }
+}

@@ -133,3 +133,22 @@ fn a_small_cache_evicts_the_oldest_and_an_edit_drops_what_it_dirties() {
     );
     assert!(view.streamer().status().cached_nodes < cached_before);
 }
+
+/// With a single level the renderer draws every resident node, so the plan's dropped nodes
+/// are freed, not cached (a cached node there would be drawn outside the streamed radius).
+#[test]
+fn a_single_level_view_caches_nothing() {
+    let Some(ctx) = context() else { return };
+    let small = StreamSettings {
+        radius: 32,
+        ..settings(8192)
+    };
+    assert_eq!(small.top_level(), 0);
+    let mut view = StreamedView::new(&ctx, &small, SIZE.0, SIZE.1).unwrap();
+    load(&mut view, &camera_at(0), LOAD, |_| {}).unwrap();
+    let first = view.streamer().status().resident_nodes;
+    load(&mut view, &camera_at(320), LOAD, |_| {}).unwrap();
+    let status = view.streamer().status();
+    assert!(first > 0 && status.resident_nodes > 0, "{status:?}");
+    assert_eq!(status.cached_nodes, 0, "{status:?}");
+}

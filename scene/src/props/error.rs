@@ -235,6 +235,17 @@ pub enum PropError {
         /// Index of the vertex.
         vertex: usize,
     },
+    /// A material factor is NaN, infinite or outside the range glTF gives it (0 to 1 for the
+    /// base colour, metallic, roughness, emissive factors and the alpha cutoff's lower bound;
+    /// at least 0 for the emissive strength and the alpha cutoff).
+    BadMaterialFactor {
+        /// Index of the material.
+        material: usize,
+        /// The factor, as glTF names it (`baseColorFactor[3]`, `roughnessFactor`, ...).
+        factor: String,
+        /// Its value.
+        value: f32,
+    },
     /// A node's matrix, translation, rotation or scale holds NaN or an infinity, or its world
     /// matrix overflows to one.
     NonFiniteTransform {
@@ -406,6 +417,14 @@ impl fmt::Display for PropError {
                 attribute,
                 vertex,
             } => write!(f, "{at}: {attribute} of vertex {vertex} is NaN or infinite"),
+            E::BadMaterialFactor {
+                material,
+                factor,
+                value,
+            } => write!(
+                f,
+                "material {material}: {factor} is {value}, outside the range glTF allows"
+            ),
             E::NonFiniteTransform { node } => write!(
                 f,
                 "node {node}'s transform (or its world matrix) holds NaN or an infinity"

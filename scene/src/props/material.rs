@@ -105,32 +105,65 @@ pub(crate) fn load_materials(
         let alpha_mode = match m.alpha_mode() {
             gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
             gltf::material::AlphaMode::Mask => AlphaMode::Mask {
-                cutoff: m.alpha_cutoff().unwrap_or(0.5),
+                cutoff: at_least_zero(index, "alphaCutoff", m.alpha_cutoff().unwrap_or(0.5))?,
             },
             gltf::material::AlphaMode::Blend => AlphaMode::Blend,
         };
-        let clamp01 = |x: f32| {
-            if x.is_finite() {
-                x.clamp(0.0, 1.0)
-            } else {
-                1.0
-            }
-        };
-        let non_negative = |x: f32| if x.is_finite() { x.max(0.0) } else { 0.0 };
+        let [r, g, b, a] = pbr.base_color_factor();
+        let [er, eg, eb] = m.emissive_factor();
+        let base_colour = [
+            unit(index, "baseColorFactor[0]", r)?,
+            unit(index, "baseColorFactor[1]", g)?,
+            unit(index, "baseColorFactor[2]", b)?,
+            unit(index, "baseColorFactor[3]", a)?,
+        ];
+        let emissive = [
+            unit(index, "emissiveFactor[0]", er)?,
+            unit(index, "emissiveFactor[1]", eg)?,
+            unit(index, "emissiveFactor[2]", eb)?,
+        ];
+        let strength = m.emissive_strength().unwrap_or(1.0);
         out.materials.push(PropMaterial {
             name: m.name().map(str::to_owned),
-            base_colour: pbr.base_color_factor().map(clamp01),
+            base_colour,
             base_colour_texture,
             emissive_texture,
-            metallic: clamp01(pbr.metallic_factor()),
-            roughness: clamp01(pbr.roughness_factor()),
-            emissive: m.emissive_factor().map(clamp01),
-            emissive_strength: m.emissive_strength().map_or(1.0, non_negative),
+            metallic: unit(index, "metallicFactor", pbr.metallic_factor())?,
+            roughness: unit(index, "roughnessFactor", pbr.roughness_factor())?,
+            emissive,
+            emissive_strength: at_least_zero(index, "emissiveStrength", strength)?,
             alpha_mode,
             double_sided: m.double_sided(),
         });
     }
     Ok(out)
+}
+
+/// `value` of material `material`'s factor `factor` when it lies in `0..=1`, else the error
+/// naming it.
+fn unit(material: usize, factor: &str, value: f32) -> Result<f32, PropError> {
+    if (0.0..=1.0).contains(&value) {
+        Ok(value)
+    } else {
+        Err(bad_factor(material, factor, value))
+    }
+}
+
+/// `value` when it is finite and at least 0, else the error naming it.
+fn at_least_zero(material: usize, factor: &str, value: f32) -> Result<f32, PropError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(bad_factor(material, factor, value))
+    }
+}
+
+fn bad_factor(material: usize, factor: &str, value: f32) -> PropError {
+    PropError::BadMaterialFactor {
+        material,
+        factor: factor.to_owned(),
+        value,
+    }
 }
 
 /// What decoding a material's textures needs: each image is decoded once, by the first slot

@@ -8,6 +8,11 @@
 //! from the committed plan's anchor and budget exactly as the plan's own selection does: a
 //! node the rule would select is one the committed plan selects, which is resident as an
 //! entry, never cached. So cached nodes cost table slots, memory and cull work, not pixels.
+//! That holds while the plan has more than one level: with a single level (a radius of fewer
+//! than four nodes across, [`StreamSettings::top_level`] 0) the renderer selects every
+//! resident node, so there the cache stays off.
+//!
+//! [`StreamSettings::top_level`]: crate::stream::StreamSettings::top_level
 //!
 //! # Memory
 //!
@@ -100,10 +105,10 @@ impl NodeCache {
 
 impl Streamer {
     /// Keeps resident node `key`, which no plan selects any more, in the cache instead of
-    /// freeing it; false when the cache is off or the node's data is stale (then the caller
-    /// frees it).
+    /// freeing it; false when the cache is off (or the plan has a single level, see the
+    /// [module docs](self)) or the node's data is stale (then the caller frees it).
     pub(super) fn cache_dropped(&mut self, key: NodeKey) -> Result<bool, StreamError> {
-        if self.settings.cache_nodes == 0 || self.is_stale(&key) {
+        if self.settings.cache_nodes == 0 || self.settings.top_level() == 0 || self.is_stale(&key) {
             return Ok(false);
         }
         let Some(&Entry::Resident(handle)) = self.entries.get(&key) else {
