@@ -65,10 +65,10 @@
 //! ulps of a plane or of a pyramid texel's depth may be decided differently; parity tests
 //! keep their inputs a margin away from both.
 
-mod blend;
+pub mod blend;
 mod cull;
-mod emission;
-mod mips;
+pub mod emission;
+pub mod mips;
 mod placement;
 mod records;
 mod registry;

@@ -120,8 +120,8 @@ impl Streamer {
     }
 
     /// The committed plan's nodes that draw something and lack the clutter it places: bare
-    /// ground where the grass pass would draw grass. Empty by construction (see the
-    /// [module docs](self)); tests check it every frame.
+    /// ground where the grass pass would draw grass. Empty by construction (this module's
+    /// docs say why); tests check it every frame.
     pub fn clutter_missing(&self) -> Vec<NodeKey> {
         self.committed
             .iter()
