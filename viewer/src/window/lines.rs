@@ -123,6 +123,12 @@ fn streamed_lines(lines: &mut Vec<String>, view: &StreamedView, cull: Option<&Cu
     if let Some(note) = &status.memory_note {
         lines.push(format!("memory: {note}"));
     }
+    if status.clutter_nodes > 0 {
+        lines.push(format!(
+            "grass: {} units on {} nodes within its reach",
+            status.clutter_units, status.clutter_nodes
+        ));
+    }
     lines.push(status.progress_line());
     if let Some(next) = next {
         lines.push(format!("switching: {}", next.progress_line()));
