@@ -156,28 +156,7 @@ impl PropsPass {
         }
         let t = ctx.targets;
         rec.step("blended props", false, |rec| {
-            let mut pass = rec
-                .encoder()
-                .begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("blended props"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &t.hdr,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Load,
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &t.depth,
-                        depth_ops: None,
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
+            let mut pass = t.begin_hdr_over_depth(rec.encoder(), "blended props");
             pass.set_bind_group(0, ctx.frame_group, &[]);
             pass.set_bind_group(1, &group, &[]);
             for b in order {

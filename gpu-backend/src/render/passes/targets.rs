@@ -123,6 +123,36 @@ impl RenderTargets {
         })
     }
 
+    /// Begins a render pass that blends into the lit HDR colour over the opaque depth, read
+    /// only (no depth ops, so that the depth can also be bound as a texture): the transparent
+    /// layers and the blended props.
+    pub fn begin_hdr_over_depth<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        label: &str,
+    ) -> wgpu::RenderPass<'e> {
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.hdr,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth,
+                depth_ops: None,
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+
     /// Textures for `width x height`; [`TargetsError::BadSize`] past the device's texture
     /// limit.
     pub fn new(device: &Device, width: u32, height: u32) -> Result<RenderTargets, TargetsError> {

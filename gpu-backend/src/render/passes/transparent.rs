@@ -89,29 +89,7 @@ impl TransparentPass {
             }],
         );
         rec.step("transparent", false, |rec| {
-            let mut pass = rec
-                .encoder()
-                .begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("transparent"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &t.hdr,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Load,
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    // Read-only (no depth ops), so that the depth is also bound as a texture.
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &t.depth,
-                        depth_ops: None,
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
+            let mut pass = t.begin_hdr_over_depth(rec.encoder(), "transparent");
             if let Some((far, group)) = far {
                 far.draw_transparent(&mut pass, ctx.frame_group, group, &depth_group);
             }
