@@ -91,6 +91,10 @@ pub struct FeatureRow {
     pub added_us: f64,
     /// GPU time of the passes that exist only with a feature on, microseconds, by label.
     pub feature_passes: Vec<(String, f64)>,
+    /// GPU time of every pass, microseconds, by label in frame order (means of the medians):
+    /// where a row's added time goes beyond its own passes.
+    #[serde(default)]
+    pub passes: Vec<(String, f64)>,
     /// CPU time to record and submit the frame (the calling thread's), microseconds.
     pub cpu_thread_us: f64,
     /// Mean absolute difference from the image without any feature, 8-bit steps.
@@ -195,6 +199,23 @@ pub fn bench_features(
                 (!times.is_empty()).then(|| (label.to_owned(), mean(&times)))
             })
             .collect();
+        let mut labels: Vec<&str> = Vec::new();
+        for p in &passes[i] {
+            if !labels.contains(&p.label.as_str()) {
+                labels.push(&p.label);
+            }
+        }
+        let all_passes = labels
+            .iter()
+            .map(|&label| {
+                let times: Vec<f64> = passes[i]
+                    .iter()
+                    .filter(|p| p.label == label)
+                    .map(|p| p.micros)
+                    .collect();
+                (label.to_owned(), mean(&times))
+            })
+            .collect();
         let total = mean(&totals[i]);
         out.push(FeatureRow {
             name: (*name).to_owned(),
@@ -202,6 +223,7 @@ pub fn bench_features(
             gpu_total_us: total,
             added_us: total - none_total,
             feature_passes,
+            passes: all_passes,
             cpu_thread_us: mean(&cpu[i]),
             mean_abs: error.mean_abs,
             share_over_8: error.share_over_8,
@@ -249,8 +271,49 @@ pub fn features_markdown(report: &FeatureReport) -> String {
             row.share_over_8 * 100.0
         ));
     }
+    s.push_str(&passes_changed(report));
     s
 }
+
+/// Per row, the passes whose GPU time differs from the row without any feature's by more
+/// than [`PASS_CHANGE_US`] (a pass it lacks counts as 0): where each row's added time goes.
+fn passes_changed(report: &FeatureReport) -> String {
+    let Some(none) = report.rows.first() else {
+        return String::new();
+    };
+    let time = |row: &FeatureRow, label: &str| {
+        row.passes
+            .iter()
+            .find(|(l, _)| l == label)
+            .map_or(0.0, |(_, us)| *us)
+    };
+    let mut s = String::from("\nPasses that changed against none, µs:\n\n");
+    for row in report.rows.iter().skip(1) {
+        let mut labels: Vec<&str> = row.passes.iter().map(|(l, _)| l.as_str()).collect();
+        for (l, _) in &none.passes {
+            if !labels.contains(&l.as_str()) {
+                labels.push(l);
+            }
+        }
+        let changed: Vec<String> = labels
+            .iter()
+            .filter_map(|&label| {
+                let d = time(row, label) - time(none, label);
+                (d.abs() > PASS_CHANGE_US).then(|| format!("{label} {d:+.1}"))
+            })
+            .collect();
+        let list = if changed.is_empty() {
+            "none".to_owned()
+        } else {
+            changed.join(", ")
+        };
+        s.push_str(&format!("- {}: {list}\n", row.name));
+    }
+    s
+}
+
+/// The change in a pass's time that [`passes_changed`] reports, microseconds.
+const PASS_CHANGE_US: f64 = 5.0;
 
 #[cfg(test)]
 mod tests {
@@ -273,22 +336,40 @@ mod tests {
             adapter: "test adapter".to_owned(),
             setting: "a setting".to_owned(),
             frames: 3,
-            rows: vec![FeatureRow {
-                name: "grass".to_owned(),
-                features: FeatureSet {
-                    grass: true,
-                    ..FeatureSet::default()
+            rows: vec![
+                FeatureRow {
+                    name: "none".to_owned(),
+                    gpu_total_us: 1249.5,
+                    passes: vec![("lighting".to_owned(), 50.0), ("hi-z".to_owned(), 9.0)],
+                    ..FeatureRow::default()
                 },
-                gpu_total_us: 1500.0,
-                added_us: 250.5,
-                feature_passes: vec![("grass".to_owned(), 240.0)],
-                cpu_thread_us: 400.0,
-                mean_abs: 3.25,
-                share_over_8: 0.125,
-            }],
+                FeatureRow {
+                    name: "grass".to_owned(),
+                    features: FeatureSet {
+                        grass: true,
+                        ..FeatureSet::default()
+                    },
+                    gpu_total_us: 1500.0,
+                    added_us: 250.5,
+                    feature_passes: vec![("grass".to_owned(), 240.0)],
+                    passes: vec![
+                        ("grass".to_owned(), 240.0),
+                        ("lighting".to_owned(), 52.0),
+                        ("hi-z".to_owned(), 17.5),
+                    ],
+                    cpu_thread_us: 400.0,
+                    mean_abs: 3.25,
+                    share_over_8: 0.125,
+                },
+            ],
         };
         let table = features_markdown(&report);
         assert!(table.contains("| grass | 1500.0 | +250.5 | grass 240.0 | 400 | 3.25 | 12.5 % |"));
         assert!(table.starts_with("test adapter; a setting; 3 timed frames"));
+        // The lighting's 2 µs is under the threshold; the grass pass is new, hi-z grew.
+        assert!(
+            table.contains("- grass: grass +240.0, hi-z +8.5\n"),
+            "{table}"
+        );
     }
 }

@@ -56,6 +56,13 @@ use core::fmt;
 pub trait Occupancy {
     /// Whether the block cell `cell` (camera-relative block coordinates) is solid.
     fn solid(&self, cell: [i32; 3]) -> bool;
+
+    /// Whether brick `brick` (the [`BRICK`]^3 cells `brick * BRICK ..`, camera-relative) is
+    /// known to hold no solid cell. `false` where it is not known: the march then steps
+    /// through the brick cell by cell, to the same answer (a jump only saves the steps).
+    fn brick_empty(&self, _brick: [i32; 3]) -> bool {
+        false
+    }
 }
 
 impl<F: Fn([i32; 3]) -> bool> Occupancy for F {
@@ -83,7 +90,17 @@ impl<O: Occupancy> Occupancy for GridClipped<O> {
     fn solid(&self, cell: [i32; 3]) -> bool {
         in_grid(cell) && self.0.solid(cell)
     }
+
+    /// Bricks outside the grid are empty (the grid is whole bricks: [`GRID_CELLS`] / 2 is a
+    /// multiple of [`BRICK`]); inside it, what the occupancy knows.
+    fn brick_empty(&self, brick: [i32; 3]) -> bool {
+        !in_grid(brick.map(|b| b * BRICK)) || self.0.brick_empty(brick)
+    }
 }
+
+/// Cells per axis of a brick: the unit [`Occupancy::brick_empty`] answers for, and the GPU
+/// grid's memory block (8^3 cells, one bit per brick says whether it holds a marked cell).
+pub const BRICK: i32 = 8;
 
 /// Switches and bounds of the shadow and sky-visibility rays.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -272,6 +289,14 @@ pub fn march(
 
 /// [`march`] over at most `max_distance` blocks (the sky rays pass
 /// [`ShadowSettings::sky_distance`]).
+///
+/// Amanatides–Woo with the crossing times computed, not summed: the `j`-th crossing of a
+/// cell boundary along axis `a` is at `first[a] + j * delta[a]`, so a run of crossings can be
+/// counted without making them one by one. In a brick the occupancy knows is empty
+/// ([`Occupancy::brick_empty`]) the march jumps to the first cell beyond it, counting the
+/// crossings the cell-by-cell march would make there (for the step bound) in the order it
+/// makes them (by time, ties to the lower axis, as the step picks its axis): the cells, the
+/// step count and the answer are those of the march without the jump.
 pub fn march_within(
     occupancy: &impl Occupancy,
     settings: &ShadowSettings,
@@ -293,7 +318,7 @@ pub fn march_within(
             f32::INFINITY
         }
     });
-    let mut next = [0, 1, 2].map(|i| {
+    let first = [0, 1, 2].map(|i| {
         if direction[i] == 0.0 {
             f32::INFINITY
         } else if direction[i] > 0.0 {
@@ -302,24 +327,72 @@ pub fn march_within(
             (p[i] - cell[i] as f32) * delta[i]
         }
     });
-    for _ in 0..settings.max_steps {
+    // The time of crossing `j` (from 0) along axis `a`.
+    let crossing = |a: usize, j: u32| {
+        if direction[a] == 0.0 {
+            f32::INFINITY
+        } else {
+            first[a] + j as f32 * delta[a]
+        }
+    };
+    let mut crossed = [0u32; 3];
+    let mut steps = 0u32;
+    while steps < settings.max_steps {
+        let brick = cell.map(|c| c.div_euclid(BRICK));
+        if occupancy.brick_empty(brick) {
+            // Crossings along each axis until the ray leaves the brick that way.
+            let to_leave = [0, 1, 2].map(|a| {
+                (if step[a] > 0 {
+                    (brick[a] + 1) * BRICK - cell[a]
+                } else {
+                    cell[a] - brick[a] * BRICK + 1
+                }) as u32
+            });
+            let leave = [0, 1, 2].map(|a| crossing(a, crossed[a] + to_leave[a] - 1));
+            let exit = first_axis(leave);
+            if leave[exit] > max_distance {
+                return false;
+            }
+            for a in 0..3 {
+                let made = if a == exit {
+                    to_leave[a]
+                } else {
+                    // The crossings before the exit's: earlier, or as early on a lower axis.
+                    let before = |t: f32| t < leave[exit] || (t == leave[exit] && a < exit);
+                    (0..to_leave[a] - 1)
+                        .take_while(|&m| before(crossing(a, crossed[a] + m)))
+                        .count() as u32
+                };
+                cell[a] += step[a] * made as i32;
+                crossed[a] += made;
+                steps += made;
+            }
+            continue;
+        }
         if occupancy.solid(cell) {
             return true;
         }
-        let axis = if next[0] <= next[1] && next[0] <= next[2] {
-            0
-        } else if next[1] <= next[2] {
-            1
-        } else {
-            2
-        };
+        let next = [0, 1, 2].map(|a| crossing(a, crossed[a]));
+        let axis = first_axis(next);
         if next[axis] > max_distance {
             return false;
         }
         cell[axis] += step[axis];
-        next[axis] += delta[axis];
+        crossed[axis] += 1;
+        steps += 1;
     }
     false
+}
+
+/// The axis of the earliest of three times, ties to the lower axis (the march's step rule).
+fn first_axis(t: [f32; 3]) -> usize {
+    if t[0] <= t[1] && t[0] <= t[2] {
+        0
+    } else if t[1] <= t[2] {
+        1
+    } else {
+        2
+    }
 }
 
 /// Whether one sky ray is blocked: [`march_within`] over the sky distance.
@@ -460,6 +533,9 @@ pub fn surface_visibility(
     };
     Visibility { sun, sky_open }
 }
+
+#[cfg(test)]
+mod jump_tests;
 
 #[cfg(test)]
 mod tests {

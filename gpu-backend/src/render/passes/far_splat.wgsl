@@ -138,14 +138,25 @@ fn splat_block(bits: u32, origin: vec3<f32>, scale: f32, edge: i32) {
             if see_through && (hides(beyond, edge) || is_transparent(beyond, edge)) {
                 continue;
             }
+            // A nearer surface already written wins whatever this payload is: skip its AO
+            // and its atomic (the write would change nothing; equal depths still compete).
+            let depth = frame.near / t_in;
+            let at = u32(y) * frame.width + u32(x);
+            var written = 0lu;
+            if see_through {
+                written = atomicLoad(&transparent[at]);
+            } else {
+                written = atomicLoad(&visibility[at]);
+            }
+            if u32(written >> 32u) > bitcast<u32>(depth) {
+                continue;
+            }
             let local = clamp((d * t_in - lo) / scale, vec3<f32>(0.0), vec3<f32>(1.0));
             let uv = vec2<f32>(local[face_width_axis(face)], local[face_height_axis(face)]);
             let ao = face_ao(padded, face, uv, edge);
             let ao8 = u32(round(clamp(ao / 3.0, 0.0, 1.0) * 255.0));
             let payload = id | (face << 16u) | (ao8 << 19u);
-            let depth = frame.near / t_in;
             let value = (u64(bitcast<u32>(depth)) << 32u) | u64(payload);
-            let at = u32(y) * frame.width + u32(x);
             if see_through {
                 atomicMax(&transparent[at], value);
             } else {

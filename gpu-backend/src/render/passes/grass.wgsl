@@ -9,6 +9,10 @@
 // fragment takes the point's place within that region (0..1, y up the blade) for a
 // procedural sprite: a tapering blade shaded by the tint, darker at its base, or (kind % 4 ==
 // 3) a flower: a green stem under a round head of the tint. Outside the sprite it discards.
+// A blade's sprite is the triangle from the quad's bottom corners to the middle of its top
+// edge, and the quad is a parallelogram (both top corners sway alike), so a blade is drawn
+// as that triangle (its quad's other six vertices collapse to one point): the same pixels,
+// half the fragments, and none discarded.
 // The albedo is written as sRGB like the voxels' (lighting linearises it), AO full, the normal
 // the unit's up direction (grass is lit like the ground it grows on), material 0 (no
 // emission).
@@ -88,9 +92,14 @@ fn vs_grass(@builtin(vertex_index) vertex: u32, @builtin(instance_index) slot: u
     let height = full * blade_fade(full, length(origin + p));
     let half = 0.5 * BLADE_WIDTH_RATIO * height;
     let d = quad_direction(n, seed, quad) * half;
-    let s = array<vec2<f32>, 4>(vec2(0.0, 0.0), vec2(1.0, 0.0), vec2(1.0, 1.0), vec2(0.0, 1.0))[corner];
+    var s = array<vec2<f32>, 4>(vec2(0.0, 0.0), vec2(1.0, 0.0), vec2(1.0, 1.0), vec2(0.0, 1.0))[corner];
+    let kind = clutter_unit_kind(unit);
+    if kind % 4u != 3u {
+        // A blade: its triangle, then a zero-area one (nothing rasterised).
+        s = array<vec2<f32>, 6>(vec2(0.0, 0.0), vec2(1.0, 0.0), vec2(0.5, 1.0), vec2(0.0, 0.0), vec2(0.0, 0.0), vec2(0.0, 0.0))[vertex % 6u];
+    }
     var local = p + d * (2.0 * s.x - 1.0);
-    if corner >= 2u {
+    if s.y > 0.5 {
         // Only the top corners sway (render_model::grass::wind_offset).
         let phase = grass.wind_phase + WIND_SPACE * (p.x + p.z) + WIND_SEED * f32(seed);
         let sway = grass.wind_strength * WIND_SWAY * height * sin(phase);
@@ -103,7 +112,7 @@ fn vs_grass(@builtin(vertex_index) vertex: u32, @builtin(instance_index) slot: u
     out.uv = uv0 + s * size;
     out.region = vec4<f32>(uv0, size);
     out.tint = clutter_unit_tint(unit).rgb;
-    out.kind = clutter_unit_kind(unit);
+    out.kind = kind;
     out.normal = n;
     return out;
 }
@@ -125,9 +134,7 @@ fn sprite_colour(kind: u32, s: vec2<f32>, tint: vec3<f32>) -> vec3<f32> {
         }
         return vec3<f32>(-1.0);
     }
-    if dx > 0.5 * (1.0 - s.y) {
-        return vec3<f32>(-1.0);
-    }
+    // The blade's coverage test (dx > 0.5 * (1 - s.y): not covered) is its triangle's edges.
     return tint * (BLADE_BASE_SHADE + (1.0 - BLADE_BASE_SHADE) * s.y);
 }
 

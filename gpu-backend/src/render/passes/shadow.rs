@@ -6,8 +6,8 @@
 //!
 //! | step | timer | shader | what |
 //! | ---- | ----- | ------ | ---- |
-//! | fill | `shadow grid` | `shadow_fill.wgsl` | clears the grid ([`GRID_CELLS`]^3 bits, 2 MiB), then one workgroup per chunk-table slot and quad page marks the solid cell behind every opaque quad (skirts included), and every voxel of every vertical shell run, of the nodes the cull draws (the same level-of-detail rule, every direction: casters outside the view count) |
-//! | trace | `shadow trace` | `shadow_trace.wgsl` | per pixel (8 x 8 per workgroup), the surface the lighting pass shades, its sun ray and 5 sky rays marched through the grid, one [`Visibility`] word out |
+//! | fill | `shadow grid` | `shadow_fill.wgsl` | clears the grid ([`GRID_CELLS`]^3 bits, 2 MiB), then one workgroup per chunk-table slot and quad page marks the solid cell behind every opaque quad (skirts included), and every voxel of every vertical shell run, of the nodes the cull draws (the same level-of-detail rule, every direction: casters outside the view count); then one bit per 8^3 brick says whether it holds a marked cell (4 KiB) |
+//! | trace | `shadow trace` | `shadow_trace.wgsl` | per pixel (8 x 8 per workgroup), the surface the lighting pass shades, its sun ray and 5 sky rays marched through the grid (jumping over the bricks with no marked cell), one [`Visibility`] word out |
 //!
 //! The lighting pass reads the words (binding 7, `FRAME_SHADOWS` set) and scales the sun term
 //! and the hemisphere ambient by them. The grid is filled again whenever the camera, its
@@ -51,6 +51,10 @@ use crate::shaders::{SHADOW_FILL, SHADOW_TRACE};
 const FILL_ROW: u32 = 65_535;
 /// Bytes of the grid: one bit per cell.
 pub const GRID_BYTES: u64 = (GRID_CELLS as u64).pow(3) / 8;
+/// Bytes of the grid's brick bits: one bit per 8^3 brick.
+const BRICK_BYTES: u64 = GRID_BYTES / 512;
+/// Words of brick bits per workgroup of `shadow_bricks` (`@workgroup_size` there).
+const BRICK_WORKGROUP: u32 = 64;
 
 /// The shadow pass (see the [module docs](self)).
 #[derive(Debug)]
@@ -60,9 +64,13 @@ pub struct ShadowPass {
     fill_pipeline: ComputePipeline,
     /// The fill from the nodes' vertical shell runs.
     shells_fill_pipeline: ComputePipeline,
+    /// The brick bits from the filled grid.
+    bricks_pipeline: ComputePipeline,
     trace_layout: BindGroupLayout,
     trace_pipeline: ComputePipeline,
     grid: Buffer,
+    /// One bit per 8^3 brick of the grid, set when it holds a marked cell.
+    bricks: Buffer,
     /// One uniform buffer per quad page (each fill dispatch reads its page's).
     fill_uniforms: Vec<Buffer>,
     trace_uniforms: Buffer,
@@ -112,6 +120,7 @@ impl ShadowPass {
                 buffer_layout_entry(3, compute, storage(true)),
                 buffer_layout_entry(4, compute, storage(true)),
                 buffer_layout_entry(5, compute, storage(true)),
+                buffer_layout_entry(6, compute, storage(false)),
             ],
         );
         let fill_module = SHADOW_FILL.create_module(device);
@@ -129,6 +138,13 @@ impl ShadowPass {
             "shadow_fill_shells",
             &[&fill_layout],
         );
+        let bricks_pipeline = compute_pipeline(
+            device,
+            "shadow bricks",
+            &fill_module,
+            "shadow_bricks",
+            &[&fill_layout],
+        );
         let trace_layout = bind_layout(
             device,
             "shadow trace",
@@ -139,6 +155,7 @@ impl ShadowPass {
                 texture_layout_entry(3, compute, TextureSampleType::Depth),
                 buffer_layout_entry(4, compute, storage(true)),
                 buffer_layout_entry(5, compute, storage(false)),
+                buffer_layout_entry(6, compute, storage(true)),
             ],
         );
         let trace_module = SHADOW_TRACE.create_module(device);
@@ -158,6 +175,15 @@ impl ShadowPass {
                 mapped_at_creation: false,
             },
         )?;
+        let bricks = create_buffer(
+            device,
+            &wgpu::BufferDescriptor {
+                label: Some("shadow grid bricks"),
+                size: BRICK_BYTES,
+                usage: BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            },
+        )?;
         let trace_uniforms = uniform_buffer(
             device,
             "shadow trace uniforms",
@@ -169,9 +195,11 @@ impl ShadowPass {
             fill_layout,
             fill_pipeline,
             shells_fill_pipeline,
+            bricks_pipeline,
             trace_layout,
             trace_pipeline,
             grid,
+            bricks,
             fill_uniforms: Vec::new(),
             trace_uniforms,
             visibility: visibility_buffer(device, pixels)?,
@@ -213,7 +241,7 @@ impl ShadowPass {
 
     /// GPU bytes the pass holds.
     pub fn resident_bytes(&self) -> u64 {
-        self.grid.size() + self.visibility.size()
+        self.grid.size() + self.bricks.size() + self.visibility.size()
     }
 
     /// Whether the grid must be filled again for `fill` over a resident set after `changes`
@@ -275,6 +303,7 @@ impl ShadowPass {
                     buffer_entry(3, quads),
                     buffer_entry(4, nodes),
                     buffer_entry(5, shells.unwrap_or(dummy)),
+                    buffer_entry(6, &self.bricks),
                 ],
             ));
         }
@@ -303,6 +332,7 @@ impl ShadowPass {
                         buffer_entry(3, quads),
                         buffer_entry(4, nodes),
                         buffer_entry(5, shells),
+                        buffer_entry(6, &self.bricks),
                     ],
                 ))
             }
@@ -328,6 +358,16 @@ impl ShadowPass {
                 pass.set_bind_group(0, group, &[]);
                 pass.dispatch_workgroups(slots.min(FILL_ROW), slots.div_ceil(FILL_ROW), 1);
             }
+            // The brick bits of what the fills marked (any layout-compatible group binds the
+            // grid and the bits): the trace jumps the bricks they call empty, so they follow
+            // every fill. Without a fill the grid is clear, and a stale bit can only call a
+            // brick marked, which costs the trace its cell steps, never a wrong answer.
+            if let Some(group) = fills.first().or(shell_fill.as_ref()) {
+                let words = (BRICK_BYTES / 4) as u32;
+                pass.set_pipeline(&self.bricks_pipeline);
+                pass.set_bind_group(0, group, &[]);
+                pass.dispatch_workgroups(words.div_ceil(BRICK_WORKGROUP), 1, 1);
+            }
         });
         ctx.queue
             .write_buffer(&self.trace_uniforms, 0, bytemuck::bytes_of(&params.trace));
@@ -347,6 +387,7 @@ impl ShadowPass {
                 texture(3, &t.depth),
                 buffer_entry(4, ctx.visibility.unwrap_or(&ctx.shared.no_visibility)),
                 buffer_entry(5, &self.visibility),
+                buffer_entry(6, &self.bricks),
             ],
         );
         let (width, height) = ctx.size();

@@ -34,6 +34,10 @@ const FILL_ROW: u32 = 65535u;
 @group(0) @binding(4) var<storage, read> nodes: array<NodeRecord>;
 // The shell gigabuffer's one page (a zero word without shells).
 @group(0) @binding(5) var<storage, read> shell_runs: array<ShellRun>;
+// One bit per 8^3 brick of the grid (bit i of word i / 32 for brick i, the grid's brick
+// order), set by shadow_bricks when the brick holds a marked cell: the trace skips the cell
+// reads of empty bricks.
+@group(0) @binding(6) var<storage, read_write> bricks: array<u32>;
 
 // Marks the grid cells of the block box [lo, hi) (camera-relative blocks), clipped to the grid.
 fn mark_box(lo: vec3<i32>, hi: vec3<i32>) {
@@ -158,4 +162,25 @@ fn shadow_fill_shells(
         let extent = vec3<i32>(i32(shell_run_width(run)), i32(shell_run_height(run)), 1) * place.cell;
         mark_box(lo, lo + extent);
     }
+}
+
+// The brick bits from the filled grid: one invocation per word of `bricks`, each ORing the 16
+// words of its 32 bricks. Dispatched after every fill of the frame (the pass orders them).
+@compute @workgroup_size(64)
+fn shadow_bricks(@builtin(global_invocation_id) id: vec3<u32>) {
+    let per_axis = u32(GRID_CELLS / 8);
+    let word = id.x;
+    if word >= per_axis * per_axis * per_axis / 32u {
+        return;
+    }
+    var bits = 0u;
+    for (var b = 0u; b < 32u; b += 1u) {
+        let base = (word * 32u + b) * GRID_BRICK_WORDS;
+        var marked = 0u;
+        for (var w = 0u; w < GRID_BRICK_WORDS; w += 1u) {
+            marked |= atomicLoad(&grid[base + w]);
+        }
+        bits |= u32(marked != 0u) << b;
+    }
+    bricks[word] = bits;
 }

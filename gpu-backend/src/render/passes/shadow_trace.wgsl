@@ -1,6 +1,6 @@
 // The shadow trace: per pixel, the sun and sky visibility of the surface the lighting pass
 // shades (the nearer of the G-buffer's and the opaque visibility buffer's), by the DDA march
-// of render_model::lighting::shadow through the shadow grid (the same operations in the same
+// of render_model::lighting::shadow through the shadow grid (the same cells in the same
 // order), written as a Visibility word (bit 0 sun, bits 1..4 open sky directions) for the
 // lighting pass. 8 x 8 pixels per workgroup. render_common.wgsl and shadow_grid.wgsl (the
 // grid's layout) come before this body.
@@ -39,37 +39,59 @@ const NEVER: f32 = 1e30;
 // surface_visibility).
 const SKY_COUNT: u32 = 5u;
 
-// Whether camera-relative block `cell` is marked in the grid (false outside it).
-fn grid_solid(cell: vec3<i32>) -> bool {
-    let g = cell + vec3<i32>(GRID_CELLS / 2);
-    if any(g < vec3<i32>(0)) || any(g >= vec3<i32>(GRID_CELLS)) {
-        return false;
-    }
-    return ((grid[grid_word(g)] >> grid_bit(g)) & 1u) != 0u;
+// One bit per 8^3 brick of the grid, set when the brick holds a marked cell (shadow_bricks
+// in shadow_fill.wgsl): the march jumps the bricks it calls empty.
+@group(1) @binding(6) var<storage, read> bricks: array<u32>;
+
+// Twin of shadow::BRICK.
+const BRICK: i32 = 8;
+
+// Whether the brick holding grid cell g (each component in 0..GRID_CELLS) has no marked cell.
+fn brick_empty(g: vec3<i32>) -> bool {
+    let per_axis = u32(GRID_CELLS / BRICK);
+    let b = vec3<u32>(g) / u32(BRICK);
+    let i = b.x + (b.y + b.z * per_axis) * per_axis;
+    return ((bricks[i >> 5u] >> (i & 31u)) & 1u) == 0u;
 }
 
-// Twin of shadow::march_within with a cell size of 1, and one shortcut: a ray that leaves
-// the grid is unoccluded (cells outside it are never solid, and a ray never comes back into
-// the box it left), which is the CPU rule's answer without its remaining steps.
+// The axis of the earliest of three times, ties to the lower axis (shadow::first_axis).
+fn first_axis(t: vec3<f32>) -> u32 {
+    if t.x <= t.y && t.x <= t.z {
+        return 0u;
+    }
+    if t.y <= t.z {
+        return 1u;
+    }
+    return 2u;
+}
+
+// Twin of shadow::march_within with a cell size of 1: crossing j along axis a is at
+// first[a] + j * delta[a], and a brick with no marked cell is jumped, its crossings counted
+// in the cell-by-cell order (the same cells, steps and answer). One shortcut: a ray that
+// leaves the grid is unoccluded (cells outside it are never solid, and a ray never comes
+// back into the box it left), which is the CPU rule's answer without its remaining steps.
 fn march(origin: vec3<f32>, normal: vec3<f32>, dir: vec3<f32>, max_distance: f32) -> bool {
     let bias = t.normal_bias * 1.0;
     let p = origin + normal * bias;
     var cell = vec3<i32>(floor(p));
     let step = select(vec3<i32>(-1), vec3<i32>(1), dir > vec3<f32>(0.0));
+    let moves = dir != vec3<f32>(0.0);
     var delta = vec3<f32>(NEVER);
-    var next = vec3<f32>(NEVER);
+    var first = vec3<f32>(NEVER);
     for (var i = 0u; i < 3u; i += 1u) {
-        if dir[i] != 0.0 {
+        if moves[i] {
             delta[i] = 1.0 / abs(dir[i]);
             if dir[i] > 0.0 {
-                next[i] = (f32(cell[i]) + 1.0 - p[i]) * delta[i];
+                first[i] = (f32(cell[i]) + 1.0 - p[i]) * delta[i];
             } else {
-                next[i] = (p[i] - f32(cell[i])) * delta[i];
+                first[i] = (p[i] - f32(cell[i])) * delta[i];
             }
         }
     }
     let half = GRID_CELLS / 2;
-    for (var s = 0u; s < t.max_steps; s += 1u) {
+    var crossed = vec3<u32>(0u);
+    var steps = 0u;
+    while steps < t.max_steps {
         let g = cell + vec3<i32>(half);
         if any(g < vec3<i32>(0)) || any(g >= vec3<i32>(GRID_CELLS)) {
             // Outside the grid: leaving it for good when the ray points away from it.
@@ -78,20 +100,54 @@ fn march(origin: vec3<f32>, normal: vec3<f32>, dir: vec3<f32>, max_distance: f32
             if any(away) {
                 return false;
             }
-        } else if grid_solid(cell) {
+        } else if brick_empty(g) {
+            // Crossings along each axis until the ray leaves the brick that way.
+            let lo = (g / BRICK) * BRICK;
+            let to_leave = vec3<u32>(select(g - lo + 1, lo + BRICK - g, step > vec3<i32>(0)));
+            let leave = select(vec3<f32>(NEVER), first + vec3<f32>(crossed + to_leave - 1u) * delta, moves);
+            let exit = first_axis(leave);
+            let t_exit = leave[exit];
+            if t_exit > max_distance {
+                return false;
+            }
+            var made = vec3<u32>(0u);
+            for (var a = 0u; a < 3u; a += 1u) {
+                if a == exit {
+                    made[a] = to_leave[a];
+                } else if moves[a] {
+                    // The crossings before the exit's: earlier, or as early on a lower
+                    // axis. An estimate by division, then corrected by the rule itself.
+                    let limit = to_leave[a] - 1u;
+                    let estimate = floor((t_exit - first[a]) / delta[a]) + 1.0 - f32(crossed[a]);
+                    var m = u32(clamp(estimate, 0.0, f32(limit)));
+                    let tm = first[a] + f32(crossed[a] + m) * delta[a];
+                    if m < limit && (tm < t_exit || (tm == t_exit && a < exit)) {
+                        m += 1u;
+                    }
+                    if m > 0u {
+                        let tb = first[a] + f32(crossed[a] + m - 1u) * delta[a];
+                        if !(tb < t_exit || (tb == t_exit && a < exit)) {
+                            m -= 1u;
+                        }
+                    }
+                    made[a] = m;
+                }
+            }
+            cell += step * vec3<i32>(made);
+            crossed += made;
+            steps += made.x + made.y + made.z;
+            continue;
+        } else if ((grid[grid_word(g)] >> grid_bit(g)) & 1u) != 0u {
             return true;
         }
-        var axis = 2u;
-        if next.x <= next.y && next.x <= next.z {
-            axis = 0u;
-        } else if next.y <= next.z {
-            axis = 1u;
-        }
+        let next = select(vec3<f32>(NEVER), first + vec3<f32>(crossed) * delta, moves);
+        let axis = first_axis(next);
         if next[axis] > max_distance {
             return false;
         }
         cell[axis] += step[axis];
-        next[axis] += delta[axis];
+        crossed[axis] += 1u;
+        steps += 1u;
     }
     return false;
 }
