@@ -259,12 +259,7 @@ fn qr_ao(word: u32, a: f32, b: f32) -> f32 {
     return (1.0 - b) * ao0 + a * ao2 + (b - a) * ao3;
 }
 
-// qr_sample's answer where the quad covers the pixel centre behind a nearer written surface
-// (a real word is never this small: its depth, the high half, is positive).
-const QR_HIDDEN: u64 = 1lu;
-
-// The visibility word quad `q` writes at pixel `p`, 0 where its pixel centre misses, or
-// QR_HIDDEN.
+// The visibility word quad `q` writes at pixel `p`, or 0 where its pixel centre misses.
 fn qr_sample(q: RasterQuad, p: vec2<u32>, eps_scale: f32) -> u64 {
     let face = q.face_ao_block & 7u;
     let a = face_normal_axis(face);
@@ -286,11 +281,6 @@ fn qr_sample(q: RasterQuad, p: vec2<u32>, eps_scale: f32) -> u64 {
     if !(uw >= -eps && uw <= sw + eps && uh >= -eps && uh <= sh + eps) {
         return 0lu;
     }
-    // A nearer surface already written wins whatever this payload is: no AO, no atomic.
-    let depth = frame.near / t;
-    if u32(atomicLoad(&visibility[p.y * frame.width + p.x]) >> 32u) > bitcast<u32>(depth) {
-        return QR_HIDDEN;
-    }
     let du = clamp(uw / sw, 0.0, 1.0);
     let dv = clamp(uh / sh, 0.0, 1.0);
     // packed_quad_corner's walk: (du, dv) = (a, b), or (b, a) on the swapped faces.
@@ -298,6 +288,7 @@ fn qr_sample(q: RasterQuad, p: vec2<u32>, eps_scale: f32) -> u64 {
     let ao = qr_ao(q.face_ao_block, select(du, dv, swap), select(dv, du, swap));
     let ao8 = u32(round(clamp(ao / 3.0, 0.0, 1.0) * 255.0));
     let payload = ((q.face_ao_block >> 11u) & 0xffffu) | (face << 16u) | (ao8 << 19u);
+    let depth = frame.near / t;
     return (u64(bitcast<u32>(depth)) << 32u) | u64(payload);
 }
 
@@ -307,9 +298,7 @@ fn qr_draw(q: RasterQuad, p: vec2<u32>, eps_scale: f32) -> bool {
     if v == 0lu {
         return false;
     }
-    if v != QR_HIDDEN {
-        atomicMax(&visibility[p.y * frame.width + p.x], v);
-    }
+    atomicMax(&visibility[p.y * frame.width + p.x], v);
     return true;
 }
 
