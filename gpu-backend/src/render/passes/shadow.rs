@@ -53,8 +53,6 @@ const FILL_ROW: u32 = 65_535;
 pub const GRID_BYTES: u64 = (GRID_CELLS as u64).pow(3) / 8;
 /// Bytes of the grid's brick bits: one bit per 8^3 brick.
 const BRICK_BYTES: u64 = GRID_BYTES / 512;
-/// Words of brick bits per workgroup of `shadow_bricks` (`@workgroup_size` there).
-const BRICK_WORKGROUP: u32 = 64;
 
 /// The shadow pass (see the [module docs](self)).
 #[derive(Debug)]
@@ -363,10 +361,11 @@ impl ShadowPass {
             // every fill. Without a fill the grid is clear, and a stale bit can only call a
             // brick marked, which costs the trace its cell steps, never a wrong answer.
             if let Some(group) = fills.first().or(shell_fill.as_ref()) {
+                // One workgroup per word (32 bricks).
                 let words = (BRICK_BYTES / 4) as u32;
                 pass.set_pipeline(&self.bricks_pipeline);
                 pass.set_bind_group(0, group, &[]);
-                pass.dispatch_workgroups(words.div_ceil(BRICK_WORKGROUP), 1, 1);
+                pass.dispatch_workgroups(words, 1, 1);
             }
         });
         ctx.queue

@@ -164,23 +164,32 @@ fn shadow_fill_shells(
     }
 }
 
-// The brick bits from the filled grid: one invocation per word of `bricks`, each ORing the 16
-// words of its 32 bricks. Dispatched after every fill of the frame (the pass orders them).
-@compute @workgroup_size(64)
-fn shadow_bricks(@builtin(global_invocation_id) id: vec3<u32>) {
+// The brick bits from the filled grid: one invocation per brick (its 16 words ORed), 32 per
+// workgroup, which gather their bits into one word of `bricks` (so no clear is needed: every
+// word is written whole). Dispatched after every fill of the frame (the pass orders them).
+var<workgroup> wg_brick_bits: atomic<u32>;
+
+@compute @workgroup_size(32)
+fn shadow_bricks(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
     let per_axis = u32(GRID_CELLS / 8);
-    let word = id.x;
-    if word >= per_axis * per_axis * per_axis / 32u {
-        return;
+    let word = wid.x;
+    if lid == 0u {
+        atomicStore(&wg_brick_bits, 0u);
     }
-    var bits = 0u;
-    for (var b = 0u; b < 32u; b += 1u) {
-        let base = (word * 32u + b) * GRID_BRICK_WORDS;
-        var marked = 0u;
-        for (var w = 0u; w < GRID_BRICK_WORDS; w += 1u) {
-            marked |= atomicLoad(&grid[base + w]);
-        }
-        bits |= u32(marked != 0u) << b;
+    workgroupBarrier();
+    let base = (word * 32u + lid) * GRID_BRICK_WORDS;
+    var marked = 0u;
+    for (var w = 0u; w < GRID_BRICK_WORDS; w += 1u) {
+        marked |= atomicLoad(&grid[base + w]);
     }
-    bricks[word] = bits;
+    if marked != 0u {
+        atomicOr(&wg_brick_bits, 1u << lid);
+    }
+    workgroupBarrier();
+    if lid == 0u && word < per_axis * per_axis * per_axis / 32u {
+        bricks[word] = atomicLoad(&wg_brick_bits);
+    }
 }
