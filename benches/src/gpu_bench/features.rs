@@ -188,16 +188,18 @@ pub fn bench_features(
             .as_deref()
             .and_then(|image| image_error(image, &none_image))
             .unwrap_or_default();
+        // The mean of a pass's medians over the rounds (None: the row has no such pass).
+        let pass_mean = |label: &str| {
+            let times: Vec<f64> = passes[i]
+                .iter()
+                .filter(|p| p.label == label)
+                .map(|p| p.micros)
+                .collect();
+            (!times.is_empty()).then(|| (label.to_owned(), mean(&times)))
+        };
         let feature_passes = FEATURE_PASSES
             .iter()
-            .filter_map(|&label| {
-                let times: Vec<f64> = passes[i]
-                    .iter()
-                    .filter(|p| p.label == label)
-                    .map(|p| p.micros)
-                    .collect();
-                (!times.is_empty()).then(|| (label.to_owned(), mean(&times)))
-            })
+            .filter_map(|&l| pass_mean(l))
             .collect();
         let mut labels: Vec<&str> = Vec::new();
         for p in &passes[i] {
@@ -205,17 +207,7 @@ pub fn bench_features(
                 labels.push(&p.label);
             }
         }
-        let all_passes = labels
-            .iter()
-            .map(|&label| {
-                let times: Vec<f64> = passes[i]
-                    .iter()
-                    .filter(|p| p.label == label)
-                    .map(|p| p.micros)
-                    .collect();
-                (label.to_owned(), mean(&times))
-            })
-            .collect();
+        let all_passes = labels.iter().filter_map(|&l| pass_mean(l)).collect();
         let total = mean(&totals[i]);
         out.push(FeatureRow {
             name: (*name).to_owned(),

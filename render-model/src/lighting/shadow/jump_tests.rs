@@ -86,6 +86,29 @@ fn case() -> impl Strategy<Value = (Vec<bool>, [f32; 3], [f32; 3], f32, u32)> {
         })
 }
 
+/// The march's answer over `bits` without the jumps and with them.
+fn both_answers(
+    bits: Vec<bool>,
+    settings: &ShadowSettings,
+    origin: [f32; 3],
+    dir: [f32; 3],
+    distance: f32,
+) -> (bool, bool) {
+    let normal = [0.0, 1.0, 0.0];
+    let stepping = Cells {
+        bits: bits.clone(),
+        knows_bricks: false,
+    };
+    let jumping = Cells {
+        bits,
+        knows_bricks: true,
+    };
+    (
+        march_within(&stepping, settings, origin, normal, 1.0, dir, distance),
+        march_within(&jumping, settings, origin, normal, 1.0, dir, distance),
+    )
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(2000))]
 
@@ -95,11 +118,7 @@ proptest! {
     ) {
         let Some(dir) = unit(dir) else { return Ok(()) };
         let settings = ShadowSettings { max_steps: steps, ..ShadowSettings::default() };
-        let normal = [0.0, 1.0, 0.0];
-        let stepping = Cells { bits: bits.clone(), knows_bricks: false };
-        let jumping = Cells { bits, knows_bricks: true };
-        let a = march_within(&stepping, &settings, origin, normal, 1.0, dir, distance);
-        let b = march_within(&jumping, &settings, origin, normal, 1.0, dir, distance);
+        let (a, b) = both_answers(bits, &settings, origin, dir, distance);
         prop_assert_eq!(a, b);
     }
 }
@@ -136,11 +155,7 @@ proptest! {
     ) {
         let Some(dir) = unit(dir) else { return Ok(()) };
         let settings = ShadowSettings { max_steps: steps, normal_bias: 0.0, ..ShadowSettings::default() };
-        let normal = [0.0, 1.0, 0.0];
-        let stepping = Cells { bits: bits.clone(), knows_bricks: false };
-        let jumping = Cells { bits, knows_bricks: true };
-        let a = march_within(&stepping, &settings, origin, normal, 1.0, dir, distance);
-        let b = march_within(&jumping, &settings, origin, normal, 1.0, dir, distance);
+        let (a, b) = both_answers(bits, &settings, origin, dir, distance);
         prop_assert_eq!(a, b);
     }
 }
