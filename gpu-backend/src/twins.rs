@@ -692,9 +692,7 @@ mod shadow {
     use std::mem::offset_of;
 
     use render_model::frame::{FRAME_SHADOWS, FRAME_SPLAT};
-    use render_model::lighting::shadow::{
-        BRICK, GRID_CELLS, SKY_DIRECTIONS, SUB_BRICK, Visibility,
-    };
+    use render_model::lighting::shadow::{BRICK, GRID_CELLS, SKY_DIRECTIONS, Visibility};
     use render_model::lighting::{
         SHADOW_FILL_LOD, SHADOW_SKY, SHADOW_SUN, ShadowFillUniforms, ShadowTraceUniforms,
     };
@@ -763,12 +761,6 @@ mod shadow {
         let grid = format!("const GRID_CELLS: i32 = {GRID_CELLS};");
         assert!(fill.contains(&grid) && trace.contains(&grid));
         assert!(trace.contains(&format!("const BRICK: i32 = {BRICK};")));
-        assert!(trace.contains(&format!("const SUB_BRICK: i32 = {SUB_BRICK};")));
-        let sub_words = format!(
-            "const SUB_BRICK_WORDS: u32 = {}u;",
-            (GRID_CELLS / BRICK).pow(3) / 32
-        );
-        assert!(fill.contains(&sub_words) && trace.contains(&sub_words));
         assert!(fill.contains(&format!("const SHADOW_FILL_LOD: u32 = {SHADOW_FILL_LOD}u;")));
         assert!(trace.contains(&format!("const SHADOW_SUN: u32 = {SHADOW_SUN}u;")));
         assert!(trace.contains(&format!("const SHADOW_SKY: u32 = {SHADOW_SKY}u;")));

@@ -63,13 +63,6 @@ pub trait Occupancy {
     fn brick_empty(&self, _brick: [i32; 3]) -> bool {
         false
     }
-
-    /// Whether sub-brick `sub` (the [`SUB_BRICK`]^3 cells `sub * SUB_BRICK ..`, an eighth of a
-    /// brick) is known to hold no solid cell; `false` where not known, as
-    /// [`brick_empty`](Self::brick_empty).
-    fn sub_brick_empty(&self, _sub: [i32; 3]) -> bool {
-        false
-    }
 }
 
 impl<F: Fn([i32; 3]) -> bool> Occupancy for F {
@@ -103,19 +96,11 @@ impl<O: Occupancy> Occupancy for GridClipped<O> {
     fn brick_empty(&self, brick: [i32; 3]) -> bool {
         !in_grid(brick.map(|b| b * BRICK)) || self.0.brick_empty(brick)
     }
-
-    fn sub_brick_empty(&self, sub: [i32; 3]) -> bool {
-        !in_grid(sub.map(|b| b * SUB_BRICK)) || self.0.sub_brick_empty(sub)
-    }
 }
 
 /// Cells per axis of a brick: the unit [`Occupancy::brick_empty`] answers for, and the GPU
 /// grid's memory block (8^3 cells, one bit per brick says whether it holds a marked cell).
 pub const BRICK: i32 = 8;
-
-/// Cells per axis of a sub-brick, an eighth of a brick ([`Occupancy::sub_brick_empty`]; the
-/// GPU grid keeps a bit per sub-brick too).
-pub const SUB_BRICK: i32 = 4;
 
 /// Switches and bounds of the shadow and sky-visibility rays.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -307,9 +292,8 @@ pub fn march(
 ///
 /// Amanatides–Woo with the crossing times computed, not summed: the `j`-th crossing of a
 /// cell boundary along axis `a` is at `first[a] + j * delta[a]`, so a run of crossings can be
-/// counted without making them one by one. In a brick or sub-brick the occupancy knows is
-/// empty ([`Occupancy::brick_empty`], [`Occupancy::sub_brick_empty`]) the march jumps to the
-/// first cell beyond it, counting the
+/// counted without making them one by one. In a brick the occupancy knows is empty
+/// ([`Occupancy::brick_empty`]) the march jumps to the first cell beyond it, counting the
 /// crossings the cell-by-cell march would make there (for the step bound) in the order it
 /// makes them (by time, ties to the lower axis, as the step picks its axis): the cells, the
 /// step count and the answer are those of the march without the jump.
@@ -354,22 +338,14 @@ pub fn march_within(
     let mut crossed = [0u32; 3];
     let mut steps = 0u32;
     while steps < settings.max_steps {
-        // The largest box around the cell known to be empty: a brick, or a sub-brick of it.
-        let empty = if occupancy.brick_empty(cell.map(|c| c.div_euclid(BRICK))) {
-            Some(BRICK)
-        } else if occupancy.sub_brick_empty(cell.map(|c| c.div_euclid(SUB_BRICK))) {
-            Some(SUB_BRICK)
-        } else {
-            None
-        };
-        if let Some(size) = empty {
-            // Crossings along each axis until the ray leaves the box that way.
-            let lo = cell.map(|c| c.div_euclid(size) * size);
+        let brick = cell.map(|c| c.div_euclid(BRICK));
+        if occupancy.brick_empty(brick) {
+            // Crossings along each axis until the ray leaves the brick that way.
             let to_leave = [0, 1, 2].map(|a| {
                 (if step[a] > 0 {
-                    lo[a] + size - cell[a]
+                    (brick[a] + 1) * BRICK - cell[a]
                 } else {
-                    cell[a] - lo[a] + 1
+                    cell[a] - brick[a] * BRICK + 1
                 }) as u32
             });
             let leave = [0, 1, 2].map(|a| crossing(a, crossed[a] + to_leave[a] - 1));

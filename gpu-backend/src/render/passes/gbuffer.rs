@@ -24,9 +24,7 @@
 //! full-screen fill, slow on GPUs with few raster units (the H100 and H200); only the depth is
 //! cleared, by the early phase. On the compute opaque
 //! path with no smooth layer and no raster far draws nothing is rasterised: the pass only
-//! clears the depth, which stays clear until a pass draws, so it is skipped then; when a pass
-//! did draw (the grass, the shells), the clear is recorded at the frame's start
-//! ([`GbufferPass::clear_ahead`]), before the compute passes it would otherwise split.
+//! clears the depth, which stays clear until a pass draws, so it is skipped then.
 
 use std::cell::Cell;
 
@@ -116,45 +114,6 @@ impl GbufferPass {
         self.depth_clear.set(false);
     }
 
-    /// Whether the pass rasterises anything this frame (`far_raster`: raster far draws are
-    /// recorded): on the compute opaque path with no smooth layer and no raster far draws it
-    /// only clears the depth.
-    fn draws(ctx: &FrameCtx<'_>, far_raster: bool) -> bool {
-        !ctx.quads_in_compute || ctx.residency.has_smooth() || far_raster
-    }
-
-    /// On a frame where the pass draws nothing but the depth is not clear (another pass drew
-    /// into it), records the depth clear now, timed as `gbuffer`: called before the frame's
-    /// first compute pass, so that the clear's render pass does not split the opaque phases'
-    /// chain of compute passes (which would drain the GPU between them). The early phase's
-    /// [`record`](Self::record) then has nothing left to do.
-    pub fn clear_ahead(&self, ctx: &FrameCtx<'_>, rec: &mut Recorder<'_, '_>, far_raster: bool) {
-        if Self::draws(ctx, far_raster) || self.depth_clear.get() {
-            return;
-        }
-        rec.step("gbuffer", false, |rec| {
-            let t = ctx.targets;
-            rec.encoder()
-                .begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("gbuffer depth clear"),
-                    color_attachments: &[],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &t.depth,
-                        // Reversed-Z: 0 is infinitely far.
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(0.0),
-                            store: wgpu::StoreOp::Store,
-                        }),
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
-        });
-        self.depth_clear.set(true);
-    }
-
     /// Records `phase`'s G-buffer pass of `commands`, timed as `gbuffer` (`gbuffer late`):
     /// clearing the depth first in the early phase, drawing over it in the late one.
     /// `far` draws the raster far draws' opaque blocks of the phase (their commands are
@@ -168,7 +127,7 @@ impl GbufferPass {
         far: Option<FarRasterDraw<'_>>,
     ) {
         let late = phase == Phase::Late;
-        let draws = Self::draws(ctx, far.is_some());
+        let draws = !ctx.quads_in_compute || ctx.residency.has_smooth() || far.is_some();
         if !draws && (late || self.depth_clear.get()) {
             return;
         }

@@ -6,8 +6,8 @@
 //!
 //! | step | timer | shader | what |
 //! | ---- | ----- | ------ | ---- |
-//! | fill | `shadow grid` | `shadow_fill.wgsl` | clears the grid ([`GRID_CELLS`]^3 bits, 2 MiB), then one workgroup per chunk-table slot and quad page marks the solid cell behind every opaque quad (skirts included), and every voxel of every vertical shell run, of the nodes the cull draws (the same level-of-detail rule, every direction: casters outside the view count); then one bit per 8^3 brick and one per 4^3 sub-brick say whether they hold a marked cell (36 KiB) |
-//! | trace | `shadow trace` | `shadow_trace.wgsl` | per pixel (8 x 8 per workgroup), the surface the lighting pass shades, its sun ray and 5 sky rays marched through the grid (jumping over the bricks and 4^3 sub-bricks with no marked cell), one [`Visibility`] word out |
+//! | fill | `shadow grid` | `shadow_fill.wgsl` | clears the grid ([`GRID_CELLS`]^3 bits, 2 MiB), then one workgroup per chunk-table slot and quad page marks the solid cell behind every opaque quad (skirts included), and every voxel of every vertical shell run, of the nodes the cull draws (the same level-of-detail rule, every direction: casters outside the view count); then one bit per 8^3 brick says whether it holds a marked cell (4 KiB) |
+//! | trace | `shadow trace` | `shadow_trace.wgsl` | per pixel (8 x 8 per workgroup), the surface the lighting pass shades, its sun ray and 5 sky rays marched through the grid (jumping over the bricks with no marked cell), one [`Visibility`] word out |
 //!
 //! The lighting pass reads the words (binding 7, `FRAME_SHADOWS` set) and scales the sun term
 //! and the hemisphere ambient by them. The grid is filled again whenever the camera, its
@@ -53,8 +53,6 @@ const FILL_ROW: u32 = 65_535;
 pub const GRID_BYTES: u64 = (GRID_CELLS as u64).pow(3) / 8;
 /// Bytes of the grid's brick bits: one bit per 8^3 brick.
 const BRICK_BYTES: u64 = GRID_BYTES / 512;
-/// Bytes of the brick buffer: the brick bits, then 8 bits per brick for its 4^3 sub-bricks.
-const BRICK_BUFFER_BYTES: u64 = BRICK_BYTES * 9;
 
 /// The shadow pass (see the [module docs](self)).
 #[derive(Debug)]
@@ -179,7 +177,7 @@ impl ShadowPass {
             device,
             &wgpu::BufferDescriptor {
                 label: Some("shadow grid bricks"),
-                size: BRICK_BUFFER_BYTES,
+                size: BRICK_BYTES,
                 usage: BufferUsages::STORAGE,
                 mapped_at_creation: false,
             },

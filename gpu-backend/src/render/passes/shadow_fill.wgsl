@@ -35,11 +35,9 @@ const FILL_ROW: u32 = 65535u;
 // The shell gigabuffer's one page (a zero word without shells).
 @group(0) @binding(5) var<storage, read> shell_runs: array<ShellRun>;
 // One bit per 8^3 brick of the grid (bit i of word i / 32 for brick i, the grid's brick
-// order), then 8 per brick for its 4^3 sub-bricks, set by shadow_bricks where they hold a
-// marked cell: the trace jumps the empty ones.
+// order), set by shadow_bricks when the brick holds a marked cell: the trace skips the cell
+// reads of empty bricks.
 @group(0) @binding(6) var<storage, read_write> bricks: array<u32>;
-// Where the sub-brick bits start in `bricks`: after one bit per brick.
-const SUB_BRICK_WORDS: u32 = 1024u;
 
 // Marks the grid cells of the block box [lo, hi) (camera-relative blocks), clipped to the grid.
 fn mark_box(lo: vec3<i32>, hi: vec3<i32>) {
@@ -168,11 +166,8 @@ fn shadow_fill_shells(
 
 // The brick bits from the filled grid: one invocation per brick (its 16 words ORed), 32 per
 // workgroup, which gather their bits into one word of `bricks` (so no clear is needed: every
-// word is written whole), and the brick's 8 sub-brick bits (4^3 cells each, bit sx + 2 sy +
-// 4 sz) into byte brick % 4 of word SUB_BRICK_WORDS + brick / 4. Dispatched after every fill
-// of the frame (the pass orders them).
+// word is written whole). Dispatched after every fill of the frame (the pass orders them).
 var<workgroup> wg_brick_bits: atomic<u32>;
-var<workgroup> wg_sub_bits: array<atomic<u32>, 8>;
 
 @compute @workgroup_size(32)
 fn shadow_bricks(
@@ -184,34 +179,17 @@ fn shadow_bricks(
     if lid == 0u {
         atomicStore(&wg_brick_bits, 0u);
     }
-    if lid < 8u {
-        atomicStore(&wg_sub_bits[lid], 0u);
-    }
     workgroupBarrier();
     let base = (word * 32u + lid) * GRID_BRICK_WORDS;
     var marked = 0u;
-    var subs = 0u;
     for (var w = 0u; w < GRID_BRICK_WORDS; w += 1u) {
-        let cells = atomicLoad(&grid[base + w]);
-        marked |= cells;
-        // Word w holds the rows y = 4 (w % 2) .. + 4 at z = w / 2, bit x + 8 (y % 4).
-        let sy = w & 1u;
-        let sz = (w >> 1u) >> 2u;
-        let low_x = u32((cells & 0x0f0f0f0fu) != 0u);
-        let high_x = u32((cells & 0xf0f0f0f0u) != 0u);
-        subs |= (low_x << (2u * sy + 4u * sz)) | (high_x << (1u + 2u * sy + 4u * sz));
+        marked |= atomicLoad(&grid[base + w]);
     }
     if marked != 0u {
         atomicOr(&wg_brick_bits, 1u << lid);
-        atomicOr(&wg_sub_bits[lid >> 2u], subs << (8u * (lid & 3u)));
     }
     workgroupBarrier();
-    if word < per_axis * per_axis * per_axis / 32u {
-        if lid == 0u {
-            bricks[word] = atomicLoad(&wg_brick_bits);
-        }
-        if lid < 8u {
-            bricks[SUB_BRICK_WORDS + word * 8u + lid] = atomicLoad(&wg_sub_bits[lid]);
-        }
+    if lid == 0u && word < per_axis * per_axis * per_axis / 32u {
+        bricks[word] = atomicLoad(&wg_brick_bits);
     }
 }

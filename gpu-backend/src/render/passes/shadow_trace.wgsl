@@ -39,31 +39,19 @@ const NEVER: f32 = 1e30;
 // surface_visibility).
 const SKY_COUNT: u32 = 5u;
 
-// One bit per 8^3 brick of the grid, then 8 per brick for its 4^3 sub-bricks, set where they
-// hold a marked cell (shadow_bricks in shadow_fill.wgsl): the march jumps the empty ones.
+// One bit per 8^3 brick of the grid, set when the brick holds a marked cell (shadow_bricks
+// in shadow_fill.wgsl): the march jumps the bricks it calls empty.
 @group(1) @binding(6) var<storage, read> bricks: array<u32>;
 
-// Twins of shadow::{BRICK, SUB_BRICK}.
+// Twin of shadow::BRICK.
 const BRICK: i32 = 8;
-const SUB_BRICK: i32 = 4;
-// Where the sub-brick bits start in `bricks` (shadow_fill.wgsl).
-const SUB_BRICK_WORDS: u32 = 1024u;
 
-// The largest box holding grid cell g (each component in 0..GRID_CELLS) with no marked cell:
-// BRICK, SUB_BRICK, or 0 (none).
-fn empty_box(g: vec3<i32>) -> i32 {
+// Whether the brick holding grid cell g (each component in 0..GRID_CELLS) has no marked cell.
+fn brick_empty(g: vec3<i32>) -> bool {
     let per_axis = u32(GRID_CELLS / BRICK);
     let b = vec3<u32>(g) / u32(BRICK);
     let i = b.x + (b.y + b.z * per_axis) * per_axis;
-    if ((bricks[i >> 5u] >> (i & 31u)) & 1u) == 0u {
-        return BRICK;
-    }
-    let s = (vec3<u32>(g) / u32(SUB_BRICK)) & vec3<u32>(1u);
-    let bit = 8u * (i & 3u) + s.x + 2u * s.y + 4u * s.z;
-    if ((bricks[SUB_BRICK_WORDS + (i >> 2u)] >> bit) & 1u) == 0u {
-        return SUB_BRICK;
-    }
-    return 0;
+    return ((bricks[i >> 5u] >> (i & 31u)) & 1u) == 0u;
 }
 
 // The axis of the earliest of three times, ties to the lower axis (shadow::first_axis).
@@ -78,11 +66,10 @@ fn first_axis(t: vec3<f32>) -> u32 {
 }
 
 // Twin of shadow::march_within with a cell size of 1: crossing j along axis a is at
-// first[a] + j * delta[a], and a brick or sub-brick with no marked cell is jumped, its
-// crossings counted in the cell-by-cell order (the same cells, steps and answer). One
-// shortcut: a ray that leaves the grid is unoccluded (cells outside it are never solid, and
-// a ray never comes back into the box it left), which is the CPU rule's answer without its
-// remaining steps.
+// first[a] + j * delta[a], and a brick with no marked cell is jumped, its crossings counted
+// in the cell-by-cell order (the same cells, steps and answer). One shortcut: a ray that
+// leaves the grid is unoccluded (cells outside it are never solid, and a ray never comes
+// back into the box it left), which is the CPU rule's answer without its remaining steps.
 fn march(origin: vec3<f32>, normal: vec3<f32>, dir: vec3<f32>, max_distance: f32) -> bool {
     let bias = t.normal_bias * 1.0;
     let p = origin + normal * bias;
@@ -113,50 +100,45 @@ fn march(origin: vec3<f32>, normal: vec3<f32>, dir: vec3<f32>, max_distance: f32
             if any(away) {
                 return false;
             }
-        } else {
-            let size = empty_box(g);
-            if size == 0 {
-                if ((grid[grid_word(g)] >> grid_bit(g)) & 1u) != 0u {
-                    return true;
-                }
-            } else {
-                // Crossings along each axis until the ray leaves the empty box that way.
-                let lo = (g / size) * size;
-                let to_leave = vec3<u32>(select(g - lo + 1, lo + size - g, step > vec3<i32>(0)));
-                let leave = select(vec3<f32>(NEVER), first + vec3<f32>(crossed + to_leave - 1u) * delta, moves);
-                let exit = first_axis(leave);
-                let t_exit = leave[exit];
-                if t_exit > max_distance {
-                    return false;
-                }
-                var made = vec3<u32>(0u);
-                for (var a = 0u; a < 3u; a += 1u) {
-                    if a == exit {
-                        made[a] = to_leave[a];
-                    } else if moves[a] {
-                        // The crossings before the exit's: earlier, or as early on a lower
-                        // axis. An estimate by division, then corrected by the rule itself.
-                        let limit = to_leave[a] - 1u;
-                        let estimate = floor((t_exit - first[a]) / delta[a]) + 1.0 - f32(crossed[a]);
-                        var m = u32(clamp(estimate, 0.0, f32(limit)));
-                        let tm = first[a] + f32(crossed[a] + m) * delta[a];
-                        if m < limit && (tm < t_exit || (tm == t_exit && a < exit)) {
-                            m += 1u;
-                        }
-                        if m > 0u {
-                            let tb = first[a] + f32(crossed[a] + m - 1u) * delta[a];
-                            if !(tb < t_exit || (tb == t_exit && a < exit)) {
-                                m -= 1u;
-                            }
-                        }
-                        made[a] = m;
-                    }
-                }
-                cell += step * vec3<i32>(made);
-                crossed += made;
-                steps += made.x + made.y + made.z;
-                continue;
+        } else if brick_empty(g) {
+            // Crossings along each axis until the ray leaves the brick that way.
+            let lo = (g / BRICK) * BRICK;
+            let to_leave = vec3<u32>(select(g - lo + 1, lo + BRICK - g, step > vec3<i32>(0)));
+            let leave = select(vec3<f32>(NEVER), first + vec3<f32>(crossed + to_leave - 1u) * delta, moves);
+            let exit = first_axis(leave);
+            let t_exit = leave[exit];
+            if t_exit > max_distance {
+                return false;
             }
+            var made = vec3<u32>(0u);
+            for (var a = 0u; a < 3u; a += 1u) {
+                if a == exit {
+                    made[a] = to_leave[a];
+                } else if moves[a] {
+                    // The crossings before the exit's: earlier, or as early on a lower
+                    // axis. An estimate by division, then corrected by the rule itself.
+                    let limit = to_leave[a] - 1u;
+                    let estimate = floor((t_exit - first[a]) / delta[a]) + 1.0 - f32(crossed[a]);
+                    var m = u32(clamp(estimate, 0.0, f32(limit)));
+                    let tm = first[a] + f32(crossed[a] + m) * delta[a];
+                    if m < limit && (tm < t_exit || (tm == t_exit && a < exit)) {
+                        m += 1u;
+                    }
+                    if m > 0u {
+                        let tb = first[a] + f32(crossed[a] + m - 1u) * delta[a];
+                        if !(tb < t_exit || (tb == t_exit && a < exit)) {
+                            m -= 1u;
+                        }
+                    }
+                    made[a] = m;
+                }
+            }
+            cell += step * vec3<i32>(made);
+            crossed += made;
+            steps += made.x + made.y + made.z;
+            continue;
+        } else if ((grid[grid_word(g)] >> grid_bit(g)) & 1u) != 0u {
+            return true;
         }
         let next = select(vec3<f32>(NEVER), first + vec3<f32>(crossed) * delta, moves);
         let axis = first_axis(next);

@@ -338,9 +338,6 @@ impl Renderer {
         let prepared = culls.prepare(&ctx, encoder, &view, &uniforms, &params, pyramid)?;
 
         let mut rec = Recorder::new(encoder, &mut self.timer);
-        passes
-            .gbuffer
-            .clear_ahead(&ctx, &mut rec, far_raster.is_some());
         let mut phases = vec![Phase::Early];
         if culls.occlusion() {
             phases.push(Phase::Late);

@@ -1,9 +1,9 @@
-//! The march's brick and sub-brick jumps against the march without them: the same answer for every ray, on
+//! The march's brick jumps against the march without them: the same answer for every ray, on
 //! random occupancies, directions, distances and step bounds (the jump only saves steps).
 
 use proptest::prelude::*;
 
-use super::{BRICK, GridClipped, Occupancy, SUB_BRICK, ShadowSettings, march_within};
+use super::{BRICK, GridClipped, Occupancy, ShadowSettings, march_within};
 
 /// Solid cells in a 32^3 box at `-16..16` (bit per cell), with its bricks' emptiness known
 /// or not.
@@ -29,20 +29,12 @@ impl Occupancy for Cells {
     }
 
     fn brick_empty(&self, brick: [i32; 3]) -> bool {
-        self.knows_bricks && self.box_empty(brick, BRICK)
-    }
-
-    fn sub_brick_empty(&self, sub: [i32; 3]) -> bool {
-        self.knows_bricks && self.box_empty(sub, SUB_BRICK)
-    }
-}
-
-impl Cells {
-    /// Whether the box of `size`^3 cells at `index * size` holds no solid cell.
-    fn box_empty(&self, index: [i32; 3], size: i32) -> bool {
-        let lo = index.map(|b| b * size);
-        (0..size).all(|z| {
-            (0..size).all(|y| (0..size).all(|x| !self.solid([lo[0] + x, lo[1] + y, lo[2] + z])))
+        if !self.knows_bricks {
+            return false;
+        }
+        let lo = brick.map(|b| b * BRICK);
+        (0..BRICK).all(|z| {
+            (0..BRICK).all(|y| (0..BRICK).all(|x| !self.solid([lo[0] + x, lo[1] + y, lo[2] + z])))
         })
     }
 }
