@@ -11,7 +11,7 @@
 // 3) a flower: a green stem under a round head of the tint. Outside the sprite it discards.
 // A blade's sprite is the triangle from the quad's bottom corners to the middle of its top
 // edge, and the quad is a parallelogram (both top corners sway alike), so a blade is drawn
-// as that triangle (its quad's other six vertices collapse to one point): the same pixels,
+// as that triangle (the quad's other three vertices collapse to one point): the same pixels,
 // half the fragments, and none discarded.
 // The albedo is written as sRGB like the voxels' (lighting linearises it), AO full, the normal
 // the unit's up direction (grass is lit like the ground it grows on), material 0 (no
